@@ -1,0 +1,2 @@
+program ffrf_driver
+end program ffrf_driver

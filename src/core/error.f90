@@ -1,0 +1,50 @@
+!> Error objects: the library never stops and never prints an error. A routine that can fail has
+!> `type(error_t), allocatable, intent(out) :: error` as its last argument; not allocated means
+!> success. Callers add where it happened with `add_context` and pass it up to the driver.
+module ffrf_core_error
+   implicit none
+   private
+   public :: error_t, fatal_error, add_context
+   public :: FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
+
+   !> Bad user input: namelist, mesh content, inconsistent model description
+   integer, parameter :: FFRF_INPUT_ERROR = 2
+   !> A file could not be opened, read or written
+   integer, parameter :: FFRF_IO_ERROR = 3
+   !> A numerical method failed (singular matrix, no convergence, NaN)
+   integer, parameter :: FFRF_NUMERIC_ERROR = 4
+
+   !> What went wrong, where, and how to fix it.
+   type :: error_t
+      !> One of FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
+      integer :: code = FFRF_INPUT_ERROR
+      !> One line: what, where, the offending value, the fix
+      character(len=:), allocatable :: message
+   end type error_t
+
+contains
+
+   !> Create an error with `code` and `message`.
+   subroutine fatal_error(error, code, message)
+      !> Error to create
+      type(error_t), allocatable, intent(out) :: error
+      !> FFRF_INPUT_ERROR, FFRF_IO_ERROR or FFRF_NUMERIC_ERROR
+      integer, intent(in) :: code
+      !> What, where, value, fix
+      character(len=*), intent(in) :: message
+      allocate (error)
+      error%code = code
+      error%message = message
+   end subroutine fatal_error
+
+   !> Prefix `where` to the message of an existing error ("body crank: ...").
+   subroutine add_context(error, where)
+      !> Error to extend (must be allocated)
+      type(error_t), intent(inout) :: error
+      !> Where the failing call was made
+      character(len=*), intent(in) :: where
+      if (.not. allocated(error%message)) error%message = ''
+      error%message = where // ': ' // error%message
+   end subroutine add_context
+
+end module ffrf_core_error

@@ -1,0 +1,106 @@
+!> String helpers: number formatting for messages and logs, case folding.
+module ffrf_core_strings
+   use ffrf_core_kinds, only: dp, ip, i8
+   implicit none
+   private
+   public :: to_str, to_lower, join_words
+
+   !> Compact text of a number, for messages ("12", "2.1E+11", "0.25").
+   interface to_str
+      module procedure int_to_str, long_to_str, real_to_str, logical_to_str
+   end interface to_str
+
+contains
+
+   pure function int_to_str(value) result(text)
+      !> Number to format
+      integer(ip), intent(in) :: value
+      character(len=:), allocatable :: text
+      character(len=24) :: buffer
+      write (buffer, '(i0)') value
+      text = trim(buffer)
+   end function int_to_str
+
+   pure function long_to_str(value) result(text)
+      !> Number to format
+      integer(i8), intent(in) :: value
+      character(len=:), allocatable :: text
+      character(len=24) :: buffer
+      write (buffer, '(i0)') value
+      text = trim(buffer)
+   end function long_to_str
+
+   !> Real with `digits` significant digits (default 6), without padding.
+   pure function real_to_str(value, digits) result(text)
+      !> Number to format
+      real(dp), intent(in) :: value
+      !> Significant digits, 1 to 17
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: text
+      character(len=40) :: buffer
+      character(len=20) :: fmt
+      integer :: d
+      d = 6
+      if (present(digits)) d = max(1, min(17, digits))
+      if (value /= value) then
+         text = 'NaN'
+         return
+      end if
+      if (abs(value) >= 1.0e-3_dp .and. abs(value) < 1.0e6_dp .or. value == 0.0_dp) then
+         write (fmt, '(a,i0,a)') '(g0.', d, ')'
+         write (buffer, fmt) value
+         text = trim(adjustl(buffer))
+         ! g0.d may print trailing zeros ("0.250000"): trim them, keep one digit after '.'
+         if (index(text, '.') > 0 .and. index(text, 'E') == 0) then
+            do while (len(text) > 1 .and. text(len(text):len(text)) == '0')
+               text = text(1:len(text) - 1)
+            end do
+            if (text(len(text):len(text)) == '.') text = text(1:len(text) - 1)
+         end if
+      else
+         write (fmt, '(a,i0,a,i0,a)') '(es', d + 8, '.', d - 1, ')'
+         write (buffer, fmt) value
+         text = trim(adjustl(buffer))
+      end if
+   end function real_to_str
+
+   pure function logical_to_str(value) result(text)
+      !> Flag to format
+      logical, intent(in) :: value
+      character(len=:), allocatable :: text
+      if (value) then
+         text = 'true'
+      else
+         text = 'false'
+      end if
+   end function logical_to_str
+
+   !> Lower-case copy of `text` (ASCII).
+   pure function to_lower(text) result(lower)
+      !> Text to fold
+      character(len=*), intent(in) :: text
+      character(len=len(text)) :: lower
+      integer :: i, code
+      lower = text
+      do i = 1, len(text)
+         code = iachar(text(i:i))
+         if (code >= iachar('A') .and. code <= iachar('Z')) lower(i:i) = achar(code + 32)
+      end do
+   end function to_lower
+
+   !> Words joined by `separator`, trimmed ("Tx, Ty, Rz").
+   pure function join_words(words, separator) result(text)
+      !> Words to join
+      character(len=*), intent(in) :: words(:)
+      !> Separator between words
+      character(len=*), intent(in) :: separator
+      character(len=:), allocatable :: text
+      integer :: i
+      text = ''
+      do i = 1, size(words)
+         if (i > 1) text = text // separator
+         text = text // trim(words(i))
+      end do
+   end function join_words
+
+end module ffrf_core_strings
