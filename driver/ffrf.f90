@@ -1,2 +1,93 @@
+!> ffrf batch driver: `ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] [--quiet|--debug]`.
+!> Reads the arguments, runs the case, prints an error and exits non-zero on failure:
+!> 2 bad input, 3 file input/output, 4 numerical failure, 1 bad command line.
 program ffrf_driver
+   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+   use, intrinsic :: iso_c_binding, only: c_int
+   use ffrf, only: error_t, logger_t, run_options_t, run_modal_case, FFRF_INPUT_ERROR, &
+      FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, LOG_DEBUG
+   implicit none
+   interface
+      !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
+      subroutine c_exit(status) bind(c, name='exit')
+         import :: c_int
+         integer(c_int), value :: status
+      end subroutine c_exit
+   end interface
+   type(error_t), allocatable :: error
+   type(run_options_t) :: options
+   type(logger_t) :: log
+   character(len=:), allocatable :: case_file, arg
+   integer :: i
+
+   options%mesh_dir = ''
+   options%output_dir = ''
+   case_file = ''
+   i = 0
+   do while (i < command_argument_count())
+      i = i + 1
+      arg = argument(i)
+      select case (arg)
+      case ('-h', '--help')
+         call usage(output_unit)
+         stop
+      case ('--mesh-dir', '--output-dir')
+         if (i == command_argument_count()) call bad_usage(arg // ' needs a folder')
+         i = i + 1
+         if (arg == '--mesh-dir') options%mesh_dir = argument(i)
+         if (arg == '--output-dir') options%output_dir = argument(i)
+      case ('--quiet')
+         options%log_level = LOG_QUIET
+      case ('--debug')
+         options%log_level = LOG_DEBUG
+      case default
+         if (arg(1:1) == '-') call bad_usage('unknown option ' // arg)
+         if (len(case_file) > 0) call bad_usage('one case file only (got ' // case_file // &
+            ' and ' // arg // ')')
+         case_file = arg
+      end select
+   end do
+   if (len(case_file) == 0) call bad_usage('no case file given')
+
+   log%unit = output_unit
+   call run_modal_case(case_file, options, log, error)
+   if (allocated(error)) then
+      write (error_unit, '(a)') 'ffrf: error: ' // error%message
+      flush (output_unit)
+      flush (error_unit)
+      select case (error%code)
+      case (FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR)
+         call c_exit(int(error%code, c_int))
+      case default
+         call c_exit(1_c_int)
+      end select
+   end if
+
+contains
+
+   function argument(k) result(text)
+      integer, intent(in) :: k
+      character(len=:), allocatable :: text
+      integer :: length
+      call get_command_argument(k, length=length)
+      allocate (character(len=length) :: text)
+      call get_command_argument(k, text)
+   end function argument
+
+   subroutine usage(unit)
+      integer, intent(in) :: unit
+      write (unit, '(a)') 'usage: ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] [--quiet|--debug]'
+      write (unit, '(a)') '  Computes the constrained normal modes of the bodies of CASE.nml and'
+      write (unit, '(a)') '  writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
+      write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files (default: the case folder)'
+      write (unit, '(a)') '  --output-dir DIR  folder of the results (default: current folder)'
+   end subroutine usage
+
+   subroutine bad_usage(message)
+      character(len=*), intent(in) :: message
+      write (error_unit, '(a)') 'ffrf: error: ' // message // ' (ffrf --help for usage)'
+      flush (error_unit)
+      call c_exit(1_c_int)
+   end subroutine bad_usage
+
 end program ffrf_driver

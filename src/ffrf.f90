@@ -1,9 +1,16 @@
-!> `use ffrf` gives the public API of the library.
+!> `use ffrf` gives the public API of the library: kinds, errors, logging, the modal pipeline.
 module ffrf
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
-   use ffrf_core_log, only: logger_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
+   use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
+   use ffrf_mesh_mesh, only: mesh_t, extract_body
+   use ffrf_mesh_gmsh, only: read_gmsh
+   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
+   use ffrf_modes_input, only: body_input_t, modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_modal_case, only: run_options_t, run_modal_case
+   use ffrf_io_case, only: case_input_t, read_case
    implicit none
    public
 end module ffrf

@@ -7,7 +7,8 @@ module ffrf_core_error
    public :: error_t, fatal_error, add_context
    public :: FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
 
-   !> Bad user input: namelist, mesh content, inconsistent model description
+   !> Bad user input: namelist, mesh content, inconsistent model description. The three codes
+   !> double as the exit status of the ffrf driver.
    integer, parameter :: FFRF_INPUT_ERROR = 2
    !> A file could not be opened, read or written
    integer, parameter :: FFRF_IO_ERROR = 3

@@ -5,7 +5,7 @@ module ffrf_core_log
    use ffrf_core_kinds, only: dp, i8
    implicit none
    private
-   public :: logger_t, stage_timer_t, wall_time, peak_memory_mib
+   public :: logger_t, stage_timer_t, stage_times_t, wall_time, peak_memory_mib
    public :: LOG_QUIET, LOG_INFO, LOG_DEBUG
 
    integer, parameter :: LOG_QUIET = 0  !< nothing
@@ -33,7 +33,36 @@ module ffrf_core_log
       procedure :: seconds => stage_timer_seconds
    end type stage_timer_t
 
+   !> Wall time and peak memory of each stage of a run, in order, for the results file.
+   type :: stage_times_t
+      !> Stage names ("crank: assembly")
+      character(len=80), allocatable :: names(:)
+      !> Wall time of each stage (s)
+      real(dp), allocatable :: seconds(:)
+      !> Peak resident memory of the process at the end of each stage (MiB)
+      real(dp), allocatable :: peak_mib(:)
+   contains
+      procedure :: add => stage_times_add
+   end type stage_times_t
+
 contains
+
+   !> Append a stage.
+   subroutine stage_times_add(self, name, seconds)
+      class(stage_times_t), intent(inout) :: self
+      !> Stage name
+      character(len=*), intent(in) :: name
+      !> Wall time (s)
+      real(dp), intent(in) :: seconds
+      character(len=80) :: stage_name
+      if (.not. allocated(self%names)) then
+         allocate (self%names(0), self%seconds(0), self%peak_mib(0))
+      end if
+      stage_name = name
+      self%names = [self%names, stage_name]
+      self%seconds = [self%seconds, seconds]
+      self%peak_mib = [self%peak_mib, peak_memory_mib()]
+   end subroutine stage_times_add
 
    !> An information line, "[stage] text".
    subroutine logger_info(self, stage, text)

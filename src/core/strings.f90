@@ -39,7 +39,8 @@ contains
       character(len=:), allocatable :: text
       character(len=40) :: buffer
       character(len=20) :: fmt
-      integer :: d
+      integer :: d, decimals, e
+      character(len=:), allocatable :: mantissa
       d = 6
       if (present(digits)) d = max(1, min(17, digits))
       if (value /= value) then
@@ -47,20 +48,34 @@ contains
          return
       end if
       if (abs(value) >= 1.0e-3_dp .and. abs(value) < 1.0e6_dp .or. value == 0.0_dp) then
-         write (fmt, '(a,i0,a)') '(g0.', d, ')'
+         ! Fixed notation with d significant digits, trailing zeros trimmed ("0.0373", "412.7").
+         decimals = 0
+         if (value /= 0.0_dp) decimals = max(0, d - 1 - floor(log10(abs(value))))
+         write (fmt, '(a,i0,a)') '(f0.', decimals, ')'
          write (buffer, fmt) value
          text = trim(adjustl(buffer))
-         ! g0.d may print trailing zeros ("0.250000"): trim them, keep one digit after '.'
-         if (index(text, '.') > 0 .and. index(text, 'E') == 0) then
-            do while (len(text) > 1 .and. text(len(text):len(text)) == '0')
+         if (index(text, '.') > 0) then
+            do while (text(len(text):len(text)) == '0')
                text = text(1:len(text) - 1)
             end do
             if (text(len(text):len(text)) == '.') text = text(1:len(text) - 1)
          end if
+         if (text(1:1) == '.') text = '0' // text
+         if (text(1:min(2, len(text))) == '-.') text = '-0' // text(2:)
       else
          write (fmt, '(a,i0,a,i0,a)') '(es', d + 8, '.', d - 1, ')'
          write (buffer, fmt) value
          text = trim(adjustl(buffer))
+         ! Trim the mantissa's trailing zeros ("2.10000E+11" -> "2.1E+11").
+         e = index(text, 'E')
+         if (e > 0) then
+            mantissa = text(:e - 1)
+            do while (mantissa(len(mantissa):len(mantissa)) == '0')
+               mantissa = mantissa(:len(mantissa) - 1)
+            end do
+            if (mantissa(len(mantissa):len(mantissa)) == '.') mantissa = mantissa(:len(mantissa) - 1)
+            text = mantissa // text(e:)
+         end if
       end if
    end function real_to_str
 

@@ -1,1 +1,7 @@
 # unit suites, one line each: ffrf_add_unit_suite(test_<family>_<thing> ...)
+include(unit/output.cmake)
+include(unit/mesh.cmake)
+include(unit/fe.cmake)
+include(unit/lead.cmake)
+include(unit/geometry.cmake)
+include(unit/eigen.cmake)

@@ -1,0 +1,217 @@
+!> Mode shapes for Gmsh: a Gmsh MSH 2.2 ASCII file (format described in the Gmsh reference
+!> manual, "MSH file format version 2") holding the tetrahedral mesh and one `$NodeData` view per
+!> mode, plus the option file `<file>.opt` that Gmsh merges on its own when it opens or merges
+!> `<file>`.
+!>
+!> - Nodes get tags 1..num_nodes (the column of `xyz`), tetrahedra tags 1..num_tets, physical and
+!>   elementary tag 1; element type 4 (4-node) or 11 (10-node), node order as Gmsh's own (the
+!>   order the mesh reader keeps), so a mesh read from Gmsh goes back unchanged.
+!> - View k is named "mode k: 812.4 Hz", has 3 components per node (the displacement of mode k,
+!>   rows 3i-2..3i of `shapes` for node i) and one time step whose time value is the frequency.
+!> - The .opt file shows each view as a displaced mesh (`View[k].VectorType = 5`, displacement)
+!>   with a `DisplacementFactor` that makes the largest displacement 10% of the mesh's bounding
+!>   box diagonal, shows only mode 1, and sets `PostProcessing.AnimationCycle = 1` so that
+!>   Gmsh's play button steps through the modes. To see one mode oscillate, apply
+!>   Tools > Plugins > HarmonicToTime (RealPart 0, ImaginaryPart 0) to its view: the result
+!>   sqrt(2) cos(w t + pi/4) times the shape animates over its time steps.
+!> Numbers are written with 17 significant digits, so they read back as the same doubles.
+module ffrf_io_gmsh_writer
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
+      FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   implicit none
+   private
+   public :: write_mode_shapes_msh
+
+   !> Largest displacement drawn, as a fraction of the bounding-box diagonal
+   real(dp), parameter :: shown_amplitude = 0.1_dp
+
+contains
+
+   !> Write `file_name` (MSH 2.2 ASCII) with the mesh and one displacement view per mode, and
+   !> `file_name // '.opt'` with the display options (see the module notes).
+   subroutine write_mode_shapes_msh(file_name, xyz, tets, shapes, frequencies_hz, error)
+      !> Output file, e.g. 'crank_modes.msh'
+      character(len=*), intent(in) :: file_name
+      !> Node coordinates (3, num_nodes), m
+      real(dp), intent(in) :: xyz(:, :)
+      !> Tetrahedra (4 or 10, num_tets), 1-based node numbers, Gmsh node order
+      integer, intent(in) :: tets(:, :)
+      !> Mode shapes (3*num_nodes, num_modes): ux, uy, uz of node 1, then node 2, ...
+      real(dp), intent(in) :: shapes(:, :)
+      !> Natural frequencies (num_modes), Hz
+      real(dp), intent(in) :: frequencies_hz(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, stat, num_nodes, num_modes, mode, i
+      integer :: element_type
+      character(len=512) :: msg
+      character(len=*), parameter :: real_line = '(i0, 3(1x, es24.16e3))'
+
+      call check_input(file_name, xyz, tets, shapes, frequencies_hz, element_type, error)
+      if (allocated(error)) return
+      num_nodes = size(xyz, 2)
+      num_modes = size(shapes, 2)
+
+      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat, &
+         iomsg=msg)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh file "' // file_name // &
+            '": ' // trim(msg) // '; check that its folder exists and is writable')
+         return
+      end if
+      write (unit, '(a)', iostat=stat, iomsg=msg) '$MeshFormat', '2.2 0 8', '$EndMeshFormat'
+      if (stat == 0) write (unit, '(a / i0)', iostat=stat, iomsg=msg) '$Nodes', num_nodes
+      do i = 1, num_nodes
+         if (stat /= 0) exit
+         write (unit, real_line, iostat=stat, iomsg=msg) i, xyz(:, i)
+      end do
+      if (stat == 0) write (unit, '(a / a / i0)', iostat=stat, iomsg=msg) '$EndNodes', &
+         '$Elements', size(tets, 2)
+      do i = 1, size(tets, 2)
+         if (stat /= 0) exit
+         ! tag, type, 2 tags (physical 1, elementary 1), nodes
+         write (unit, '(*(i0, :, 1x))', iostat=stat, iomsg=msg) i, element_type, 2, 1, 1, &
+            tets(:, i)
+      end do
+      if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '$EndElements'
+      do mode = 1, num_modes
+         if (stat /= 0) exit
+         ! 1 string tag (name), 1 real tag (time = frequency), 3 integer tags (time step,
+         ! components, entities)
+         write (unit, '(a / i0 / a / i0 / es24.16e3 / i0 / i0 / i0 / i0)', iostat=stat, &
+            iomsg=msg) '$NodeData', 1, '"' // view_name(mode, frequencies_hz(mode)) // '"', 1, &
+            frequencies_hz(mode), 3, 0, 3, num_nodes
+         do i = 1, num_nodes
+            if (stat /= 0) exit
+            write (unit, real_line, iostat=stat, iomsg=msg) i, shapes(3 * i - 2:3 * i, mode)
+         end do
+         if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '$EndNodeData'
+      end do
+      if (stat /= 0) then
+         close (unit)
+         call fatal_error(error, FFRF_IO_ERROR, 'writing Gmsh file "' // file_name // &
+            '" failed: ' // trim(msg))
+         return
+      end if
+      close (unit, iostat=stat, iomsg=msg)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_IO_ERROR, 'closing Gmsh file "' // file_name // &
+            '" failed: ' // trim(msg))
+         return
+      end if
+      call write_options(file_name // '.opt', xyz, shapes, error)
+   end subroutine write_mode_shapes_msh
+
+   !> Sizes, node numbers and finiteness of the input.
+   subroutine check_input(file_name, xyz, tets, shapes, frequencies_hz, element_type, error)
+      character(len=*), intent(in) :: file_name
+      real(dp), intent(in) :: xyz(:, :)
+      integer, intent(in) :: tets(:, :)
+      real(dp), intent(in) :: shapes(:, :)
+      real(dp), intent(in) :: frequencies_hz(:)
+      !> Gmsh element type, 4 (tet4) or 11 (tet10)
+      integer, intent(out) :: element_type
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: where
+      integer :: num_nodes
+      where = 'Gmsh file "' // file_name // '": '
+      element_type = 0
+      num_nodes = size(xyz, 2)
+      if (size(xyz, 1) /= 3) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // 'xyz has ' // to_str(size(xyz, 1)) &
+            // ' rows, must be 3 (x, y, z of each node)')
+         return
+      end if
+      select case (size(tets, 1))
+      case (4)
+         element_type = 4
+      case (10)
+         element_type = 11
+      case default
+         call fatal_error(error, FFRF_INPUT_ERROR, where // 'tets has ' // &
+            to_str(size(tets, 1)) // ' nodes per element, must be 4 or 10')
+         return
+      end select
+      if (size(tets) > 0) then
+         if (minval(tets) < 1 .or. maxval(tets) > num_nodes) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'tets use node numbers ' // &
+               to_str(minval(tets)) // ' .. ' // to_str(maxval(tets)) // ', must lie in 1 .. ' &
+               // to_str(num_nodes))
+            return
+         end if
+      end if
+      if (size(shapes, 1) /= 3 * num_nodes) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // 'shapes has ' // &
+            to_str(size(shapes, 1)) // ' rows, must be 3*num_nodes = ' // to_str(3 * num_nodes))
+         return
+      end if
+      if (size(frequencies_hz) /= size(shapes, 2)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // to_str(size(frequencies_hz)) // &
+            ' frequencies for ' // to_str(size(shapes, 2)) // ' mode shapes')
+         return
+      end if
+      if (.not. (all(ieee_is_finite(xyz)) .and. all(ieee_is_finite(shapes)) .and. &
+         all(ieee_is_finite(frequencies_hz)))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, where // 'coordinates, shapes or ' // &
+            'frequencies hold NaN or Inf')
+      end if
+   end subroutine check_input
+
+   !> "mode 3: 812.4 Hz"
+   function view_name(mode, frequency_hz) result(name)
+      integer, intent(in) :: mode
+      real(dp), intent(in) :: frequency_hz
+      character(len=:), allocatable :: name
+      name = 'mode ' // to_str(mode) // ': ' // to_str(frequency_hz, 6) // ' Hz'
+   end function view_name
+
+   !> The option file Gmsh merges after the mesh: displaced-mesh display of every view.
+   subroutine write_options(file_name, xyz, shapes, error)
+      character(len=*), intent(in) :: file_name
+      real(dp), intent(in) :: xyz(:, :)
+      real(dp), intent(in) :: shapes(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=512) :: msg
+      character(len=:), allocatable :: view
+      real(dp) :: diagonal, largest, factor
+      integer :: unit, stat, mode, i
+      diagonal = 0.0_dp
+      if (size(xyz) > 0) diagonal = norm2(maxval(xyz, dim=2) - minval(xyz, dim=2))
+      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat, &
+         iomsg=msg)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh option file "' // &
+            file_name // '": ' // trim(msg))
+         return
+      end if
+      write (unit, '(a)', iostat=stat, iomsg=msg) &
+         '// ffrf: show each mode as a displaced mesh, largest displacement 10% of the size', &
+         'PostProcessing.AnimationCycle = 1; // the play button steps through the modes'
+      do mode = 1, size(shapes, 2)
+         if (stat /= 0) exit
+         largest = 0.0_dp
+         do i = 1, size(shapes, 1) / 3
+            largest = max(largest, norm2(shapes(3 * i - 2:3 * i, mode)))
+         end do
+         factor = 1.0_dp
+         if (largest > 0.0_dp .and. diagonal > 0.0_dp) factor = shown_amplitude * diagonal / &
+            largest
+         view = 'View[' // to_str(mode - 1) // ']'
+         write (unit, '(a)', iostat=stat, iomsg=msg) view // '.VectorType = 5;', &
+            view // '.DisplacementFactor = ' // to_str(factor, 8) // ';', &
+            view // '.Visible = ' // trim(merge('1', '0', mode == 1)) // ';'
+      end do
+      if (stat /= 0) then
+         close (unit)
+         call fatal_error(error, FFRF_IO_ERROR, 'writing Gmsh option file "' // file_name // &
+            '" failed: ' // trim(msg))
+         return
+      end if
+      close (unit, iostat=stat, iomsg=msg)
+      if (stat /= 0) call fatal_error(error, FFRF_IO_ERROR, 'closing Gmsh option file "' // &
+         file_name // '" failed: ' // trim(msg))
+   end subroutine write_options
+
+end module ffrf_io_gmsh_writer

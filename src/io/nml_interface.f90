@@ -1,0 +1,84 @@
+!> Namelist group &interface (repeatable): a physical surface of a body reduced to a virtual node.
+!>   body          body name (&body name)
+!>   name          physical surface name in the body's mesh
+!>   mpc           'RBE3' (default, interpolation) or 'RBE2' (rigid)
+!>   weighting     RBE3 node weights: 'uniform' (default, as Nastran) or 'area'
+!>   virtual_node  'centroid' (default: area centroid of the face) or 'position'
+!>   position      virtual node position [m] when virtual_node = 'position'
+!>   rc            reference conditions: forbidden virtual-node dofs, 'Tx Ty Tz Rx Ry Rz' or '123456'
+module ffrf_io_nml_interface
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_mpc_interface, only: interface_input_t, parse_dofs
+   use ffrf_io_nml_common, only: namelist_read_error
+   implicit none
+   private
+   public :: read_interface_groups
+
+contains
+
+   !> Read every &interface group and check each choice.
+   subroutine read_interface_groups(unit, interfaces, error)
+      integer, intent(in) :: unit
+      type(interface_input_t), allocatable, intent(out) :: interfaces(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(interface_input_t) :: defaults
+      character(len=64) :: body, name, rc
+      character(len=8) :: mpc
+      character(len=16) :: weighting, virtual_node
+      real(dp) :: position(3)
+      character(len=512) :: msg
+      logical :: dofs(6)
+      integer :: stat, k
+      namelist /interface/ body, name, mpc, weighting, virtual_node, position, rc
+      allocate (interfaces(0))
+      rewind (unit)
+      do
+         body = defaults%body
+         name = defaults%name
+         mpc = defaults%mpc
+         weighting = defaults%weighting
+         virtual_node = defaults%virtual_node
+         position = defaults%position
+         rc = defaults%rc
+         read (unit, nml=interface, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(interfaces) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'interface', k, msg, &
+               'body, name, mpc, weighting, virtual_node, position, rc')
+            return
+         end if
+         if (len_trim(body) == 0 .or. len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // &
+               ': body and name (the physical surface) are required')
+            return
+         end if
+         if (all(to_lower(mpc) /= [character(len=8) :: 'rbe2', 'rbe3'])) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
+               trim(name) // '": mpc = "' // trim(mpc) // '"; use "RBE2" or "RBE3"')
+            return
+         end if
+         if (all(to_lower(weighting) /= [character(len=16) :: 'uniform', 'area'])) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
+               trim(name) // '": weighting = "' // trim(weighting) // '"; use "uniform" or "area"')
+            return
+         end if
+         if (all(to_lower(virtual_node) /= [character(len=16) :: 'centroid', 'position'])) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
+               trim(name) // '": virtual_node = "' // trim(virtual_node) // &
+               '"; use "centroid" or "position"')
+            return
+         end if
+         call parse_dofs(rc, dofs, error)
+         if (allocated(error)) then
+            call add_context(error, '&interface #' // to_str(k) // ' "' // trim(name) // '"')
+            return
+         end if
+         interfaces = [interfaces, interface_input_t(body, name, mpc, weighting, virtual_node, &
+            position, rc)]
+      end do
+   end subroutine read_interface_groups
+
+end module ffrf_io_nml_interface

@@ -1,0 +1,62 @@
+!> Namelist group &modes (optional): the constrained normal modes of every flexible body.
+!>   num_modes    flexible modes per body (default 12)
+!>   shift_hz     shift of the shift-invert Lanczos as a frequency [Hz]; negative: sigma < 0;
+!>                0 (default): automatic, 1 % of the body's wave frequency sqrt(E/rho)/L, negative
+!>   formulation  'multipliers' (default, scalable) or 'null_space' (explicit LAPACK null spaces)
+!>   rc_label     label of the RC set for tables and plots (e.g. 'RC set 1')
+!>   tolerance    ARPACK relative tolerance (default 0: machine precision)
+module ffrf_io_nml_modes
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_modes_input, only: modes_input_t
+   use ffrf_io_nml_common, only: namelist_read_error
+   implicit none
+   private
+   public :: read_modes_group
+
+contains
+
+   !> Read &modes (optional group; defaults from modes_input_t).
+   subroutine read_modes_group(unit, input, error)
+      integer, intent(in) :: unit
+      type(modes_input_t), intent(inout) :: input
+      type(error_t), allocatable, intent(out) :: error
+      integer :: num_modes
+      real(dp) :: shift_hz, tolerance
+      character(len=16) :: formulation
+      character(len=64) :: rc_label
+      character(len=512) :: msg
+      integer :: stat
+      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance
+      num_modes = input%num_modes
+      shift_hz = input%shift_hz
+      formulation = input%formulation
+      rc_label = input%rc_label
+      tolerance = input%tolerance
+      rewind (unit)
+      read (unit, nml=modes, iostat=stat, iomsg=msg)
+      if (is_iostat_end(stat)) return
+      if (stat /= 0) then
+         call namelist_read_error(error, 'modes', 0, msg, &
+            'num_modes, shift_hz, formulation, rc_label, tolerance')
+         return
+      end if
+      formulation = to_lower(formulation)
+      if (num_modes < 1 .or. num_modes > 10000) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: num_modes = ' // to_str(num_modes) // &
+            ', must lie in 1..10000')
+      else if (shift_hz /= shift_hz) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: shift_hz is NaN')
+      else if (all(formulation /= [character(len=16) :: 'multipliers', 'null_space'])) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: formulation = "' // &
+            trim(formulation) // '"; use "multipliers" or "null_space"')
+      else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &
+            ', must lie in [0, 1e-2)')
+      end if
+      if (allocated(error)) return
+      input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance)
+   end subroutine read_modes_group
+
+end module ffrf_io_nml_modes

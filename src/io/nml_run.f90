@@ -1,0 +1,55 @@
+!> Namelist group &run (optional): what the run is called and where its results go.
+!>   title            free text, echoed in the results and the log
+!>   output           results file (HDF5), relative to the output directory; default <case>.h5
+!>   mode_shapes_msh  Gmsh file to animate the modes ('' none; default <case>_modes.msh)
+!>   log_level        'quiet', 'info' (default) or 'debug'
+module ffrf_io_nml_run
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_lower
+   use ffrf_io_nml_common, only: namelist_read_error
+   implicit none
+   private
+   public :: run_input_t, read_run_group
+
+   !> Resolved &run input.
+   type :: run_input_t
+      character(len=256) :: title = ''
+      character(len=256) :: output = ''
+      character(len=256) :: mode_shapes_msh = ''
+      character(len=16) :: log_level = 'info'
+   end type run_input_t
+
+contains
+
+   !> Read &run from an open case file (optional group; defaults kept when absent).
+   subroutine read_run_group(unit, input, error)
+      integer, intent(in) :: unit
+      type(run_input_t), intent(inout) :: input
+      type(error_t), allocatable, intent(out) :: error
+      character(len=256) :: title, output, mode_shapes_msh
+      character(len=16) :: log_level
+      character(len=512) :: msg
+      integer :: stat
+      namelist /run/ title, output, mode_shapes_msh, log_level
+      title = input%title
+      output = input%output
+      mode_shapes_msh = input%mode_shapes_msh
+      log_level = input%log_level
+      rewind (unit)
+      read (unit, nml=run, iostat=stat, iomsg=msg)
+      if (is_iostat_end(stat)) return
+      if (stat /= 0) then
+         call namelist_read_error(error, 'run', 0, msg, &
+            'title, output, mode_shapes_msh, log_level')
+         return
+      end if
+      log_level = to_lower(log_level)
+      if (all(log_level /= [character(len=16) :: 'quiet', 'info', 'debug'])) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&run: log_level = "' // trim(log_level) // &
+            '"; use "quiet", "info" or "debug"')
+         return
+      end if
+      input = run_input_t(title, output, mode_shapes_msh, log_level)
+   end subroutine read_run_group
+
+end module ffrf_io_nml_run

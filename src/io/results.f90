@@ -1,0 +1,182 @@
+!> The results file of a modal run (HDF5; schema in README.md, "Results file"). It is created
+!> first with status 'running' and the input echo, filled body by body, and closed with status
+!> 'complete' or the error message, so a failed run keeps what it computed.
+module ffrf_io_results
+   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_log, only: stage_times_t
+   use ffrf_core_build_info, only: FFRF_VERSION, build_versions
+   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_mpc_interface, only: mpc_name, dofs_text
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   implicit none
+   private
+   public :: results_create, results_write_body, results_finish
+
+contains
+
+   !> Create the results file: status 'running', case name, input echo, build versions.
+   subroutine results_create(file_name, case_name, title, echo, h5, error)
+      !> Results file (truncated if it exists)
+      character(len=*), intent(in) :: file_name
+      !> Case name and title
+      character(len=*), intent(in) :: case_name, title
+      !> Resolved input as namelist text
+      character(len=*), intent(in) :: echo
+      !> The open file
+      type(h5_file_t), intent(inout) :: h5
+      type(error_t), allocatable, intent(out) :: error
+      call h5%create(file_name, error)
+      if (allocated(error)) return
+      call h5%set_status('running', error)
+      if (.not. allocated(error)) call h5%set_attribute('/', 'ffrf_version', FFRF_VERSION, error)
+      if (.not. allocated(error)) call h5%set_attribute('/', 'case_name', case_name, error)
+      if (.not. allocated(error)) call h5%set_attribute('/', 'title', title, error)
+      if (.not. allocated(error)) call h5%write_string('/input/namelist', echo, error)
+      if (.not. allocated(error)) call h5%write_string_list('/build/versions', build_versions(), &
+         error)
+      if (.not. allocated(error)) call h5%flush(error)
+   end subroutine results_create
+
+   !> Write one body: mesh, mass properties, interfaces, modes.
+   subroutine results_write_body(h5, body, rc_label, error)
+      type(h5_file_t), intent(inout) :: h5
+      !> Body with its modes
+      type(body_modes_t), intent(in) :: body
+      !> Label of the RC set ('RC set 1')
+      character(len=*), intent(in) :: rc_label
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: root, path
+      character(len=64), allocatable :: order(:)
+      integer :: k
+
+      root = '/bodies/' // body%name
+      call h5%write_real(root // '/mesh/coordinates', body%mesh%xyz, 'm', error)
+      if (.not. allocated(error)) call h5%write_int(root // '/mesh/tets', body%mesh%tets, error)
+      if (.not. allocated(error)) call h5%write_int(root // '/mesh/node_tags', &
+         body%mesh%node_tags, error)
+      if (.not. allocated(error)) call h5%write_real(root // '/mass/mass', body%mass, 'kg', error)
+      if (.not. allocated(error)) call h5%write_real(root // '/mass/center_of_mass', &
+         body%center_of_mass, 'm', error)
+      if (.not. allocated(error)) call h5%write_real(root // '/mass/inertia', body%inertia, &
+         'kg m^2', error)
+      if (allocated(error)) return
+
+      allocate (order(size(body%interfaces)))
+      do k = 1, size(body%interfaces)
+         associate (f => body%interfaces(k))
+            order(k) = f%name
+            path = root // '/interfaces/' // f%name
+            call h5%write_int(path // '/nodes', f%nodes, error)
+            if (.not. allocated(error)) call h5%write_real(path // '/weights', f%weights, '1', &
+               error)
+            if (.not. allocated(error)) call h5%write_real(path // '/virtual_node', &
+               f%virtual_xyz, 'm', error)
+            if (.not. allocated(error)) call h5%write_real(path // '/area', f%area, 'm^2', error)
+            if (.not. allocated(error)) call h5%write_string(path // '/mpc', &
+               trim(mpc_name(f%mpc)), error)
+            if (.not. allocated(error)) call h5%write_string(path // '/rc_dofs', &
+               dofs_text(f%rc), error)
+            if (allocated(error)) return
+         end associate
+      end do
+      if (size(order) > 0) call h5%write_string_list(root // '/interfaces/order', order, error)
+      if (allocated(error)) return
+
+      path = root // '/modes'
+      call h5%write_real(path // '/frequency', body%frequency_hz, 'Hz', error)
+      if (.not. allocated(error)) call h5%write_real(path // '/shape', body%shape, &
+         'm kg^-1/2', error)
+      if (.not. allocated(error)) call h5%write_real(path // '/virtual_node_shape', &
+         body%virtual_node_shape, 'm kg^-1/2 (u), rad kg^-1/2 (theta)', error)
+      if (.not. allocated(error)) call h5%write_real(path // '/residual', body%residual, '1', &
+         error)
+      if (.not. allocated(error)) call h5%write_real(path // '/orthonormality_error', &
+         body%orthonormality_error, '1', error)
+      if (.not. allocated(error) .and. allocated(body%rigid_frequency_hz)) call h5%write_real( &
+         path // '/rigid_frequency', body%rigid_frequency_hz, 'Hz', error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'rc_set', rc_label, error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'mpc', mpc_summary(body), error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'formulation', body%formulation, &
+         error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'num_rc', body%rc%num_rc, error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'rc_redundancy', &
+         body%rc%redundancy, error)
+      if (.not. allocated(error)) call write_sizes(h5, root // '/sizes', body, error)
+      if (.not. allocated(error)) call write_solver(h5, path // '/solver', body, error)
+      if (.not. allocated(error)) call h5%flush(error)
+      if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
+   end subroutine results_write_body
+
+   subroutine write_sizes(h5, path, body, error)
+      type(h5_file_t), intent(inout) :: h5
+      character(len=*), intent(in) :: path
+      type(body_modes_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      call h5%write_int(path // '/num_dofs', body%num_dofs, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/num_reduced', body%num_reduced, &
+         error)
+      if (.not. allocated(error)) call h5%write_int(path // '/num_constraints', &
+         body%num_constraints, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/stiffness_nnz', &
+         body%stiffness_nnz, error)
+   end subroutine write_sizes
+
+   !> Shift-invert Lanczos statistics: shift, Sturm count, factor size, solves, restarts.
+   subroutine write_solver(h5, path, body, error)
+      type(h5_file_t), intent(inout) :: h5
+      character(len=*), intent(in) :: path
+      type(body_modes_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      associate (e => body%eigen)
+         call h5%write_real(path // '/shift', e%shift, 's^-2', error)
+         if (.not. allocated(error)) call h5%write_int(path // '/num_below_shift', &
+            e%num_below_shift, error)
+         if (.not. allocated(error)) call h5%write_int(path // '/factor_entries', &
+            e%factor_entries, error)
+         if (.not. allocated(error)) call h5%write_int(path // '/factor_memory_mb', &
+            e%factor_memory_mb, error)
+         if (.not. allocated(error)) call h5%write_int(path // '/num_solves', e%num_solves, error)
+         if (.not. allocated(error)) call h5%write_int(path // '/num_restarts', &
+            e%num_iterations, error)
+         if (.not. allocated(error)) call h5%write_int(path // '/lanczos_vectors', e%ncv, error)
+      end associate
+   end subroutine write_solver
+
+   !> 'RBE3', 'RBE2' or 'mixed'.
+   function mpc_summary(body) result(text)
+      type(body_modes_t), intent(in) :: body
+      character(len=:), allocatable :: text
+      integer :: k
+      text = 'none'
+      if (size(body%interfaces) == 0) return
+      text = trim(mpc_name(body%interfaces(1)%mpc))
+      do k = 2, size(body%interfaces)
+         if (body%interfaces(k)%mpc /= body%interfaces(1)%mpc) text = 'mixed'
+      end do
+   end function mpc_summary
+
+   !> Stage timings, then the final status ('complete' or the error message); closes the file.
+   subroutine results_finish(h5, times, status, error)
+      type(h5_file_t), intent(inout) :: h5
+      !> Stage wall times and peak memory
+      type(stage_times_t), intent(in) :: times
+      !> 'complete' or the error message
+      character(len=*), intent(in) :: status
+      type(error_t), allocatable, intent(out) :: error
+      if (allocated(times%names)) then
+         if (size(times%names) > 0) then
+            call h5%write_string_list('/timings/stage', times%names, error)
+            if (.not. allocated(error)) call h5%write_real('/timings/seconds', times%seconds, &
+               's', error)
+            if (.not. allocated(error)) call h5%write_real('/timings/peak_memory_mib', &
+               times%peak_mib, 'MiB', error)
+            if (allocated(error)) return
+         end if
+      end if
+      call h5%set_status(status, error)
+      if (allocated(error)) return
+      call h5%close(error)
+   end subroutine results_finish
+
+end module ffrf_io_results

@@ -1,0 +1,284 @@
+!> METIS 5 fill-reducing orderings for the sparse direct solver. Debian's MUMPS is built without
+!> METIS (toolchain.md, pitfall 1), so ffrf calls METIS_NodeND itself and hands the permutation to
+!> MUMPS (ICNTL(7) = 1, PERM_IN). Debian's metis.h has 32-bit idx_t and real_t (IDXTYPEWIDTH =
+!> REALTYPEWIDTH = 32), hence `c_int32_t` throughout. Numbering is 1-based
+!> (METIS_OPTION_NUMBERING = 1) so that arrays pass to and from Fortran unchanged.
+module ffrf_la_metis
+   use, intrinsic :: iso_c_binding, only: c_int, c_int32_t, c_ptr, c_null_ptr
+   use ffrf_core_kinds, only: ip, i8
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   implicit none
+   private
+   public :: nested_dissection, pattern_adjacency, pattern_nested_dissection
+
+   !> Length of the METIS options array (METIS_NOPTIONS in metis.h)
+   integer, parameter :: metis_noptions = 40
+   !> 0-based position of METIS_OPTION_NUMBERING in the options array (enum moptions_et)
+   integer, parameter :: metis_option_numbering = 17
+   !> Return codes (enum rstatus_et)
+   integer(c_int), parameter :: metis_ok = 1, metis_error_input = -2, metis_error_memory = -3
+
+   interface
+      !> int METIS_SetDefaultOptions(idx_t *options)
+      function metis_setdefaultoptions(options) result(stat) bind(c, name='METIS_SetDefaultOptions')
+         import :: c_int, c_int32_t
+         implicit none
+         integer(c_int32_t), intent(out) :: options(*)
+         integer(c_int) :: stat
+      end function metis_setdefaultoptions
+
+      !> int METIS_NodeND(idx_t *nvtxs, idx_t *xadj, idx_t *adjncy, idx_t *vwgt, idx_t *options,
+      !> idx_t *perm, idx_t *iperm). METIS shifts xadj/adjncy to 0-based and back in place, so
+      !> they are `inout`; vwgt is passed as NULL (unit vertex weights).
+      function metis_nodend(nvtxs, xadj, adjncy, vwgt, options, perm, iperm) result(stat) &
+         bind(c, name='METIS_NodeND')
+         import :: c_int, c_int32_t, c_ptr
+         implicit none
+         integer(c_int32_t), intent(in) :: nvtxs
+         integer(c_int32_t), intent(inout) :: xadj(*), adjncy(*)
+         type(c_ptr), value :: vwgt
+         integer(c_int32_t), intent(in) :: options(*)
+         integer(c_int32_t), intent(out) :: perm(*), iperm(*)
+         integer(c_int) :: stat
+      end function metis_nodend
+   end interface
+
+contains
+
+   !> Nested-dissection ordering of a graph (METIS_NodeND, 1-based). Row i of the permuted matrix
+   !> is row perm(i) of the original one; iperm is the inverse: original vertex i is eliminated at
+   !> step iperm(i). MUMPS wants iperm as PERM_IN.
+   subroutine nested_dissection(n, xadj, adjncy, perm, iperm, error)
+      !> Number of vertices
+      integer(ip), intent(in) :: n
+      !> Adjacency pointers (size n+1, 1-based; xadj(n+1) - 1 = size(adjncy)); no self loops,
+      !> every edge stored in both directions
+      integer(ip), intent(in) :: xadj(:)
+      !> Neighbours of vertex i in adjncy(xadj(i):xadj(i+1)-1), 1-based
+      integer(ip), intent(in) :: adjncy(:)
+      !> Fill-reducing permutation (new -> old)
+      integer(ip), intent(out) :: perm(:)
+      !> Inverse permutation (old -> new)
+      integer(ip), intent(out) :: iperm(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int32_t) :: options(0:metis_noptions - 1)
+      integer(c_int32_t), allocatable :: xadj_c(:), adjncy_c(:)
+      integer(c_int32_t) :: nvtxs
+      integer(c_int) :: stat
+      integer(ip) :: i, num_edges
+
+      if (n < 0 .or. size(xadj) /= n + 1 .or. size(perm) /= n .or. size(iperm) /= n) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'nested_dissection: n = ' // to_str(n) // &
+            ', size(xadj) = ' // to_str(size(xadj)) // ', size(perm) = ' // to_str(size(perm)) // &
+            ', size(iperm) = ' // to_str(size(iperm)) // '; need n >= 0, n+1, n and n')
+         return
+      end if
+      if (n == 0) return
+      num_edges = xadj(n + 1) - 1
+      if (xadj(1) /= 1 .or. num_edges < 0 .or. num_edges > size(adjncy)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'nested_dissection: xadj(1) = ' // &
+            to_str(xadj(1)) // ', xadj(n+1) = ' // to_str(xadj(n + 1)) // ' with size(adjncy) = ' &
+            // to_str(size(adjncy)) // '; xadj must be 1-based pointers into adjncy')
+         return
+      end if
+      if (num_edges > 0) then
+         if (minval(adjncy(1:num_edges)) < 1 .or. maxval(adjncy(1:num_edges)) > n) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'nested_dissection: a neighbour index lies '&
+               // 'outside 1..' // to_str(n) // ' (range found ' // &
+               to_str(minval(adjncy(1:num_edges))) // '..' // &
+               to_str(maxval(adjncy(1:num_edges))) // ')')
+            return
+         end if
+      end if
+      ! A graph without edges has nothing to order (and METIS 5.1 rejects an empty adjncy).
+      if (num_edges == 0) then
+         perm = [(i, i=1, n)]
+         iperm = perm
+         return
+      end if
+
+      stat = metis_setdefaultoptions(options)
+      if (stat /= metis_ok) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'METIS_SetDefaultOptions returned ' // &
+            to_str(int(stat, ip)))
+         return
+      end if
+      options(metis_option_numbering) = 1
+      nvtxs = n
+      xadj_c = xadj
+      adjncy_c = adjncy(1:num_edges)
+      stat = metis_nodend(nvtxs, xadj_c, adjncy_c, c_null_ptr, options, perm, iperm)
+      select case (stat)
+      case (metis_ok)
+      case (metis_error_input)
+         call fatal_error(error, FFRF_INPUT_ERROR, 'METIS_NodeND: erroneous input graph (n = ' &
+            // to_str(n) // ', ' // to_str(num_edges) // ' adjacency entries); check that the ' &
+            // 'graph is symmetric and has no self loops')
+      case (metis_error_memory)
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'METIS_NodeND: out of memory ordering a ' &
+            // 'graph of ' // to_str(n) // ' vertices and ' // to_str(num_edges) // &
+            ' adjacency entries')
+      case default
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'METIS_NodeND failed with code ' // &
+            to_str(int(stat, ip)) // ' (n = ' // to_str(n) // ')')
+      end select
+   end subroutine nested_dissection
+
+   !> Symmetric adjacency graph (no self loops, no duplicates) of the sparsity pattern of a
+   !> symmetric matrix given as COO entries (irn(k), jcn(k)) of either or both triangles.
+   subroutine pattern_adjacency(n, irn, jcn, xadj, adjncy, error)
+      !> Matrix order
+      integer(ip), intent(in) :: n
+      !> Row index of each entry, 1-based
+      integer(ip), intent(in) :: irn(:)
+      !> Column index of each entry, 1-based
+      integer(ip), intent(in) :: jcn(:)
+      !> Adjacency pointers (size n+1)
+      integer(ip), allocatable, intent(out) :: xadj(:)
+      !> Neighbours, sorted within each vertex
+      integer(ip), allocatable, intent(out) :: adjncy(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: count(:), fill(:), raw(:)
+      integer(i8) :: k, num_offdiag
+      integer(ip) :: i, j, p, q, stat, last, start
+
+      if (size(irn) /= size(jcn)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'pattern_adjacency: size(irn) = ' // &
+            to_str(size(irn)) // ' differs from size(jcn) = ' // to_str(size(jcn)))
+         return
+      end if
+      allocate (count(n), source=0_ip)
+      num_offdiag = 0
+      do k = 1, size(irn, kind=i8)
+         i = irn(k)
+         j = jcn(k)
+         if (i < 1 .or. i > n .or. j < 1 .or. j > n) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'pattern_adjacency: entry ' // to_str(k) &
+               // ' at (' // to_str(i) // ', ' // to_str(j) // ') lies outside the ' // &
+               to_str(n) // ' x ' // to_str(n) // ' matrix')
+            return
+         end if
+         if (i == j) cycle
+         count(i) = count(i) + 1
+         count(j) = count(j) + 1
+         num_offdiag = num_offdiag + 2
+      end do
+      if (num_offdiag > huge(1_ip)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'pattern_adjacency: ' // to_str(num_offdiag) &
+            // ' adjacency entries exceed the 32-bit indices of METIS')
+         return
+      end if
+      ! Raw lists with duplicates (both triangles may be given), then sort and compress each list.
+      allocate (xadj(n + 1), raw(num_offdiag), fill(n), stat=stat)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'pattern_adjacency: cannot allocate ' // &
+            to_str(num_offdiag) // ' adjacency entries')
+         return
+      end if
+      xadj(1) = 1
+      do i = 1, n
+         xadj(i + 1) = xadj(i) + count(i)
+      end do
+      fill = xadj(1:n)
+      do k = 1, size(irn, kind=i8)
+         i = irn(k)
+         j = jcn(k)
+         if (i == j) cycle
+         raw(fill(i)) = j
+         fill(i) = fill(i) + 1
+         raw(fill(j)) = i
+         fill(j) = fill(j) + 1
+      end do
+      ! Compress in place: sort each list and drop repeats; count(i) becomes the unique count.
+      last = 0
+      do i = 1, n
+         start = xadj(i)
+         call sort_integers(raw(start:xadj(i + 1) - 1))
+         q = 0
+         do p = start, xadj(i + 1) - 1
+            if (q > 0) then
+               if (raw(p) == raw(last)) cycle
+            end if
+            last = last + 1
+            raw(last) = raw(p)
+            q = q + 1
+         end do
+         count(i) = q
+      end do
+      xadj(1) = 1
+      do i = 1, n
+         xadj(i + 1) = xadj(i) + count(i)
+      end do
+      adjncy = raw(1:last)
+   end subroutine pattern_adjacency
+
+   !> Nested-dissection ordering of the pattern of a symmetric COO matrix: `pattern_adjacency`
+   !> followed by `nested_dissection`.
+   subroutine pattern_nested_dissection(n, irn, jcn, perm, iperm, error)
+      !> Matrix order
+      integer(ip), intent(in) :: n
+      !> Row index of each entry, 1-based
+      integer(ip), intent(in) :: irn(:)
+      !> Column index of each entry, 1-based
+      integer(ip), intent(in) :: jcn(:)
+      !> Fill-reducing permutation (new -> old)
+      integer(ip), intent(out) :: perm(:)
+      !> Inverse permutation (old -> new), the PERM_IN of MUMPS
+      integer(ip), intent(out) :: iperm(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: xadj(:), adjncy(:)
+      call pattern_adjacency(n, irn, jcn, xadj, adjncy, error)
+      if (allocated(error)) return
+      call nested_dissection(n, xadj, adjncy, perm, iperm, error)
+   end subroutine pattern_nested_dissection
+
+   !> In-place ascending sort of a short integer list (insertion sort below 16, else heap sort).
+   pure subroutine sort_integers(a)
+      !> List to sort
+      integer(ip), intent(inout) :: a(:)
+      integer(ip) :: i, j, n, t
+      n = size(a)
+      if (n < 16) then
+         do i = 2, n
+            t = a(i)
+            j = i - 1
+            do while (j >= 1)
+               if (a(j) <= t) exit
+               a(j + 1) = a(j)
+               j = j - 1
+            end do
+            a(j + 1) = t
+         end do
+         return
+      end if
+      do i = n / 2, 1, -1
+         call sift_down(a, i, n)
+      end do
+      do i = n, 2, -1
+         t = a(1)
+         a(1) = a(i)
+         a(i) = t
+         call sift_down(a, 1_ip, i - 1)
+      end do
+   end subroutine sort_integers
+
+   pure subroutine sift_down(a, first, last)
+      integer(ip), intent(inout) :: a(:)
+      integer(ip), intent(in) :: first, last
+      integer(ip) :: root, child, t
+      root = first
+      do while (2 * root <= last)
+         child = 2 * root
+         if (child < last) then
+            if (a(child) < a(child + 1)) child = child + 1
+         end if
+         if (a(root) >= a(child)) return
+         t = a(root)
+         a(root) = a(child)
+         a(child) = t
+         root = child
+      end do
+   end subroutine sift_down
+
+end module ffrf_la_metis

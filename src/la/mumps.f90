@@ -1,0 +1,564 @@
+!> Sparse symmetric direct solver: a wrapper around Debian's sequential double-precision MUMPS 5.5
+!> (libdmumps_seq). Only this module sees `DMUMPS_STRUC`. Explicit phases (theory.md 5.4):
+!>
+!>     init(sym) -> analyse(n, irn, jcn [, perm]) -> factorise(values) -> solve(rhs) ... -> free()
+!>
+!> A new matrix with the same pattern goes back to `factorise`. The ordering is METIS nested
+!> dissection computed here and passed as PERM_IN with ICNTL(7) = 1, because Debian's MUMPS is
+!> built without METIS (toolchain.md, pitfall 1); INFOG(7) tells which ordering MUMPS used.
+!> MUMPS prints nothing (ICNTL(1:4)); errors INFOG(1) < 0 become `error_t` with the MUMPS code,
+!> its meaning and the fix. Workspace errors (-8, -9) are retried with ICNTL(14) doubled.
+!>
+!> The sequential library needs no MPI_Init: its stub MPI_INITIALIZED returns .true. and ignores
+!> the communicator, so COMM is set to the stub's MPI_COMM_WORLD value without including mpif.h.
+!> OpenBLAS threads are left as the environment sets them (OPENBLAS_NUM_THREADS).
+module ffrf_la_mumps
+   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
+      FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: wall_time
+   use ffrf_la_metis, only: pattern_nested_dissection
+   implicit none
+   private
+   public :: mumps_solver_t, mumps_ordering_name
+   public :: MUMPS_SYM_SPD, MUMPS_SYM_INDEFINITE
+
+   include 'dmumps_struc.h'
+
+   !> SYM = 1: symmetric positive definite (LDL^T without pivoting)
+   integer(ip), parameter :: MUMPS_SYM_SPD = 1
+   !> SYM = 2: general symmetric, e.g. indefinite KKT systems (LDL^T with 1x1/2x2 pivots)
+   integer(ip), parameter :: MUMPS_SYM_INDEFINITE = 2
+
+   integer, parameter :: phase_empty = 0, phase_initialised = 1, phase_analysed = 2, &
+                         phase_factorised = 3
+   !> MPI_COMM_WORLD of the libseq stub mpif.h (/usr/include/mumps_seq); the stub ignores it
+   integer, parameter :: sequential_comm = 9
+   !> Workspace relaxation retries on INFOG(1) = -8/-9, each doubling ICNTL(14)
+   integer, parameter :: max_workspace_retries = 2
+
+   interface
+      !> The MUMPS driver (double precision): one call per JOB.
+      subroutine dmumps(id)
+         import :: dmumps_struc
+         implicit none
+         type(dmumps_struc), intent(inout) :: id
+      end subroutine dmumps
+   end interface
+
+   !> A sparse symmetric matrix factorised by MUMPS, ready for repeated solves. Do not copy a
+   !> live solver (the MUMPS instance holds pointers); call `free` before `init` again.
+   type :: mumps_solver_t
+      !> MUMPS_SYM_SPD or MUMPS_SYM_INDEFINITE
+      integer(ip) :: sym = 0
+      !> Matrix order
+      integer(ip) :: n = 0
+      !> Number of entries given (one triangle, duplicates are summed by MUMPS)
+      integer(i8) :: nnz = 0
+      !> Ordering MUMPS used, INFOG(7): 0 AMD, 1 given (PERM_IN), 2 AMF, 3 SCOTCH, 4 PORD,
+      !> 5 METIS, 6 QAMD
+      integer(ip) :: ordering_used = -1
+      !> .true. when PERM_IN came from METIS_NodeND in `analyse`
+      logical :: metis_ordering = .false.
+      !> Estimated entries in the factors after analysis, INFOG(20)
+      integer(i8) :: estimated_factor_entries = 0
+      !> Entries in the factors, INFOG(29)
+      integer(i8) :: factor_entries = 0
+      !> Real workspace holding the factors, INFOG(9)
+      integer(i8) :: factor_storage = 0
+      !> Negative pivots, INFOG(12) (exact: ICNTL(13) = 1, no ScaLAPACK root); null pivots are
+      !> not counted here when null-pivot detection is on
+      integer(ip) :: num_negative_pivots = 0
+      !> Null pivots found by null-pivot detection (ICNTL(24) = 1), INFOG(28); else 0
+      integer(ip) :: num_null_pivots = 0
+      !> Delayed pivots, INFOG(13) (many: numerically hard indefinite matrix)
+      integer(ip) :: num_delayed_pivots = 0
+      !> Order of the largest frontal matrix, INFOG(11)
+      integer(ip) :: max_front_size = 0
+      !> MB allocated by MUMPS during factorisation, INFOG(18)
+      integer(ip) :: memory_allocated_mb = 0
+      !> MB effectively used during factorisation, INFOG(21)
+      integer(ip) :: memory_used_mb = 0
+      !> Floating-point operations of the elimination, RINFOG(3)
+      real(dp) :: factor_flops = 0.0_dp
+      !> Workspace relaxation in percent, ICNTL(14), after any automatic increase
+      integer(ip) :: workspace_percent = 0
+      !> Factorisations repeated because the workspace was too small (-8/-9)
+      integer(ip) :: num_workspace_retries = 0
+      !> Seconds in METIS_NodeND (0 when the ordering was given)
+      real(dp) :: time_ordering = 0.0_dp
+      !> Seconds in the MUMPS analysis (JOB = 1)
+      real(dp) :: time_analysis = 0.0_dp
+      !> Seconds in the last numerical factorisation (JOB = 2, retries included)
+      real(dp) :: time_factorisation = 0.0_dp
+      !> Seconds in all solves since the last factorisation
+      real(dp) :: time_solve = 0.0_dp
+      !> Right-hand sides solved since the last factorisation
+      integer(i8) :: num_solves = 0
+      !> Last INFOG(1): 0 success, > 0 warning (MUMPS user guide, section 8)
+      integer(ip) :: status = 0
+      integer, private :: phase = phase_empty
+      type(dmumps_struc), allocatable, private :: id
+   contains
+      procedure :: init => mumps_solver_init
+      procedure :: analyse => mumps_solver_analyse
+      procedure :: factorise => mumps_solver_factorise
+      procedure, private :: mumps_solver_solve_one
+      procedure, private :: mumps_solver_solve_many
+      generic :: solve => mumps_solver_solve_one, mumps_solver_solve_many
+      procedure :: is_factorised => mumps_solver_is_factorised
+      procedure :: free => mumps_solver_free
+   end type mumps_solver_t
+
+contains
+
+   !> Start a MUMPS instance (JOB = -1) for a symmetric matrix, silenced, exact inertia on.
+   subroutine mumps_solver_init(self, sym, error, null_pivot_detection, null_pivot_threshold, &
+                                workspace_percent)
+      class(mumps_solver_t), intent(out) :: self
+      !> MUMPS_SYM_SPD (1) or MUMPS_SYM_INDEFINITE (2)
+      integer(ip), intent(in) :: sym
+      type(error_t), allocatable, intent(out) :: error
+      !> Detect null pivots (ICNTL(24) = 1); their number is `num_null_pivots`. Default .false.
+      logical, intent(in), optional :: null_pivot_detection
+      !> Null-pivot threshold relative to the max-norm of the (scaled) matrix, CNTL(3) > 0;
+      !> default 0 = MUMPS's own, eps * 1e-5 * ||A||
+      real(dp), intent(in), optional :: null_pivot_threshold
+      !> Workspace relaxation ICNTL(14) in percent; default MUMPS's (20, or 5 for SPD)
+      integer(ip), intent(in), optional :: workspace_percent
+
+      if (sym /= MUMPS_SYM_SPD .and. sym /= MUMPS_SYM_INDEFINITE) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS init: sym = ' // to_str(sym) // &
+            ', must be 1 (symmetric positive definite) or 2 (symmetric indefinite)')
+         return
+      end if
+      allocate (self%id)
+      associate (id => self%id)
+         call nullify_user_pointers(id)
+         id%comm = sequential_comm
+         id%par = 1
+         id%sym = sym
+         id%job = -1
+         call dmumps(id)
+         if (id%infog(1) < 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS initialisation (JOB = -1): ' // &
+               describe_status(id%infog(1), id%infog(2)))
+            deallocate (self%id)
+            return
+         end if
+         ! Silence: no error, diagnostic or global output, print level 0
+         id%icntl(1) = -1
+         id%icntl(2) = -1
+         id%icntl(3) = -1
+         id%icntl(4) = 0
+         ! No ScaLAPACK root: exact inertia in INFOG(12) (theory.md 5.3)
+         id%icntl(13) = 1
+         if (present(null_pivot_detection)) then
+            if (null_pivot_detection) id%icntl(24) = 1
+         end if
+         if (present(null_pivot_threshold)) id%cntl(3) = null_pivot_threshold
+         if (present(workspace_percent)) id%icntl(14) = workspace_percent
+         self%workspace_percent = id%icntl(14)
+      end associate
+      self%sym = sym
+      self%phase = phase_initialised
+   end subroutine mumps_solver_init
+
+   !> Symbolic analysis (JOB = 1) of the pattern (irn, jcn): one triangle of a symmetric matrix
+   !> (entries given in both triangles are summed by MUMPS). Without `perm` a METIS nested-
+   !> dissection ordering of the pattern is computed and passed as PERM_IN (ICNTL(7) = 1).
+   subroutine mumps_solver_analyse(self, n, irn, jcn, perm, error)
+      class(mumps_solver_t), intent(inout) :: self
+      !> Matrix order
+      integer(ip), intent(in) :: n
+      !> Row index of each entry, 1-based
+      integer(ip), intent(in) :: irn(:)
+      !> Column index of each entry, 1-based
+      integer(ip), intent(in) :: jcn(:)
+      !> Optional elimination order: variable i is eliminated at step perm(i) (MUMPS PERM_IN)
+      integer(ip), intent(in), optional :: perm(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: order(:), iperm(:)
+      integer(i8) :: k
+      integer :: stat
+      real(dp) :: t0
+
+      if (self%phase < phase_initialised) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: solver not initialised; ' &
+            // 'call init(sym, error) first')
+         return
+      end if
+      if (n < 1 .or. size(irn) /= size(jcn) .or. size(irn) < 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: n = ' // to_str(n) // &
+            ', size(irn) = ' // to_str(size(irn)) // ', size(jcn) = ' // to_str(size(jcn)) // &
+            '; need n >= 1 and equal, non-empty index arrays')
+         return
+      end if
+      do k = 1, size(irn, kind=i8)
+         if (irn(k) < 1 .or. irn(k) > n .or. jcn(k) < 1 .or. jcn(k) > n) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: entry ' // to_str(k) // &
+               ' at (' // to_str(irn(k)) // ', ' // to_str(jcn(k)) // ') lies outside the ' // &
+               to_str(n) // ' x ' // to_str(n) // ' matrix')
+            return
+         end if
+      end do
+
+      allocate (iperm(n))
+      self%time_ordering = 0.0_dp
+      if (present(perm)) then
+         if (.not. is_permutation(perm, n)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: perm (size ' // &
+               to_str(size(perm)) // ') is not a permutation of 1..' // to_str(n))
+            return
+         end if
+         iperm = perm
+         self%metis_ordering = .false.
+      else
+         t0 = wall_time()
+         allocate (order(n))
+         call pattern_nested_dissection(n, irn, jcn, order, iperm, error)
+         if (allocated(error)) then
+            call add_context(error, 'MUMPS analyse, METIS ordering')
+            return
+         end if
+         self%time_ordering = wall_time() - t0
+         self%metis_ordering = .true.
+      end if
+
+      associate (id => self%id)
+         call release_user_arrays(id)
+         allocate (id%irn(size(irn)), id%jcn(size(jcn)), id%perm_in(n), stat=stat)
+         if (stat /= 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analyse: cannot allocate the ' &
+               // 'index arrays of ' // to_str(size(irn, kind=i8)) // ' entries')
+            return
+         end if
+         id%irn = irn
+         id%jcn = jcn
+         id%perm_in = iperm
+         id%n = n
+         id%nnz = size(irn, kind=i8)
+         id%icntl(7) = 1
+         id%job = 1
+         t0 = wall_time()
+         call dmumps(id)
+         self%time_analysis = wall_time() - t0
+         self%status = id%infog(1)
+         if (id%infog(1) < 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
+               ', ' // to_str(id%nnz) // ' entries): ' // &
+               describe_status(id%infog(1), id%infog(2)))
+            self%phase = phase_initialised
+            return
+         end if
+         self%ordering_used = id%infog(7)
+         self%estimated_factor_entries = mumps_count(id%infog(20))
+      end associate
+      self%n = n
+      self%nnz = size(irn, kind=i8)
+      self%phase = phase_analysed
+   end subroutine mumps_solver_analyse
+
+   !> Numerical factorisation (JOB = 2) of the matrix with the analysed pattern and `values`
+   !> (same order as irn/jcn). Retries up to twice with ICNTL(14) doubled on INFOG(1) = -8/-9.
+   subroutine mumps_solver_factorise(self, values, error)
+      class(mumps_solver_t), intent(inout) :: self
+      !> Matrix entries, one per (irn(k), jcn(k)) given to `analyse`
+      real(dp), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat, attempt
+      real(dp) :: t0
+
+      if (self%phase < phase_analysed) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS factorise: no analysed pattern; ' // &
+            'call analyse(n, irn, jcn, error=error) first')
+         return
+      end if
+      if (size(values, kind=i8) /= self%nnz) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS factorise: ' // &
+            to_str(size(values, kind=i8)) // ' values given for a pattern of ' // &
+            to_str(self%nnz) // ' entries')
+         return
+      end if
+      self%phase = phase_analysed
+      associate (id => self%id)
+         if (.not. associated(id%a)) then
+            allocate (id%a(self%nnz), stat=stat)
+            if (stat /= 0) then
+               call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorise: cannot allocate ' &
+                  // to_str(self%nnz) // ' matrix values')
+               return
+            end if
+         end if
+         id%a = values
+         id%job = 2
+         self%num_workspace_retries = 0
+         t0 = wall_time()
+         do attempt = 0, max_workspace_retries
+            call dmumps(id)
+            if (id%infog(1) /= -8 .and. id%infog(1) /= -9) exit
+            if (attempt == max_workspace_retries) exit
+            id%icntl(14) = 2 * max(id%icntl(14), 10)
+            self%num_workspace_retries = self%num_workspace_retries + 1
+         end do
+         self%time_factorisation = wall_time() - t0
+         self%workspace_percent = id%icntl(14)
+         self%status = id%infog(1)
+         if (id%infog(1) < 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorisation (n = ' // &
+               to_str(self%n) // ', ' // to_str(self%nnz) // ' entries, SYM = ' // &
+               to_str(self%sym) // ', ICNTL(14) = ' // to_str(id%icntl(14)) // '): ' // &
+               describe_status(id%infog(1), id%infog(2)))
+            return
+         end if
+         self%num_negative_pivots = id%infog(12)
+         self%num_delayed_pivots = id%infog(13)
+         self%max_front_size = id%infog(11)
+         if (id%icntl(24) == 1) then
+            self%num_null_pivots = id%infog(28)
+         else
+            self%num_null_pivots = 0
+         end if
+         self%factor_entries = mumps_count(id%infog(29))
+         self%factor_storage = mumps_count(id%infog(9))
+         self%memory_allocated_mb = id%infog(18)
+         self%memory_used_mb = id%infog(21)
+         self%factor_flops = id%rinfog(3)
+      end associate
+      self%time_solve = 0.0_dp
+      self%num_solves = 0
+      self%phase = phase_factorised
+   end subroutine mumps_solver_factorise
+
+   !> Solve A x = b (JOB = 3) with the current factors; `rhs` holds b on entry and x on exit.
+   subroutine mumps_solver_solve_one(self, rhs, error)
+      class(mumps_solver_t), intent(inout) :: self
+      !> Right-hand side b on entry, solution x on exit (size n)
+      real(dp), intent(inout) :: rhs(:)
+      type(error_t), allocatable, intent(out) :: error
+      call solve_columns(self, rhs, 1_ip, error)
+   end subroutine mumps_solver_solve_one
+
+   !> Solve A X = B for the columns of B (JOB = 3); `rhs` holds B on entry and X on exit.
+   subroutine mumps_solver_solve_many(self, rhs, error)
+      class(mumps_solver_t), intent(inout) :: self
+      !> Right-hand sides (n x nrhs) on entry, solutions on exit
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: flat(:)
+      if (size(rhs, 1) /= self%n .and. self%phase == phase_factorised) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS solve: right-hand sides have ' // &
+            to_str(size(rhs, 1)) // ' rows, the matrix has order ' // to_str(self%n))
+         return
+      end if
+      if (size(rhs, 2) == 0) return
+      flat = reshape(rhs, [size(rhs)])
+      call solve_columns(self, flat, int(size(rhs, 2), ip), error)
+      if (allocated(error)) return
+      rhs = reshape(flat, shape(rhs))
+   end subroutine mumps_solver_solve_many
+
+   !> .true. once `factorise` succeeded (and until `free` or a failed `factorise`).
+   pure function mumps_solver_is_factorised(self) result(ready)
+      class(mumps_solver_t), intent(in) :: self
+      logical :: ready
+      ready = self%phase == phase_factorised
+   end function mumps_solver_is_factorised
+
+   !> Release the factors and the MUMPS instance (JOB = -2). Safe to call at any phase.
+   subroutine mumps_solver_free(self)
+      class(mumps_solver_t), intent(inout) :: self
+      if (allocated(self%id)) then
+         call release_user_arrays(self%id)
+         if (self%phase >= phase_initialised) then
+            self%id%job = -2
+            call dmumps(self%id)
+         end if
+         deallocate (self%id)
+      end if
+      self%phase = phase_empty
+   end subroutine mumps_solver_free
+
+   !> Name of a MUMPS sequential ordering code ICNTL(7)/INFOG(7).
+   pure function mumps_ordering_name(code) result(name)
+      !> Ordering code
+      integer(ip), intent(in) :: code
+      character(len=:), allocatable :: name
+      select case (code)
+      case (0)
+         name = 'AMD'
+      case (1)
+         name = 'given (PERM_IN)'
+      case (2)
+         name = 'AMF'
+      case (3)
+         name = 'SCOTCH'
+      case (4)
+         name = 'PORD'
+      case (5)
+         name = 'METIS'
+      case (6)
+         name = 'QAMD'
+      case (7)
+         name = 'automatic'
+      case default
+         name = 'unknown'
+      end select
+   end function mumps_ordering_name
+
+   ! ---------------------------------------------------------------------------------------------
+
+   !> JOB = 3 on `nrhs` columns packed in `b` (n*nrhs), solution overwriting `b`.
+   subroutine solve_columns(self, b, nrhs, error)
+      type(mumps_solver_t), intent(inout) :: self
+      real(dp), intent(inout) :: b(:)
+      integer(ip), intent(in) :: nrhs
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
+      real(dp) :: t0
+      if (self%phase /= phase_factorised) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS solve: no valid factorisation; ' // &
+            'call factorise(values, error) first (and check its error)')
+         return
+      end if
+      if (size(b, kind=i8) /= int(self%n, i8) * nrhs) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS solve: right-hand side of size ' // &
+            to_str(size(b)) // ' for a matrix of order ' // to_str(self%n))
+         return
+      end if
+      associate (id => self%id)
+         if (associated(id%rhs)) then
+            if (size(id%rhs, kind=i8) /= size(b, kind=i8)) deallocate (id%rhs)
+         end if
+         if (.not. associated(id%rhs)) then
+            allocate (id%rhs(size(b)), stat=stat)
+            if (stat /= 0) then
+               call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS solve: cannot allocate ' // &
+                  to_str(size(b)) // ' right-hand side entries')
+               return
+            end if
+         end if
+         id%rhs = b
+         id%nrhs = nrhs
+         id%lrhs = self%n
+         id%job = 3
+         t0 = wall_time()
+         call dmumps(id)
+         self%time_solve = self%time_solve + (wall_time() - t0)
+         if (id%infog(1) < 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS solve (n = ' // to_str(self%n) &
+               // ', ' // to_str(nrhs) // ' right-hand sides): ' // &
+               describe_status(id%infog(1), id%infog(2)))
+            return
+         end if
+         b = id%rhs
+      end associate
+      self%num_solves = self%num_solves + nrhs
+   end subroutine solve_columns
+
+   !> MUMPS sizes: a negative value counts millions (INFOG(9), (20), (29)).
+   pure function mumps_count(value) result(count)
+      integer, intent(in) :: value
+      integer(i8) :: count
+      if (value < 0) then
+         count = -int(value, i8) * 1000000_i8
+      else
+         count = int(value, i8)
+      end if
+   end function mumps_count
+
+   !> What INFOG(1) < 0 means and what to do (MUMPS 5.5 user guide, section 8).
+   function describe_status(info1, info2) result(text)
+      integer, intent(in) :: info1, info2
+      character(len=:), allocatable :: text
+      text = 'INFOG(1) = ' // to_str(info1) // ', INFOG(2) = ' // to_str(info2) // ': '
+      select case (info1)
+      case (-2)
+         text = text // 'NNZ out of range; the matrix must have at least one entry'
+      case (-5, -7, -13)
+         text = text // 'memory allocation failed (' // memory_text(info2) // &
+            '); reduce the model size or free memory'
+      case (-6)
+         text = text // 'matrix is structurally singular (structural rank ' // &
+            to_str(info2) // '); a row and column without entries, e.g. an unconstrained ' // &
+            'dof with no stiffness, or dependent constraint rows'
+      case (-8, -9)
+         text = text // 'MUMPS workspace too small even after raising ICNTL(14) ' // &
+            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init'
+      case (-10)
+         text = text // 'matrix is singular (zero pivot): a dof without stiffness, a ' // &
+            'rigid-body motion left free, dependent constraint rows, or an eigen shift equal ' &
+            // 'to an eigenvalue'
+      case (-11, -14, -15)
+         text = text // 'workspace too small for the solution; pass a larger ' // &
+            'workspace_percent to init'
+      case (-16)
+         text = text // 'N out of range; the matrix order must be at least 1'
+      case (-22)
+         text = text // 'an input array (IRN, JCN, A, RHS or PERM_IN) is not allocated or ' // &
+            'too small (internal error of the wrapper)'
+      case (-23)
+         text = text // 'MPI not initialised (linked against the MPI MUMPS instead of ' // &
+            'the sequential one?)'
+      case (-40)
+         text = text // 'SYM = 1 but the matrix is not positive definite; use SYM = 2'
+      case default
+         text = text // 'see the MUMPS 5.5 user guide, section 8 (error diagnostics)'
+      end select
+   end function describe_status
+
+   !> INFO(2) of an allocation error: bytes, or millions of bytes when negative.
+   function memory_text(info2) result(text)
+      integer, intent(in) :: info2
+      character(len=:), allocatable :: text
+      if (info2 < 0) then
+         text = to_str(-info2) // ' million bytes requested'
+      else
+         text = to_str(info2) // ' bytes requested'
+      end if
+   end function memory_text
+
+   !> .true. if p holds each of 1..n exactly once.
+   pure function is_permutation(p, n) result(valid)
+      integer(ip), intent(in) :: p(:)
+      integer(ip), intent(in) :: n
+      logical :: valid
+      logical, allocatable :: seen(:)
+      integer(ip) :: i
+      valid = size(p) == n
+      if (.not. valid) return
+      allocate (seen(n), source=.false.)
+      do i = 1, n
+         if (p(i) < 1 .or. p(i) > n) then
+            valid = .false.
+            return
+         end if
+         if (seen(p(i))) then
+            valid = .false.
+            return
+         end if
+         seen(p(i)) = .true.
+      end do
+   end function is_permutation
+
+   !> Nullify the input pointers of the structure (MUMPS tests `associated` on them).
+   subroutine nullify_user_pointers(id)
+      type(dmumps_struc), intent(inout) :: id
+      nullify (id%a, id%irn, id%jcn, id%colsca, id%rowsca, id%irn_loc, id%jcn_loc, id%a_loc, &
+               id%eltptr, id%eltvar, id%a_elt, id%perm_in, id%blkptr, id%blkvar, id%rhs, &
+               id%redrhs, id%rhs_sparse, id%sol_loc, id%rhs_loc, id%irhs_sparse, id%irhs_ptr, &
+               id%isol_loc, id%irhs_loc, id%schur, id%listvar_schur, id%wk_user)
+   end subroutine nullify_user_pointers
+
+   !> Deallocate the arrays this wrapper hands to MUMPS (never MUMPS's own).
+   subroutine release_user_arrays(id)
+      type(dmumps_struc), intent(inout) :: id
+      if (associated(id%irn)) deallocate (id%irn)
+      if (associated(id%jcn)) deallocate (id%jcn)
+      if (associated(id%a)) deallocate (id%a)
+      if (associated(id%perm_in)) deallocate (id%perm_in)
+      if (associated(id%rhs)) deallocate (id%rhs)
+   end subroutine release_user_arrays
+
+end module ffrf_la_mumps

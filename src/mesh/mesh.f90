@@ -1,0 +1,442 @@
+!> The mesh the rest of ffrf works on: node coordinates, Tet4 or Tet10 volume elements, Tri3 or
+!> Tri6 surface elements and the Gmsh physical groups, as read by `ffrf_mesh_gmsh`.
+!>
+!> Elements hold node INDICES 1..num_nodes (not Gmsh tags) in Gmsh's node order; see the picture
+!> in `ffrf_mesh_gmsh` for the Tet10 and Tri6 edge nodes. Physical groups name sets of geometric
+!> entities; an element belongs to a group when its entity (`tet_entity`, `tri_entity`) does.
+!> `extract_body` cuts one flexible body (one or more physical volumes) out of a mesh.
+module ffrf_mesh_mesh
+   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
+   implicit none
+   private
+   public :: physical_group_t, mesh_t, extract_body, dimension_word
+
+   !> A Gmsh physical group: a named set of geometric entities of one dimension.
+   type :: physical_group_t
+      !> 2 surface, 3 volume (0 points and 1 curves are kept too)
+      integer(ip) :: dim = 0
+      !> Gmsh physical tag
+      integer(ip) :: tag = 0
+      !> Gmsh physical name ('' if unnamed)
+      character(len=:), allocatable :: name
+      !> Entity tags (of this dim) in the group, sorted
+      integer(ip), allocatable :: entities(:)
+   end type physical_group_t
+
+   !> Nodes, tetrahedra, triangles and physical groups of a Gmsh mesh.
+   type :: mesh_t
+      !> Number of nodes
+      integer(ip) :: num_nodes = 0
+      !> Node coordinates (3, num_nodes), metres
+      real(dp), allocatable :: xyz(:, :)
+      !> Gmsh tag of node i (tags may have gaps)
+      integer(i8), allocatable :: node_tags(:)
+      !> 4 (Tet4) or 10 (Tet10); 0 = no tetrahedra
+      integer(ip) :: nodes_per_tet = 0
+      !> (nodes_per_tet, num_tets): node indices 1..num_nodes, Gmsh node order
+      integer(ip), allocatable :: tets(:, :)
+      !> Gmsh element tag of each tetrahedron (for messages)
+      integer(i8), allocatable :: tet_tags(:)
+      !> Volume entity tag of each tetrahedron
+      integer(ip), allocatable :: tet_entity(:)
+      !> 3 (Tri3) or 6 (Tri6); 0 = no triangles
+      integer(ip) :: nodes_per_tri = 0
+      !> (nodes_per_tri, num_tris): node indices 1..num_nodes, Gmsh node order
+      integer(ip), allocatable :: tris(:, :)
+      !> Gmsh element tag of each triangle
+      integer(i8), allocatable :: tri_tags(:)
+      !> Surface entity tag of each triangle
+      integer(ip), allocatable :: tri_entity(:)
+      !> Physical groups, sorted by dimension, then tag
+      type(physical_group_t), allocatable :: groups(:)
+      !> File the mesh was read from (for messages)
+      character(len=:), allocatable :: file_name
+   contains
+      procedure :: num_tets => mesh_num_tets
+      procedure :: num_tris => mesh_num_tris
+      procedure :: find_group => mesh_find_group
+      procedure :: group_tets => mesh_group_tets
+      procedure :: group_triangles => mesh_group_triangles
+      procedure :: group_nodes => mesh_group_nodes
+      procedure :: group_names => mesh_group_names
+      procedure :: summary => mesh_summary
+   end type mesh_t
+
+contains
+
+   !> Number of tetrahedra.
+   pure function mesh_num_tets(self) result(count)
+      class(mesh_t), intent(in) :: self
+      integer(ip) :: count
+      count = 0
+      if (allocated(self%tets)) count = size(self%tets, 2, kind=ip)
+   end function mesh_num_tets
+
+   !> Number of triangles.
+   pure function mesh_num_tris(self) result(count)
+      class(mesh_t), intent(in) :: self
+      integer(ip) :: count
+      count = 0
+      if (allocated(self%tris)) count = size(self%tris, 2, kind=ip)
+   end function mesh_num_tris
+
+   !> Index into `groups` of the physical group of dimension `dim` called `name` (exact,
+   !> case-sensitive compare; trailing blanks do not count, as everywhere in Fortran, so a
+   !> padded namelist string matches); 0 if there is none.
+   pure function mesh_find_group(self, dim, name) result(index)
+      class(mesh_t), intent(in) :: self
+      !> 0 point, 1 curve, 2 surface, 3 volume
+      integer(ip), intent(in) :: dim
+      !> Physical name
+      character(len=*), intent(in) :: name
+      integer(ip) :: index
+      integer(ip) :: i
+      index = 0
+      if (.not. allocated(self%groups)) return
+      do i = 1, size(self%groups, kind=ip)
+         if (self%groups(i)%dim /= dim) cycle
+         if (self%groups(i)%name == name) then
+            index = i
+            return
+         end if
+      end do
+   end function mesh_find_group
+
+   !> Indices of the tetrahedra in the physical volume `name`, ascending.
+   subroutine mesh_group_tets(self, name, indices, error)
+      class(mesh_t), intent(in) :: self
+      !> Physical volume name
+      character(len=*), intent(in) :: name
+      !> Tetrahedron indices 1..num_tets
+      integer(ip), allocatable, intent(out) :: indices(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: k
+      k = self%find_group(3_ip, name)
+      if (k == 0) then
+         call unknown_group_error(self, 3_ip, name, error)
+         return
+      end if
+      indices = pack_indices(in_entities(self%tet_entity, self%groups(k)%entities))
+   end subroutine mesh_group_tets
+
+   !> Indices of the triangles in the physical surface `name`, ascending.
+   subroutine mesh_group_triangles(self, name, indices, error)
+      class(mesh_t), intent(in) :: self
+      !> Physical surface name
+      character(len=*), intent(in) :: name
+      !> Triangle indices 1..num_tris
+      integer(ip), allocatable, intent(out) :: indices(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: k
+      k = self%find_group(2_ip, name)
+      if (k == 0) then
+         call unknown_group_error(self, 2_ip, name, error)
+         return
+      end if
+      indices = pack_indices(in_entities(self%tri_entity, self%groups(k)%entities))
+   end subroutine mesh_group_triangles
+
+   !> Sorted unique node indices of the elements (tetrahedra for dim 3, triangles for dim 2) of
+   !> the physical group `name`; all element nodes count, edge nodes of Tet10/Tri6 included.
+   subroutine mesh_group_nodes(self, dim, name, nodes, error)
+      class(mesh_t), intent(in) :: self
+      !> 2 (physical surface) or 3 (physical volume)
+      integer(ip), intent(in) :: dim
+      !> Physical name
+      character(len=*), intent(in) :: name
+      !> Node indices 1..num_nodes, ascending
+      integer(ip), allocatable, intent(out) :: nodes(:)
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: used(:)
+      integer(ip) :: k
+      if (dim /= 2 .and. dim /= 3) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // self%file_name // &
+            ''': physical group ''' // name // ''' of dimension ' // to_str(dim) // &
+            ': only surface (2) and volume (3) groups hold elements')
+         return
+      end if
+      k = self%find_group(dim, name)
+      if (k == 0) then
+         call unknown_group_error(self, dim, name, error)
+         return
+      end if
+      allocate (used(self%num_nodes))
+      used = .false.
+      if (dim == 3) then
+         call mark_nodes(self%tets, in_entities(self%tet_entity, self%groups(k)%entities), used)
+      else
+         call mark_nodes(self%tris, in_entities(self%tri_entity, self%groups(k)%entities), used)
+      end if
+      nodes = pack_indices(used)
+   end subroutine mesh_group_nodes
+
+   !> Names of the physical groups of dimension `dim` as one string, "a, b, c", for messages;
+   !> an unnamed group shows as "(tag 5)", no group as "(none)".
+   function mesh_group_names(self, dim) result(names)
+      class(mesh_t), intent(in) :: self
+      !> 0 point, 1 curve, 2 surface, 3 volume
+      integer(ip), intent(in) :: dim
+      character(len=:), allocatable :: names
+      integer(ip) :: i
+      names = ''
+      if (allocated(self%groups)) then
+         do i = 1, size(self%groups, kind=ip)
+            if (self%groups(i)%dim /= dim) cycle
+            if (len(names) > 0) names = names // ', '
+            if (len(self%groups(i)%name) > 0) then
+               names = names // self%groups(i)%name
+            else
+               names = names // '(tag ' // to_str(self%groups(i)%tag) // ')'
+            end if
+         end do
+      end if
+      if (len(names) == 0) names = '(none)'
+   end function mesh_group_names
+
+   !> One line for the log: "box.msh: 1234 nodes, 567 Tet10, 89 Tri6, 3 physical groups".
+   function mesh_summary(self) result(text)
+      class(mesh_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      integer(ip) :: num_groups
+      num_groups = 0
+      if (allocated(self%groups)) num_groups = size(self%groups, kind=ip)
+      text = ''
+      if (allocated(self%file_name)) text = self%file_name // ': '
+      text = text // to_str(self%num_nodes) // ' nodes, ' // to_str(self%num_tets()) // ' Tet' // &
+         to_str(self%nodes_per_tet) // ', ' // to_str(self%num_tris()) // ' Tri' // &
+         to_str(self%nodes_per_tri) // ', ' // to_str(num_groups) // ' physical groups'
+   end function mesh_summary
+
+   !> A new mesh holding one body: the tetrahedra of the physical volumes `volume_names`, only the
+   !> nodes they use (renumbered 1..n in increasing order of the old index, `node_tags` kept),
+   !> the triangles all of whose nodes are in the body (renumbered) and all physical groups.
+   subroutine extract_body(mesh, volume_names, body, error)
+      !> Whole mesh
+      type(mesh_t), intent(in) :: mesh
+      !> Physical volumes that make up the body
+      character(len=*), intent(in) :: volume_names(:)
+      !> The body's mesh
+      type(mesh_t), intent(out) :: body
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: keep_tet(:), keep_tri(:), used(:)
+      integer(ip), allocatable :: new_index(:), selected(:)
+      integer(ip) :: i, k, n, stat
+
+      if (mesh%num_tets() == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+            ''' holds no tetrahedra, so no body can be cut from it; Gmsh saves only the ' // &
+            'elements of physical groups once any group exists (toolchain pitfall 13): add a ' // &
+            'Physical Volume and mesh with gmsh -3')
+         return
+      end if
+      if (size(volume_names) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+            ''': no physical volume named for the body; volumes: ' // mesh%group_names(3_ip))
+         return
+      end if
+
+      allocate (keep_tet(mesh%num_tets()), stat=stat)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+            ''': out of memory for ' // to_str(mesh%num_tets()) // ' tetrahedra')
+         return
+      end if
+      keep_tet = .false.
+      do i = 1, size(volume_names, kind=ip)
+         k = mesh%find_group(3_ip, trim(volume_names(i)))
+         if (k == 0) then
+            call unknown_group_error(mesh, 3_ip, trim(volume_names(i)), error)
+            return
+         end if
+         keep_tet = keep_tet .or. in_entities(mesh%tet_entity, mesh%groups(k)%entities)
+      end do
+      if (.not. any(keep_tet)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+            ''': physical volumes ' // quoted_list(volume_names) // ' hold no tetrahedra; ' // &
+            'check that the Physical Volume lists the meshed volumes')
+         return
+      end if
+
+      ! Nodes: keep the used ones, in increasing order of the old index.
+      allocate (used(mesh%num_nodes), new_index(mesh%num_nodes))
+      used = .false.
+      call mark_nodes(mesh%tets, keep_tet, used)
+      n = 0
+      do i = 1, mesh%num_nodes
+         if (used(i)) then
+            n = n + 1
+            new_index(i) = n
+         else
+            new_index(i) = 0
+         end if
+      end do
+      selected = pack_indices(used)
+      body%num_nodes = n
+      body%xyz = mesh%xyz(:, selected)
+      body%node_tags = mesh%node_tags(selected)
+
+      selected = pack_indices(keep_tet)
+      body%nodes_per_tet = mesh%nodes_per_tet
+      body%tets = renumbered(mesh%tets, selected, new_index)
+      body%tet_tags = mesh%tet_tags(selected)
+      body%tet_entity = mesh%tet_entity(selected)
+
+      allocate (keep_tri(mesh%num_tris()))
+      do i = 1, mesh%num_tris()
+         keep_tri(i) = all(used(mesh%tris(:, i)))
+      end do
+      selected = pack_indices(keep_tri)
+      body%nodes_per_tri = mesh%nodes_per_tri
+      if (size(selected) == 0) body%nodes_per_tri = 0
+      allocate (body%tris(body%nodes_per_tri, size(selected)))
+      allocate (body%tri_tags(size(selected)), body%tri_entity(size(selected)))
+      if (size(selected) > 0) then
+         body%tris = renumbered(mesh%tris, selected, new_index)
+         body%tri_tags = mesh%tri_tags(selected)
+         body%tri_entity = mesh%tri_entity(selected)
+      end if
+
+      if (allocated(mesh%groups)) then
+         body%groups = mesh%groups
+      else
+         allocate (body%groups(0))
+      end if
+      body%file_name = file_of(mesh)
+   end subroutine extract_body
+
+   !> "point", "curve", "surface" or "volume" for dimension 0..3.
+   pure function dimension_word(dim) result(word)
+      !> Entity dimension
+      integer(ip), intent(in) :: dim
+      character(len=:), allocatable :: word
+      select case (dim)
+      case (0)
+         word = 'point'
+      case (1)
+         word = 'curve'
+      case (2)
+         word = 'surface'
+      case (3)
+         word = 'volume'
+      case default
+         word = 'dimension-' // to_str(dim)
+      end select
+   end function dimension_word
+
+   !> "mesh 'crank.msh': no physical volume 'crnk'; volumes: crank".
+   subroutine unknown_group_error(mesh, dim, name, error)
+      type(mesh_t), intent(in) :: mesh
+      integer(ip), intent(in) :: dim
+      character(len=*), intent(in) :: name
+      type(error_t), allocatable, intent(out) :: error
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+         ''': no physical ' // dimension_word(dim) // ' ''' // trim(name) // '''; ' // &
+         dimension_word(dim) // 's: ' // mesh%group_names(dim))
+   end subroutine unknown_group_error
+
+   !> The file name, or "(unnamed)" for a mesh not read from a file.
+   pure function file_of(mesh) result(name)
+      type(mesh_t), intent(in) :: mesh
+      character(len=:), allocatable :: name
+      if (allocated(mesh%file_name)) then
+         name = mesh%file_name
+      else
+         name = '(unnamed)'
+      end if
+   end function file_of
+
+   !> "'a', 'b'" for messages.
+   pure function quoted_list(words) result(text)
+      character(len=*), intent(in) :: words(:)
+      character(len=:), allocatable :: text
+      integer :: i
+      text = ''
+      do i = 1, size(words)
+         if (i > 1) text = text // ', '
+         text = text // '''' // trim(words(i)) // ''''
+      end do
+   end function quoted_list
+
+   !> For each element, whether its entity tag is one of `entities`.
+   pure function in_entities(element_entity, entities) result(inside)
+      !> Entity tag of each element
+      integer(ip), intent(in) :: element_entity(:)
+      !> Entity tags of a physical group
+      integer(ip), intent(in) :: entities(:)
+      logical :: inside(size(element_entity))
+      logical, allocatable :: lookup(:)
+      integer(ip) :: low, high, i
+      inside = .false.
+      if (size(element_entity) == 0 .or. size(entities) == 0) return
+      ! A direct table over the range of element entity tags (entity tags are small integers);
+      ! a plain search if they are spread far apart.
+      low = minval(element_entity)
+      high = maxval(element_entity)
+      if (int(high, i8) - low > 4_i8 * size(element_entity) + 1024_i8) then
+         do i = 1, size(element_entity, kind=ip)
+            inside(i) = any(entities == element_entity(i))
+         end do
+         return
+      end if
+      allocate (lookup(low:high))
+      lookup = .false.
+      do i = 1, size(entities, kind=ip)
+         if (entities(i) >= low .and. entities(i) <= high) lookup(entities(i)) = .true.
+      end do
+      do i = 1, size(element_entity, kind=ip)
+         inside(i) = lookup(element_entity(i))
+      end do
+   end function in_entities
+
+   !> Set used(node) for every node of the selected elements.
+   pure subroutine mark_nodes(elements, selected, used)
+      !> (nodes_per_element, num_elements) node indices
+      integer(ip), intent(in) :: elements(:, :)
+      !> Which elements count
+      logical, intent(in) :: selected(:)
+      !> Node flags, set where used
+      logical, intent(inout) :: used(:)
+      integer(ip) :: e, k
+      do e = 1, size(elements, 2, kind=ip)
+         if (.not. selected(e)) cycle
+         do k = 1, size(elements, 1, kind=ip)
+            used(elements(k, e)) = .true.
+         end do
+      end do
+   end subroutine mark_nodes
+
+   !> Columns `selected` of `elements` with every node index i replaced by new_index(i).
+   pure function renumbered(elements, selected, new_index) result(subset)
+      !> (nodes_per_element, num_elements) node indices
+      integer(ip), intent(in) :: elements(:, :)
+      !> Elements to keep, in this order
+      integer(ip), intent(in) :: selected(:)
+      !> New index of every old node index
+      integer(ip), intent(in) :: new_index(:)
+      integer(ip) :: subset(size(elements, 1), size(selected))
+      integer(ip) :: e, k
+      do e = 1, size(selected, kind=ip)
+         do k = 1, size(elements, 1, kind=ip)
+            subset(k, e) = new_index(elements(k, selected(e)))
+         end do
+      end do
+   end function renumbered
+
+   !> Positions of the true entries of `mask`, ascending.
+   pure function pack_indices(mask) result(indices)
+      logical, intent(in) :: mask(:)
+      integer(ip), allocatable :: indices(:)
+      integer(ip) :: i, n
+      allocate (indices(count(mask)))
+      n = 0
+      do i = 1, size(mask, kind=ip)
+         if (mask(i)) then
+            n = n + 1
+            indices(n) = i
+         end if
+      end do
+   end function pack_indices
+
+end module ffrf_mesh_mesh

@@ -1,0 +1,329 @@
+!> Constrained normal modes of one flexible body (Cammarata et al. 2022, "Methodology"):
+!> mesh -> Tet4/Tet10 K and M -> interfaces reduced to virtual nodes (RBE2/RBE3) -> reference
+!> conditions D q_V = 0 -> RC matrix T (and constraint rows C) -> (T^T K T) phi = w^2 (T^T M T) phi
+!> by shift-invert Lanczos on one MUMPS factorisation -> psi = T phi, mass-normalised.
+module ffrf_modes_modal_analysis
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: dp, ip, i8, pi
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
+      FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t
+   use ffrf_mesh_mesh, only: mesh_t, extract_body
+   use ffrf_mesh_gmsh, only: read_gmsh
+   use ffrf_fe_material, only: material_t, check_material
+   use ffrf_fe_assembly, only: assemble_stiffness_mass, body_mass_properties
+   use ffrf_la_sparse, only: csr_t
+   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface, mpc_name, &
+      dofs_text
+   use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
+   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors
+   use ffrf_modes_input, only: body_input_t, modes_input_t
+   use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
+   implicit none
+   private
+   public :: body_modes_t, compute_body_modes, sigma_of_shift
+
+   !> Number of rigid-body modes of a free body
+   integer, parameter :: NUM_RIGID_MODES = 6
+
+   !> The reduced flexible body: mesh, interfaces, RC set and its constrained normal modes.
+   type :: body_modes_t
+      !> Body name
+      character(len=:), allocatable :: name
+      !> The body's mesh (only its nodes and elements)
+      type(mesh_t) :: mesh
+      !> Interfaces with their virtual nodes and MPC matrices
+      type(interface_t), allocatable :: interfaces(:)
+      !> Mass (kg), centre of mass (m), inertia about the centre of mass (kg m^2)
+      real(dp) :: mass = 0.0_dp, center_of_mass(3) = 0.0_dp, inertia(3, 3) = 0.0_dp
+      !> What the RC set does (rank, hyperstatic redundancy, free-free)
+      type(rc_summary_t) :: rc
+      !> 'multipliers' or 'null_space'
+      character(len=:), allocatable :: formulation
+      !> Sizes: nodal dofs, reduced coordinates, constraint rows, stored entries of K
+      integer(ip) :: num_dofs = 0, num_reduced = 0, num_constraints = 0
+      integer(i8) :: stiffness_nnz = 0
+      !> Natural frequencies of the flexible modes (Hz), ascending
+      real(dp), allocatable :: frequency_hz(:)
+      !> Frequencies of the skipped rigid modes of a free-free body (Hz, ~0)
+      real(dp), allocatable :: rigid_frequency_hz(:)
+      !> Mass-normalised mode shapes, (3 num_nodes, num_modes)
+      real(dp), allocatable :: shape(:, :)
+      !> Virtual-node motion of each mode, (6 num_interfaces, num_modes): [u; theta] per interface
+      real(dp), allocatable :: virtual_node_shape(:, :)
+      !> ||K phi - lambda M phi|| / ||K phi|| of each mode on the constrained space
+      real(dp), allocatable :: residual(:)
+      !> max |Psi^T M Psi - I|
+      real(dp) :: orthonormality_error = 0.0_dp
+      !> Eigen solver statistics
+      type(eigen_result_t) :: eigen
+   end type body_modes_t
+
+contains
+
+   !> Automatic shift (Hz, negative): 1 % of sqrt(E/rho)/L, L the body's bounding-box diagonal.
+   !> Every eigenvalue lies above a negative sigma, so the modes nearest sigma are the lowest
+   !> ones; a sigma this far from zero keeps K - sigma M well conditioned even for a free-free
+   !> body (cond ~ lambda_max/|sigma|: with sigma = -(2 pi 10 Hz)^2 a free-free Tet10 beam's
+   !> Ritz vectors pick up rigid-mode round-off at the 1e-6 residual level, at this shift 1e-10).
+   pure function automatic_shift_hz(xyz, material) result(shift_hz)
+      real(dp), intent(in) :: xyz(:, :)
+      type(material_t), intent(in) :: material
+      real(dp) :: shift_hz, diagonal
+      diagonal = norm2(maxval(xyz, dim=2) - minval(xyz, dim=2))
+      shift_hz = -0.01_dp * sqrt(material%young / material%density) / max(diagonal, tiny(1.0_dp))
+   end function automatic_shift_hz
+
+   !> sigma = sign(f) (2 pi f)^2 for a shift given as a frequency f (Hz).
+   pure function sigma_of_shift(shift_hz) result(sigma)
+      real(dp), intent(in) :: shift_hz
+      real(dp) :: sigma
+      sigma = sign((2.0_dp * pi * shift_hz)**2, shift_hz)
+   end function sigma_of_shift
+
+   !> Compute the constrained normal modes of one body.
+   subroutine compute_body_modes(body_input, interface_inputs, modes_input, mesh_dir, log, times, &
+         body, error)
+      !> Body: mesh, volumes, material
+      type(body_input_t), intent(in) :: body_input
+      !> All interfaces of the case (those of this body are used)
+      type(interface_input_t), intent(in) :: interface_inputs(:)
+      !> Number of modes, shift, formulation
+      type(modes_input_t), intent(in) :: modes_input
+      !> Folder relative mesh files are taken from
+      character(len=*), intent(in) :: mesh_dir
+      !> Progress log
+      type(logger_t), intent(in) :: log
+      !> Stage times, appended to
+      type(stage_times_t), intent(inout) :: times
+      !> Result
+      type(body_modes_t), intent(out) :: body
+      type(error_t), allocatable, intent(out) :: error
+      type(mesh_t) :: mesh
+      type(material_t) :: material
+      type(csr_t) :: K, M, K_r, M_r
+      type(reduction_t) :: red
+      type(stage_timer_t) :: timer
+      character(len=:), allocatable :: tag, mesh_file
+      integer :: i_if, n_if
+
+      body%name = trim(body_input%name)
+      tag = body%name
+      material = material_t(body_input%young, body_input%poisson, body_input%density, &
+         body%name)
+      call check_material(material, error)
+      if (allocated(error)) return
+
+      ! Mesh
+      call timer%begin()
+      mesh_file = resolve_path(body_input%mesh_file, mesh_dir)
+      call read_gmsh(mesh_file, mesh, error)
+      if (.not. allocated(error)) call extract_body(mesh, &
+         pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
+      if (allocated(error)) return
+      call times%add(tag // ': mesh', timer%seconds())
+      call log%info('mesh', tag // ': ' // mesh_file // ', ' // to_str(body%mesh%num_nodes) // &
+         ' nodes, ' // to_str(body%mesh%num_tets()) // ' Tet' // &
+         to_str(body%mesh%nodes_per_tet) // ' ... ' // to_str(timer%seconds(), 3) // ' s')
+
+      ! Stiffness and mass
+      call timer%begin()
+      call assemble_stiffness_mass(body%mesh%xyz, body%mesh%tets, body%mesh%tet_tags, material, &
+         K, M, error)
+      if (allocated(error)) then
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
+         return
+      end if
+      call body_mass_properties(M, body%mesh%xyz, body%mass, body%center_of_mass, body%inertia)
+      body%num_dofs = 3 * body%mesh%num_nodes
+      body%stiffness_nnz = int(K%row_ptr(K%num_rows + 1) - 1, i8)
+      call times%add(tag // ': assembly', timer%seconds())
+      call log%info('fe', tag // ': ' // to_str(body%num_dofs) // ' dofs, ' // &
+         to_str(body%stiffness_nnz) // ' entries in K, mass ' // to_str(body%mass, 6) // &
+         ' kg ... ' // to_str(timer%seconds(), 3) // ' s')
+
+      ! Interfaces and reference conditions
+      call timer%begin()
+      n_if = count(interface_inputs%body == body_input%name)
+      allocate (body%interfaces(n_if))
+      n_if = 0
+      do i_if = 1, size(interface_inputs)
+         if (interface_inputs(i_if)%body /= body_input%name) cycle
+         n_if = n_if + 1
+         call build_interface(body%mesh, interface_inputs(i_if), body%interfaces(n_if), error)
+         if (allocated(error)) return
+         associate (f => body%interfaces(n_if))
+            call log%info('mpc', tag // ', ' // f%name // ': ' // mpc_name(f%mpc) // ', ' // &
+               to_str(size(f%nodes)) // ' nodes, area ' // to_str(f%area, 6) // &
+               ' m^2, virtual node (' // to_str(f%virtual_xyz(1), 6) // ', ' // &
+               to_str(f%virtual_xyz(2), 6) // ', ' // to_str(f%virtual_xyz(3), 6) // ')' // &
+               ', RC ' // rc_text(f%rc))
+            if (f%rank_deficient .and. .not. any(f%rc(4:6))) call log%note('mpc', tag // ', ' // &
+               f%name // ': nodes are collinear; the virtual-node rotation about that line ' // &
+               'is undefined and reads zero')
+         end associate
+      end do
+      call check_reference_conditions(body%interfaces, body%center_of_mass, body%rc, error)
+      if (allocated(error)) return
+      if (body%rc%free_free) then
+         call log%info('rc', tag // ': no reference conditions: free-free modes, the six ' // &
+            'rigid modes are computed and skipped')
+      else
+         call log%info('rc', tag // ': ' // to_str(body%rc%num_rc) // &
+            ' reference conditions, all six rigid motions removed')
+      end if
+      if (body%rc%redundancy > 0) call log%note('rc', tag // ': the RC set is hyperstatic: ' // &
+         to_str(body%rc%num_rc) // ' conditions for 6 rigid motions, so ' // &
+         to_str(body%rc%redundancy) // ' of them also constrain the deformation (this ' // &
+         'changes the modes; statically determinate sets have exactly 6)')
+
+      body%formulation = trim(modes_input%formulation)
+      call build_reduction(body%mesh%num_nodes, body%interfaces, body%formulation, red, error)
+      if (allocated(error)) return
+      call reduce_matrix(red, K, K_r, error)
+      if (.not. allocated(error)) call reduce_matrix(red, M, M_r, error)
+      if (allocated(error)) return
+      body%num_reduced = red%num_reduced
+      body%num_constraints = red%C%num_rows
+      call times%add(tag // ': interfaces and RC matrix', timer%seconds())
+      call log%info('rc', tag // ': RC matrix (' // body%formulation // '): ' // &
+         to_str(red%num_reduced) // ' reduced coordinates, ' // to_str(red%C%num_rows) // &
+         ' constraint rows ... ' // to_str(timer%seconds(), 3) // ' s')
+
+      call solve_modes(body, modes_input, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
+         material), log, times, error)
+      if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
+   end subroutine compute_body_modes
+
+   !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.
+   subroutine solve_modes(body, modes_input, red, K_r, M_r, auto_shift_hz, log, times, error)
+      type(body_modes_t), intent(inout) :: body
+      type(modes_input_t), intent(in) :: modes_input
+      type(reduction_t), intent(in) :: red
+      type(csr_t), intent(in) :: K_r, M_r
+      !> Shift used when modes_input%shift_hz = 0 (Hz, negative)
+      real(dp), intent(in) :: auto_shift_hz
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(error_t), allocatable, intent(out) :: error
+      type(eigen_options_t) :: options
+      type(stage_timer_t) :: timer
+      real(dp), allocatable :: psi(:, :)
+      integer :: num_rigid, first, k, i, num_modes
+      character(len=:), allocatable :: tag
+
+      tag = body%name
+      call timer%begin()
+      num_rigid = 0
+      if (body%rc%free_free) num_rigid = NUM_RIGID_MODES
+      options%num_modes = modes_input%num_modes + num_rigid
+      if (modes_input%shift_hz == 0.0_dp) then
+         options%sigma = sigma_of_shift(auto_shift_hz)
+         call log%info('modes', tag // ': automatic shift ' // to_str(auto_shift_hz, 4) // &
+            ' Hz (sigma = ' // to_str(options%sigma, 4) // ' s^-2)')
+      else
+         options%sigma = sigma_of_shift(modes_input%shift_hz)
+      end if
+      options%tolerance = modes_input%tolerance
+      call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error)
+      if (allocated(error)) return
+      call times%add(tag // ': ordering', body%eigen%time_ordering)
+      call times%add(tag // ': analysis', body%eigen%time_analysis)
+      call times%add(tag // ': factorisation', body%eigen%time_factorisation)
+      call times%add(tag // ': eigen loop', body%eigen%time_lanczos)
+      call times%add(tag // ': eigen check', body%eigen%time_check)
+
+      associate (lambda => body%eigen%eigenvalues)
+         if (num_rigid > 0) then
+            ! The six rigid modes must sit far below the first flexible one.
+            if (abs(lambda(num_rigid)) > 1.0e-4_dp * abs(lambda(num_rigid + 1))) then
+               call fatal_error(error, FFRF_NUMERIC_ERROR, 'free-free body: expected six ' // &
+                  'rigid modes near 0 Hz, but mode 6 is at ' // &
+                  to_str(frequency_of(lambda(num_rigid)), 6) // ' Hz and mode 7 at ' // &
+                  to_str(frequency_of(lambda(num_rigid + 1)), 6) // ' Hz; check the mesh ' // &
+                  'for loose parts (several volumes that do not share nodes)')
+               return
+            end if
+            body%rigid_frequency_hz = [(frequency_of(lambda(k)), k=1, num_rigid)]
+         end if
+         first = num_rigid + 1
+         num_modes = size(lambda) - num_rigid
+         if (any(lambda(first:) <= 0.0_dp)) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'a constrained mode has a ' // &
+               'non-positive eigenvalue ' // to_str(minval(lambda(first:))) // &
+               ': the reference conditions do not remove all rigid motions')
+            return
+         end if
+         body%frequency_hz = [(frequency_of(lambda(k)), k=first, size(lambda))]
+      end associate
+      body%residual = body%eigen%residuals(first:)
+      body%orthonormality_error = body%eigen%orthonormality_error
+      if (.not. all(ieee_is_finite(body%residual)) .or. maxval(body%residual) > 1.0e-6_dp) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'eigenpair residual ' // &
+            to_str(maxval(body%residual), 3) // ' exceeds 1e-6: the modes are not accurate; ' // &
+            'try a shift closer to the wanted frequencies (shift_hz) or a finer tolerance')
+         return
+      end if
+
+      call timer%begin()
+      call expand_vectors(red, body%eigen%vectors(:, first:), psi)
+      call move_alloc(psi, body%shape)
+      allocate (body%virtual_node_shape(6 * size(body%interfaces), num_modes))
+      do k = 1, size(body%interfaces)
+         associate (f => body%interfaces(k))
+            do i = 1, num_modes
+               body%virtual_node_shape(6 * k - 5:6 * k, i) = matmul(f%G, &
+                  gather_dofs(body%shape(:, i), f%nodes))
+            end do
+         end associate
+      end do
+      call times%add(tag // ': mode shapes', timer%seconds())
+      if (len_trim(modes_input%rc_label) > 0) tag = tag // ', ' // trim(modes_input%rc_label)
+      call log%info('modes', tag // ': ' // &
+         to_str(num_modes) // ' modes, ' // to_str(body%frequency_hz(1), 6) // ' .. ' // &
+         to_str(body%frequency_hz(num_modes), 6) // ' Hz, max residual ' // &
+         to_str(maxval(body%residual), 2) // ', M-orthonormality ' // &
+         to_str(body%orthonormality_error, 2) // ' ... ' // to_str(body%eigen%time_total, 3) // ' s')
+      do k = 1, num_modes
+         call log%debug('modes', '  mode ' // to_str(k) // ': ' // &
+            to_str(body%frequency_hz(k), 10) // ' Hz, residual ' // to_str(body%residual(k), 3))
+      end do
+   end subroutine solve_modes
+
+   pure function frequency_of(lambda) result(hz)
+      real(dp), intent(in) :: lambda
+      real(dp) :: hz
+      hz = sign(sqrt(abs(lambda)), lambda) / (2.0_dp * pi)
+   end function frequency_of
+
+   !> The 3 dofs of each node in `nodes`, in order.
+   pure function gather_dofs(q, nodes) result(q_b)
+      real(dp), intent(in) :: q(:)
+      integer(ip), intent(in) :: nodes(:)
+      real(dp) :: q_b(3 * size(nodes))
+      integer :: i
+      do i = 1, size(nodes)
+         q_b(3 * i - 2:3 * i) = q(3 * nodes(i) - 2:3 * nodes(i))
+      end do
+   end function gather_dofs
+
+   function rc_text(rc) result(text)
+      logical, intent(in) :: rc(6)
+      character(len=:), allocatable :: text
+      text = dofs_text(rc)
+      if (len(text) == 0) text = 'none'
+   end function rc_text
+
+   !> `path` itself when absolute or when `dir` is empty, else dir/path.
+   pure function resolve_path(path, dir) result(full)
+      character(len=*), intent(in) :: path, dir
+      character(len=:), allocatable :: full
+      if (path(1:1) == '/' .or. len_trim(dir) == 0) then
+         full = trim(path)
+      else
+         full = trim(dir) // '/' // trim(path)
+      end if
+   end function resolve_path
+
+end module ffrf_modes_modal_analysis

@@ -1,0 +1,158 @@
+!> A modal case from its namelist file to its results: read and echo the input, compute the
+!> constrained normal modes of every body, write the HDF5 results and a Gmsh file of the modes.
+!> The batch driver and the C API call `run_modal_case`; nothing here stops or prints errors.
+module ffrf_modes_modal_case
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, &
+      LOG_QUIET, LOG_INFO, LOG_DEBUG
+   use ffrf_io_case, only: case_input_t, read_case, case_echo
+   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_results, only: results_create, results_write_body, results_finish
+   use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
+   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   implicit none
+   private
+   public :: run_options_t, run_modal_case
+
+   !> Where inputs come from and results go, and how much to log.
+   type :: run_options_t
+      !> Folder of relative mesh files ('' = the case file's folder)
+      character(len=:), allocatable :: mesh_dir
+      !> Folder of the results ('' = current folder)
+      character(len=:), allocatable :: output_dir
+      !> Log level from the command line (-1: take &run log_level)
+      integer :: log_level = -1
+   end type run_options_t
+
+contains
+
+   !> Run the modal case `case_file`; progress goes to `log`'s unit.
+   subroutine run_modal_case(case_file, options, log, error)
+      !> Namelist case file
+      character(len=*), intent(in) :: case_file
+      !> Folders and log level
+      type(run_options_t), intent(in) :: options
+      !> Logger (its level is set from the case unless the options fix it)
+      type(logger_t), intent(inout) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: close_error
+      type(case_input_t) :: case
+      type(h5_file_t) :: h5
+      type(stage_times_t) :: times
+      type(stage_timer_t) :: total, output_timer
+      type(body_modes_t), allocatable :: bodies(:)
+      character(len=:), allocatable :: mesh_dir, results_file, msh_file, echo
+      integer :: k
+
+      call total%begin()
+      call read_case(case_file, case, error)
+      if (allocated(error)) return
+      log%level = options%log_level
+      if (log%level < 0) then
+         select case (trim(case%run%log_level))
+         case ('quiet')
+            log%level = LOG_QUIET
+         case ('debug')
+            log%level = LOG_DEBUG
+         case default
+            log%level = LOG_INFO
+         end select
+      end if
+      mesh_dir = options%mesh_dir
+      if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
+      echo = case_echo(case)
+      call log%info('input', case_file // ': ' // trim(case%run%title))
+      call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
+
+      results_file = join_path(options%output_dir, trim(case%run%output))
+      call results_create(results_file, case%name, trim(case%run%title), echo, h5, error)
+      if (allocated(error)) return
+      call log%info('output', 'results: ' // results_file)
+
+      allocate (bodies(size(case%bodies)))
+      do k = 1, size(case%bodies)
+         call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
+            times, bodies(k), error)
+         call output_timer%begin()
+         if (.not. allocated(error)) call results_write_body(h5, bodies(k), &
+            trim(case%modes%rc_label), error)
+         if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0) then
+            msh_file = join_path(options%output_dir, trim(case%run%mode_shapes_msh))
+            if (size(case%bodies) > 1) msh_file = insert_suffix(msh_file, '_' // bodies(k)%name)
+            call write_mode_shapes_msh(msh_file, bodies(k)%mesh%xyz, bodies(k)%mesh%tets, &
+               bodies(k)%shape, bodies(k)%frequency_hz, error)
+            if (.not. allocated(error)) call log%info('output', 'mode shapes for gmsh: ' // &
+               msh_file)
+         end if
+         if (allocated(error)) exit
+         call times%add(bodies(k)%name // ': output', output_timer%seconds())
+         call log_frequency_table(log, bodies(k), trim(case%modes%rc_label))
+      end do
+      call times%add('total', total%seconds())
+
+      if (allocated(error)) then
+         call results_finish(h5, times, 'error: ' // error%message, close_error)
+         return
+      end if
+      call results_finish(h5, times, 'complete', error)
+      if (allocated(error)) then
+         call add_context(error, results_file)
+         return
+      end if
+      call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
+         'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+   end subroutine run_modal_case
+
+   subroutine log_frequency_table(log, body, rc_label)
+      type(logger_t), intent(in) :: log
+      type(body_modes_t), intent(in) :: body
+      character(len=*), intent(in) :: rc_label
+      integer :: i
+      character(len=64) :: line
+      if (len_trim(rc_label) > 0) then
+         call log%info('modes', body%name // ', ' // rc_label // ': mode, frequency (Hz), residual')
+      else
+         call log%info('modes', body%name // ': mode, frequency (Hz), residual')
+      end if
+      do i = 1, size(body%frequency_hz)
+         write (line, '(i6, f16.4, es12.2)') i, body%frequency_hz(i), body%residual(i)
+         call log%info('modes', trim(line))
+      end do
+   end subroutine log_frequency_table
+
+   pure function folder_of(path) result(folder)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: folder
+      integer :: slash
+      slash = index(path, '/', back=.true.)
+      folder = ''
+      if (slash > 0) folder = path(:slash - 1)
+      if (slash == 1) folder = '/'
+   end function folder_of
+
+   pure function join_path(dir, name) result(path)
+      character(len=*), intent(in) :: dir, name
+      character(len=:), allocatable :: path
+      if (len_trim(dir) == 0 .or. name(1:1) == '/') then
+         path = name
+      else
+         path = trim(dir) // '/' // name
+      end if
+   end function join_path
+
+   !> "a/b.msh" + "_crank" -> "a/b_crank.msh".
+   pure function insert_suffix(path, suffix) result(new_path)
+      character(len=*), intent(in) :: path, suffix
+      character(len=:), allocatable :: new_path
+      integer :: dot
+      dot = index(path, '.', back=.true.)
+      if (dot > index(path, '/', back=.true.)) then
+         new_path = path(:dot - 1) // suffix // path(dot:)
+      else
+         new_path = path // suffix
+      end if
+   end function insert_suffix
+
+end module ffrf_modes_modal_case

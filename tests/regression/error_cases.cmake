@@ -1,0 +1,40 @@
+# Error paths of the driver: each bad input gives a one-line "ffrf: error: ..." naming the file,
+# group, key or entity, and the documented exit code (2 input, 3 file, 1 command line).
+# The cases are small namelist files written here; they use the crank_lc8 mesh fixture.
+set(_dir "${PROJECT_BINARY_DIR}/tests/error_cases")
+file(MAKE_DIRECTORY "${_dir}")
+set(_body "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank' /")
+set(_iface "&interface body = 'crank', name = 'B2', rc = 'Tx Ty Tz Rx Ry Rz' /")
+
+# ffrf_error_case(<name> <exit code> <message regex> <case text> [extra driver args])
+function(ffrf_error_case name code regex text)
+  file(WRITE "${_dir}/${name}.nml" "${text}\n")
+  add_test(NAME error_${name}
+    COMMAND ${CMAKE_COMMAND}
+      "-DCOMMAND=$<TARGET_FILE:ffrf>;${_dir}/${name}.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_dir};${ARGN}"
+      -DEXIT_CODE=${code} "-DMESSAGE=${regex}" -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+  set_tests_properties(error_${name} PROPERTIES LABELS "regression;errors"
+    FIXTURES_REQUIRED crank_lc8_mesh)
+endfunction()
+
+ffrf_error_case(unknown_key 2 "&modes: .*num_modez" "${_body}\n${_iface}\n&modes num_modez = 4 /")
+ffrf_error_case(unknown_group 2 "unknown namelist group &mode;" "${_body}\n${_iface}\n&mode num_modes = 4 /")
+ffrf_error_case(missing_body 2 "no &body group" "${_iface}")
+ffrf_error_case(poisson_range 2 "poisson = 0.5, must lie in \\(-1, 0.5\\)"
+  "&body name = 'crank', mesh_file = 'crank_lc8.msh', poisson = 0.5 /\n${_iface}")
+ffrf_error_case(num_modes_range 2 "num_modes = 0" "${_body}\n${_iface}\n&modes num_modes = 0 /")
+ffrf_error_case(bad_rc_dof 2 "unknown dof \"tw\"" "${_body}\n&interface body = 'crank', name = 'B2', rc = 'Tx Tw' /")
+ffrf_error_case(bad_mpc 2 "mpc = \"RBE4\"" "${_body}\n&interface body = 'crank', name = 'B2', mpc = 'RBE4' /")
+ffrf_error_case(unknown_interface_body 2 "body \"crnk\" is not a &body" "${_body}\n&interface body = 'crnk', name = 'B2' /")
+ffrf_error_case(missing_mesh 3 "no_such_mesh.msh"
+  "&body name = 'crank', mesh_file = 'no_such_mesh.msh' /\n${_iface}")
+ffrf_error_case(missing_volume 2 "no physical volume .crnk."
+  "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crnk' /\n${_iface}")
+ffrf_error_case(missing_surface 2 "B4" "${_body}\n&interface body = 'crank', name = 'B4', rc = '123456' /")
+ffrf_error_case(free_rotation 2 "rigid-body motion.*rotation about an axis along \\(0, 0, 1\\)"
+  "${_body}\n&interface body = 'crank', name = 'B1', rc = 'Tx Ty Tz' /\n&interface body = 'crank', name = 'B3', rc = 'Tx Ty' /")
+ffrf_error_case(missing_case 3 "cannot open case file" "" )
+file(REMOVE "${_dir}/missing_case.nml")
+ffrf_error_case(bad_option 1 "unknown option --frobnicate" "${_body}\n${_iface}" --frobnicate)
+ffrf_error_case(inverted_element 2 "mesh .*inverted_tet.msh.*tetrahedron 3 is inverted"
+  "&body name = 'block', mesh_file = '${PROJECT_SOURCE_DIR}/tests/data/regression/inverted_tet.msh' /\n&interface body = 'block', name = 'face', rc = '123456' /")

@@ -1,0 +1,15 @@
+# Run a command that must fail: cmake -DCOMMAND="prog;arg;..." -DEXIT_CODE=N -DMESSAGE=regex -P expect_error.cmake
+# Passes when the exit code is N and stderr matches MESSAGE on a single line starting "ffrf: error:".
+execute_process(COMMAND ${COMMAND} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code STREQUAL "${EXIT_CODE}")
+  message(FATAL_ERROR "exit code ${code}, expected ${EXIT_CODE}\nstdout:\n${out}\nstderr:\n${err}")
+endif()
+if(NOT err MATCHES "ffrf: error: [^\n]*${MESSAGE}")
+  message(FATAL_ERROR "stderr does not match 'ffrf: error: ...${MESSAGE}':\n${err}")
+endif()
+string(REGEX MATCHALL "\n" lines "${err}")
+list(LENGTH lines num_lines)
+if(num_lines GREATER 1)
+  message(FATAL_ERROR "the error takes ${num_lines} lines, expected one:\n${err}")
+endif()
+message(STATUS "exit ${code}: ${err}")
