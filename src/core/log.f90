@@ -54,14 +54,24 @@ contains
       character(len=*), intent(in) :: name
       !> Wall time (s)
       real(dp), intent(in) :: seconds
-      character(len=80) :: stage_name
-      if (.not. allocated(self%names)) then
-         allocate (self%names(0), self%seconds(0), self%peak_mib(0))
+      character(len=80), allocatable :: names(:)
+      real(dp), allocatable :: seconds_new(:), peak_new(:)
+      integer :: n
+      n = 0
+      if (allocated(self%names)) n = size(self%names)
+      ! Grown by hand: gfortran 12's -fcheck=bounds rejects [names, name] for character arrays.
+      allocate (names(n + 1), seconds_new(n + 1), peak_new(n + 1))
+      if (n > 0) then
+         names(:n) = self%names
+         seconds_new(:n) = self%seconds
+         peak_new(:n) = self%peak_mib
       end if
-      stage_name = name
-      self%names = [self%names, stage_name]
-      self%seconds = [self%seconds, seconds]
-      self%peak_mib = [self%peak_mib, peak_memory_mib()]
+      names(n + 1) = name
+      seconds_new(n + 1) = seconds
+      peak_new(n + 1) = peak_memory_mib()
+      call move_alloc(names, self%names)
+      call move_alloc(seconds_new, self%seconds)
+      call move_alloc(peak_new, self%peak_mib)
    end subroutine stage_times_add
 
    !> An information line, "[stage] text".

@@ -40,7 +40,7 @@ contains
       character(len=40) :: buffer
       character(len=20) :: fmt
       integer :: d, decimals, e
-      character(len=:), allocatable :: mantissa
+      character(len=:), allocatable :: mantissa, exponent
       d = 6
       if (present(digits)) d = max(1, min(17, digits))
       if (value /= value) then
@@ -63,7 +63,7 @@ contains
          if (text(1:1) == '.') text = '0' // text
          if (text(1:min(2, len(text))) == '-.') text = '-0' // text(2:)
       else
-         write (fmt, '(a,i0,a,i0,a)') '(es', d + 8, '.', d - 1, ')'
+         write (fmt, '(a,i0,a,i0,a)') '(es', d + 9, '.', d - 1, 'e3)'
          write (buffer, fmt) value
          text = trim(adjustl(buffer))
          ! Trim the mantissa's trailing zeros ("2.10000E+11" -> "2.1E+11").
@@ -74,7 +74,12 @@ contains
                mantissa = mantissa(:len(mantissa) - 1)
             end do
             if (mantissa(len(mantissa):len(mantissa)) == '.') mantissa = mantissa(:len(mantissa) - 1)
-            text = mantissa // text(e:)
+            ! Exponent with at least two digits ("E+011" -> "E+11", "E-300" stays).
+            exponent = text(e + 2:)
+            do while (len(exponent) > 2 .and. exponent(1:1) == '0')
+               exponent = exponent(2:)
+            end do
+            text = mantissa // text(e:e + 1) // exponent
          end if
       end if
    end function real_to_str

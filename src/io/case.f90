@@ -108,7 +108,8 @@ contains
       text = text // '&modes num_modes = ' // to_str(case%modes%num_modes) // ', shift_hz = ' // &
          to_str(case%modes%shift_hz, 12) // ', formulation = ''' // &
          trim(case%modes%formulation) // ''', rc_label = ''' // trim(case%modes%rc_label) // &
-         ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ' /' // nl
+         ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
+         to_str(case%modes%lanczos_vectors) // ' /' // nl
    end function case_echo
 
    !> "input/crank_rc1.nml" -> "crank_rc1".

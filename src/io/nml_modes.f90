@@ -4,7 +4,8 @@
 !>                0 (default): automatic, 1 % of the body's wave frequency sqrt(E/rho)/L, negative
 !>   formulation  'multipliers' (default, scalable) or 'null_space' (explicit LAPACK null spaces)
 !>   rc_label     label of the RC set for tables and plots (e.g. 'RC set 1')
-!>   tolerance    ARPACK relative tolerance (default 0: machine precision)
+!>   tolerance    ARPACK relative tolerance (default 1e-9; 0: machine precision)
+!>   lanczos_vectors  Lanczos basis size, ARPACK's ncv (default 0: max(2 num_modes + 1, 20))
 module ffrf_io_nml_modes
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -22,24 +23,25 @@ contains
       integer, intent(in) :: unit
       type(modes_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
-      integer :: num_modes
+      integer :: num_modes, lanczos_vectors
       real(dp) :: shift_hz, tolerance
       character(len=16) :: formulation
       character(len=64) :: rc_label
       character(len=512) :: msg
       integer :: stat
-      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance
+      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors
       num_modes = input%num_modes
       shift_hz = input%shift_hz
       formulation = input%formulation
       rc_label = input%rc_label
       tolerance = input%tolerance
+      lanczos_vectors = input%lanczos_vectors
       rewind (unit)
       read (unit, nml=modes, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'modes', 0, msg, &
-            'num_modes, shift_hz, formulation, rc_label, tolerance')
+            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors')
          return
       end if
       formulation = to_lower(formulation)
@@ -51,12 +53,17 @@ contains
       else if (all(formulation /= [character(len=16) :: 'multipliers', 'null_space'])) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: formulation = "' // &
             trim(formulation) // '"; use "multipliers" or "null_space"')
+      else if (lanczos_vectors /= 0 .and. lanczos_vectors <= num_modes) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: lanczos_vectors = ' // &
+            to_str(lanczos_vectors) // ' must exceed num_modes = ' // to_str(num_modes) // &
+            ' (about twice num_modes; 0 = automatic)')
       else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &
             ', must lie in [0, 1e-2)')
       end if
       if (allocated(error)) return
-      input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance)
+      input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
+         lanczos_vectors)
    end subroutine read_modes_group
 
 end module ffrf_io_nml_modes

@@ -226,6 +226,7 @@ contains
          options%sigma = sigma_of_shift(modes_input%shift_hz)
       end if
       options%tolerance = modes_input%tolerance
+      options%ncv = int(modes_input%lanczos_vectors, kind(options%ncv))
       call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error)
       if (allocated(error)) return
       call times%add(tag // ': ordering', body%eigen%time_ordering)
@@ -246,6 +247,9 @@ contains
                return
             end if
             body%rigid_frequency_hz = [(frequency_of(lambda(k)), k=1, num_rigid)]
+            call log%info('modes', tag // ': six rigid modes at ' // &
+               to_str(minval(body%rigid_frequency_hz), 3) // ' .. ' // &
+               to_str(maxval(body%rigid_frequency_hz), 3) // ' Hz (round-off of 0), skipped')
          end if
          first = num_rigid + 1
          num_modes = size(lambda) - num_rigid

@@ -37,8 +37,12 @@ module ffrf_modes_input
       character(len=16) :: formulation = 'multipliers'
       !> Label of the reference-condition set, e.g. 'RC set 1', for tables and plots
       character(len=64) :: rc_label = ''
-      !> Relative tolerance of ARPACK's Ritz values (0: machine precision)
-      real(dp) :: tolerance = 0.0_dp
+      !> Relative tolerance of ARPACK's Ritz values (0: machine precision). 1e-9 gives eigen
+      !> residuals ~1e-10 on the reference crank with ~25 % fewer solves than machine precision;
+      !> the frequencies (Rayleigh quotients) are accurate to about the residual squared.
+      real(dp) :: tolerance = 1.0e-9_dp
+      !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
+      integer :: lanczos_vectors = 0
    end type modes_input_t
 
 end module ffrf_modes_input

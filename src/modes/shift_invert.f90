@@ -27,7 +27,7 @@ module ffrf_modes_shift_invert
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
    use ffrf_la_arpack, only: dsaupd, dseupd
-   use ffrf_la_lapack, only: dgemm
+   use ffrf_la_lapack, only: dgemm, dposv
    implicit none
    private
    public :: eigen_options_t, eigen_result_t, solve_shift_invert
@@ -697,53 +697,56 @@ contains
       end if
    end subroutine finish_pairs
 
-   !> Columns of r replaced by their orthogonal projection P r onto null(C), by solving
-   !> [I C^T; C 0] [p; mu] = [r; 0] (one small MUMPS factorisation; rows of C scaled to 1).
+   !> Columns of r replaced by their orthogonal projection P r = r - C^T (C C^T)^-1 C r onto
+   !> null(C). C has a handful of rows (reference conditions), so C C^T is a small dense matrix,
+   !> solved by Cholesky (LAPACK dposv) after scaling the rows to unit norm.
    subroutine project_null_space(C, r, error)
       type(csr_t), intent(in) :: C
       real(dp), intent(inout) :: r(:, :)
       type(error_t), allocatable, intent(out) :: error
-      type(mumps_solver_t) :: projector
-      integer(ip), allocatable :: irn(:), jcn(:)
-      real(dp), allocatable :: val(:), b(:, :)
-      integer(ip) :: n, nc, i, p, e
-      real(dp) :: row_max
-
-      n = size(r, 1)
+      real(dp), allocatable :: gram(:, :), cr(:, :), work(:), row_norm(:)
+      integer(ip) :: nc, i, j, p, info
       nc = C%num_rows
-      allocate (irn(n + C%row_ptr(nc + 1) - 1), jcn(n + C%row_ptr(nc + 1) - 1), &
-                val(n + C%row_ptr(nc + 1) - 1))
-      do i = 1, n
-         irn(i) = i
-         jcn(i) = i
-         val(i) = 1.0_dp
-      end do
-      e = n
+      allocate (gram(nc, nc), cr(nc, size(r, 2)), work(C%num_cols), row_norm(nc))
       do i = 1, nc
-         row_max = maxval(abs(C%val(C%row_ptr(i):C%row_ptr(i + 1) - 1)))
+         row_norm(i) = norm2(C%val(C%row_ptr(i):C%row_ptr(i + 1) - 1))
+      end do
+      ! Gram matrix of the normalised rows, one row scattered into a dense vector at a time.
+      work = 0.0_dp
+      do i = 1, nc
          do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
-            e = e + 1
-            irn(e) = C%col(p)
-            jcn(e) = n + i
-            val(e) = C%val(p) / row_max
+            work(C%col(p)) = C%val(p) / row_norm(i)
+         end do
+         do j = 1, nc
+            gram(i, j) = 0.0_dp
+            do p = C%row_ptr(j), C%row_ptr(j + 1) - 1
+               gram(i, j) = gram(i, j) + work(C%col(p)) * C%val(p) / row_norm(j)
+            end do
+         end do
+         do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
+            work(C%col(p)) = 0.0_dp
          end do
       end do
-      call projector%init(MUMPS_SYM_INDEFINITE, error)
-      if (allocated(error)) return
-      ! Natural order is ideal here: eliminating the identity block first leaves only the
-      ! dense nc x nc Schur complement -C C^T, so no METIS run is needed.
-      call projector%analyse(n + nc, irn, jcn, [(i, i=1, n + nc)], error)
-      if (.not. allocated(error)) call projector%factorise(val, error)
-      if (.not. allocated(error)) then
-         allocate (b(n + nc, size(r, 2)))
-         b(1:n, :) = r
-         b(n + 1:, :) = 0.0_dp
-         call projector%solve(b, error)
-         if (.not. allocated(error)) r = b(1:n, :)
+      ! C r with the normalised rows.
+      cr = 0.0_dp
+      do i = 1, nc
+         do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
+            cr(i, :) = cr(i, :) + C%val(p) / row_norm(i) * r(C%col(p), :)
+         end do
+      end do
+      call dposv('U', nc, int(size(r, 2), ip), gram, nc, cr, nc, info)
+      if (info /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert, residual projection onto ' &
+            // 'null(C): the constraint rows are linearly dependent (dposv info = ' // &
+            to_str(info) // ')')
+         return
       end if
-      call projector%free()
-      if (allocated(error)) call add_context(error, 'shift-invert, residual projection onto ' &
-         // 'null(C) (are the constraint rows independent?)')
+      ! r -= C^T mu
+      do i = 1, nc
+         do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
+            r(C%col(p), :) = r(C%col(p), :) - C%val(p) / row_norm(i) * cr(i, :)
+         end do
+      end do
    end subroutine project_null_space
 
    !> Text for a dsaupd failure: info /= 0 or fewer converged values than wanted.

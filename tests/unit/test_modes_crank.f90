@@ -11,7 +11,8 @@ module test_modes_crank
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
-   use ffrf_mpc_interface, only: interface_input_t
+   use ffrf_mpc_interface, only: interface_input_t, MPC_RBE3
+   use ffrf_mpc_rbe2, only: rbe2_matrix
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
@@ -91,6 +92,8 @@ contains
          if (.not. allocated(error)) call check_close(error, 'max |psi^T M psi - I|', &
             body%orthonormality_error, 0.0_dp, atol=1.0e-10_dp)
          if (allocated(error)) return
+         if (mpc == 'RBE3') call check_gf_identity(body, error)
+         if (allocated(error)) return
          scale = maxval(abs(body%shape))
          do k = 1, 3
             do d = 1, 6
@@ -103,6 +106,29 @@ contains
          end do
       end do
    end subroutine check_rc_sets
+
+   !> G F = I6 on the real faces B1, B2, B3 of the mesh (curved Tri6 faces, corner and mid-side
+   !> nodes, uniform weights): an RBE3 reproduces every rigid motion of its face (round-off).
+   subroutine check_gf_identity(body, error)
+      type(body_modes_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: F(:, :)
+      real(dp) :: gf(6, 6)
+      integer :: k, i
+      do k = 1, size(body%interfaces)
+         associate (face => body%interfaces(k))
+            if (face%mpc /= MPC_RBE3) cycle
+            call rbe2_matrix(body%mesh%xyz(:, face%nodes), face%virtual_xyz, F)
+            gf = matmul(face%G, F)
+            do i = 1, 6
+               gf(i, i) = gf(i, i) - 1.0_dp
+            end do
+            call check_close(error, 'face ' // face%name // ' (' // to_str(size(face%nodes)) // &
+               ' nodes): max |G F - I6|', maxval(abs(gf)), 0.0_dp, atol=1.0e-11_dp)
+            if (allocated(error)) return
+         end associate
+      end do
+   end subroutine check_gf_identity
 
    subroutine test_rc_sets_rbe3(error)
       type(error_t), allocatable, intent(out) :: error
