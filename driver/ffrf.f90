@@ -76,10 +76,12 @@ contains
 
    subroutine usage(unit)
       integer, intent(in) :: unit
-      write (unit, '(a)') 'usage: ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] [--quiet|--debug]'
+      write (unit, '(a)') 'usage: ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] ' // &
+         '[--quiet|--debug]'
       write (unit, '(a)') '  Computes the constrained normal modes of the bodies of CASE.nml and'
       write (unit, '(a)') '  writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
-      write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files (default: the case folder)'
+      write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files ' // &
+         '(default: the case folder)'
       write (unit, '(a)') '  --output-dir DIR  folder of the results (default: current folder)'
    end subroutine usage
 

@@ -5,7 +5,8 @@
 !>   weighting     RBE3 node weights: 'uniform' (default, as Nastran) or 'area'
 !>   virtual_node  'centroid' (default: area centroid of the face) or 'position'
 !>   position      virtual node position [m] when virtual_node = 'position'
-!>   rc            reference conditions: forbidden virtual-node dofs, 'Tx Ty Tz Rx Ry Rz' or '123456'
+!>   rc            reference conditions: forbidden virtual-node dofs, 'Tx Ty Tz Rx Ry Rz'
+!>                 or Nastran component digits '123456'
 module ffrf_io_nml_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR

@@ -8,6 +8,7 @@ module ffrf_la_metis
    use ffrf_core_kinds, only: ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_la_sparse, only: sort_indices
    implicit none
    private
    public :: nested_dissection, pattern_adjacency, pattern_nested_dissection
@@ -194,7 +195,7 @@ contains
       last = 0
       do i = 1, n
          start = xadj(i)
-         call sort_integers(raw(start:xadj(i + 1) - 1))
+         call sort_indices(raw(start:xadj(i + 1) - 1))
          q = 0
          do p = start, xadj(i + 1) - 1
             if (q > 0) then
@@ -232,53 +233,5 @@ contains
       if (allocated(error)) return
       call nested_dissection(n, xadj, adjncy, perm, iperm, error)
    end subroutine pattern_nested_dissection
-
-   !> In-place ascending sort of a short integer list (insertion sort below 16, else heap sort).
-   pure subroutine sort_integers(a)
-      !> List to sort
-      integer(ip), intent(inout) :: a(:)
-      integer(ip) :: i, j, n, t
-      n = size(a)
-      if (n < 16) then
-         do i = 2, n
-            t = a(i)
-            j = i - 1
-            do while (j >= 1)
-               if (a(j) <= t) exit
-               a(j + 1) = a(j)
-               j = j - 1
-            end do
-            a(j + 1) = t
-         end do
-         return
-      end if
-      do i = n / 2, 1, -1
-         call sift_down(a, i, n)
-      end do
-      do i = n, 2, -1
-         t = a(1)
-         a(1) = a(i)
-         a(i) = t
-         call sift_down(a, 1_ip, i - 1)
-      end do
-   end subroutine sort_integers
-
-   pure subroutine sift_down(a, first, last)
-      integer(ip), intent(inout) :: a(:)
-      integer(ip), intent(in) :: first, last
-      integer(ip) :: root, child, t
-      root = first
-      do while (2 * root <= last)
-         child = 2 * root
-         if (child < last) then
-            if (a(child) < a(child + 1)) child = child + 1
-         end if
-         if (a(root) >= a(child)) return
-         t = a(root)
-         a(root) = a(child)
-         a(child) = t
-         root = child
-      end do
-   end subroutine sift_down
 
 end module ffrf_la_metis

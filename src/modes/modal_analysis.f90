@@ -140,8 +140,12 @@ contains
       body%stiffness_nnz = int(K%row_ptr(K%num_rows + 1) - 1, i8)
       call times%add(tag // ': assembly', timer%seconds())
       call log%info('fe', tag // ': ' // to_str(body%num_dofs) // ' dofs, ' // &
-         to_str(body%stiffness_nnz) // ' entries in K, mass ' // to_str(body%mass, 6) // &
-         ' kg ... ' // to_str(timer%seconds(), 3) // ' s')
+         to_str(body%stiffness_nnz) // ' entries in K ... ' // to_str(timer%seconds(), 3) // ' s')
+      call log%info('fe', tag // ': mass ' // to_str(body%mass, 6) // ' kg, centre of mass (' // &
+         to_str(body%center_of_mass(1), 4) // ', ' // to_str(body%center_of_mass(2), 4) // ', ' // &
+         to_str(body%center_of_mass(3), 4) // ') m, inertia about it diag (' // &
+         to_str(body%inertia(1, 1), 4) // ', ' // to_str(body%inertia(2, 2), 4) // ', ' // &
+         to_str(body%inertia(3, 3), 4) // ') kg m^2')
 
       ! Interfaces and reference conditions
       call timer%begin()
@@ -175,7 +179,7 @@ contains
       end if
       if (body%rc%redundancy > 0) call log%note('rc', tag // ': the RC set is hyperstatic: ' // &
          to_str(body%rc%num_rc) // ' conditions for 6 rigid motions, so ' // &
-         to_str(body%rc%redundancy) // ' of them also constrain the deformation (this ' // &
+         to_str(body%rc%redundancy) // ' condition(s) also constrain the deformation (this ' // &
          'changes the modes; statically determinate sets have exactly 6)')
 
       body%formulation = trim(modes_input%formulation)
@@ -288,7 +292,8 @@ contains
          to_str(num_modes) // ' modes, ' // to_str(body%frequency_hz(1), 6) // ' .. ' // &
          to_str(body%frequency_hz(num_modes), 6) // ' Hz, max residual ' // &
          to_str(maxval(body%residual), 2) // ', M-orthonormality ' // &
-         to_str(body%orthonormality_error, 2) // ' ... ' // to_str(body%eigen%time_total, 3) // ' s')
+         to_str(body%orthonormality_error, 2) // ' ... ' // to_str(body%eigen%time_total, 3) // &
+         ' s')
       do k = 1, num_modes
          call log%debug('modes', '  mode ' // to_str(k) // ': ' // &
             to_str(body%frequency_hz(k), 10) // ' Hz, residual ' // to_str(body%residual(k), 3))

@@ -147,7 +147,8 @@ contains
       end if
       b = first_of_kind(body, BENDING)
       t = first_of_kind(body, TORSION)
-      call check(error, tag // ': a bending and a torsion mode among the first 8', b > 0 .and. t > 0)
+      call check(error, tag // ': a bending and a torsion mode among the first 8', &
+         b > 0 .and. t > 0)
       if (allocated(error)) return
       call report(tag // ', lc = 4 mm: bending ' // to_str(body%frequency_hz(b), 8) // &
          ' Hz (Timoshenko ' // to_str(bending_ref, 8) // ', error ' // &

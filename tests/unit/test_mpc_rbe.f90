@@ -3,7 +3,8 @@
 !> node (also off the centroid, where MSC's full 6-dof fit differs from a plain average), statics
 !> of the distributed load f_B = G^T f_V, and the rank diagnostics of collinear nodes.
 module test_mpc_rbe
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, ip
+   use ffrf_la_lapack, only: dgesv
    use ffrf_core_error, only: error_t
    use ffrf_la_dense, only: skew
    use ffrf_mpc_rbe2, only: rbe2_matrix, rbe2_pseudo_inverse
@@ -36,8 +37,8 @@ contains
    end subroutine collect_mpc_rbe
 
    !> Nodes on a cylindrical face (radius 0.02, length 0.025 along z) at irregular angles.
-   function ring_nodes() result(xyz)
-      real(dp), allocatable :: xyz(:, :)
+   subroutine ring_nodes(xyz)
+      real(dp), allocatable, intent(out) :: xyz(:, :)
       integer :: i, j, k
       allocate (xyz(3, 36))
       k = 0
@@ -48,7 +49,7 @@ contains
                0.02_dp * sin(0.5_dp * i + 0.1_dp * j), 0.0125_dp * j - 0.03_dp]
          end do
       end do
-   end function ring_nodes
+   end subroutine ring_nodes
 
    subroutine test_rbe3_gf_identity(error)
       type(error_t), allocatable, intent(out) :: error
@@ -56,7 +57,7 @@ contains
       real(dp) :: direction(3), gf(6, 6)
       logical :: deficient
       integer :: i
-      xyz = ring_nodes()
+      call ring_nodes(xyz)
       w = [(1.0_dp + 0.1_dp * mod(i, 5), i=1, size(xyz, 2))]
       call rbe2_matrix(xyz, [0.001_dp, -0.002_dp, 0.004_dp], F)
       call rbe3_matrix(xyz, w, [0.001_dp, -0.002_dp, 0.004_dp], 0.02_dp, G, deficient, direction, &
@@ -79,7 +80,7 @@ contains
       real(dp) :: direction(3), x_v(3), t(3), theta(3), q_v(6), expected(6)
       logical :: deficient
       integer :: i
-      xyz = ring_nodes()
+      call ring_nodes(xyz)
       w = [(1.0_dp, i=1, size(xyz, 2))]
       x_v = [0.01_dp, 0.03_dp, 0.05_dp]
       t = [1.0e-4_dp, -2.0e-4_dp, 3.0e-4_dp]
@@ -105,7 +106,8 @@ contains
       real(dp) :: direction(3), x_v(3), q_v(6), moment(3), J(3, 3), r(3), theta(3)
       logical :: deficient
       integer :: i
-      xyz = ring_nodes()
+      integer(ip) :: pivots(3), info
+      call ring_nodes(xyz)
       w = [(1.0_dp, i=1, size(xyz, 2))]
       x_v = sum(xyz, dim=2) / size(xyz, 2)
       allocate (q_b(3 * size(xyz, 2)))
@@ -124,29 +126,11 @@ contains
          J = J - matmul(skew(r), skew(r))
       end do
       theta = moment
-      call solve3(J, theta)
+      call dgesv(3_ip, 1_ip, J, 3_ip, pivots, theta, 3_ip, info)
       call check_close(error, 'theta_V(z) - J^-1 sum r x u', q_v(6) - theta(3), 0.0_dp, &
          atol=1.0e-10_dp * maxval(abs(theta)))
    end subroutine test_rbe3_average
 
-   !> b = a^-1 b by the adjugate (3 x 3).
-   subroutine solve3(a, b)
-      real(dp), intent(in) :: a(3, 3)
-      real(dp), intent(inout) :: b(3)
-      real(dp) :: inv(3, 3), det
-      det = a(1, 1) * (a(2, 2) * a(3, 3) - a(2, 3) * a(3, 2)) - a(1, 2) * (a(2, 1) * a(3, 3) - &
-         a(2, 3) * a(3, 1)) + a(1, 3) * (a(2, 1) * a(3, 2) - a(2, 2) * a(3, 1))
-      inv(1, 1) = a(2, 2) * a(3, 3) - a(2, 3) * a(3, 2)
-      inv(1, 2) = a(1, 3) * a(3, 2) - a(1, 2) * a(3, 3)
-      inv(1, 3) = a(1, 2) * a(2, 3) - a(1, 3) * a(2, 2)
-      inv(2, 1) = a(2, 3) * a(3, 1) - a(2, 1) * a(3, 3)
-      inv(2, 2) = a(1, 1) * a(3, 3) - a(1, 3) * a(3, 1)
-      inv(2, 3) = a(1, 3) * a(2, 1) - a(1, 1) * a(2, 3)
-      inv(3, 1) = a(2, 1) * a(3, 2) - a(2, 2) * a(3, 1)
-      inv(3, 2) = a(1, 2) * a(3, 1) - a(1, 1) * a(3, 2)
-      inv(3, 3) = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
-      b = matmul(inv, b) / det
-   end subroutine solve3
 
    !> A force and moment at the virtual node, distributed as f_B = G^T f_V, keep their resultant
    !> force and moment about the virtual node (virtual work with G F = I).
@@ -156,7 +140,7 @@ contains
       real(dp) :: direction(3), x_v(3), f_v(6), force(3), moment(3)
       logical :: deficient
       integer :: i
-      xyz = ring_nodes()
+      call ring_nodes(xyz)
       w = [(0.5_dp + mod(i, 3), i=1, size(xyz, 2))]
       x_v = [0.0_dp, 0.0_dp, 0.02_dp]
       f_v = [100.0_dp, -50.0_dp, 20.0_dp, 3.0_dp, -1.0_dp, 7.0_dp]
@@ -181,7 +165,7 @@ contains
       real(dp) :: direction(3), pf(6, 6)
       logical :: deficient
       integer :: i
-      xyz = ring_nodes()
+      call ring_nodes(xyz)
       call rbe2_matrix(xyz, [0.0_dp, 0.0_dp, -0.0175_dp], F)
       call rbe2_pseudo_inverse(F, 0.02_dp, Fplus, deficient, direction, error)
       if (allocated(error)) return
