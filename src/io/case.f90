@@ -2,7 +2,7 @@
 module ffrf_io_case
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
-   use ffrf_core_strings, only: to_str
+   use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_mpc_interface, only: interface_input_t
    use ffrf_io_nml_common, only: check_group_names
@@ -70,8 +70,11 @@ contains
          end if
       end do
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
-      if (len_trim(case%run%mode_shapes_msh) == 0) case%run%mode_shapes_msh = case%name // &
-         '_modes.msh'
+      if (len_trim(case%run%mode_shapes_msh) == 0) then
+         case%run%mode_shapes_msh = case%name // '_modes.msh'
+      else if (to_lower(trim(case%run%mode_shapes_msh)) == 'none') then
+         case%run%mode_shapes_msh = ''
+      end if
    end subroutine read_case
 
    !> The resolved input as namelist text (defaults filled in), for the log and /input.
@@ -81,7 +84,8 @@ contains
       character(len=*), parameter :: nl = new_line('a')
       integer :: k, v
       text = '&run title = ''' // trim(case%run%title) // ''', output = ''' // &
-         trim(case%run%output) // ''', mode_shapes_msh = ''' // trim(case%run%mode_shapes_msh) // &
+         trim(case%run%output) // ''', mode_shapes_msh = ''' // &
+         msh_name(case%run%mode_shapes_msh) // &
          ''', log_level = ''' // trim(case%run%log_level) // ''' /' // nl
       do k = 1, size(case%bodies)
          associate (b => case%bodies(k))
@@ -111,6 +115,14 @@ contains
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
          to_str(case%modes%lanczos_vectors) // ' /' // nl
    end function case_echo
+
+   !> The mode-shape file name, 'none' when no file is written.
+   pure function msh_name(file_name) result(name)
+      character(len=*), intent(in) :: file_name
+      character(len=:), allocatable :: name
+      name = trim(file_name)
+      if (len(name) == 0) name = 'none'
+   end function msh_name
 
    !> "input/crank_rc1.nml" -> "crank_rc1".
    pure function case_name_of(file_name) result(name)

@@ -1,7 +1,7 @@
 !> Namelist group &run (optional): what the run is called and where its results go.
 !>   title            free text, echoed in the results and the log
 !>   output           results file (HDF5), relative to the output directory; default <case>.h5
-!>   mode_shapes_msh  Gmsh file to animate the modes ('' none; default <case>_modes.msh)
+!>   mode_shapes_msh  Gmsh file to animate the modes (default <case>_modes.msh; 'none': no file)
 !>   log_level        'quiet', 'info' (default) or 'debug'
 module ffrf_io_nml_run
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR

@@ -4,7 +4,7 @@
 !> REALTYPEWIDTH = 32), hence `c_int32_t` throughout. Numbering is 1-based
 !> (METIS_OPTION_NUMBERING = 1) so that arrays pass to and from Fortran unchanged.
 module ffrf_la_metis
-   use, intrinsic :: iso_c_binding, only: c_int, c_int32_t, c_ptr, c_null_ptr
+   use, intrinsic :: iso_c_binding, only: c_int, c_int32_t, c_ptr, c_null_ptr, c_loc
    use ffrf_core_kinds, only: ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
@@ -50,7 +50,7 @@ contains
    !> Nested-dissection ordering of a graph (METIS_NodeND, 1-based). Row i of the permuted matrix
    !> is row perm(i) of the original one; iperm is the inverse: original vertex i is eliminated at
    !> step iperm(i). MUMPS wants iperm as PERM_IN.
-   subroutine nested_dissection(n, xadj, adjncy, perm, iperm, error)
+   subroutine nested_dissection(n, xadj, adjncy, perm, iperm, error, weights)
       !> Number of vertices
       integer(ip), intent(in) :: n
       !> Adjacency pointers (size n+1, 1-based; xadj(n+1) - 1 = size(adjncy)); no self loops,
@@ -63,6 +63,10 @@ contains
       !> Inverse permutation (old -> new)
       integer(ip), intent(out) :: iperm(:)
       type(error_t), allocatable, intent(out) :: error
+      !> Vertex weights (e.g. the size of each supervariable); unit weights if absent
+      integer(ip), intent(in), optional :: weights(:)
+      integer(c_int32_t), allocatable, target :: vwgt(:)
+      type(c_ptr) :: vwgt_ptr
       integer(c_int32_t) :: options(0:metis_noptions - 1)
       integer(c_int32_t), allocatable :: xadj_c(:), adjncy_c(:)
       integer(c_int32_t) :: nvtxs
@@ -109,7 +113,12 @@ contains
       nvtxs = n
       xadj_c = xadj
       adjncy_c = adjncy(1:num_edges)
-      stat = metis_nodend(nvtxs, xadj_c, adjncy_c, c_null_ptr, options, perm, iperm)
+      vwgt_ptr = c_null_ptr
+      if (present(weights)) then
+         vwgt = weights
+         vwgt_ptr = c_loc(vwgt)
+      end if
+      stat = metis_nodend(nvtxs, xadj_c, adjncy_c, vwgt_ptr, options, perm, iperm)
       select case (stat)
       case (metis_ok)
       case (metis_error_input)
@@ -214,8 +223,10 @@ contains
       adjncy = raw(1:last)
    end subroutine pattern_adjacency
 
-   !> Nested-dissection ordering of the pattern of a symmetric COO matrix: `pattern_adjacency`
-   !> followed by `nested_dissection`.
+   !> Nested-dissection ordering of the pattern of a symmetric COO matrix: `pattern_adjacency`,
+   !> then consecutive vertices with identical closed neighbourhoods (the x, y, z dofs of a node)
+   !> are merged into supervariables, METIS orders the weighted quotient graph (a third of the
+   !> size for 3-dof nodes) and the order is expanded back, members kept together.
    subroutine pattern_nested_dissection(n, irn, jcn, perm, iperm, error)
       !> Matrix order
       integer(ip), intent(in) :: n
@@ -228,10 +239,88 @@ contains
       !> Inverse permutation (old -> new), the PERM_IN of MUMPS
       integer(ip), intent(out) :: iperm(:)
       type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: xadj(:), adjncy(:)
+      integer(ip), allocatable :: xadj(:), adjncy(:), super(:), first(:), qxadj(:), qadj(:)
+      integer(ip), allocatable :: qperm(:), qiperm(:), weights(:)
+      integer(ip) :: i, s, num_super, p, k, last
       call pattern_adjacency(n, irn, jcn, xadj, adjncy, error)
       if (allocated(error)) return
-      call nested_dissection(n, xadj, adjncy, perm, iperm, error)
+      if (size(perm) /= n .or. size(iperm) /= n) then
+         call nested_dissection(n, xadj, adjncy, perm, iperm, error)
+         return
+      end if
+      ! Supervariables: runs of consecutive vertices with identical closed neighbourhoods.
+      allocate (super(n), first(n + 1))
+      num_super = 0
+      do i = 1, n
+         if (i > 1) then
+            if (same_closed_neighbourhood(xadj, adjncy, i - 1, i)) then
+               super(i) = num_super
+               cycle
+            end if
+         end if
+         num_super = num_super + 1
+         super(i) = num_super
+         first(num_super) = i
+      end do
+      first(num_super + 1) = n + 1
+      if (num_super == n) then
+         call nested_dissection(n, xadj, adjncy, perm, iperm, error)
+         return
+      end if
+      ! Quotient graph: the neighbours of a supervariable are those of its first member,
+      ! mapped to supervariables (nondecreasing along the sorted list) without repeats or itself.
+      allocate (qxadj(num_super + 1), qadj(size(adjncy)), weights(num_super))
+      qxadj(1) = 1
+      k = 0
+      do s = 1, num_super
+         i = first(s)
+         weights(s) = first(s + 1) - first(s)
+         last = 0
+         do p = xadj(i), xadj(i + 1) - 1
+            if (super(adjncy(p)) == s .or. super(adjncy(p)) == last) cycle
+            last = super(adjncy(p))
+            k = k + 1
+            qadj(k) = last
+         end do
+         qxadj(s + 1) = k + 1
+      end do
+      allocate (qperm(num_super), qiperm(num_super))
+      call nested_dissection(num_super, qxadj, qadj(1:k), qperm, qiperm, error, weights)
+      if (allocated(error)) return
+      k = 0
+      do s = 1, num_super
+         do i = first(qperm(s)), first(qperm(s) + 1) - 1
+            k = k + 1
+            perm(k) = i
+            iperm(i) = k
+         end do
+      end do
    end subroutine pattern_nested_dissection
+
+   !> Vertices a < b have the same closed neighbourhood: they are adjacent and adj(a) \ {b}
+   !> equals adj(b) \ {a} (lists sorted).
+   pure logical function same_closed_neighbourhood(xadj, adjncy, a, b) result(same)
+      integer(ip), intent(in) :: xadj(:), adjncy(:), a, b
+      integer(ip) :: pa, pb, ea, eb
+      same = .false.
+      if (xadj(a + 1) - xadj(a) /= xadj(b + 1) - xadj(b)) return
+      pa = xadj(a)
+      pb = xadj(b)
+      ea = xadj(a + 1)
+      eb = xadj(b + 1)
+      do
+         if (pa < ea) then
+            if (adjncy(pa) == b) pa = pa + 1
+         end if
+         if (pb < eb) then
+            if (adjncy(pb) == a) pb = pb + 1
+         end if
+         if (pa >= ea .or. pb >= eb) exit
+         if (adjncy(pa) /= adjncy(pb)) return
+         pa = pa + 1
+         pb = pb + 1
+      end do
+      same = pa >= ea .and. pb >= eb .and. any(adjncy(xadj(a):ea - 1) == b)
+   end function same_closed_neighbourhood
 
 end module ffrf_la_metis
