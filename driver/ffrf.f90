@@ -11,6 +11,7 @@ program ffrf_driver
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
       subroutine c_exit(status) bind(c, name='exit')
          import :: c_int
+         implicit none
          integer(c_int), value :: status
       end subroutine c_exit
    end interface

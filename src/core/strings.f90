@@ -73,8 +73,9 @@ contains
             do while (mantissa(len(mantissa):len(mantissa)) == '0')
                mantissa = mantissa(:len(mantissa) - 1)
             end do
-            if (mantissa(len(mantissa):len(mantissa)) == '.') &
+            if (mantissa(len(mantissa):len(mantissa)) == '.') then
                mantissa = mantissa(:len(mantissa) - 1)
+            end if
             ! Exponent with at least two digits ("E+011" -> "E+11", "E-300" stays).
             exponent = text(e + 2:)
             do while (len(exponent) > 2 .and. exponent(1:1) == '0')

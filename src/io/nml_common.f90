@@ -52,7 +52,7 @@ contains
          line_number = line_number + 1
          line = adjustl(line)
          if (line(1:1) /= '&') cycle
-         finish = scan(line(2:), ' /,') 
+         finish = scan(line(2:), ' /,')
          if (finish == 0) finish = len_trim(line)
          name = to_lower(line(2:finish))
          if (len_trim(name) == 0 .or. trim(name) == 'end') cycle

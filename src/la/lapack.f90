@@ -10,6 +10,7 @@ module ffrf_la_lapack
       !> Singular value decomposition A = U S V^T.
       subroutine dgesvd(jobu, jobvt, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, info)
          import :: dp, ip
+         implicit none
          character, intent(in) :: jobu, jobvt
          integer(ip), intent(in) :: m, n, lda, ldu, ldvt, lwork
          real(dp), intent(inout) :: a(lda, *)
@@ -20,6 +21,7 @@ module ffrf_la_lapack
       !> Eigen decomposition of a symmetric matrix.
       subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
          import :: dp, ip
+         implicit none
          character, intent(in) :: jobz, uplo
          integer(ip), intent(in) :: n, lda, lwork
          real(dp), intent(inout) :: a(lda, *)
@@ -30,6 +32,7 @@ module ffrf_la_lapack
       !> Generalized symmetric-definite eigenproblem A x = lambda B x.
       subroutine dsygv(itype, jobz, uplo, n, a, lda, b, ldb, w, work, lwork, info)
          import :: dp, ip
+         implicit none
          integer(ip), intent(in) :: itype, n, lda, ldb, lwork
          character, intent(in) :: jobz, uplo
          real(dp), intent(inout) :: a(lda, *), b(ldb, *)
@@ -40,6 +43,7 @@ module ffrf_la_lapack
       !> Solve A X = B, A symmetric positive definite (Cholesky).
       subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
          import :: dp, ip
+         implicit none
          character, intent(in) :: uplo
          integer(ip), intent(in) :: n, nrhs, lda, ldb
          real(dp), intent(inout) :: a(lda, *), b(ldb, *)
@@ -49,6 +53,7 @@ module ffrf_la_lapack
       !> Solve A X = B, A general (LU with partial pivoting).
       subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
          import :: dp, ip
+         implicit none
          integer(ip), intent(in) :: n, nrhs, lda, ldb
          real(dp), intent(inout) :: a(lda, *), b(ldb, *)
          integer(ip), intent(out) :: ipiv(*), info
@@ -57,6 +62,7 @@ module ffrf_la_lapack
       !> C = alpha op(A) op(B) + beta C.
       subroutine dgemm(transa, transb, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc)
          import :: dp, ip
+         implicit none
          character, intent(in) :: transa, transb
          integer(ip), intent(in) :: m, n, k, lda, ldb, ldc
          real(dp), intent(in) :: alpha, beta, a(lda, *), b(ldb, *)
