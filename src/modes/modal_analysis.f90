@@ -185,9 +185,14 @@ contains
       body%formulation = trim(modes_input%formulation)
       call build_reduction(body%mesh%num_nodes, body%interfaces, body%formulation, red, error)
       if (allocated(error)) return
-      call reduce_matrix(red, K, K_r, error)
-      if (.not. allocated(error)) call reduce_matrix(red, M, M_r, error)
-      if (allocated(error)) return
+      if (.not. red%is_identity) then
+         ! T^T K T and T^T M T; the full matrices are not needed afterwards.
+         call reduce_matrix(red, K, K_r, error)
+         if (.not. allocated(error)) call reduce_matrix(red, M, M_r, error)
+         if (allocated(error)) return
+         K = csr_t()
+         M = csr_t()
+      end if
       body%num_reduced = red%num_reduced
       body%num_constraints = red%C%num_rows
       call times%add(tag // ': interfaces and RC matrix', timer%seconds())
@@ -195,8 +200,13 @@ contains
          to_str(red%num_reduced) // ' reduced coordinates, ' // to_str(red%C%num_rows) // &
          ' constraint rows ... ' // to_str(timer%seconds(), 3) // ' s')
 
-      call solve_modes(body, modes_input, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
-         material), log, times, error)
+      if (red%is_identity) then
+         call solve_modes(body, modes_input, red, K, M, automatic_shift_hz(body%mesh%xyz, &
+            material), log, times, error)
+      else
+         call solve_modes(body, modes_input, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
+            material), log, times, error)
+      end if
       if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
    end subroutine compute_body_modes
 
