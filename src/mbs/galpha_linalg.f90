@@ -1,0 +1,173 @@
+!> Dense linear algebra of the generalized-alpha integrator: explicit interfaces to the LAPACK
+!> routines it needs beyond ffrf_la_lapack (LU factor/solve, QR with column pivoting), the
+!> rank-revealing detection of redundant constraint rows, and the equilibrated saddle-point
+!> (KKT) matrix [[A, Phi_q^T], [Phi_q, 0]] shared by the consistent start and the Newton step.
+module ffrf_mbs_galpha_linalg
+   use ffrf_core_kinds, only: dp, ip
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   implicit none
+   private
+   public :: dgetrf, dgetrs, dgeqp3
+   public :: find_redundant_rows, kkt_matrix, kkt_factor, kkt_solve
+
+   interface
+      !> LU factorisation with partial pivoting, A = P L U.
+      subroutine dgetrf(m, n, a, lda, ipiv, info)
+         import :: dp, ip
+         implicit none
+         integer(ip), intent(in) :: m, n, lda
+         real(dp), intent(inout) :: a(lda, *)
+         integer(ip), intent(out) :: ipiv(*), info
+      end subroutine dgetrf
+
+      !> Solve A X = B with the factors of dgetrf.
+      subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+         import :: dp, ip
+         implicit none
+         character, intent(in) :: trans
+         integer(ip), intent(in) :: n, nrhs, lda, ldb
+         real(dp), intent(in) :: a(lda, *)
+         integer(ip), intent(in) :: ipiv(*)
+         real(dp), intent(inout) :: b(ldb, *)
+         integer(ip), intent(out) :: info
+      end subroutine dgetrs
+
+      !> QR factorisation with column pivoting, A P = Q R (|R_kk| non-increasing).
+      subroutine dgeqp3(m, n, a, lda, jpvt, tau, work, lwork, info)
+         import :: dp, ip
+         implicit none
+         integer(ip), intent(in) :: m, n, lda, lwork
+         real(dp), intent(inout) :: a(lda, *)
+         integer(ip), intent(inout) :: jpvt(*)
+         real(dp), intent(out) :: tau(*), work(*)
+         integer(ip), intent(out) :: info
+      end subroutine dgeqp3
+   end interface
+
+contains
+
+   !> Linearly dependent rows of the constraint Jacobian Phi_q (nc x n), by QR with column
+   !> pivoting of the row-normalised Phi_q^T (dgeqp3): row k is independent while
+   !> |R_kk| > rtol |R_11|. The pivot order keeps the first of equal rows; the kept rows are
+   !> `active`, the others `dropped` (both ascending). A zero row is dropped.
+   subroutine find_redundant_rows(Phi_q, rtol, active, dropped, error)
+      !> Constraint Jacobian, nc x n
+      real(dp), intent(in) :: Phi_q(:, :)
+      !> Relative tolerance on the diagonal of R (e.g. 1e-9)
+      real(dp), intent(in) :: rtol
+      !> Independent rows kept in the equations, ascending
+      integer, allocatable, intent(out) :: active(:)
+      !> Redundant rows dropped from the equations, ascending
+      integer, allocatable, intent(out) :: dropped(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: at(:, :), tau(:), work(:)
+      integer(ip), allocatable :: jpvt(:)
+      integer(ip) :: m, nrow, lwork, info
+      real(dp) :: norm, query(1)
+      integer :: i, rank
+      logical, allocatable :: keep(:)
+      nrow = int(size(Phi_q, 1), ip)
+      m = int(size(Phi_q, 2), ip)
+      allocate (keep(nrow))
+      keep = .false.
+      if (nrow > 0 .and. m > 0) then
+         allocate (at(m, nrow), jpvt(nrow), tau(min(m, nrow)))
+         do i = 1, nrow
+            norm = maxval(abs(Phi_q(i, :)))
+            at(:, i) = 0.0_dp
+            if (norm > 0.0_dp) at(:, i) = Phi_q(i, :) / norm
+         end do
+         jpvt = 0
+         call dgeqp3(m, nrow, at, m, jpvt, tau, query, -1_ip, info)
+         lwork = max(1_ip, int(query(1), ip))
+         allocate (work(lwork))
+         call dgeqp3(m, nrow, at, m, jpvt, tau, work, lwork, info)
+         if (info /= 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'redundant-constraint detection: dgeqp3 ' &
+               // 'failed with info = ' // to_str(info) // ' on a ' // to_str(nrow) // ' x ' // &
+               to_str(m) // ' constraint Jacobian')
+            return
+         end if
+         rank = 0
+         if (abs(at(1, 1)) > 0.0_dp) then
+            do i = 1, min(int(m), int(nrow))
+               if (abs(at(i, i)) <= rtol * abs(at(1, 1))) exit
+               rank = i
+            end do
+         end if
+         do i = 1, rank
+            keep(jpvt(i)) = .true.
+         end do
+      end if
+      active = pack([(i, i=1, int(nrow))], keep)
+      dropped = pack([(i, i=1, int(nrow))], .not. keep)
+   end subroutine find_redundant_rows
+
+   !> Equilibrated saddle-point matrix [[A, Phi_q^T S], [S Phi_q, 0]] with the diagonal row scale
+   !> S = diag(scale), scale_i = max|diag A| / max_j |Phi_q(i, j)|, so that both blocks have the
+   !> magnitude of A (theory.md 4.2: the remaining conditioning is then O(1)). The unknowns are
+   !> [x; y] with the multipliers lambda = S y, and the constraint right-hand side is S b.
+   subroutine kkt_matrix(A, Phi_q, kkt, scale)
+      !> Upper-left block, n x n (mass matrix or the scaled iteration block)
+      real(dp), intent(in) :: A(:, :)
+      !> Independent constraint rows, nr x n
+      real(dp), intent(in) :: Phi_q(:, :)
+      !> The (n + nr) square matrix
+      real(dp), allocatable, intent(out) :: kkt(:, :)
+      !> Row scale of the constraint block, nr
+      real(dp), allocatable, intent(out) :: scale(:)
+      real(dp) :: reference, row_max
+      integer :: n, nr, i
+      n = size(A, 1)
+      nr = size(Phi_q, 1)
+      allocate (kkt(n + nr, n + nr), scale(nr))
+      reference = 0.0_dp
+      do i = 1, n
+         reference = max(reference, abs(A(i, i)))
+      end do
+      if (reference <= 0.0_dp) reference = 1.0_dp
+      do i = 1, nr
+         row_max = maxval(abs(Phi_q(i, :)))
+         scale(i) = 1.0_dp
+         if (row_max > 0.0_dp) scale(i) = reference / row_max
+      end do
+      kkt = 0.0_dp
+      kkt(:n, :n) = A
+      do i = 1, nr
+         kkt(n + i, :n) = scale(i) * Phi_q(i, :)
+         kkt(:n, n + i) = scale(i) * Phi_q(i, :)
+      end do
+   end subroutine kkt_matrix
+
+   !> LU factors of a square matrix in place (dgetrf); info > 0 means singular.
+   subroutine kkt_factor(kkt, pivots, info)
+      !> Matrix on entry, its LU factors on exit
+      real(dp), intent(inout) :: kkt(:, :)
+      !> Row interchanges
+      integer(ip), allocatable, intent(out) :: pivots(:)
+      !> dgetrf status: 0 success, > 0 exactly singular pivot
+      integer(ip), intent(out) :: info
+      integer(ip) :: m
+      m = int(size(kkt, 1), ip)
+      allocate (pivots(m))
+      info = 0
+      if (m == 0) return
+      call dgetrf(m, m, kkt, m, pivots, info)
+   end subroutine kkt_factor
+
+   !> Solve with the factors of kkt_factor; the right-hand side is overwritten by the solution.
+   subroutine kkt_solve(lu, pivots, rhs)
+      !> LU factors
+      real(dp), intent(in) :: lu(:, :)
+      !> Row interchanges
+      integer(ip), intent(in) :: pivots(:)
+      !> Right-hand side on entry, solution on exit
+      real(dp), intent(inout) :: rhs(:)
+      integer(ip) :: m, info
+      m = int(size(lu, 1), ip)
+      if (m == 0) return
+      call dgetrs('N', m, 1_ip, lu, m, pivots, rhs, m, info)
+   end subroutine kkt_solve
+
+end module ffrf_mbs_galpha_linalg

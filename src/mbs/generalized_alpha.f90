@@ -1,0 +1,803 @@
+!> Implicit generalized-alpha integrator for index-3 constrained mechanical systems
+!> M(q) q'' + Phi_q^T lambda = f(q, q', t), Phi(q, t) = 0 (Arnold & Bruls, Multibody Syst Dyn 18
+!> (2007) 185; theory.md section 4), with dense LAPACK linear algebra for the small systems of a
+!> mechanism (tens of coordinates).
+!>
+!> - Parameters from the spectral radius at infinity rho_inf (Chung & Hulbert 1993; theory.md 4.1).
+!>   rho_inf = 1 (trapezoidal rule, no numerical damping) is REFUSED for a system with
+!>   constraints and accepted without them. Index-3 constraints need rho_inf < 1 (Cardona &
+!>   Geradin 1989; theory.md 4.3), and the stable range of h shrinks as rho_inf -> 1: measured
+!>   on the 1 m Cartesian pendulum (theta0 = 1 rad, h = 1e-2 s) the multiplier grows from 18 N
+!>   to 1.5e4 N in 10 s with rho_inf = 0.99 and Newton fails near 8 s with rho_inf = 1, while
+!>   0.9 and 0.8 stay bounded over 40 s (0.99 with h = 1e-3 s stays bounded too).
+!> - Consistent start (theory.md 4.3): positions and velocities are checked against Phi = 0 and
+!>   Phi_q q' + Phi_t = 0 and, when violated, projected by the minimum-norm correction (or
+!>   refused, settings%project_initial = .false.); q''_0 and lambda_0 solve the saddle-point
+!>   system [[M, Phi_q^T], [Phi_q, 0]] [q''; lambda] = [f; g]; a_0 = q''_0.
+!> - Step (theory.md 4.1): predictor q''_{n+1} = q''_n, lambda_{n+1} = lambda_n; Newton on
+!>   [r_q; Phi] with the iteration matrix S_t (beta', gamma'), scaled by D_L = diag(beta h^2 I, I),
+!>   D_R = diag(I, I/(beta h^2)) (theory.md 4.2) and equilibrated per constraint row, so that its
+!>   conditioning does not grow as h**(-4).
+!> - Convergence when both the weighted RMS increment (Arnold & Hante, JCND 12 (2017) 021002)
+!>   ||dq_i/(atol + rtol|q_i|), dlambda_j/(lambda_atol + rtol|lambda_j|)||_rms <= 1 (or its
+!>   estimate theta/(1 - theta) ||dx|| from the contraction rate theta, Hairer & Wanner IV.8)
+!>   and the residual test max|r_q| <= rtol max(|M q''|, |f|, |Phi_q^T lambda|) + force_atol,
+!>   max|Phi_i| <= atol hold.
+!> - Modified Newton: the LU factors (dgetrf/dgetrs) are kept while the contraction rate
+!>   ||dx_k||/||dx_{k-1}|| stays below settings%refactor_rate (policy GALPHA_NEWTON_ADAPTIVE,
+!>   across steps of the same size), else refactored; a failed attempt on an old Jacobian is
+!>   retried once with a fresh one before the step is cut.
+!> - Step control: on non-convergence, a singular iteration matrix or a NaN the step is cut by
+!>   settings%step_cut and retried from the last converged state; after settings%grow_after
+!>   accepted steps it grows back by 1/step_cut up to settings%h. Below settings%min_step the
+!>   integrator returns FFRF_NUMERIC_ERROR naming the time, the step and the last residual; the
+!>   last converged state stays in t, q, v, qdd, a, lambda.
+!> - Redundant constraints: at the start (and every settings%rank_check_interval steps if > 0)
+!>   the dependent rows of Phi_q are found by QR with column pivoting (find_redundant_rows) and
+!>   dropped from the equations; `dropped` lists them. Chosen split of the reactions: a dropped
+!>   row's multiplier is reported as zero and the retained multipliers are the unique solution on
+!>   the independent set (so the reaction of a redundant pair sits entirely on the kept row; for
+!>   rigid bodies this is one admissible split among many, not physics).
+module ffrf_mbs_generalized_alpha
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
+      FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: wall_time
+   use ffrf_la_lapack, only: dposv
+   use ffrf_mbs_dae_system, only: dae_system_t
+   use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_factor, kkt_solve
+   implicit none
+   private
+   public :: galpha_settings_t, galpha_stats_t, galpha_integrator_t
+   public :: chung_hulbert, check_galpha_settings
+   public :: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
+
+   !> Jacobian policy: full Newton, a new iteration matrix at every iteration
+   integer, parameter :: GALPHA_NEWTON_FULL = 1
+   !> Jacobian policy: one iteration matrix per step (at the predictor)
+   integer, parameter :: GALPHA_NEWTON_STEP = 2
+   !> Jacobian policy: keep the factors across iterations and steps of equal size while the
+   !> contraction rate stays below refactor_rate (default)
+   integer, parameter :: GALPHA_NEWTON_ADAPTIVE = 3
+
+   !> Settings of a run (the &integrator namelist maps onto these).
+   type :: galpha_settings_t
+      !> Spectral radius at infinity, in [0, 1]; 1 only for systems without constraints
+      real(dp) :: rho_inf = 0.8_dp
+      !> Time step (s); the nominal and largest step
+      real(dp) :: h = 1.0e-3_dp
+      !> Start time (s)
+      real(dp) :: t_start = 0.0_dp
+      !> End time (s)
+      real(dp) :: t_end = 1.0_dp
+      !> Absolute tolerance on position increments and on constraint residuals (m or rad)
+      real(dp) :: newton_atol = 1.0e-10_dp
+      !> Relative tolerance on increments of q and lambda and on the force balance
+      real(dp) :: newton_rtol = 1.0e-8_dp
+      !> Absolute tolerance on multiplier increments (N or N m per unit of constraint)
+      real(dp) :: lambda_atol = 1.0e-8_dp
+      !> Absolute floor of the force-balance residual (N)
+      real(dp) :: force_atol = 1.0e-10_dp
+      !> Newton iterations per attempt
+      integer :: max_iterations = 10
+      !> GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP or GALPHA_NEWTON_ADAPTIVE
+      integer :: jacobian = GALPHA_NEWTON_ADAPTIVE
+      !> Contraction rate above which an old iteration matrix is refactored, in (0, 1)
+      real(dp) :: refactor_rate = 0.2_dp
+      !> Smallest step before giving up (s)
+      real(dp) :: min_step = 1.0e-9_dp
+      !> Factor applied to the step after a failed attempt, in (0, 1)
+      real(dp) :: step_cut = 0.5_dp
+      !> Accepted steps at a reduced step before it grows by 1/step_cut
+      integer :: grow_after = 4
+      !> Relative tolerance of the rank-revealing QR that finds redundant constraint rows
+      real(dp) :: rank_rtol = 1.0e-9_dp
+      !> Recheck the redundant rows every this many steps (0: at the start only)
+      integer :: rank_check_interval = 0
+      !> Project inconsistent initial positions/velocities onto the constraints (else refuse)
+      logical :: project_initial = .true.
+   end type galpha_settings_t
+
+   !> Counters and timings of a run.
+   type :: galpha_stats_t
+      !> Accepted steps
+      integer(i8) :: steps = 0
+      !> Rejected attempts (non-convergence, NaN, singular matrix)
+      integer(i8) :: rejected_steps = 0
+      !> Newton iterations (linear solves), accepted and rejected attempts
+      integer(i8) :: newton_iterations = 0
+      !> LU factorisations of the iteration matrix (each with a tangent evaluation)
+      integer(i8) :: factorizations = 0
+      !> Evaluations of the residual (mass, force, constraints, Jacobian)
+      integer(i8) :: residual_evaluations = 0
+      !> Wall time spent in init and step (s)
+      real(dp) :: wall_seconds = 0.0_dp
+      !> Smallest accepted step (s)
+      real(dp) :: h_min = huge(1.0_dp)
+      !> Largest |Phi_i| over accepted steps, kept and dropped rows (m or rad)
+      real(dp) :: max_constraint_violation = 0.0_dp
+   end type galpha_stats_t
+
+   !> The integrator and its state at the last converged time (theory.md 4.1).
+   type :: galpha_integrator_t
+      !> Settings of the run
+      type(galpha_settings_t) :: settings
+      !> Chung-Hulbert parameters (theory.md 4.1)
+      real(dp) :: alpha_m = 0.0_dp, alpha_f = 0.0_dp, gamma = 0.5_dp, beta = 0.25_dp
+      !> Number of coordinates and of constraint equations
+      integer :: n = 0, nc = 0
+      !> Time of the last converged state (s)
+      real(dp) :: t = 0.0_dp
+      !> Current step (s); below settings%h after cuts
+      real(dp) :: h = 0.0_dp
+      !> Generalized coordinates, velocities, accelerations q'' and algorithmic accelerations a
+      real(dp), allocatable :: q(:), v(:), qdd(:), a(:)
+      !> Lagrange multipliers, nc; zero on dropped rows
+      real(dp), allocatable :: lambda(:)
+      !> Constraint rows kept in the equations (independent), ascending
+      integer, allocatable :: active(:)
+      !> Redundant constraint rows dropped from the equations, ascending
+      integer, allocatable :: dropped(:)
+      !> Counters and timings
+      type(galpha_stats_t) :: stats
+      !> Notes for the log (dropped rows, projected start), one per line
+      character(len=:), allocatable :: notes
+      !> Weighted increment and residual norms of the last Newton iteration (<= 1: converged)
+      real(dp) :: last_increment = 0.0_dp, last_residual = 0.0_dp
+      !> LU factors of the scaled iteration matrix, its pivots and constraint-row scale
+      real(dp), allocatable, private :: lu(:, :), row_scale(:)
+      integer(ip), allocatable, private :: pivots(:)
+      !> Step the factors were computed for (s); negative: no valid factors
+      real(dp), private :: h_factored = -1.0_dp
+      !> Accepted steps since the last cut
+      integer, private :: successes = 0
+   contains
+      !> Check settings, detect redundant rows, make the start consistent
+      procedure :: init => galpha_init
+      !> Advance one accepted step (cutting and retrying as needed), up to t_end
+      procedure :: step => galpha_step
+      !> Advance to settings%t_end
+      procedure :: run => galpha_run
+   end type galpha_integrator_t
+
+   !> Work state of one attempted step
+   type :: trial_t
+      real(dp), allocatable :: q(:), v(:), qdd(:), lambda(:), a_base(:)
+      real(dp), allocatable :: M(:, :), Phi_q(:, :), r_q(:), phi(:)
+      real(dp) :: force_scale = 0.0_dp
+   end type trial_t
+
+contains
+
+   !> Chung-Hulbert parameters of theory.md 4.1: alpha_m = (2 rho - 1)/(rho + 1),
+   !> alpha_f = rho/(rho + 1), gamma = 1/2 + alpha_f - alpha_m, beta = (gamma + 1/2)**2/4.
+   pure subroutine chung_hulbert(rho_inf, alpha_m, alpha_f, gamma, beta)
+      !> Spectral radius at infinity, in [0, 1]
+      real(dp), intent(in) :: rho_inf
+      !> Weights of the algorithmic acceleration (theory.md 4.1)
+      real(dp), intent(out) :: alpha_m, alpha_f
+      !> Newmark parameters
+      real(dp), intent(out) :: gamma, beta
+      alpha_m = (2.0_dp * rho_inf - 1.0_dp) / (rho_inf + 1.0_dp)
+      alpha_f = rho_inf / (rho_inf + 1.0_dp)
+      gamma = 0.5_dp + alpha_f - alpha_m
+      beta = 0.25_dp * (gamma + 0.5_dp)**2
+   end subroutine chung_hulbert
+
+   !> Range checks of the settings; each message names the key, the value and the allowed range.
+   subroutine check_galpha_settings(settings, error)
+      !> Settings to check
+      type(galpha_settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), parameter :: where = 'generalized-alpha settings: '
+      associate (s => settings)
+         if (.not. (s%rho_inf >= 0.0_dp .and. s%rho_inf <= 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'rho_inf = ' // to_str(s%rho_inf) &
+               // ', must lie in [0, 1] (0.6 to 0.9 recommended for index-3 constraints)')
+         else if (.not. (s%h > 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'h = ' // to_str(s%h) // &
+               ' s, must be positive')
+         else if (.not. (s%t_end > s%t_start)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 't_end = ' // to_str(s%t_end) // &
+               ' s, must be after t_start = ' // to_str(s%t_start) // ' s')
+         else if (.not. (s%newton_atol > 0.0_dp .and. s%newton_rtol > 0.0_dp .and. &
+            s%lambda_atol > 0.0_dp .and. s%force_atol >= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'newton_atol = ' // &
+               to_str(s%newton_atol) // ', newton_rtol = ' // to_str(s%newton_rtol) // &
+               ', lambda_atol = ' // to_str(s%lambda_atol) // ', force_atol = ' // &
+               to_str(s%force_atol) // ': tolerances must be positive (force_atol >= 0)')
+         else if (s%max_iterations < 1) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'max_iterations = ' // &
+               to_str(s%max_iterations) // ', must be at least 1')
+         else if (s%jacobian < GALPHA_NEWTON_FULL .or. s%jacobian > GALPHA_NEWTON_ADAPTIVE) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'jacobian = ' // &
+               to_str(s%jacobian) // ', must be 1 (full Newton), 2 (per step) or 3 (adaptive)')
+         else if (.not. (s%refactor_rate > 0.0_dp .and. s%refactor_rate < 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'refactor_rate = ' // &
+               to_str(s%refactor_rate) // ', must lie in (0, 1)')
+         else if (.not. (s%min_step > 0.0_dp .and. s%min_step <= s%h)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'min_step = ' // &
+               to_str(s%min_step) // ' s, must lie in (0, h = ' // to_str(s%h) // ' s]')
+         else if (.not. (s%step_cut > 0.0_dp .and. s%step_cut < 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'step_cut = ' // &
+               to_str(s%step_cut) // ', must lie in (0, 1)')
+         else if (s%grow_after < 1) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'grow_after = ' // &
+               to_str(s%grow_after) // ', must be at least 1')
+         else if (.not. (s%rank_rtol > 0.0_dp .and. s%rank_rtol < 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'rank_rtol = ' // &
+               to_str(s%rank_rtol) // ', must lie in (0, 1)')
+         else if (s%rank_check_interval < 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'rank_check_interval = ' // &
+               to_str(s%rank_check_interval) // ', must be 0 (start only) or positive')
+         end if
+      end associate
+   end subroutine check_galpha_settings
+
+   !> Check the settings, find redundant constraint rows, make (q0, v0) consistent (projection
+   !> or refusal) and solve for q''_0 and lambda_0 (theory.md 4.3). Calls system%accepted_step
+   !> once at t_start.
+   subroutine galpha_init(self, system, settings, q0, v0, error)
+      !> The integrator
+      class(galpha_integrator_t), intent(out) :: self
+      !> The mechanical system
+      class(dae_system_t), intent(inout) :: system
+      !> Settings of the run
+      type(galpha_settings_t), intent(in) :: settings
+      !> Initial coordinates, n
+      real(dp), intent(in) :: q0(:)
+      !> Initial velocities, n
+      real(dp), intent(in) :: v0(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: start
+      start = wall_time()
+      call check_galpha_settings(settings, error)
+      if (allocated(error)) return
+      self%settings = settings
+      call chung_hulbert(settings%rho_inf, self%alpha_m, self%alpha_f, self%gamma, self%beta)
+      self%notes = ''
+      self%n = system%num_coordinates()
+      self%nc = system%num_constraints()
+      if (settings%rho_inf >= 1.0_dp .and. self%nc > 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'generalized-alpha settings: rho_inf = 1 ' &
+            // '(no numerical damping) is unstable with index-3 constraints (' // &
+            to_str(self%nc) // ' constraint equations here): the multipliers grow without ' // &
+            'bound; use rho_inf < 1, typically 0.6 to 0.9')
+         return
+      end if
+      if (size(q0) /= self%n .or. size(v0) /= self%n) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'generalized-alpha: initial state has ' // &
+            to_str(size(q0)) // ' coordinates and ' // to_str(size(v0)) // &
+            ' velocities, the system ' // to_str(self%n) // '; pass vectors of its size')
+         return
+      end if
+      self%t = settings%t_start
+      self%h = settings%h
+      self%q = q0
+      self%v = v0
+      allocate (self%qdd(self%n), self%a(self%n), self%lambda(self%nc))
+      self%lambda = 0.0_dp
+      call detect_redundant(self, system, error)
+      if (allocated(error)) return
+      call consistent_start(self, system, error)
+      if (allocated(error)) then
+         call add_context(error, 'generalized-alpha start at t = ' // to_str(self%t) // ' s')
+         return
+      end if
+      call system%accepted_step(self%t, self%q, self%v, self%qdd, self%lambda, error)
+      if (allocated(error)) return
+      self%stats%wall_seconds = wall_time() - start
+   end subroutine galpha_init
+
+   !> Append one line to the notes.
+   subroutine add_note(self, text)
+      type(galpha_integrator_t), intent(inout) :: self
+      character(len=*), intent(in) :: text
+      if (len(self%notes) > 0) then
+         self%notes = self%notes // new_line('a') // text
+      else
+         self%notes = text
+      end if
+   end subroutine add_note
+
+   !> Find the redundant rows of Phi_q at the current q (find_redundant_rows); when the set
+   !> changes, the multipliers of newly dropped rows are zeroed and the factors invalidated.
+   subroutine detect_redundant(self, system, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      class(dae_system_t), intent(inout) :: system
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: Phi_q(:, :)
+      integer, allocatable :: active(:), dropped(:)
+      character(len=:), allocatable :: list
+      integer :: i
+      allocate (Phi_q(self%nc, self%n))
+      call system%constraint_jacobian(self%q, self%t, Phi_q, error)
+      if (allocated(error)) return
+      if (.not. all(ieee_is_finite(Phi_q))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'generalized-alpha: constraint Jacobian ' &
+            // 'not finite at t = ' // to_str(self%t) // ' s')
+         return
+      end if
+      call find_redundant_rows(Phi_q, self%settings%rank_rtol, active, dropped, error)
+      if (allocated(error)) return
+      if (allocated(self%active)) then
+         if (size(active) == size(self%active)) then
+            if (all(active == self%active)) return
+         end if
+      end if
+      call move_alloc(active, self%active)
+      call move_alloc(dropped, self%dropped)
+      self%lambda(self%dropped) = 0.0_dp
+      self%h_factored = -1.0_dp
+      if (size(self%dropped) > 0) then
+         list = ''
+         do i = 1, size(self%dropped)
+            list = list // ' ' // to_str(self%dropped(i))
+         end do
+         call add_note(self, 'redundant constraints at t = ' // to_str(self%t) // ' s: ' // &
+            to_str(size(self%dropped)) // ' of ' // to_str(self%nc) // ' rows dropped (rows' // &
+            list // '); their reactions are reported as zero')
+      end if
+   end subroutine detect_redundant
+
+   !> Consistent start (theory.md 4.3): check/project q and v, then solve
+   !> [[M, Phi_q^T], [Phi_q, 0]] [q''_0; lambda_0] = [f; g] on the independent rows; a_0 = q''_0.
+   subroutine consistent_start(self, system, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      class(dae_system_t), intent(inout) :: system
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: phi(:), Phi_q(:, :), rate(:), M(:, :), f(:), g(:), kkt(:, :)
+      real(dp), allocatable :: scale(:), rhs(:)
+      integer(ip), allocatable :: pivots(:)
+      integer(ip) :: info
+      real(dp) :: violation, tolerance
+      integer :: n, nr, iteration
+      n = self%n
+      nr = size(self%active)
+      allocate (phi(self%nc), Phi_q(self%nc, n), rate(self%nc), M(n, n), f(n), g(self%nc))
+      ! Positions: minimum-norm Gauss-Newton projection q <- q - J^T (J J^T)^-1 Phi (J: kept rows).
+      tolerance = self%settings%newton_atol
+      call system%constraints(self%q, self%t, phi, error)
+      if (allocated(error)) return
+      violation = max_abs(phi)
+      if (violation > tolerance) then
+         if (.not. self%settings%project_initial) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'initial positions violate the ' // &
+               'constraints: max |Phi_i| = ' // to_str(violation) // ' (row ' // &
+               to_str(maxloc(abs(phi), 1)) // ') > newton_atol = ' // to_str(tolerance) // &
+               '; assemble consistent positions or set project_initial')
+            return
+         end if
+         do iteration = 1, 30
+            call system%constraint_jacobian(self%q, self%t, Phi_q, error)
+            if (allocated(error)) return
+            call min_norm_correction(Phi_q(self%active, :), phi(self%active), self%q, error)
+            if (allocated(error)) return
+            call system%constraints(self%q, self%t, phi, error)
+            if (allocated(error)) return
+            if (max_abs(phi(self%active)) <= 0.01_dp * tolerance) exit
+         end do
+         if (max_abs(phi) > tolerance .or. .not. all(ieee_is_finite(self%q))) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'projection of the initial positions ' // &
+               'failed: max |Phi_i| = ' // to_str(violation) // ' before, ' // &
+               to_str(max_abs(phi)) // ' after (redundant rows inconsistent, or a start too ' // &
+               'far from the constraint manifold); assemble closer initial positions')
+            return
+         end if
+         call add_note(self, 'initial positions projected onto the constraints: max |Phi| ' &
+            // to_str(violation) // ' -> ' // to_str(max_abs(phi)))
+      end if
+      ! Velocities: v <- v - J^T (J J^T)^-1 (Phi_q v + Phi_t), exact in one correction.
+      call system%constraint_jacobian(self%q, self%t, Phi_q, error)
+      if (allocated(error)) return
+      call system%constraint_rate(self%q, self%t, rate, error)
+      if (allocated(error)) return
+      phi = matmul(Phi_q, self%v) + rate
+      violation = max_abs(phi)
+      tolerance = self%settings%newton_atol / self%settings%h
+      if (violation > tolerance) then
+         if (.not. self%settings%project_initial) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'initial velocities violate the ' // &
+               'velocity constraints: max |Phi_q v + Phi_t| = ' // to_str(violation) // &
+               ' > newton_atol/h = ' // to_str(tolerance) // &
+               '; assemble consistent velocities or set project_initial')
+            return
+         end if
+         call min_norm_correction(Phi_q(self%active, :), phi(self%active), self%v, error)
+         if (allocated(error)) return
+         phi = matmul(Phi_q, self%v) + rate
+         if (max_abs(phi) > tolerance) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'projection of the initial velocities ' &
+               // 'failed: max |Phi_q v + Phi_t| = ' // to_str(max_abs(phi)) // &
+               ' (redundant velocity constraints inconsistent); check the initial velocities')
+            return
+         end if
+         call add_note(self, 'initial velocities projected onto the constraints: max ' // &
+            '|Phi_q v + Phi_t| ' // to_str(violation) // ' -> ' // to_str(max_abs(phi)))
+      end if
+      ! Accelerations and multipliers.
+      call system%mass(self%q, M, error)
+      if (allocated(error)) return
+      call system%force(self%q, self%v, self%t, f, error)
+      if (allocated(error)) return
+      call system%acceleration_rhs(self%q, self%v, self%t, g, error)
+      if (allocated(error)) return
+      call kkt_matrix(M, Phi_q(self%active, :), kkt, scale)
+      allocate (rhs(n + nr))
+      rhs(:n) = f
+      rhs(n + 1:) = scale * g(self%active)
+      call kkt_factor(kkt, pivots, info)
+      if (info /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'the start matrix [[M, Phi_q^T], ' // &
+            '[Phi_q, 0]] is singular (pivot ' // to_str(info) // '): the mass matrix is ' // &
+            'singular on the free motions; check masses and inertias')
+         return
+      end if
+      call kkt_solve(kkt, pivots, rhs)
+      self%qdd = rhs(:n)
+      self%lambda = 0.0_dp
+      self%lambda(self%active) = scale * rhs(n + 1:)
+      self%a = self%qdd
+      if (.not. (all(ieee_is_finite(self%qdd)) .and. all(ieee_is_finite(self%lambda)))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'initial accelerations or multipliers ' // &
+            'are not finite (NaN force or mass?)')
+      end if
+   end subroutine consistent_start
+
+   !> x <- x - J^T (J J^T)^-1 w (minimum-norm correction; J has independent rows).
+   subroutine min_norm_correction(J, w, x, error)
+      real(dp), intent(in) :: J(:, :)
+      real(dp), intent(in) :: w(:)
+      real(dp), intent(inout) :: x(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: gram(size(J, 1), size(J, 1)), y(size(J, 1), 1)
+      integer(ip) :: nr, info
+      nr = int(size(J, 1), ip)
+      if (nr == 0) return
+      gram = matmul(J, transpose(J))
+      y(:, 1) = w
+      call dposv('U', nr, 1_ip, gram, nr, y, nr, info)
+      if (info /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'projection onto the constraints: ' // &
+            'Phi_q Phi_q^T is singular (dposv info = ' // to_str(info) // '); raise rank_rtol')
+         return
+      end if
+      x = x - matmul(y(:, 1), J)
+   end subroutine min_norm_correction
+
+   !> Advance to settings%t_end.
+   subroutine galpha_run(self, system, error)
+      !> The integrator (after init)
+      class(galpha_integrator_t), intent(inout) :: self
+      !> The mechanical system
+      class(dae_system_t), intent(inout) :: system
+      type(error_t), allocatable, intent(out) :: error
+      do while (self%t < self%settings%t_end)
+         call self%step(system, error)
+         if (allocated(error)) return
+      end do
+   end subroutine galpha_run
+
+   !> One accepted step from the last converged state: the step is min(h, t_end - t); on failure
+   !> it is cut by step_cut and retried (after one retry with a fresh iteration matrix if the
+   !> failed attempt used an old one), down to min_step; the system hook is called at the end.
+   subroutine galpha_step(self, system, error)
+      !> The integrator (after init)
+      class(galpha_integrator_t), intent(inout) :: self
+      !> The mechanical system
+      class(dae_system_t), intent(inout) :: system
+      type(error_t), allocatable, intent(out) :: error
+      type(trial_t) :: trial
+      character(len=:), allocatable :: reason
+      real(dp) :: start, h_try, remaining
+      logical :: converged, used_old, retried, last
+      start = wall_time()
+      retried = .false.
+      do
+         remaining = self%settings%t_end - self%t
+         last = remaining <= self%h * (1.0_dp + 1.0e-9_dp)
+         h_try = self%h
+         if (last) h_try = remaining
+         call attempt(self, system, h_try, retried, trial, converged, used_old, reason, error)
+         if (allocated(error)) then
+            call add_context(error, 'generalized-alpha step from t = ' // to_str(self%t, 12) &
+               // ' s, h = ' // to_str(h_try) // ' s')
+            return
+         end if
+         if (converged) exit
+         self%stats%rejected_steps = self%stats%rejected_steps + 1
+         self%h_factored = -1.0_dp
+         if (used_old .and. .not. retried) then
+            retried = .true.
+            cycle
+         end if
+         retried = .false.
+         self%successes = 0
+         if (h_try * self%settings%step_cut < self%settings%min_step) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'generalized-alpha: no convergence ' // &
+               'at t = ' // to_str(self%t, 12) // ' s with step h = ' // to_str(h_try) // &
+               ' s, the next cut would go below min_step = ' // to_str(self%settings%min_step) &
+               // ' s: ' // reason // '. The state at t = ' // to_str(self%t, 12) // &
+               ' s is kept; reduce h, raise max_iterations or check the model near this time')
+            self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
+            return
+         end if
+         self%h = h_try * self%settings%step_cut
+      end do
+      call commit(self, trial, h_try, last)
+      if (self%settings%rank_check_interval > 0) then
+         if (mod(self%stats%steps, int(self%settings%rank_check_interval, i8)) == 0) then
+            call detect_redundant(self, system, error)
+            if (allocated(error)) return
+         end if
+      end if
+      call system%accepted_step(self%t, self%q, self%v, self%qdd, self%lambda, error)
+      if (allocated(error)) then
+         call add_context(error, 'output hook at t = ' // to_str(self%t, 12) // ' s')
+         return
+      end if
+      self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
+   end subroutine galpha_step
+
+   !> Take the converged trial as the new state (theory.md 4.1, step 3 for a_{n+1}).
+   subroutine commit(self, trial, h, last)
+      type(galpha_integrator_t), intent(inout) :: self
+      type(trial_t), intent(in) :: trial
+      real(dp), intent(in) :: h
+      logical, intent(in) :: last
+      real(dp) :: c_af
+      c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
+      if (last) then
+         self%t = self%settings%t_end
+      else
+         self%t = self%t + h
+      end if
+      self%q = trial%q
+      self%v = trial%v
+      self%qdd = trial%qdd
+      self%a = trial%a_base + c_af * trial%qdd
+      self%lambda = trial%lambda
+      self%stats%steps = self%stats%steps + 1
+      self%stats%h_min = min(self%stats%h_min, h)
+      self%stats%max_constraint_violation = max(self%stats%max_constraint_violation, &
+         max_abs(trial%phi))
+      self%successes = self%successes + 1
+      if (self%h < self%settings%h .and. self%successes >= self%settings%grow_after) then
+         self%h = min(self%h / self%settings%step_cut, self%settings%h)
+         self%successes = 0
+      end if
+   end subroutine commit
+
+   !> One Newton solve of the step t -> t + h (theory.md 4.1). converged = .false. with a reason
+   !> for a numerical failure (the caller cuts the step); error only for a failure of the system.
+   subroutine attempt(self, system, h, fresh_start, trial, converged, used_old, reason, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      class(dae_system_t), intent(inout) :: system
+      !> Step (s)
+      real(dp), intent(in) :: h
+      !> Compute a new iteration matrix at the predictor whatever the policy
+      logical, intent(in) :: fresh_start
+      !> Trial state; converged values on success
+      type(trial_t), intent(inout) :: trial
+      !> Whether Newton converged
+      logical, intent(out) :: converged
+      !> Whether any iteration used factors from an earlier attempt or step
+      logical, intent(out) :: used_old
+      !> Why it failed
+      character(len=:), allocatable, intent(out) :: reason
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: dx(:)
+      real(dp) :: c_af, beta_p, gamma_p, bh2, t_new, increment, previous, rate, estimate
+      integer :: n, nr, iteration, age
+      logical :: need_factor, ok
+      n = self%n
+      nr = size(self%active)
+      converged = .false.
+      used_old = .false.
+      reason = ''
+      self%last_increment = huge(1.0_dp)
+      self%last_residual = huge(1.0_dp)
+      t_new = self%t + h
+      c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
+      bh2 = self%beta * h**2
+      beta_p = 1.0_dp / (bh2 * c_af)
+      gamma_p = self%gamma / (self%beta * h)
+      ! Predictor: q'' = q''_n, lambda = lambda_n; q, v from the Newmark formulas (theory.md 4.1).
+      trial%a_base = (self%alpha_f * self%qdd - self%alpha_m * self%a) / (1.0_dp - self%alpha_m)
+      trial%qdd = self%qdd
+      trial%lambda = self%lambda
+      associate (a_new => trial%a_base + c_af * trial%qdd)
+         trial%q = self%q + h * self%v + h**2 * ((0.5_dp - self%beta) * self%a + self%beta * a_new)
+         trial%v = self%v + h * ((1.0_dp - self%gamma) * self%a + self%gamma * a_new)
+      end associate
+      if (.not. allocated(trial%M)) allocate (trial%M(n, n), trial%Phi_q(self%nc, n), &
+         trial%r_q(n), trial%phi(self%nc))
+      call evaluate(self, system, t_new, trial, error)
+      if (allocated(error)) return
+      if (.not. finite_trial(trial)) then
+         reason = 'NaN or Inf in the residual at the predictor'
+         return
+      end if
+      need_factor = fresh_start .or. self%h_factored < 0.0_dp .or. &
+         abs(h - self%h_factored) > 1.0e-10_dp * h .or. &
+         self%settings%jacobian /= GALPHA_NEWTON_ADAPTIVE
+      used_old = .not. need_factor
+      age = 0
+      previous = huge(1.0_dp)
+      allocate (dx(n + nr))
+      do iteration = 1, self%settings%max_iterations
+         if (need_factor) then
+            call factor(self, system, h, t_new, trial, ok, error)
+            if (allocated(error)) return
+            if (.not. ok) then
+               reason = 'singular iteration matrix (dependent constraints not detected, or a ' &
+                  // 'mass matrix singular on the free motions)'
+               return
+            end if
+            age = 0
+            need_factor = .false.
+         end if
+         age = age + 1
+         ! Scaled Newton system (theory.md 4.2): [dq; y] with dlambda = S y / (beta h^2).
+         dx(:n) = -bh2 * trial%r_q
+         dx(n + 1:) = -self%row_scale * trial%phi(self%active)
+         call kkt_solve(self%lu, self%pivots, dx)
+         self%stats%newton_iterations = self%stats%newton_iterations + 1
+         if (.not. all(ieee_is_finite(dx))) then
+            reason = 'NaN or Inf in the Newton increment'
+            return
+         end if
+         trial%q = trial%q + dx(:n)
+         trial%v = trial%v + gamma_p * dx(:n)
+         trial%qdd = trial%qdd + beta_p * dx(:n)
+         trial%lambda(self%active) = trial%lambda(self%active) + self%row_scale * dx(n + 1:) / bh2
+         increment = increment_norm(self, trial, dx, bh2)
+         call evaluate(self, system, t_new, trial, error)
+         if (allocated(error)) return
+         if (.not. finite_trial(trial)) then
+            reason = 'NaN or Inf in the residual (force, mass or constraints)'
+            return
+         end if
+         self%last_increment = increment
+         self%last_residual = residual_norm(self, trial)
+         ! Error of the iterate: the increment, or from the contraction rate theta the
+         ! estimate theta/(1 - theta) ||dx|| of the remaining ones (Hairer & Wanner, IV.8).
+         estimate = increment
+         rate = huge(1.0_dp)
+         if (iteration >= 2) then
+            rate = increment / max(previous, tiny(1.0_dp))
+            if (rate < 1.0_dp) estimate = min(increment, rate / (1.0_dp - rate) * increment)
+         end if
+         if (estimate <= 1.0_dp .and. self%last_residual <= 1.0_dp) then
+            converged = .true.
+            return
+         end if
+         if (self%settings%jacobian == GALPHA_NEWTON_FULL) then
+            need_factor = .true.
+         else if (age >= 2 .and. rate > self%settings%refactor_rate) then
+            need_factor = .true.
+         end if
+         previous = increment
+      end do
+      reason = 'Newton did not converge in ' // to_str(self%settings%max_iterations) // &
+         ' iterations (last weighted residual ' // to_str(self%last_residual) // &
+         ', increment ' // to_str(self%last_increment) // '; both must reach 1)'
+   end subroutine attempt
+
+   !> Residual of the step at the trial state: r_q = M q'' + Phi_q^T lambda - f, Phi (all rows).
+   subroutine evaluate(self, system, t, trial, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      class(dae_system_t), intent(inout) :: system
+      real(dp), intent(in) :: t
+      type(trial_t), intent(inout) :: trial
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: f(self%n), inertia(self%n), reaction(self%n)
+      call system%mass(trial%q, trial%M, error)
+      if (allocated(error)) return
+      call system%force(trial%q, trial%v, t, f, error)
+      if (allocated(error)) return
+      call system%constraints(trial%q, t, trial%phi, error)
+      if (allocated(error)) return
+      call system%constraint_jacobian(trial%q, t, trial%Phi_q, error)
+      if (allocated(error)) return
+      inertia = matmul(trial%M, trial%qdd)
+      reaction = matmul(trial%lambda, trial%Phi_q)
+      trial%r_q = inertia + reaction - f
+      trial%force_scale = max(max_abs(inertia), max_abs(reaction), max_abs(f))
+      self%stats%residual_evaluations = self%stats%residual_evaluations + 1
+   end subroutine evaluate
+
+   !> Tangent at the trial state and LU factors of the scaled iteration matrix (theory.md 4.1,
+   !> 4.2): D_L S_t D_R = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]] with
+   !> c = (1 - alpha_f)/(1 - alpha_m), K_t = d(M q'')/dq + d(Phi_q^T lambda)/dq - df/dq,
+   !> C_t = -df/dq', then the constraint rows equilibrated (kkt_matrix).
+   subroutine factor(self, system, h, t, trial, ok, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      class(dae_system_t), intent(inout) :: system
+      real(dp), intent(in) :: h, t
+      type(trial_t), intent(in) :: trial
+      logical, intent(out) :: ok
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: block(:, :), work(:, :)
+      real(dp) :: c_af
+      integer(ip) :: info
+      integer :: n
+      n = self%n
+      ok = .false.
+      c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
+      allocate (block(n, n), work(n, n))
+      call system%stiffness(trial%q, trial%v, t, block, error)
+      if (allocated(error)) return
+      call system%mass_stiffness(trial%q, trial%qdd, work, error)
+      if (allocated(error)) return
+      block = block + work
+      if (self%nc > 0) then
+         call system%constraint_stiffness(trial%q, t, trial%lambda, work, error)
+         if (allocated(error)) return
+         block = block + work
+      end if
+      block = self%beta * h**2 * block + trial%M / c_af
+      call system%damping(trial%q, trial%v, t, work, error)
+      if (allocated(error)) return
+      block = block + self%gamma * h * work
+      self%stats%factorizations = self%stats%factorizations + 1
+      self%h_factored = -1.0_dp
+      if (.not. all(ieee_is_finite(block))) return
+      call kkt_matrix(block, trial%Phi_q(self%active, :), self%lu, self%row_scale)
+      call kkt_factor(self%lu, self%pivots, info)
+      if (info /= 0) return
+      self%h_factored = h
+      ok = .true.
+   end subroutine factor
+
+   !> Weighted RMS of the increment (Arnold & Hante 2017): dq_i/(atol + rtol |q_i|) and
+   !> dlambda_j/(lambda_atol + rtol |lambda_j|) over the kept rows.
+   function increment_norm(self, trial, dx, bh2) result(norm)
+      type(galpha_integrator_t), intent(in) :: self
+      type(trial_t), intent(in) :: trial
+      real(dp), intent(in) :: dx(:), bh2
+      real(dp) :: norm
+      real(dp) :: total
+      integer :: n, j
+      n = self%n
+      associate (s => self%settings)
+         total = sum((dx(:n) / (s%newton_atol + s%newton_rtol * abs(trial%q)))**2)
+         do j = 1, size(self%active)
+            total = total + (self%row_scale(j) * dx(n + j) / bh2 / (s%lambda_atol + &
+               s%newton_rtol * abs(trial%lambda(self%active(j)))))**2
+         end do
+      end associate
+      norm = sqrt(total / real(max(1, size(dx)), dp))
+   end function increment_norm
+
+   !> Residual test: max|r_q| / (rtol * force scale + force_atol) and max|Phi_i| / atol on the
+   !> kept rows; <= 1 passes.
+   function residual_norm(self, trial) result(norm)
+      type(galpha_integrator_t), intent(in) :: self
+      type(trial_t), intent(in) :: trial
+      real(dp) :: norm
+      associate (s => self%settings)
+         norm = max_abs(trial%r_q) / (s%newton_rtol * trial%force_scale + s%force_atol + &
+            tiny(1.0_dp))
+         if (size(self%active) > 0) norm = max(norm, max_abs(trial%phi(self%active)) / &
+            s%newton_atol)
+      end associate
+   end function residual_norm
+
+   !> Whether the residual of a trial is finite.
+   logical function finite_trial(trial)
+      type(trial_t), intent(in) :: trial
+      finite_trial = all(ieee_is_finite(trial%r_q)) .and. all(ieee_is_finite(trial%phi)) .and. &
+         all(ieee_is_finite(trial%Phi_q)) .and. ieee_is_finite(trial%force_scale)
+   end function finite_trial
+
+   !> max |x_i|, 0 for an empty vector.
+   pure real(dp) function max_abs(x)
+      real(dp), intent(in) :: x(:)
+      max_abs = 0.0_dp
+      if (size(x) > 0) max_abs = maxval(abs(x))
+   end function max_abs
+
+end module ffrf_mbs_generalized_alpha

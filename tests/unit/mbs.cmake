@@ -1,0 +1,7 @@
+# Reduced flexible body (FFRF): Euler parameters, invariants, mass matrix, quadratic velocity
+# vector, markers; on the crank_lc8 (RC set 3) and beam_lc6 (free-free) meshes. ~3 s, checked ~7 s.
+ffrf_add_unit_suite(test_mbs_flexible_body CHECKED LABELS mbs FIXTURES "crank_lc8_mesh;beam_lc6_mesh")
+# Generalized-alpha integrator; about a second.
+ffrf_add_unit_suite(test_mbs_generalized_alpha CHECKED LABELS mbs)
+# In-cylinder pressure model and slider-crank kinematics.
+ffrf_add_unit_suite(test_mbs_pressure CHECKED LABELS mbs)
