@@ -156,7 +156,10 @@ contains
          if (interface_inputs(i_if)%body /= body_input%name) cycle
          n_if = n_if + 1
          call build_interface(body%mesh, interface_inputs(i_if), body%interfaces(n_if), error)
-         if (allocated(error)) return
+         if (allocated(error)) then
+            call add_context(error, 'body "' // body%name // '"')
+            return
+         end if
          associate (f => body%interfaces(n_if))
             call log%info('mpc', tag // ', ' // f%name // ': ' // mpc_name(f%mpc) // ', ' // &
                to_str(size(f%nodes)) // ' nodes, area ' // to_str(f%area, 6) // &
@@ -169,7 +172,10 @@ contains
          end associate
       end do
       call check_reference_conditions(body%interfaces, body%center_of_mass, body%rc, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         call add_context(error, 'body "' // body%name // '"')
+         return
+      end if
       if (body%rc%free_free) then
          call log%info('rc', tag // ': no reference conditions: free-free modes, the six ' // &
             'rigid modes are computed and skipped')
@@ -184,7 +190,10 @@ contains
 
       body%formulation = trim(modes_input%formulation)
       call build_reduction(body%mesh%num_nodes, body%interfaces, body%formulation, red, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         call add_context(error, 'body "' // body%name // '"')
+         return
+      end if
       if (.not. red%is_identity) then
          ! T^T K T and T^T M T; the full matrices are not needed afterwards.
          call reduce_matrix(red, K, K_r, error)

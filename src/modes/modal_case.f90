@@ -93,6 +93,7 @@ contains
       call times%add('total', total%seconds())
 
       if (allocated(error)) then
+         call add_context(error, case_file)
          call results_finish(h5, times, 'error: ' // error%message, close_error)
          return
       end if
