@@ -1,0 +1,551 @@
+!> Joints between two markers: marker marker_a of body a and marker marker_b of body b (either
+!> may be the ground, ffrf_mbs_rigid_body's ground_t, a body without coordinates). A joint gives
+!> its constraint equations Phi(q_a, q_b) = 0 and the Jacobian blocks dPhi/dq_a, dPhi/dq_b from
+!> the markers' positions, axes and their exact Jacobians (body_t), so it does not care whether
+!> a body is rigid or flexible (Nikravesh, Computer-Aided Analysis of Mechanical Systems, 1988,
+!> ch. 7, and Shabana, Dynamics of Multibody Systems, 3rd ed., ch. 3: joints from dot products
+!> of body-fixed vectors; theory.md 3.5: joints at virtual nodes).
+!>
+!> Notation: r_a, r_b marker positions, d = r_b - r_a; x_a, y_a, z_a the axes of marker a and
+!> x_b, y_b, z_b those of marker b (columns of the marker orientations, global components).
+!> Each joint is a list of three kinds of scalar equations:
+!>     position       d_c = 0             (c = global component x, y or z)
+!>     lateral        u_a . d = 0         (u_a an axis of marker a)
+!>     perpendicular  u_a . w_b = 0       (u_a an axis of marker a, w_b one of marker b)
+!> The joint axis is the markers' local z axis; in the assembled pose the two marker frames
+!> coincide (the perpendicularity equations also hold for some flipped poses, e.g. z_b = -z_a:
+!> assemble from a pose near the intended one).
+!>
+!> | kind      | equations                                             | n | free relative motion |
+!> |-----------|-------------------------------------------------------|---|----------------------|
+!> | spherical | d = 0                                                 | 3 | 3 rotations          |
+!> | revolute  | d = 0, x_a.z_b = 0, y_a.z_b = 0                       | 5 | rotation about z     |
+!> | universal | d = 0, x_a.y_b = 0                                    | 4 | about x_a and y_b    |
+!> | prismatic | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = x_a.y_b = 0    | 5 | translation along z  |
+!> | fixed     | d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0          | 6 | none                 |
+!>
+!> Universal joint (Cardan): the shafts are the z axes of the markers; the cross has its arm
+!> fixed in body a along x_a and its arm fixed in body b along y_b, kept perpendicular. It
+!> transmits the torque about the shafts (a relative twist about z breaks x_a.y_b = 0).
+!>
+!> Reactions (joint_reaction): with the equations of motion M q'' = f - Phi_q^T lambda
+!> (theory.md 3.4/4), the constraint force on body b is -Phi_qb^T lambda. It is the virtual work
+!> of a force F_b at marker b and a moment M_b (global components), the action of body a on body
+!> b through the joint, and likewise F_a, M_a at marker a on body a:
+!>     position c:      F_b = -lambda e_c,           F_a = +lambda e_c
+!>     lateral u_a:     F_b = -lambda u_a,           F_a = +lambda u_a,  M_a = -lambda u_a x d
+!>     perpendicular:   M_b = +lambda u_a x w_b,     M_a = -lambda u_a x w_b
+!> (summed over the equations). F_a = -F_b, and the moments balance about a common point. The
+!> identity -lambda^T Phi_qb v_b = F_b . r_b_dot + M_b . omega_b (and the same for a) holds for
+!> every velocity on the constraint |theta| = 1 (the unit test checks it).
+module ffrf_mbs_joints
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_mbs_rigid_body, only: body_t
+   implicit none
+   private
+   public :: joint_t, table_joint_t
+   public :: spherical_joint_t, revolute_joint_t, universal_joint_t, prismatic_joint_t
+   public :: fixed_joint_t
+   public :: new_joint, joint_reaction, joint_kinds
+   public :: EQ_POSITION, EQ_LATERAL, EQ_PERPENDICULAR
+
+   !> Equation kind: a global component of d = r_b - r_a
+   integer, parameter :: EQ_POSITION = 1
+   !> Equation kind: u_a . d, u_a an axis of marker a
+   integer, parameter :: EQ_LATERAL = 2
+   !> Equation kind: u_a . w_b, axes of markers a and b
+   integer, parameter :: EQ_PERPENDICULAR = 3
+
+   !> Largest number of equations of a table joint
+   integer, parameter :: max_table_equations = 6
+
+   !> The valid joint kinds, as new_joint takes them
+   character(len=*), parameter :: joint_kinds = 'revolute, prismatic, spherical, universal, fixed'
+
+   !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
+   !> marker_b of body b.
+   type, abstract :: joint_t
+      !> Number of constraint equations
+      integer :: num_equations = 0
+      !> Marker of body a and of body b (set by connect)
+      integer :: marker_a = 0, marker_b = 0
+   contains
+      !> The kind, as new_joint takes it ('revolute', ...)
+      procedure(joint_kind_name), deferred :: kind_name
+      !> Phi(q_a, q_b)
+      procedure(joint_residual), deferred :: residual
+      !> dPhi/dq_a, dPhi/dq_b
+      procedure(joint_jacobian), deferred :: jacobian
+      !> Force and moment transmitted, from the multipliers (see the module header)
+      procedure(joint_reaction_interface), deferred :: reaction
+      !> Attach to the markers of two bodies (checks that they exist)
+      procedure :: connect => joint_connect
+   end type joint_t
+
+   abstract interface
+      !> Name of the joint kind.
+      pure function joint_kind_name(self) result(name)
+         import :: joint_t
+         implicit none
+         !> The joint
+         class(joint_t), intent(in) :: self
+         character(len=:), allocatable :: name
+      end function joint_kind_name
+
+      !> Constraint residuals.
+      pure subroutine joint_residual(self, body_a, q_a, body_b, q_b, phi)
+         import :: joint_t, body_t, dp
+         implicit none
+         !> The joint
+         class(joint_t), intent(in) :: self
+         !> Body a (rigid, flexible or ground)
+         class(body_t), intent(in) :: body_a
+         !> Coordinates of body a (body_a%num_coordinates)
+         real(dp), intent(in) :: q_a(:)
+         !> Body b
+         class(body_t), intent(in) :: body_b
+         !> Coordinates of body b (body_b%num_coordinates)
+         real(dp), intent(in) :: q_b(:)
+         !> Phi, num_equations (m for positions, 1 for axis products)
+         real(dp), intent(out) :: phi(:)
+      end subroutine joint_residual
+
+      !> Constraint Jacobian blocks (exact partial derivatives, all Euler-parameter directions).
+      pure subroutine joint_jacobian(self, body_a, q_a, body_b, q_b, jac_a, jac_b)
+         import :: joint_t, body_t, dp
+         implicit none
+         !> The joint
+         class(joint_t), intent(in) :: self
+         !> Body a
+         class(body_t), intent(in) :: body_a
+         !> Coordinates of body a
+         real(dp), intent(in) :: q_a(:)
+         !> Body b
+         class(body_t), intent(in) :: body_b
+         !> Coordinates of body b
+         real(dp), intent(in) :: q_b(:)
+         !> dPhi/dq_a, num_equations x body_a%num_coordinates
+         real(dp), intent(out) :: jac_a(:, :)
+         !> dPhi/dq_b, num_equations x body_b%num_coordinates
+         real(dp), intent(out) :: jac_b(:, :)
+      end subroutine joint_jacobian
+
+      !> Reaction force and moment from the multipliers.
+      pure subroutine joint_reaction_interface(self, body_a, q_a, body_b, q_b, lambda, force, &
+            moment)
+         import :: joint_t, body_t, dp
+         implicit none
+         !> The joint
+         class(joint_t), intent(in) :: self
+         !> Body a
+         class(body_t), intent(in) :: body_a
+         !> Coordinates of body a
+         real(dp), intent(in) :: q_a(:)
+         !> Body b
+         class(body_t), intent(in) :: body_b
+         !> Coordinates of body b
+         real(dp), intent(in) :: q_b(:)
+         !> Multipliers of the joint's equations, num_equations
+         real(dp), intent(in) :: lambda(:)
+         !> Global force (N): column 1 on body a at marker a, column 2 on body b at marker b
+         real(dp), intent(out) :: force(3, 2)
+         !> Global moment (N m): column 1 on body a, column 2 on body b
+         real(dp), intent(out) :: moment(3, 2)
+      end subroutine joint_reaction_interface
+   end interface
+
+   !> A joint defined by a table of position, lateral and perpendicular equations (module
+   !> header); residual, Jacobian and reaction are common to all such joints.
+   type, abstract, extends(joint_t) :: table_joint_t
+   contains
+      !> Equations as columns [kind (EQ_*), index a, index b]: for EQ_POSITION index a is the
+      !> global component; otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; unused
+      !> columns (kind 0) after the last equation
+      procedure(joint_table), deferred, nopass :: equation_table
+      procedure :: connect => table_joint_connect
+      procedure :: residual => table_joint_residual
+      procedure :: jacobian => table_joint_jacobian
+      procedure :: reaction => table_joint_reaction
+   end type table_joint_t
+
+   abstract interface
+      !> Equation table (3, max_table_equations), unused columns zero.
+      pure function joint_table() result(table)
+         import :: max_table_equations
+         implicit none
+         integer :: table(3, max_table_equations)
+      end function joint_table
+   end interface
+
+   !> Spherical joint: d = 0.
+   type, extends(table_joint_t) :: spherical_joint_t
+   contains
+      procedure :: kind_name => spherical_name
+      procedure, nopass :: equation_table => spherical_table
+   end type spherical_joint_t
+
+   !> Revolute joint about the markers' z axis: d = 0, x_a.z_b = 0, y_a.z_b = 0.
+   type, extends(table_joint_t) :: revolute_joint_t
+   contains
+      procedure :: kind_name => revolute_name
+      procedure, nopass :: equation_table => revolute_table
+   end type revolute_joint_t
+
+   !> Universal (Cardan) joint: d = 0, x_a.y_b = 0 (shafts along z, cross arms x_a and y_b).
+   type, extends(table_joint_t) :: universal_joint_t
+   contains
+      procedure :: kind_name => universal_name
+      procedure, nopass :: equation_table => universal_table
+   end type universal_joint_t
+
+   !> Prismatic joint along marker a's z axis: x_a.d = 0, y_a.d = 0 and the frames parallel
+   !> (x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0).
+   type, extends(table_joint_t) :: prismatic_joint_t
+   contains
+      procedure :: kind_name => prismatic_name
+      procedure, nopass :: equation_table => prismatic_table
+   end type prismatic_joint_t
+
+   !> Fixed (welded) joint: d = 0 and the frames parallel.
+   type, extends(table_joint_t) :: fixed_joint_t
+   contains
+      procedure :: kind_name => fixed_name
+      procedure, nopass :: equation_table => fixed_table
+   end type fixed_joint_t
+
+contains
+
+   ! ----------------------------------------------------------------------------------------------
+   ! Factory and common procedures
+
+   !> Allocate a joint by kind ('revolute', 'prismatic', 'spherical', 'universal', 'fixed'; any
+   !> case). An unknown kind is an FFRF_INPUT_ERROR listing the valid ones. The joint still has to
+   !> be connected to its markers (connect).
+   subroutine new_joint(kind, joint, error)
+      !> Joint kind
+      character(len=*), intent(in) :: kind
+      !> The new joint
+      class(joint_t), allocatable, intent(out) :: joint
+      type(error_t), allocatable, intent(out) :: error
+      select case (to_lower(trim(adjustl(kind))))
+      case ('spherical')
+         allocate (spherical_joint_t :: joint)
+      case ('revolute')
+         allocate (revolute_joint_t :: joint)
+      case ('universal')
+         allocate (universal_joint_t :: joint)
+      case ('prismatic')
+         allocate (prismatic_joint_t :: joint)
+      case ('fixed')
+         allocate (fixed_joint_t :: joint)
+      case default
+         call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind "' // trim(kind) // &
+            '" is unknown; valid kinds: ' // joint_kinds)
+         return
+      end select
+      select type (joint)
+      class is (table_joint_t)
+         joint%num_equations = table_size(joint%equation_table())
+      end select
+   end subroutine new_joint
+
+   !> Attach the joint to marker marker_a of body a and marker_b of body b; checks that the
+   !> markers exist.
+   subroutine joint_connect(self, body_a, marker_a, body_b, marker_b, error)
+      !> The joint
+      class(joint_t), intent(inout) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Marker number on body a
+      integer, intent(in) :: marker_a
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Marker number on body b
+      integer, intent(in) :: marker_b
+      type(error_t), allocatable, intent(out) :: error
+      if (marker_a < 1 .or. marker_a > body_a%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
+            to_str(marker_a) // ' of body a does not exist; the body has ' // &
+            to_str(body_a%num_markers) // ' markers (interfaces)')
+         return
+      end if
+      if (marker_b < 1 .or. marker_b > body_b%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
+            to_str(marker_b) // ' of body b does not exist; the body has ' // &
+            to_str(body_b%num_markers) // ' markers (interfaces)')
+         return
+      end if
+      self%marker_a = marker_a
+      self%marker_b = marker_b
+   end subroutine joint_connect
+
+   !> Force and moment that the joint transmits for the multipliers lambda (module header):
+   !> force(:, 1), moment(:, 1) act on body a at marker a, force(:, 2), moment(:, 2) on body b
+   !> at marker b; global components (N, N m).
+   pure subroutine joint_reaction(joint, body_a, q_a, body_b, q_b, lambda, force, moment)
+      !> The joint
+      class(joint_t), intent(in) :: joint
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Multipliers of the joint's equations
+      real(dp), intent(in) :: lambda(:)
+      !> Force (N): column 1 on body a, column 2 on body b
+      real(dp), intent(out) :: force(3, 2)
+      !> Moment (N m): column 1 on body a, column 2 on body b
+      real(dp), intent(out) :: moment(3, 2)
+      call joint%reaction(body_a, q_a, body_b, q_b, lambda, force, moment)
+   end subroutine joint_reaction
+
+   !> connect, and the number of equations from the table.
+   subroutine table_joint_connect(self, body_a, marker_a, body_b, marker_b, error)
+      !> The joint
+      class(table_joint_t), intent(inout) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Marker number on body a
+      integer, intent(in) :: marker_a
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Marker number on body b
+      integer, intent(in) :: marker_b
+      type(error_t), allocatable, intent(out) :: error
+      self%num_equations = table_size(self%equation_table())
+      call joint_connect(self, body_a, marker_a, body_b, marker_b, error)
+   end subroutine table_joint_connect
+
+   !> Phi from the equation table.
+   pure subroutine table_joint_residual(self, body_a, q_a, body_b, q_b, phi)
+      class(table_joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Phi, num_equations
+      real(dp), intent(out) :: phi(:)
+      integer :: table(3, max_table_equations)
+      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3)
+      integer :: i
+      table = self%equation_table()
+      frame_a = body_a%marker_orientation(q_a, self%marker_a)
+      frame_b = body_b%marker_orientation(q_b, self%marker_b)
+      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+      do i = 1, table_size(table)
+         select case (table(1, i))
+         case (EQ_POSITION)
+            phi(i) = d(table(2, i))
+         case (EQ_LATERAL)
+            phi(i) = dot_product(frame_a(:, table(2, i)), d)
+         case default
+            phi(i) = dot_product(frame_a(:, table(2, i)), frame_b(:, table(3, i)))
+         end select
+      end do
+   end subroutine table_joint_residual
+
+   !> dPhi/dq_a and dPhi/dq_b from the markers' exact Jacobians:
+   !>     position c:     -(dr_a/dq_a)_c,                  (dr_b/dq_b)_c
+   !>     lateral u_a:    d^T du_a/dq_a - u_a^T dr_a/dq_a,  u_a^T dr_b/dq_b
+   !>     perpendicular:  w_b^T du_a/dq_a,                 u_a^T dw_b/dq_b
+   pure subroutine table_joint_jacobian(self, body_a, q_a, body_b, q_b, jac_a, jac_b)
+      class(table_joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> dPhi/dq_a, num_equations x body_a%num_coordinates
+      real(dp), intent(out) :: jac_a(:, :)
+      !> dPhi/dq_b, num_equations x body_b%num_coordinates
+      real(dp), intent(out) :: jac_b(:, :)
+      integer :: table(3, max_table_equations)
+      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3)
+      real(dp) :: pos_a(3, body_a%num_coordinates), pos_b(3, body_b%num_coordinates)
+      real(dp) :: axis_a(3, body_a%num_coordinates, 3), axis_b(3, body_b%num_coordinates, 3)
+      real(dp), parameter :: unit_axes(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
+      logical :: need_a(3), need_b(3)
+      integer :: i, j
+      table = self%equation_table()
+      frame_a = body_a%marker_orientation(q_a, self%marker_a)
+      frame_b = body_b%marker_orientation(q_b, self%marker_b)
+      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+      pos_a = body_a%marker_position_jacobian(q_a, self%marker_a)
+      pos_b = body_b%marker_position_jacobian(q_b, self%marker_b)
+      ! Axis Jacobians only for the axes that appear in the table
+      need_a = .false.
+      need_b = .false.
+      do i = 1, table_size(table)
+         if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
+         if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
+      end do
+      do j = 1, 3
+         if (need_a(j)) axis_a(:, :, j) = body_a%marker_axis_jacobian(q_a, self%marker_a, &
+            unit_axes(:, j))
+         if (need_b(j)) axis_b(:, :, j) = body_b%marker_axis_jacobian(q_b, self%marker_b, &
+            unit_axes(:, j))
+      end do
+      do i = 1, table_size(table)
+         select case (table(1, i))
+         case (EQ_POSITION)
+            jac_a(i, :) = -pos_a(table(2, i), :)
+            jac_b(i, :) = pos_b(table(2, i), :)
+         case (EQ_LATERAL)
+            u = frame_a(:, table(2, i))
+            jac_a(i, :) = matmul(d, axis_a(:, :, table(2, i))) - matmul(u, pos_a)
+            jac_b(i, :) = matmul(u, pos_b)
+         case default
+            jac_a(i, :) = matmul(frame_b(:, table(3, i)), axis_a(:, :, table(2, i)))
+            jac_b(i, :) = matmul(frame_a(:, table(2, i)), axis_b(:, :, table(3, i)))
+         end select
+      end do
+   end subroutine table_joint_jacobian
+
+   !> Reaction force and moment on each body from the multipliers (module header).
+   pure subroutine table_joint_reaction(self, body_a, q_a, body_b, q_b, lambda, force, moment)
+      class(table_joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Multipliers, num_equations
+      real(dp), intent(in) :: lambda(:)
+      !> Force (N): column 1 on body a at marker a, column 2 on body b at marker b
+      real(dp), intent(out) :: force(3, 2)
+      !> Moment (N m): column 1 on body a, column 2 on body b
+      real(dp), intent(out) :: moment(3, 2)
+      integer :: table(3, max_table_equations)
+      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3), uxw(3)
+      integer :: i
+      table = self%equation_table()
+      frame_a = body_a%marker_orientation(q_a, self%marker_a)
+      frame_b = body_b%marker_orientation(q_b, self%marker_b)
+      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+      force = 0.0_dp
+      moment = 0.0_dp
+      do i = 1, table_size(table)
+         select case (table(1, i))
+         case (EQ_POSITION)
+            force(table(2, i), 1) = force(table(2, i), 1) + lambda(i)
+            force(table(2, i), 2) = force(table(2, i), 2) - lambda(i)
+         case (EQ_LATERAL)
+            u = frame_a(:, table(2, i))
+            force(:, 1) = force(:, 1) + lambda(i) * u
+            force(:, 2) = force(:, 2) - lambda(i) * u
+            moment(:, 1) = moment(:, 1) - lambda(i) * cross(u, d)
+         case default
+            uxw = cross(frame_a(:, table(2, i)), frame_b(:, table(3, i)))
+            moment(:, 1) = moment(:, 1) - lambda(i) * uxw
+            moment(:, 2) = moment(:, 2) + lambda(i) * uxw
+         end select
+      end do
+   end subroutine table_joint_reaction
+
+   !> Number of equations in a table (columns before the first of kind 0).
+   pure function table_size(table) result(n)
+      integer, intent(in) :: table(:, :)
+      integer :: n
+      do n = 0, size(table, 2) - 1
+         if (table(1, n + 1) == 0) return
+      end do
+      n = size(table, 2)
+   end function table_size
+
+   pure function cross(a, b) result(c)
+      real(dp), intent(in) :: a(3), b(3)
+      real(dp) :: c(3)
+      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+   end function cross
+
+   ! ----------------------------------------------------------------------------------------------
+   ! The kinds: name and equation table [kind, index a, index b] per equation
+
+   pure function spherical_name(self) result(name)
+      class(spherical_joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'spherical'
+      if (same_type_as(self, self)) return
+   end function spherical_name
+
+   !> d = 0.
+   pure function spherical_table() result(table)
+      integer :: table(3, max_table_equations)
+      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0], &
+         [3, max_table_equations], pad=[0])
+   end function spherical_table
+
+   pure function revolute_name(self) result(name)
+      class(revolute_joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'revolute'
+      if (same_type_as(self, self)) return
+   end function revolute_name
+
+   !> d = 0, x_a.z_b = 0, y_a.z_b = 0.
+   pure function revolute_table() result(table)
+      integer :: table(3, max_table_equations)
+      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
+   end function revolute_table
+
+   pure function universal_name(self) result(name)
+      class(universal_joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'universal'
+      if (same_type_as(self, self)) return
+   end function universal_name
+
+   !> d = 0, x_a.y_b = 0.
+   pure function universal_table() result(table)
+      integer :: table(3, max_table_equations)
+      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+         EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
+   end function universal_table
+
+   pure function prismatic_name(self) result(name)
+      class(prismatic_joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'prismatic'
+      if (same_type_as(self, self)) return
+   end function prismatic_name
+
+   !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
+   pure function prismatic_table() result(table)
+      integer :: table(3, max_table_equations)
+      table = reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
+         EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
+   end function prismatic_table
+
+   pure function fixed_name(self) result(name)
+      class(fixed_joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'fixed'
+      if (same_type_as(self, self)) return
+   end function fixed_name
+
+   !> d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
+   pure function fixed_table() result(table)
+      integer :: table(3, max_table_equations)
+      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], &
+         [3, max_table_equations], pad=[0])
+   end function fixed_table
+
+end module ffrf_mbs_joints
