@@ -10,11 +10,22 @@ Fortran writer stores arrays in Fortran order, so h5py sees them transposed, e.g
         hz = results.frequencies(body)
         u = results.shapes(body)               # (num_modes, num_nodes, 3)
         tris = results.surface_triangles(body)  # (num_triangles, 3), 0-based, outward
+
+Engine (time-integration) runs add /time, /engine, /energy and /joints; `read_engine` reads the
+series the charts need, and `cycle_window` / `angle_mean` cut and average whole engine cycles:
+
+    run = ffrf_results.read_engine("engine_rc1.h5")       # allow_incomplete=True for a killed run
+    theta_a, theta_b = ffrf_results.cycle_window(run.crank_angle, num_cycles=2)
 """
+import math
+import os
+
 import h5py
 import numpy as np
 
-__all__ = ["ResultsError", "Results", "open_results", "text", "exterior_faces"]
+__all__ = ["ResultsError", "Results", "open_results", "text", "exterior_faces", "EngineRun",
+           "read_engine", "unique_labels", "ENGINE_CYCLE", "cycle_window", "window_samples",
+           "angle_mean"]
 
 
 class ResultsError(Exception):
@@ -149,7 +160,187 @@ class Results:
         parts = [p for p in (info["rc_set"], info["mpc"]) if p]
         return ", ".join(parts) if parts else self.path
 
+    def timings(self):
+        """{stage: wall seconds} from /timings ({} if the file has none yet)."""
+        if "timings/stage" not in self.file or "timings/seconds" not in self.file:
+            return {}
+        stages = [text(s) for s in np.atleast_1d(self.file["timings/stage"][()])]
+        seconds = np.atleast_1d(self.file["timings/seconds"][()]).astype(float)
+        return dict(zip(stages, seconds[:len(stages)]))
+
 
 def open_results(path, require_complete=True):
     """Open a results file (context manager); see Results."""
     return Results(path, require_complete=require_complete)
+
+
+# ---------------------------------------------------------------------------------------------
+# Engine runs
+
+#: One four-stroke engine cycle in crank angle, rad (two revolutions).
+ENGINE_CYCLE = 4.0 * math.pi
+
+
+class EngineRun:
+    """The time series of one engine run (see read_engine). Attributes:
+
+    path, status, complete (status == 'complete'), case_name, title, rc_set, mpc, label;
+    t (s), crank_angle (rad, unwrapped), crank_speed (rad/s): (num_steps,) arrays;
+    pressure (Pa, (num_steps,)) or None if the file has no /time/pressure;
+    timings ({stage: s}), wall_time (s: the stage 'total' if present, else the sum of the
+    stages; None if /timings is absent, as in a killed run), num_steps = len(t).
+    """
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    @property
+    def num_steps(self):
+        return len(self.t)
+
+
+def _engine_label(rc_set, mpc, fallback):
+    """'RC set 1, RBE3'; 'rigid crank' (no 'rigid' MPC repeated); the fallback if both are
+    empty."""
+    parts = [rc_set] if rc_set else []
+    if mpc and not (mpc.lower() == "rigid" and "rigid" in rc_set.lower()):
+        parts.append(mpc)
+    return ", ".join(parts) if parts else fallback
+
+
+def read_engine(path, allow_incomplete=False):
+    """Read the time series of an engine run into an EngineRun.
+
+    Raises ResultsError when the file cannot be opened, has no /time group (a modal results
+    file, say), lacks t, crank_angle or crank_speed, holds no step, has non-finite values, or
+    a crank angle that jumps by more than pi in one step (wrapped, not unwrapped), and, unless
+    allow_incomplete, when its status is not 'complete'. A run killed mid-way keeps status
+    'running' and the steps flushed so far; its series may differ in length by the last chunk,
+    so an incomplete run is cut to the shortest series (a complete one must agree exactly).
+    The label says when the run is incomplete.
+    """
+    with Results(path, require_complete=False) as results:
+        status = results.status
+        complete = status == "complete"
+        if not complete and not allow_incomplete:
+            raise ResultsError(f"{results.path}: the run is not complete, status is "
+                               f"'{status}' (a killed run keeps 'running'); rerun it, or pass "
+                               f"--allow-incomplete (allow_incomplete=True) to use the steps "
+                               f"it saved")
+        if "time" not in results.file:
+            raise ResultsError(f"{results.path}: no /time group, so not the results of a time "
+                               f"integration (a modal run?); an engine run has /time/t, "
+                               f"/time/crank_angle and /time/crank_speed")
+        names = ["t", "crank_angle", "crank_speed"]
+        if "pressure" in results.file["time"]:
+            names.append("pressure")
+        series = {}
+        for name in names:
+            series[name] = np.atleast_1d(results._dataset(f"/time/{name}")).astype(float)
+        lengths = {name: len(values) for name, values in series.items()}
+        num_steps = min(lengths.values())
+        if len(set(lengths.values())) > 1:
+            if complete:
+                raise ResultsError(f"{results.path}: /time series of different lengths "
+                                   f"{lengths} in a complete run")
+            series = {name: values[:num_steps] for name, values in series.items()}
+        if num_steps == 0:
+            raise ResultsError(f"{results.path}: no time step saved yet (status '{status}')")
+        for name, values in series.items():
+            bad = np.flatnonzero(~np.isfinite(values))
+            if bad.size:
+                raise ResultsError(f"{results.path}: /time/{name} is {values[bad[0]]} at step "
+                                   f"{bad[0]} (t = {series['t'][bad[0]]} s)")
+        jumps = np.flatnonzero(np.abs(np.diff(series["crank_angle"])) > math.pi)
+        if jumps.size:
+            k = jumps[0]
+            raise ResultsError(f"{results.path}: /time/crank_angle jumps from "
+                               f"{series['crank_angle'][k]} to {series['crank_angle'][k + 1]} "
+                               f"rad at step {k}: it must be unwrapped (continuous over "
+                               f"revolutions)")
+        rc_set = results.attribute("rc_set", "/engine", default="") or ""
+        mpc = results.attribute("mpc", "/engine", default="") or ""
+        case_name = results.case_name
+        label = _engine_label(str(rc_set), str(mpc), case_name or results.path)
+        if not complete:
+            label += f" (incomplete: {status})"
+        timings = results.timings()
+        if "total" in timings:
+            wall_time = float(timings["total"])
+        elif timings:
+            wall_time = float(sum(timings.values()))
+        else:
+            wall_time = None
+        return EngineRun(path=results.path, status=status, complete=complete,
+                         case_name=case_name, title=results.attribute("title", default=""),
+                         rc_set=str(rc_set), mpc=str(mpc), label=label,
+                         t=series["t"], crank_angle=series["crank_angle"],
+                         crank_speed=series["crank_speed"], pressure=series.get("pressure"),
+                         timings=timings, wall_time=wall_time)
+
+
+def unique_labels(runs):
+    """Set each EngineRun's label unique by appending its file name where two coincide."""
+    labels = [run.label for run in runs]
+    for run in runs:
+        if labels.count(run.label) > 1:
+            run.label = f"{run.label} ({os.path.basename(run.path)})"
+    return runs
+
+
+def cycle_window(crank_angle, num_cycles=1):
+    """(theta_a, theta_b), rad: the last num_cycles complete engine cycles of a run.
+
+    Cycles are counted from crank angle 0 (TDC at the start of intake, scene.md), so cycle k
+    is [4 pi k, 4 pi (k + 1)] and keeps the phase of the four-stroke cycle; complete means the
+    run covers all of it. Raises ResultsError if the run holds fewer complete cycles.
+    """
+    if num_cycles < 1:
+        raise ResultsError(f"number of engine cycles {num_cycles}: must be at least 1")
+    first, last = float(np.min(crank_angle)), float(crank_angle[-1])
+    end_cycle = math.floor(last / ENGINE_CYCLE)
+    start_cycle = end_cycle - num_cycles
+    available = end_cycle - math.ceil(first / ENGINE_CYCLE)
+    if start_cycle * ENGINE_CYCLE < first:
+        raise ResultsError(f"the run covers {max(available, 0)} complete engine cycle(s) "
+                           f"(crank angle {first:.6g} .. {last:.6g} rad, a cycle is 4 pi), "
+                           f"{num_cycles} needed: run longer or ask for fewer cycles")
+    return start_cycle * ENGINE_CYCLE, end_cycle * ENGINE_CYCLE
+
+
+def window_samples(crank_angle, values, theta_a, theta_b):
+    """The samples of `values` (one per step, or (num_steps, n)) over the crank-angle window
+    [theta_a, theta_b], with linearly interpolated samples added at both ends.
+
+    The window starts at the last upward crossing of theta_a (an early rocking of the crank
+    before it settles is skipped) and ends at the first crossing of theta_b after that.
+    Returns (theta, values) of the window, theta[0] = theta_a and theta[-1] = theta_b.
+    """
+    theta = np.asarray(crank_angle, dtype=float)
+    values = np.asarray(values, dtype=float)
+    below = np.flatnonzero(theta < theta_a)
+    i = below[-1] if below.size else 0
+    after = np.flatnonzero(theta[i + 1:] >= theta_b)
+    if theta[i] > theta_a or not after.size:
+        raise ResultsError(f"crank angle window [{theta_a:.6g}, {theta_b:.6g}] rad is not "
+                           f"covered by the run ({theta.min():.6g} .. {theta[-1]:.6g} rad)")
+    j = i + 1 + after[0]
+
+    def at(k, target):
+        w = (target - theta[k]) / (theta[k + 1] - theta[k])
+        return values[k] + w * (values[k + 1] - values[k])
+
+    inner = slice(i + 1, j)
+    window_theta = np.concatenate([[theta_a], theta[inner], [theta_b]])
+    window_values = np.concatenate([np.asarray(at(i, theta_a))[None], values[inner],
+                                    np.asarray(at(j - 1, theta_b))[None]])
+    return window_theta, window_values
+
+
+def angle_mean(theta, values):
+    """Mean of values over crank angle, (1 / (theta_b - theta_a)) int values d theta, by the
+    trapezoidal rule on the samples (theta from window_samples)."""
+    theta = np.asarray(theta, dtype=float)
+    values = np.asarray(values, dtype=float)
+    integral = np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(theta))
+    return float(integral / (theta[-1] - theta[0]))

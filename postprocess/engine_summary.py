@@ -1,0 +1,158 @@
+#!/usr/bin/python3
+"""Regime speed, speed oscillation and wall time of several ffrf engine runs, one row per run.
+
+The first file is the reference (e.g. the rigid crank): every row gives the relative difference
+of its mean speed to the first file's. Per run: label (rc_set and mpc of /engine), regime mean
+crank speed in rad/s and rpm, averaged over crank angle on the last --cycles complete engine
+cycles (4 pi of crank angle each, counted from crank angle 0), the speed oscillation on the same
+cycles ((max - min) / 2 and peak-to-peak, rad/s), the wall time of the run from /timings (the
+stage 'total', else the sum of the stages) and its ratio to the simulated time, the number of
+stored steps, and the time span of the cycles used. Markdown rounds for reading; the CSV keeps
+every double (shortest round-trip repr). With neither option the Markdown goes to standard
+output. A run whose status is not 'complete' is an error unless --allow-incomplete.
+
+    engine_summary.py engine_rigid.h5 engine_rc1.h5 engine_rc2.h5 --markdown s.md --csv s.csv
+"""
+import argparse
+import csv
+import math
+import sys
+
+import numpy as np
+
+import ffrf_results
+
+RPM = 30.0 / math.pi   # rpm per rad/s
+
+# (key, CSV header); the CSV writes them in this order
+COLUMNS = [
+    ("label", "run"),
+    ("mean_speed", "mean speed [rad/s]"),
+    ("mean_rpm", "mean speed [rpm]"),
+    ("amplitude", "oscillation (max-min)/2 [rad/s]"),
+    ("peak_to_peak", "oscillation max-min [rad/s]"),
+    ("relative_difference", "mean speed relative to reference [1]"),
+    ("wall_time", "wall time [s]"),
+    ("wall_per_simulated", "wall time / simulated time [1]"),
+    ("num_steps", "steps"),
+    ("cycles", "cycles averaged"),
+    ("t_start", "regime from t [s]"),
+    ("t_end", "regime to t [s]"),
+    ("status", "status"),
+    ("file", "file"),
+]
+
+
+def regime(run, num_cycles):
+    """Mean speed and oscillation over the last num_cycles complete engine cycles of a run.
+
+    The mean is taken over crank angle, (1 / (4 pi N)) int omega d theta, not over time, for
+    three reasons. (1) The regime is periodic in crank angle, not in time: pressure, piston
+    kinematics and so the speed fluctuation repeat every 4 pi, so the window is cut at whole
+    cycles in angle, and a mean over whole periods is then exact for any sampling. (2) The
+    closed-form check of the regime (issue 3) balances the indicated work per cycle against the
+    load, an integral over crank angle: int (T_ind - c omega^2) d theta = 0 gives the angle
+    mean of omega^2, and the angle mean of omega differs from its square root only by the
+    fluctuation's variance. (3) A time mean weights slow phases more (the crank lingers
+    there): it equals 4 pi N / (time of the N cycles), which for omega = w0 + a sin(theta / 2)
+    is sqrt(w0^2 - a^2), not w0, a bias of a^2 / (2 w0) that is no property of the engine.
+    """
+    theta_a, theta_b = ffrf_results.cycle_window(run.crank_angle, num_cycles)
+    theta, omega = ffrf_results.window_samples(run.crank_angle, run.crank_speed, theta_a,
+                                               theta_b)
+    _, times = ffrf_results.window_samples(run.crank_angle, run.t, theta_a, theta_b)
+    mean = ffrf_results.angle_mean(theta, omega)
+    peak_to_peak = float(omega.max() - omega.min())
+    return {"mean_speed": mean, "mean_rpm": mean * RPM, "amplitude": peak_to_peak / 2.0,
+            "peak_to_peak": peak_to_peak, "cycles": num_cycles,
+            "t_start": float(times[0]), "t_end": float(times[-1])}
+
+
+def summarise(files, num_cycles, allow_incomplete):
+    """One dict per file (keys of COLUMNS); raises ResultsError naming the file."""
+    rows = []
+    runs = ffrf_results.unique_labels([ffrf_results.read_engine(
+        path, allow_incomplete=allow_incomplete) for path in files])
+    for path, run in zip(files, runs):
+        try:
+            row = regime(run, num_cycles)
+        except ffrf_results.ResultsError as exc:
+            raise ffrf_results.ResultsError(f"{path}: {exc}") from exc
+        simulated = float(run.t[-1] - run.t[0])
+        row.update({
+            "label": run.label, "num_steps": run.num_steps, "wall_time": run.wall_time,
+            "wall_per_simulated": (run.wall_time / simulated
+                                   if run.wall_time is not None and simulated > 0.0 else None),
+            "status": run.status, "file": path})
+        rows.append(row)
+    reference = rows[0]["mean_speed"]
+    for row in rows:
+        row["relative_difference"] = (row["mean_speed"] - reference) / reference
+    return rows
+
+
+def write_markdown(stream, rows, num_cycles):
+    stream.write(f"Crank speed in regime (mean over crank angle and oscillation on the last "
+                 f"{num_cycles} complete engine cycles); reference: {rows[0]['label']}\n\n")
+    stream.write("| run | mean speed (rad/s) | mean speed (rpm) | (max-min)/2 (rad/s) "
+                 "| max-min (rad/s) | vs reference | wall time (s) | wall / simulated "
+                 "| steps |\n")
+    stream.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+    for row in rows:
+        wall = "n/a" if row["wall_time"] is None else f"{row['wall_time']:.2f}"
+        ratio = ("n/a" if row["wall_per_simulated"] is None
+                 else f"{row['wall_per_simulated']:.2f}")
+        stream.write(f"| {row['label']} | {row['mean_speed']:.3f} | {row['mean_rpm']:.1f} "
+                     f"| {row['amplitude']:.3f} | {row['peak_to_peak']:.3f} "
+                     f"| {100 * row['relative_difference']:+.3f}% | {wall} | {ratio} "
+                     f"| {row['num_steps']} |\n")
+
+
+def csv_cell(value):
+    if value is None:
+        return ""
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    return str(value)
+
+
+def write_csv(path, rows):
+    with open(path, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow([header for _, header in COLUMNS])
+        for row in rows:
+            writer.writerow([csv_cell(row[key]) for key, _ in COLUMNS])
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("files", nargs="+", help="engine results files (.h5); the first is "
+                        "the reference")
+    parser.add_argument("--markdown", help="write the Markdown table here")
+    parser.add_argument("--csv", help="write the CSV table here")
+    parser.add_argument("--cycles", type=int, default=2,
+                        help="complete engine cycles (4 pi each) at the end of each run that "
+                        "make the regime (default 2)")
+    parser.add_argument("--allow-incomplete", action="store_true",
+                        help="also use runs whose status is not 'complete' (killed or "
+                        "failed: the steps they saved)")
+    args = parser.parse_args(argv)
+    if args.cycles < 1:
+        parser.error(f"--cycles {args.cycles}: must be at least 1")
+    try:
+        rows = summarise(args.files, args.cycles, args.allow_incomplete)
+    except ffrf_results.ResultsError as exc:
+        print(f"engine_summary.py: error: {exc}", file=sys.stderr)
+        return 2
+    if args.markdown:
+        with open(args.markdown, "w") as stream:
+            write_markdown(stream, rows, args.cycles)
+    if args.csv:
+        write_csv(args.csv, rows)
+    if not (args.markdown or args.csv):
+        write_markdown(sys.stdout, rows, args.cycles)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
