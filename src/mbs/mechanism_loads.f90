@@ -1,0 +1,206 @@
+!> Applied loads and driving laws of a mechanism (ffrf_mbs_mechanism; scene.md "Loads").
+!>
+!> A load acts on one body at one of its markers, either as a force along a fixed global direction
+!> (LOAD_FORCE) or as a moment about a fixed global axis (LOAD_TORQUE). Its magnitude is a
+!> function of the time t, the crank angle phi (rad, unwrapped over many revolutions) and the
+!> crank speed omega = dphi/dt (rad/s) that the mechanism measures on its crank body; each kind of
+!> load is a small type that extends `load_t` and implements `magnitude(t, phi, omega)`:
+!>
+!> | type                 | magnitude                                                      |
+!> |----------------------|----------------------------------------------------------------|
+!> | constant_load_t      | value                                                          |
+!> | pressure_force_t     | pressure_model_t%piston_force(phi) = -(p(phi) - p_ref) pi B^2/4 |
+!> | starter_torque_t     | max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0          |
+!> | drag_torque_t        | -c omega |omega|  (= -c omega^2 for omega >= 0, always opposing) |
+!>
+!> The generalized force of a load on its body is L_r^T F + L_w^T M (theory.md 3.5; body_t
+!> marker_generalized_force) and its power is F . r_dot + M . omega = Q . v.
+!>
+!> A driving law f(t) prescribes a body's rotation about the global z axis (a rheonomic
+!> constraint in ffrf_mbs_mechanism); `drive_law_t%evaluate(t)` returns f, f' and f''.
+module ffrf_mbs_mechanism_loads
+   use ffrf_core_kinds, only: dp
+   use ffrf_mbs_pressure, only: pressure_model_t
+   implicit none
+   private
+   public :: load_t, constant_load_t, pressure_force_t, starter_torque_t, drag_torque_t
+   public :: drive_law_t, polynomial_drive_t
+   public :: LOAD_FORCE, LOAD_TORQUE
+
+   !> Load kind: a force along `direction` at the marker
+   integer, parameter :: LOAD_FORCE = 1
+   !> Load kind: a moment about `direction` on the body (at the marker, for a flexible body)
+   integer, parameter :: LOAD_TORQUE = 2
+
+   !> A force or moment of magnitude magnitude(t, phi, omega) along a fixed global direction.
+   type, abstract :: load_t
+      !> LOAD_FORCE or LOAD_TORQUE
+      integer :: kind = LOAD_FORCE
+      !> Mechanism index of the loaded body (as add_body returned it)
+      integer :: body = 0
+      !> Marker of the body where the force acts (a moment on a rigid body does not depend on it)
+      integer :: marker = 1
+      !> Unit global direction of the force, or axis of the moment (normalised by add_load)
+      real(dp) :: direction(3) = [0.0_dp, 0.0_dp, 1.0_dp]
+      !> Name for messages
+      character(len=32) :: name = 'load'
+   contains
+      !> Signed magnitude along direction (N or N m)
+      procedure(load_magnitude), deferred :: magnitude
+   end type load_t
+
+   abstract interface
+      !> Magnitude of a load (N or N m) from the time and the crank state.
+      pure function load_magnitude(self, t, crank_angle, crank_speed) result(value)
+         import :: load_t, dp
+         implicit none
+         !> The load
+         class(load_t), intent(in) :: self
+         !> Time (s)
+         real(dp), intent(in) :: t
+         !> Crank angle, unwrapped (rad)
+         real(dp), intent(in) :: crank_angle
+         !> Crank speed (rad/s)
+         real(dp), intent(in) :: crank_speed
+         real(dp) :: value
+      end function load_magnitude
+   end interface
+
+   !> A load of constant magnitude.
+   type, extends(load_t) :: constant_load_t
+      !> Magnitude (N or N m)
+      real(dp) :: value = 0.0_dp
+   contains
+      procedure :: magnitude => constant_magnitude
+   end type constant_load_t
+
+   !> In-cylinder gas force on the piston (scene.md "Loads"): kind LOAD_FORCE, direction +y (the
+   !> pressure model gives the force along +y, negative while p > p_ref).
+   type, extends(load_t) :: pressure_force_t
+      !> Initialised pressure model (pressure_model_t%init)
+      type(pressure_model_t) :: model
+   contains
+      procedure :: magnitude => pressure_magnitude
+   end type pressure_force_t
+
+   !> Starter motor (scene.md): T = T0 (1 - omega / omega_0) for t <= t_off and only while
+   !> positive; kind LOAD_TORQUE about +z.
+   type, extends(load_t) :: starter_torque_t
+      !> Stall torque T0 (N m)
+      real(dp) :: stall_torque = 40.0_dp
+      !> No-load speed omega_0 (rad/s)
+      real(dp) :: free_speed = 157.0_dp
+      !> Switch-off time t_off (s)
+      real(dp) :: switch_off = 0.5_dp
+   contains
+      procedure :: magnitude => starter_magnitude
+   end type starter_torque_t
+
+   !> External load (scene.md): T = -c omega |omega| about +z (= -c omega^2 while omega >= 0; the
+   !> |omega| keeps it opposing the motion if the crank ever turns back).
+   type, extends(load_t) :: drag_torque_t
+      !> Coefficient c (N m s^2)
+      real(dp) :: coefficient = 3.6e-4_dp
+   contains
+      procedure :: magnitude => drag_magnitude
+   end type drag_torque_t
+
+   !> A prescribed rotation f(t) about z (rad) with its first two time derivatives.
+   type, abstract :: drive_law_t
+   contains
+      !> [f, f', f''] at t (rad, rad/s, rad/s^2)
+      procedure(drive_evaluate), deferred :: evaluate
+   end type drive_law_t
+
+   abstract interface
+      !> The law and its derivatives.
+      pure function drive_evaluate(self, t) result(f)
+         import :: drive_law_t, dp
+         implicit none
+         !> The law
+         class(drive_law_t), intent(in) :: self
+         !> Time (s)
+         real(dp), intent(in) :: t
+         real(dp) :: f(3)
+      end function drive_evaluate
+   end interface
+
+   !> f(t) = angle + speed t + acceleration t^2 / 2 (constant speed when acceleration = 0).
+   type, extends(drive_law_t) :: polynomial_drive_t
+      !> Angle at t = 0 (rad)
+      real(dp) :: angle = 0.0_dp
+      !> Speed at t = 0 (rad/s)
+      real(dp) :: speed = 0.0_dp
+      !> Constant angular acceleration (rad/s^2)
+      real(dp) :: acceleration = 0.0_dp
+   contains
+      procedure :: evaluate => polynomial_evaluate
+   end type polynomial_drive_t
+
+contains
+
+   !> value.
+   pure function constant_magnitude(self, t, crank_angle, crank_speed) result(value)
+      class(constant_load_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Crank angle (rad)
+      real(dp), intent(in) :: crank_angle
+      !> Crank speed (rad/s)
+      real(dp), intent(in) :: crank_speed
+      real(dp) :: value
+      value = self%value + 0.0_dp * (t + crank_angle + crank_speed)
+   end function constant_magnitude
+
+   !> Gas force along +y at the unwrapped crank angle (pressure_model_t%piston_force).
+   pure function pressure_magnitude(self, t, crank_angle, crank_speed) result(value)
+      class(pressure_force_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Crank angle (rad)
+      real(dp), intent(in) :: crank_angle
+      !> Crank speed (rad/s)
+      real(dp), intent(in) :: crank_speed
+      real(dp) :: value
+      value = self%model%piston_force(crank_angle) + 0.0_dp * (t + crank_speed)
+   end function pressure_magnitude
+
+   !> max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0.
+   pure function starter_magnitude(self, t, crank_angle, crank_speed) result(value)
+      class(starter_torque_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Crank angle (rad)
+      real(dp), intent(in) :: crank_angle
+      !> Crank speed (rad/s)
+      real(dp), intent(in) :: crank_speed
+      real(dp) :: value
+      value = 0.0_dp * crank_angle
+      if (t <= self%switch_off) value = max(0.0_dp, self%stall_torque * &
+         (1.0_dp - crank_speed / self%free_speed))
+   end function starter_magnitude
+
+   !> -c omega |omega|.
+   pure function drag_magnitude(self, t, crank_angle, crank_speed) result(value)
+      class(drag_torque_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Crank angle (rad)
+      real(dp), intent(in) :: crank_angle
+      !> Crank speed (rad/s)
+      real(dp), intent(in) :: crank_speed
+      real(dp) :: value
+      value = -self%coefficient * crank_speed * abs(crank_speed) + 0.0_dp * (t + crank_angle)
+   end function drag_magnitude
+
+   !> [angle + speed t + acceleration t^2/2, speed + acceleration t, acceleration].
+   pure function polynomial_evaluate(self, t) result(f)
+      class(polynomial_drive_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      real(dp) :: f(3)
+      f = [self%angle + self%speed * t + 0.5_dp * self%acceleration * t**2, &
+         self%speed + self%acceleration * t, self%acceleration]
+   end function polynomial_evaluate
+
+end module ffrf_mbs_mechanism_loads
