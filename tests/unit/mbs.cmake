@@ -11,3 +11,5 @@ ffrf_add_unit_suite(test_mbs_joints CHECKED LABELS mbs FIXTURES crank_lc8_mesh)
 # Mechanism with generalized-alpha: driven slider-crank, free body, engine start. ~4 s, checked ~10
 # s.
 ffrf_add_unit_suite(test_mbs_mechanism CHECKED LABELS mbs)
+# Engine with a flexible crank (stiffened modes) against the rigid-crank engine. ~7 s.
+ffrf_add_unit_suite(test_mbs_flexible_engine LABELS mbs FIXTURES crank_lc8_mesh)
