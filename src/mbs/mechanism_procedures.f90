@@ -1,0 +1,700 @@
+!> Bodies of ffrf_mbs_mechanism (a submodule, as the house style asks of long modules): building,
+!> crank state, loads and energies, the dae_system_t procedures, the consistent initial state, and
+!> the private helpers they share (layout, least squares by LAPACK dgelsy, drive normals).
+submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: ip, pi
+   use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
+      rotated_vector_jacobian
+   use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t
+   use ffrf_mbs_joints, only: new_joint, joint_reaction
+   use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
+   implicit none
+
+   !> Unit x axis
+   real(dp), parameter :: e_x(3) = [1.0_dp, 0.0_dp, 0.0_dp]
+   !> Relative rank tolerance of the least-squares solves (dgelsy rcond)
+   real(dp), parameter :: rank_rcond = 1.0e-10_dp
+
+   interface
+      !> Minimum-norm least squares by complete orthogonal factorisation, A P = Q [R11 R12; 0 R22].
+      subroutine dgelsy(m, n, nrhs, a, lda, b, ldb, jpvt, rcond, rank, work, lwork, info)
+         import :: dp, ip
+         implicit none
+         integer(ip), intent(in) :: m, n, nrhs, lda, ldb, lwork
+         real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+         integer(ip), intent(inout) :: jpvt(*)
+         real(dp), intent(in) :: rcond
+         integer(ip), intent(out) :: rank
+         real(dp), intent(out) :: work(*)
+         integer(ip), intent(out) :: info
+      end subroutine dgelsy
+   end interface
+
+contains
+
+   ! ----------------------------------------------------------------------------------------------
+   ! Building
+
+   !> Add a copy of `body`; `index` is its mechanism index for joints, loads, crank and drive.
+   module procedure mechanism_add_body
+      type(mechanism_body_t), allocatable :: grown(:)
+      integer :: i, nb
+      index = 0
+      if (body%num_coordinates < 0 .or. (body%num_coordinates > 0 .and. &
+         body%num_coordinates < 7)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: body "' // name // '" has ' // &
+            to_str(body%num_coordinates) // ' coordinates; expected 0 (ground) or at least 7 ' &
+            // '([R; theta; zeta]); initialise the body first')
+         return
+      end if
+      nb = 0
+      if (allocated(self%bodies)) nb = size(self%bodies)
+      allocate (grown(nb + 1))
+      do i = 1, nb
+         call move_alloc(self%bodies(i)%body, grown(i)%body)
+         call move_alloc(self%bodies(i)%name, grown(i)%name)
+      end do
+      allocate (grown(nb + 1)%body, source=body)
+      grown(nb + 1)%name = name
+      call move_alloc(grown, self%bodies)
+      index = nb + 1
+      call update_layout(self)
+   end procedure mechanism_add_body
+
+   !> Add a joint of `kind` (new_joint: revolute, prismatic, spherical, universal, fixed) between
+   !> marker_a of body a and marker_b of body b (mechanism indices).
+   module procedure mechanism_add_joint
+      type(mechanism_joint_t), allocatable :: grown(:)
+      class(joint_t), allocatable :: joint
+      integer :: i, nj
+      if (.not. (valid_body(self, body_a) .and. valid_body(self, body_b)) .or. &
+         body_a == body_b) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: joint "' // name // &
+            '" connects bodies ' // to_str(body_a) // ' and ' // to_str(body_b) // &
+            '; they must be two different indices returned by add_body (1..' // &
+            to_str(num_bodies(self)) // ')')
+         return
+      end if
+      call new_joint(kind, joint, error)
+      if (.not. allocated(error)) call joint%connect(self%bodies(body_a)%body, marker_a, &
+         self%bodies(body_b)%body, marker_b, error)
+      if (allocated(error)) then
+         call add_context(error, 'mechanism: joint "' // name // '"')
+         return
+      end if
+      nj = 0
+      if (allocated(self%joints)) nj = size(self%joints)
+      allocate (grown(nj + 1))
+      do i = 1, nj
+         call move_alloc(self%joints(i)%joint, grown(i)%joint)
+         call move_alloc(self%joints(i)%name, grown(i)%name)
+         grown(i)%body_a = self%joints(i)%body_a
+         grown(i)%body_b = self%joints(i)%body_b
+      end do
+      call move_alloc(joint, grown(nj + 1)%joint)
+      grown(nj + 1)%name = name
+      grown(nj + 1)%body_a = body_a
+      grown(nj + 1)%body_b = body_b
+      call move_alloc(grown, self%joints)
+      call update_layout(self)
+   end procedure mechanism_add_joint
+
+   !> Add a copy of an applied load; its direction is normalised here.
+   module procedure mechanism_add_load
+      type(mechanism_load_t), allocatable :: grown(:)
+      integer :: i, nl
+      if (.not. valid_body(self, load%body)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: load "' // trim(load%name) // &
+            '" is on body ' // to_str(load%body) // ', not an index returned by add_body (1..' &
+            // to_str(num_bodies(self)) // ')')
+         return
+      end if
+      if (load%marker < 1 .or. load%marker > self%bodies(load%body)%body%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: load "' // trim(load%name) // &
+            '" at marker ' // to_str(load%marker) // '; body "' // &
+            self%bodies(load%body)%name // '" has ' // &
+            to_str(self%bodies(load%body)%body%num_markers) // ' markers')
+         return
+      end if
+      if (.not. (norm2(load%direction) > 0.0_dp .and. all(ieee_is_finite(load%direction)))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: load "' // trim(load%name) // &
+            '" has a zero or non-finite direction; give a non-zero global vector')
+         return
+      end if
+      if (load%kind /= LOAD_FORCE .and. load%kind /= LOAD_TORQUE) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: load "' // trim(load%name) // &
+            '" has kind ' // to_str(load%kind) // '; use LOAD_FORCE (1) or LOAD_TORQUE (2)')
+         return
+      end if
+      nl = 0
+      if (allocated(self%loads)) nl = size(self%loads)
+      allocate (grown(nl + 1))
+      do i = 1, nl
+         call move_alloc(self%loads(i)%load, grown(i)%load)
+      end do
+      allocate (grown(nl + 1)%load, source=load)
+      grown(nl + 1)%load%direction = load%direction / norm2(load%direction)
+      call move_alloc(grown, self%loads)
+   end procedure mechanism_add_load
+
+   !> The crank is body `body` (with Euler parameters); its angle is unwrapped from 0.
+   module procedure mechanism_set_crank
+      if (.not. rotating_body(self, body)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: crank body ' // to_str(body) // &
+            ' must be a body with Euler parameters added by add_body')
+         return
+      end if
+      self%crank = body
+      self%crank_reference = 0.0_dp
+   end procedure mechanism_set_crank
+
+   !> Unwrap the crank angle of q against `angle` (rad) and keep the result as the reference.
+   module procedure mechanism_set_crank_reference
+      self%crank_reference = angle
+      self%crank_reference = self%crank_angle(q)
+   end procedure mechanism_set_crank_reference
+
+   !> Prescribe the rotation about z of body `body` as law%evaluate(t) (one rheonomic row).
+   module procedure mechanism_set_drive
+      if (.not. rotating_body(self, body)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: driven body ' // to_str(body) // &
+            ' must be a body with Euler parameters added by add_body')
+         return
+      end if
+      self%drive_body = body
+      if (allocated(self%drive)) deallocate (self%drive)
+      allocate (self%drive, source=law)
+      call update_layout(self)
+   end procedure mechanism_set_drive
+
+   !> Offsets of coordinates and rows after a change.
+   subroutine update_layout(self)
+      type(mechanism_t), intent(inout) :: self
+      integer :: b, j, row
+      self%n = 0
+      do b = 1, num_bodies(self)
+         self%bodies(b)%offset = self%n
+         self%n = self%n + self%bodies(b)%body%num_coordinates
+      end do
+      row = 0
+      if (allocated(self%joints)) then
+         do j = 1, size(self%joints)
+            self%joints(j)%offset = row
+            row = row + self%joints(j)%joint%num_equations
+         end do
+      end if
+      self%drive_row = 0
+      if (self%drive_body > 0) then
+         row = row + 1
+         self%drive_row = row
+      end if
+      do b = 1, num_bodies(self)
+         self%bodies(b)%euler_row = 0
+         if (self%bodies(b)%body%num_coordinates >= 7) then
+            row = row + 1
+            self%bodies(b)%euler_row = row
+         end if
+      end do
+      self%nc = row
+   end subroutine update_layout
+
+   pure integer function num_bodies(self)
+      type(mechanism_t), intent(in) :: self
+      num_bodies = 0
+      if (allocated(self%bodies)) num_bodies = size(self%bodies)
+   end function num_bodies
+
+   pure logical function valid_body(self, b)
+      type(mechanism_t), intent(in) :: self
+      integer, intent(in) :: b
+      valid_body = b >= 1 .and. b <= num_bodies(self)
+   end function valid_body
+
+   pure logical function rotating_body(self, b)
+      type(mechanism_t), intent(in) :: self
+      integer, intent(in) :: b
+      rotating_body = valid_body(self, b)
+      if (rotating_body) rotating_body = self%bodies(b)%body%num_coordinates >= 7
+   end function rotating_body
+
+   ! ----------------------------------------------------------------------------------------------
+   ! Crank state, loads, energies
+
+   !> q(offset + 1 : offset + num_coordinates) of body b (empty for the ground).
+   module procedure mechanism_body_coordinates
+      qb = q(self%bodies(b)%offset + 1:self%bodies(b)%offset + size(qb))
+   end procedure mechanism_body_coordinates
+
+   !> Unwrapped crank angle phi_ref + wrap(2 atan2(e3, e0) - phi_ref) (module header); 0 without
+   !> a crank.
+   module procedure mechanism_crank_angle
+      real(dp) :: theta(4), raw
+      angle = 0.0_dp
+      if (self%crank == 0) return
+      theta = q(self%bodies(self%crank)%offset + 4:self%bodies(self%crank)%offset + 7)
+      raw = 2.0_dp * atan2(theta(4), theta(1))
+      angle = self%crank_reference + modulo(raw - self%crank_reference + pi, 2.0_dp * pi) - pi
+   end procedure mechanism_crank_angle
+
+   !> Crank speed e_z . G(theta) theta_dot (rad/s); 0 without a crank.
+   module procedure mechanism_crank_speed
+      real(dp) :: omega(3)
+      integer :: k
+      speed = 0.0_dp
+      if (self%crank == 0) return
+      k = self%bodies(self%crank)%offset
+      omega = matmul(euler_g(q(k + 4:k + 7)), v(k + 4:k + 7))
+      speed = omega(3)
+   end procedure mechanism_crank_speed
+
+   !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
+   !> gravity (m g at the centre of mass of rigid bodies).
+   module procedure mechanism_applied_force
+      real(dp) :: angle, speed, value, vector(3), zero(3), A(3, 3)
+      integer :: i, b, k, nb
+      f = 0.0_dp
+      zero = 0.0_dp
+      angle = self%crank_angle(q)
+      speed = self%crank_speed(q, v)
+      if (allocated(self%loads)) then
+         do i = 1, size(self%loads)
+            associate (load => self%loads(i)%load)
+               b = load%body
+               k = self%bodies(b)%offset
+               nb = self%bodies(b)%body%num_coordinates
+               if (nb == 0) cycle
+               value = load%magnitude(t, angle, speed)
+               if (.not. ieee_is_finite(value)) then
+                  call fatal_error(error, FFRF_NUMERIC_ERROR, 'load "' // trim(load%name) // &
+                     '" is not finite at t = ' // to_str(t) // ' s, crank angle ' // &
+                     to_str(angle) // ' rad, speed ' // to_str(speed) // ' rad/s')
+                  return
+               end if
+               vector = value * load%direction
+               if (load%kind == LOAD_FORCE) then
+                  f(k + 1:k + nb) = f(k + 1:k + nb) + self%bodies(b)%body% &
+                     marker_generalized_force(q(k + 1:k + nb), load%marker, vector, zero)
+               else
+                  f(k + 1:k + nb) = f(k + 1:k + nb) + self%bodies(b)%body% &
+                     marker_generalized_force(q(k + 1:k + nb), load%marker, zero, vector)
+               end if
+            end associate
+         end do
+      end if
+      if (maxval(abs(self%gravity)) <= 0.0_dp) return
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         select type (body => self%bodies(b)%body)
+         class is (rigid_body_t)
+            ! m g at the centre of mass chi: [m g; G_bar^T chi~ A^T m g]
+            A = euler_rotation(q(k + 4:k + 7))
+            vector = body%mass * self%gravity
+            f(k + 1:k + 3) = f(k + 1:k + 3) + vector
+            f(k + 4:k + 7) = f(k + 4:k + 7) + matmul(transpose(euler_g_bar(q(k + 4:k + 7))), &
+               matmul(skew3(body%center_of_mass), matmul(transpose(A), vector)))
+         class default
+            if (body%num_coordinates > 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: gravity is implemented ' &
+                  // 'for rigid bodies only; body "' // self%bodies(b)%name // '" is not ' // &
+                  'rigid; set gravity = 0 (scene.md: gravity off)')
+               return
+            end if
+         end select
+      end do
+   end procedure mechanism_applied_force
+
+   !> Kinetic energy sum_b v_b^T M_b(q_b) v_b / 2 (J).
+   module procedure mechanism_kinetic_energy
+      integer :: b, k, nb
+      energy = 0.0_dp
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         if (nb > 0) energy = energy + self%bodies(b)%body%kinetic_energy(q(k + 1:k + nb), &
+            v(k + 1:k + nb))
+      end do
+   end procedure mechanism_kinetic_energy
+
+   !> Strain energy of the flexible bodies, sum zeta^T K_ff zeta / 2 (J); 0 for rigid ones.
+   module procedure mechanism_strain_energy
+      integer :: b, k, nb
+      energy = 0.0_dp
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         select type (body => self%bodies(b)%body)
+         type is (flexible_body_adapter_t)
+            energy = energy + body%flexible%strain_energy(q(k + 1:k + nb))
+         end select
+      end do
+   end procedure mechanism_strain_energy
+
+   !> Power of the applied loads and gravity, Q_applied . v (W): integrated over time it is the
+   !> work that enters the energy balance kinetic + strain + dissipated = work.
+   module procedure mechanism_applied_power
+      real(dp) :: f(self%n)
+      power = 0.0_dp
+      call self%applied_force(q, v, t, f, error)
+      if (allocated(error)) return
+      power = dot_product(f, v)
+   end procedure mechanism_applied_power
+
+   !> Force and moment of joint j on its two bodies from the multipliers of all rows
+   !> (joint_reaction: column 1 on body a at marker a, column 2 on body b at marker b).
+   module procedure mechanism_reaction
+      associate (jt => self%joints(j))
+         call joint_reaction(jt%joint, self%bodies(jt%body_a)%body, &
+            self%body_coordinates(q, jt%body_a), self%bodies(jt%body_b)%body, &
+            self%body_coordinates(q, jt%body_b), &
+            lambda(jt%offset + 1:jt%offset + jt%joint%num_equations), force, moment)
+      end associate
+   end procedure mechanism_reaction
+
+   ! ----------------------------------------------------------------------------------------------
+   ! dae_system_t
+
+   !> n.
+   module procedure mechanism_num_coordinates
+      num = self%n
+   end procedure mechanism_num_coordinates
+
+   !> nc (joint rows, drive row, Euler rows).
+   module procedure mechanism_num_constraints
+      num = self%nc
+   end procedure mechanism_num_constraints
+
+   !> M = blockdiag(M_b(q_b)).
+   module procedure mechanism_mass
+      integer :: b, k, nb
+      M = 0.0_dp
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         if (nb > 0) M(k + 1:k + nb, k + 1:k + nb) = self%bodies(b)%body% &
+            mass_matrix(q(k + 1:k + nb))
+      end do
+      if (.not. all(ieee_is_finite(M))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: mass matrix not finite (NaN coordinates?)')
+   end procedure mechanism_mass
+
+   !> f = sum_b (f_v + Q_e) + applied loads + gravity.
+   module procedure mechanism_force
+      integer :: b, k, nb
+      call self%applied_force(q, v, t, f, error)
+      if (allocated(error)) return
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         if (nb == 0) cycle
+         associate (body => self%bodies(b)%body)
+            f(k + 1:k + nb) = f(k + 1:k + nb) + body%quadratic_velocity(q(k + 1:k + nb), &
+               v(k + 1:k + nb)) + body%elastic_force(q(k + 1:k + nb), v(k + 1:k + nb))
+         end associate
+      end do
+   end procedure mechanism_force
+
+   !> Phi: joint equations, drive row, Euler normalisations.
+   module procedure mechanism_constraints
+      real(dp) :: f(3)
+      integer :: j, b, k
+      if (allocated(self%joints)) then
+         do j = 1, size(self%joints)
+            associate (jt => self%joints(j))
+               call jt%joint%residual(self%bodies(jt%body_a)%body, &
+                  self%body_coordinates(q, jt%body_a), self%bodies(jt%body_b)%body, &
+                  self%body_coordinates(q, jt%body_b), &
+                  phi(jt%offset + 1:jt%offset + jt%joint%num_equations))
+            end associate
+         end do
+      end if
+      if (self%drive_row > 0) then
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         phi(self%drive_row) = dot_product(drive_normal(f(1)), &
+            matmul(euler_rotation(q(k + 4:k + 7)), e_x))
+      end if
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row == 0) cycle
+         k = self%bodies(b)%offset
+         phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
+      end do
+      if (.not. all(ieee_is_finite(phi))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraints
+
+   !> Phi_q: joint blocks, drive row n^T d(A e_x)/dtheta, Euler rows 2 theta^T.
+   module procedure mechanism_constraint_jacobian
+      real(dp), allocatable :: jac_a(:, :), jac_b(:, :)
+      real(dp) :: f(3)
+      integer :: j, b, k, ka, kb, na, nb, ne
+      Phi_q = 0.0_dp
+      if (allocated(self%joints)) then
+         do j = 1, size(self%joints)
+            associate (jt => self%joints(j))
+               ne = jt%joint%num_equations
+               ka = self%bodies(jt%body_a)%offset
+               kb = self%bodies(jt%body_b)%offset
+               na = self%bodies(jt%body_a)%body%num_coordinates
+               nb = self%bodies(jt%body_b)%body%num_coordinates
+               allocate (jac_a(ne, na), jac_b(ne, nb))
+               call jt%joint%jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), jac_a, jac_b)
+               Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na) = jac_a
+               Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb) = &
+                  Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb) + jac_b
+               deallocate (jac_a, jac_b)
+            end associate
+         end do
+      end if
+      if (self%drive_row > 0) then
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         Phi_q(self%drive_row, k + 4:k + 7) = matmul(drive_normal(f(1)), &
+            rotated_vector_jacobian(q(k + 4:k + 7), e_x))
+      end if
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row == 0) cycle
+         k = self%bodies(b)%offset
+         Phi_q(self%bodies(b)%euler_row, k + 4:k + 7) = 2.0_dp * q(k + 4:k + 7)
+      end do
+      if (.not. all(ieee_is_finite(Phi_q))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: constraint Jacobian not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraint_jacobian
+
+   !> Phi_t: zero except the drive row, f' n_f . A e_x (module header).
+   module procedure mechanism_constraint_rate
+      real(dp) :: f(3)
+      integer :: k
+      phi_t = 0.0_dp
+      if (self%drive_row > 0) then
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         phi_t(self%drive_row) = f(2) * dot_product(drive_normal_rate(f(1)), &
+            matmul(euler_rotation(q(k + 4:k + 7)), e_x))
+      end if
+      if (.not. all(ieee_is_finite(phi_t))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: drive law not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraint_rate
+
+   !> g = -(Phi_q v)_q v - 2 Phi_qt v - Phi_tt (module header): analytic on the drive and Euler
+   !> rows, central difference in s of Phi_q(q + s v) v on the joint rows.
+   module procedure mechanism_acceleration_rhs
+      real(dp) :: jac(self%nc, self%n), w_plus(self%nc), w_minus(self%nc)
+      real(dp) :: s, vmax, qscale, root3, f(3), theta(4), theta_dot(4), x_axis(3), nf(3)
+      integer :: b, k, joint_rows
+      g = 0.0_dp
+      if (self%nc == 0) return
+      joint_rows = 0
+      if (allocated(self%joints)) joint_rows = sum([(self%joints(k)%joint%num_equations, &
+         k = 1, size(self%joints))])
+      vmax = 0.0_dp
+      if (self%n > 0) vmax = maxval(abs(v))
+      if (joint_rows > 0 .and. vmax > 0.0_dp) then
+         root3 = epsilon(1.0_dp)**(1.0_dp / 3.0_dp)
+         qscale = max(maxval(abs(q)), 1.0_dp)
+         s = root3 * qscale / vmax
+         call self%constraint_jacobian(q + s * v, t, jac, error)
+         if (allocated(error)) return
+         w_plus = matmul(jac, v)
+         call self%constraint_jacobian(q - s * v, t, jac, error)
+         if (allocated(error)) return
+         w_minus = matmul(jac, v)
+         g(:joint_rows) = -(w_plus(:joint_rows) - w_minus(:joint_rows)) / (2.0_dp * s)
+      end if
+      if (self%drive_row > 0) then
+         ! Phi = n(f(t)) . A(theta) e_x: -(n . 2 (A(theta_dot) + I) e_x) - 2 f' n_f . dA e_x
+         ! - (f'' n_f - f'^2 n) . A e_x
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         theta = q(k + 4:k + 7)
+         theta_dot = v(k + 4:k + 7)
+         x_axis = matmul(euler_rotation(theta), e_x)
+         nf = drive_normal_rate(f(1))
+         g(self%drive_row) = -2.0_dp * dot_product(drive_normal(f(1)), &
+            matmul(euler_rotation(theta_dot), e_x) + e_x) &
+            - 2.0_dp * f(2) * dot_product(nf, matmul(rotated_vector_jacobian(theta, e_x), &
+            theta_dot)) - dot_product(f(3) * nf - f(2)**2 * drive_normal(f(1)), x_axis)
+      end if
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row == 0) cycle
+         k = self%bodies(b)%offset
+         g(self%bodies(b)%euler_row) = -2.0_dp * dot_product(v(k + 4:k + 7), v(k + 4:k + 7))
+      end do
+      if (.not. all(ieee_is_finite(g))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: acceleration right-hand side not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_acceleration_rhs
+
+   !> After an accepted step: the state must be finite; the crank angle becomes the new
+   !> unwrapping reference.
+   module procedure mechanism_accepted_step
+      if (.not. (all(ieee_is_finite(q)) .and. all(ieee_is_finite(v)) .and. &
+         all(ieee_is_finite(qdd)) .and. all(ieee_is_finite(lambda)))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism: state not finite at t = ' // &
+            to_str(t) // ' s; reduce the time step')
+         return
+      end if
+      self%crank_reference = self%crank_angle(q)
+   end procedure mechanism_accepted_step
+
+   ! ----------------------------------------------------------------------------------------------
+   ! Consistent initial state
+
+   !> Solve Phi(q, t) = 0 from an approximate q by Gauss-Newton, each step the minimum-norm
+   !> least-squares correction (dgelsy). With crank_angle, the crank's rotation about z is fixed
+   !> too (equation n(angle) . A e_x = 0, as the drive) and becomes the unwrapping reference.
+   !> Converged when max |Phi| <= tolerance (default 1e-12).
+   module procedure mechanism_assemble
+      real(dp), allocatable :: a(:, :), rhs(:, :), phi(:), jac(:, :)
+      real(dp) :: tol, violation
+      integer :: rows, it, k
+      logical :: with_crank
+      tol = 1.0e-12_dp
+      if (present(tolerance)) tol = tolerance
+      with_crank = present(crank_angle)
+      if (with_crank .and. self%crank == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism assembly: a crank angle was ' // &
+            'given but no crank body is set; call set_crank first')
+         return
+      end if
+      rows = self%nc
+      if (with_crank) rows = rows + 1
+      allocate (a(rows, self%n), rhs(max(rows, self%n), 1), phi(self%nc), jac(self%nc, self%n))
+      violation = huge(1.0_dp)
+      do it = 1, 50
+         call self%constraints(q, t, phi, error)
+         if (allocated(error)) return
+         rhs = 0.0_dp
+         rhs(1:self%nc, 1) = -phi
+         call self%constraint_jacobian(q, t, jac, error)
+         if (allocated(error)) return
+         a(1:self%nc, :) = jac
+         if (with_crank) then
+            k = self%bodies(self%crank)%offset
+            a(rows, :) = 0.0_dp
+            a(rows, k + 4:k + 7) = matmul(drive_normal(crank_angle), &
+               rotated_vector_jacobian(q(k + 4:k + 7), e_x))
+            rhs(rows, 1) = -dot_product(drive_normal(crank_angle), &
+               matmul(euler_rotation(q(k + 4:k + 7)), e_x))
+         end if
+         violation = maxval(abs(rhs(1:rows, 1)))
+         if (present(iterations)) iterations = it - 1
+         if (violation <= tol) exit
+         call least_squares(a, rhs, 'assembly', error)
+         if (allocated(error)) return
+         q = q + rhs(1:self%n, 1)
+      end do
+      if (.not. (violation <= tol)) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism assembly: Gauss-Newton did ' &
+            // 'not reach max |Phi| <= ' // to_str(tol) // ' in 50 iterations (last ' // &
+            to_str(violation) // '); start from poses closer to the assembled ones')
+         return
+      end if
+      if (with_crank) call self%set_crank_reference(q, crank_angle)
+   end procedure mechanism_assemble
+
+   !> Velocities v with Phi_q v = -Phi_t, and the crank speed if given, in the minimum-norm
+   !> least-squares sense (dgelsy); error if the residual exceeds 1e-10 of the scale.
+   module procedure mechanism_initial_velocities
+      real(dp), allocatable :: a(:, :), rhs(:, :), rate(:), jac(:, :)
+      real(dp) :: residual, scale
+      integer :: rows, k
+      v = 0.0_dp
+      if (present(crank_speed) .and. self%crank == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism initial velocities: a crank ' // &
+            'speed was given but no crank body is set; call set_crank first')
+         return
+      end if
+      rows = self%nc
+      if (present(crank_speed)) rows = rows + 1
+      allocate (a(rows, self%n), rhs(max(rows, self%n), 1), rate(self%nc), jac(self%nc, self%n))
+      call self%constraint_jacobian(q, t, jac, error)
+      if (allocated(error)) return
+      call self%constraint_rate(q, t, rate, error)
+      if (allocated(error)) return
+      a(1:self%nc, :) = jac
+      rhs = 0.0_dp
+      rhs(1:self%nc, 1) = -rate
+      if (present(crank_speed)) then
+         k = self%bodies(self%crank)%offset
+         a(rows, :) = 0.0_dp
+         ! omega_z = e_z^T G(theta) theta_dot: the third row of G
+         a(rows, k + 4:k + 7) = row3(euler_g(q(k + 4:k + 7)))
+         rhs(rows, 1) = crank_speed
+      end if
+      call least_squares(a, rhs, 'initial velocities', error)
+      if (allocated(error)) return
+      v = rhs(1:self%n, 1)
+      residual = maxval(abs(matmul(jac, v) + rate))
+      scale = max(maxval(abs(rate)), 1.0_dp) * max(maxval(abs(v)), 1.0_dp)
+      if (present(crank_speed)) then
+         residual = max(residual, abs(self%crank_speed(q, v) - crank_speed))
+      end if
+      if (.not. residual <= 1.0e-10_dp * scale) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism initial velocities: the ' // &
+            'velocity constraints cannot be met, residual ' // to_str(residual) // &
+            ' (a crank speed inconsistent with a drive?)')
+      end if
+   end procedure mechanism_initial_velocities
+
+   !> Third row of a 3 x 4 matrix.
+   pure function row3(matrix) result(row)
+      real(dp), intent(in) :: matrix(3, 4)
+      real(dp) :: row(4)
+      row = matrix(3, :)
+   end function row3
+
+   !> rhs(1:n) <- minimum-norm least-squares solution of a x = rhs(1:m) (dgelsy; a destroyed).
+   subroutine least_squares(a, rhs, what, error)
+      real(dp), intent(inout) :: a(:, :)
+      real(dp), intent(inout) :: rhs(:, :)
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: m, n, rank, info, lwork
+      integer(ip), allocatable :: jpvt(:)
+      real(dp), allocatable :: work(:)
+      real(dp) :: query(1)
+      integer :: i
+      real(dp) :: norm
+      m = int(size(a, 1), ip)
+      n = int(size(a, 2), ip)
+      if (m == 0 .or. n == 0) return
+      ! Equilibrate the rows (metres and dimensionless axis products mix)
+      do i = 1, size(a, 1)
+         norm = maxval(abs(a(i, :)))
+         if (norm > 0.0_dp) then
+            a(i, :) = a(i, :) / norm
+            rhs(i, 1) = rhs(i, 1) / norm
+         end if
+      end do
+      allocate (jpvt(n))
+      jpvt = 0
+      call dgelsy(m, n, 1_ip, a, m, rhs, int(size(rhs, 1), ip), jpvt, rank_rcond, rank, query, &
+         -1_ip, info)
+      lwork = max(1_ip, int(query(1), ip))
+      allocate (work(lwork))
+      call dgelsy(m, n, 1_ip, a, m, rhs, int(size(rhs, 1), ip), jpvt, rank_rcond, rank, work, &
+         lwork, info)
+      if (info /= 0 .or. .not. all(ieee_is_finite(rhs))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism ' // what // ': least-squares ' &
+            // 'solve failed (dgelsy info = ' // to_str(info) // ')')
+      end if
+   end subroutine least_squares
+
+   !> n(f) = (-sin f, cos f, 0): normal of the driven x axis at angle f.
+   pure function drive_normal(angle) result(normal)
+      real(dp), intent(in) :: angle
+      real(dp) :: normal(3)
+      normal = [-sin(angle), cos(angle), 0.0_dp]
+   end function drive_normal
+
+   !> dn/df = (-cos f, -sin f, 0).
+   pure function drive_normal_rate(angle) result(rate)
+      real(dp), intent(in) :: angle
+      real(dp) :: rate(3)
+      rate = [-cos(angle), -sin(angle), 0.0_dp]
+   end function drive_normal_rate
+
+end submodule ffrf_mbs_mechanism_procedures
