@@ -1,0 +1,311 @@
+!> The results file of an engine run (HDF5): the time histories, written progressively so that a
+!> run killed at any point leaves a readable file with status 'running' and every step up to the
+!> last flush (issue 3, part 5). Schema (read by postprocess/ffrf_results.py, `read_engine`):
+!> root attributes status, case_name, title, ffrf_version; /input/namelist; /build/versions;
+!> /engine with attributes rc_set and mpc (also as the string datasets /engine/rc_set and
+!> /engine/mpc: a group needs a dataset to exist); growing series (one entry per step)
+!> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]},
+!> /energy/{kinetic, strain, external_work, numerical_dissipation} [J],
+!> /bodies/<body>/modal_coordinates (num_modes rows) [1],
+!> /joints/<joint>/reaction (12 rows: force and moment on each of the two bodies) [N, N m];
+!> at the end /timings/stage, /timings/seconds [s] and status 'complete' or the error message.
+!> Steps are buffered in memory and appended + flushed every `steps_per_flush` steps (100 by
+!> default) and by `finish`: HDF5 is touched once per chunk, not once per step.
+module ffrf_io_engine_results
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
+      FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_results, only: results_create
+   implicit none
+   private
+   public :: engine_results_t
+
+   !> Number of scalar series: 4 /time series and 4 /energy series.
+   integer, parameter :: NUM_SCALARS = 8
+   !> Paths of the scalar series, in the order of the buffer columns.
+   character(len=*), parameter :: SCALAR_PATHS(NUM_SCALARS) = [character(len=35) :: &
+      '/time/t', '/time/crank_angle', '/time/crank_speed', '/time/pressure', &
+      '/energy/kinetic', '/energy/strain', '/energy/external_work', &
+      '/energy/numerical_dissipation']
+   !> Units of the scalar series.
+   character(len=*), parameter :: SCALAR_UNITS(NUM_SCALARS) = [character(len=5) :: &
+      's', 'rad', 'rad/s', 'Pa', 'J', 'J', 'J', 'J']
+   !> Rows of a joint reaction: force and moment on both bodies.
+   integer, parameter :: REACTION_ROWS = 12
+
+   !> Writer of an engine results file. Use: `create`, then `add_body_series` /
+   !> `add_joint_series` for each body and joint, then `record` once per step, then `finish`.
+   type :: engine_results_t
+      private
+      !> The open file
+      type(h5_file_t) :: h5
+      !> File name, for messages
+      character(len=:), allocatable :: file_name
+      !> Steps buffered before appending and flushing
+      integer :: steps_per_flush = 100
+      !> Steps in the buffer
+      integer :: num_buffered = 0
+      !> Steps recorded so far (buffered or written)
+      integer :: num_recorded = 0
+      !> Paths of the body and joint series
+      character(len=256), allocatable :: body_paths(:), joint_paths(:)
+      !> Modes per body
+      integer, allocatable :: num_modes(:)
+      !> Buffered scalars (steps_per_flush, NUM_SCALARS)
+      real(dp), allocatable :: scalars(:, :)
+      !> Buffered modal coordinates of all bodies, stacked (sum(num_modes), steps_per_flush)
+      real(dp), allocatable :: modal(:, :)
+      !> Buffered reactions (REACTION_ROWS, steps_per_flush, num_joints)
+      real(dp), allocatable :: reactions(:, :, :)
+   contains
+      procedure :: create => engine_results_create
+      procedure :: set_steps_per_flush => engine_results_set_steps_per_flush
+      procedure :: add_body_series => engine_results_add_body_series
+      procedure :: add_joint_series => engine_results_add_joint_series
+      procedure :: record => engine_results_record
+      procedure :: flush => engine_results_flush
+      procedure :: finish => engine_results_finish
+      procedure :: num_steps => engine_results_num_steps
+   end type engine_results_t
+
+contains
+
+   !> Create the file (truncated if it exists) with status 'running', the input echo, the
+   !> /engine attributes and the empty /time and /energy series.
+   subroutine engine_results_create(self, file_name, case_name, title, rc_set_label, mpc_label, &
+         echo, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Results file
+      character(len=*), intent(in) :: file_name
+      !> Case name and title
+      character(len=*), intent(in) :: case_name, title
+      !> Label of the RC set ('RC set 1', 'rigid crank') and the MPC kind ('RBE3', 'rigid')
+      character(len=*), intent(in) :: rc_set_label, mpc_label
+      !> Resolved input as namelist text
+      character(len=*), intent(in) :: echo
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+
+      self%file_name = file_name
+      self%num_buffered = 0
+      self%num_recorded = 0
+      self%body_paths = [character(len=256) ::]
+      self%joint_paths = [character(len=256) ::]
+      self%num_modes = [integer ::]
+      if (allocated(self%scalars)) deallocate (self%scalars, self%modal, self%reactions)
+      call results_create(file_name, case_name, title, echo, self%h5, error)
+      if (.not. allocated(error)) call self%h5%write_string('/engine/rc_set', rc_set_label, error)
+      if (.not. allocated(error)) call self%h5%write_string('/engine/mpc', mpc_label, error)
+      if (.not. allocated(error)) call self%h5%set_attribute('/engine', 'rc_set', rc_set_label, &
+         error)
+      if (.not. allocated(error)) call self%h5%set_attribute('/engine', 'mpc', mpc_label, error)
+      do k = 1, NUM_SCALARS
+         if (.not. allocated(error)) call self%h5%create_series(trim(SCALAR_PATHS(k)), 0, &
+            trim(SCALAR_UNITS(k)), error)
+      end do
+      if (.not. allocated(error)) call self%h5%flush(error)
+      if (allocated(error)) call add_context(error, 'engine results file "' // file_name // '"')
+   end subroutine engine_results_create
+
+   !> Set how many steps are buffered between two flushes (before the first `record`).
+   subroutine engine_results_set_steps_per_flush(self, steps, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Steps per flush, >= 1
+      integer, intent(in) :: steps
+      type(error_t), allocatable, intent(out) :: error
+      if (steps < 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": steps per flush ' // to_str(steps) // ' must be at least 1')
+         return
+      end if
+      call check_not_started(self, 'set_steps_per_flush', error)
+      if (.not. allocated(error)) self%steps_per_flush = steps
+   end subroutine engine_results_set_steps_per_flush
+
+   !> Add the series /bodies/<body_name>/modal_coordinates (num_modes rows), before the first
+   !> `record`. `record` takes the bodies' coordinates stacked in the order of these calls.
+   subroutine engine_results_add_body_series(self, body_name, num_modes, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Body name
+      character(len=*), intent(in) :: body_name
+      !> Number of modal coordinates (>= 1)
+      integer, intent(in) :: num_modes
+      type(error_t), allocatable, intent(out) :: error
+      character(len=256) :: path
+      call check_not_started(self, 'add_body_series', error)
+      if (allocated(error)) return
+      if (num_modes < 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": body "' // body_name // '" has ' // to_str(num_modes) // ' modes; a rigid ' // &
+            'body has no modal coordinates to save, do not add it')
+         return
+      end if
+      path = '/bodies/' // body_name // '/modal_coordinates'
+      call self%h5%create_series(trim(path), num_modes, '1', error)
+      if (allocated(error)) return
+      self%body_paths = [character(len=256) :: self%body_paths, path]
+      self%num_modes = [self%num_modes, num_modes]
+   end subroutine engine_results_add_body_series
+
+   !> Add the series /joints/<joint_name>/reaction (12 rows), before the first `record`.
+   !> `record` takes the joints' reactions as columns in the order of these calls.
+   subroutine engine_results_add_joint_series(self, joint_name, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Joint name
+      character(len=*), intent(in) :: joint_name
+      type(error_t), allocatable, intent(out) :: error
+      character(len=256) :: path
+      call check_not_started(self, 'add_joint_series', error)
+      if (allocated(error)) return
+      path = '/joints/' // joint_name // '/reaction'
+      call self%h5%create_series(trim(path), REACTION_ROWS, 'N, N m', error)
+      if (allocated(error)) return
+      self%joint_paths = [character(len=256) :: self%joint_paths, path]
+   end subroutine engine_results_add_joint_series
+
+   !> Record one step. It is buffered; every `steps_per_flush` steps the buffer is appended to
+   !> the series and the file flushed. A non-finite value is an error (nothing is recorded).
+   subroutine engine_results_record(self, t, crank_angle, crank_speed, pressure, energies, &
+         modal, reactions, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Crank angle (rad, unwrapped: continuous over revolutions)
+      real(dp), intent(in) :: crank_angle
+      !> Crank speed (rad/s)
+      real(dp), intent(in) :: crank_speed
+      !> Cylinder pressure (Pa)
+      real(dp), intent(in) :: pressure
+      !> Kinetic energy, strain energy, external work, numerical dissipation (J)
+      real(dp), intent(in) :: energies(4)
+      !> Modal coordinates of the bodies, stacked in the order of `add_body_series`
+      real(dp), intent(in) :: modal(:)
+      !> Joint reactions (12, num_joints), columns in the order of `add_joint_series`
+      real(dp), intent(in) :: reactions(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n
+
+      if (.not. self%h5%is_open()) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results: record called on a file ' // &
+            'that is not open; call create first')
+         return
+      end if
+      if (size(modal) /= sum(self%num_modes) .or. size(reactions, 1) /= REACTION_ROWS .or. &
+         size(reactions, 2) /= size(self%joint_paths)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": record got ' // to_str(size(modal)) // ' modal coordinates and reactions ' // &
+            to_str(size(reactions, 1)) // ' x ' // to_str(size(reactions, 2)) // &
+            ', expected ' // to_str(sum(self%num_modes)) // ' and ' // &
+            to_str(REACTION_ROWS) // ' x ' // to_str(size(self%joint_paths)) // &
+            ' (the bodies and joints added)')
+         return
+      end if
+      if (.not. (all(ieee_is_finite([t, crank_angle, crank_speed, pressure, energies])) .and. &
+         all(ieee_is_finite(modal)) .and. all(ieee_is_finite(reactions)))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'engine results "' // self%file_name // &
+            '": non-finite value at step ' // to_str(self%num_recorded + 1) // ', t = ' // &
+            to_str(t) // ' s (crank speed ' // to_str(crank_speed) // ' rad/s): the ' // &
+            'integration diverged; reduce the time step')
+         return
+      end if
+      if (.not. allocated(self%scalars)) then
+         allocate (self%scalars(self%steps_per_flush, NUM_SCALARS))
+         allocate (self%modal(sum(self%num_modes), self%steps_per_flush))
+         allocate (self%reactions(REACTION_ROWS, self%steps_per_flush, size(self%joint_paths)))
+      end if
+      n = self%num_buffered + 1
+      self%scalars(n, :) = [t, crank_angle, crank_speed, pressure, energies]
+      self%modal(:, n) = modal
+      self%reactions(:, n, :) = reactions
+      self%num_buffered = n
+      self%num_recorded = self%num_recorded + 1
+      if (n == self%steps_per_flush) call self%flush(error)
+   end subroutine engine_results_record
+
+   !> Append the buffered steps to the series and flush the file to disk.
+   subroutine engine_results_flush(self, error)
+      class(engine_results_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: block(:, :)
+      integer :: k, n, first
+
+      n = self%num_buffered
+      if (n > 0) then
+         do k = 1, NUM_SCALARS
+            call self%h5%append(trim(SCALAR_PATHS(k)), self%scalars(1:n, k), error)
+            if (allocated(error)) return
+         end do
+         first = 1
+         do k = 1, size(self%body_paths)
+            block = self%modal(first:first + self%num_modes(k) - 1, 1:n)
+            call self%h5%append(trim(self%body_paths(k)), block, error)
+            if (allocated(error)) return
+            first = first + self%num_modes(k)
+         end do
+         do k = 1, size(self%joint_paths)
+            call self%h5%append(trim(self%joint_paths(k)), self%reactions(:, 1:n, k), error)
+            if (allocated(error)) return
+         end do
+      end if
+      self%num_buffered = 0
+      call self%h5%flush(error)
+   end subroutine engine_results_flush
+
+   !> Flush the buffer, write the stage timings, set the status ('complete' or the error
+   !> message) and close. If the flush fails, the status becomes that failure's message.
+   subroutine engine_results_finish(self, status, stage_names, stage_seconds, error)
+      class(engine_results_t), intent(inout) :: self
+      !> 'complete' or the error message of the run
+      character(len=*), intent(in) :: status
+      !> Stage names (may be empty)
+      character(len=*), intent(in) :: stage_names(:)
+      !> Wall time of each stage (s)
+      real(dp), intent(in) :: stage_seconds(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: ignored
+
+      if (size(stage_names) /= size(stage_seconds)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": ' // to_str(size(stage_names)) // ' stage names but ' // &
+            to_str(size(stage_seconds)) // ' stage times')
+      end if
+      if (.not. allocated(error)) call self%flush(error)
+      if (.not. allocated(error) .and. size(stage_names) > 0) then
+         call self%h5%write_string_list('/timings/stage', stage_names, error)
+         if (.not. allocated(error)) call self%h5%write_real('/timings/seconds', stage_seconds, &
+            's', error)
+      end if
+      if (allocated(error)) then
+         call self%h5%set_status(error%message, ignored)
+         call self%h5%close(ignored)
+         return
+      end if
+      call self%h5%set_status(status, error)
+      if (.not. allocated(error)) call self%h5%close(error)
+   end subroutine engine_results_finish
+
+   !> Steps recorded so far (written or buffered).
+   pure integer function engine_results_num_steps(self) result(num_steps)
+      class(engine_results_t), intent(in) :: self
+      num_steps = self%num_recorded
+   end function engine_results_num_steps
+
+   !> Error unless the file is open and no step has been recorded.
+   subroutine check_not_started(self, what, error)
+      type(engine_results_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. self%h5%is_open()) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results: ' // what // ' called on ' // &
+            'a file that is not open; call create first')
+      else if (self%num_recorded > 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": ' // what // ' called after ' // to_str(self%num_recorded) // ' steps were ' // &
+            'recorded; add every body and joint before the first record')
+      end if
+   end subroutine check_not_started
+
+end module ffrf_io_engine_results
