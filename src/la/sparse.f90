@@ -13,7 +13,7 @@ module ffrf_la_sparse
    private
    public :: csr_t
    public :: csr_matvec, csr_transpose, csr_matmul, csr_from_coo, csr_upper_coo, csr_adjacency
-   public :: csr_identity, csr_get, csr_nnz, csr_add, csr_to_dense, sort_indices
+   public :: csr_identity, csr_get, csr_nnz, csr_add, csr_to_dense, sort_indices, csr_row_gram
 
    !> A sparse matrix in CSR form. Columns within a row are sorted ascending and unique.
    type :: csr_t
@@ -555,5 +555,38 @@ contains
          root = child
       end do
    end subroutine sift_down
+
+   !> Gram matrix of the rows of A normalised to unit length: gram(i, j) = a_i . a_j / (|a_i| |a_j|)
+   !> (A has few rows, e.g. reference-condition constraints). One row at a time is scattered into a
+   !> dense vector, so the cost is O(rows * nnz).
+   subroutine csr_row_gram(A, gram, row_norm)
+      !> Matrix with a handful of rows
+      type(csr_t), intent(in) :: A
+      !> Normalised Gram matrix, (rows, rows)
+      real(dp), allocatable, intent(out) :: gram(:, :)
+      !> Euclidean norm of each row
+      real(dp), allocatable, intent(out) :: row_norm(:)
+      real(dp), allocatable :: work(:)
+      integer(ip) :: i, j, p
+      allocate (gram(A%num_rows, A%num_rows), row_norm(A%num_rows), work(A%num_cols))
+      do i = 1, A%num_rows
+         row_norm(i) = max(norm2(A%val(A%row_ptr(i):A%row_ptr(i + 1) - 1)), tiny(1.0_dp))
+      end do
+      work = 0.0_dp
+      do i = 1, A%num_rows
+         do p = A%row_ptr(i), A%row_ptr(i + 1) - 1
+            work(A%col(p)) = A%val(p) / row_norm(i)
+         end do
+         do j = 1, A%num_rows
+            gram(i, j) = 0.0_dp
+            do p = A%row_ptr(j), A%row_ptr(j + 1) - 1
+               gram(i, j) = gram(i, j) + work(A%col(p)) * A%val(p) / row_norm(j)
+            end do
+         end do
+         do p = A%row_ptr(i), A%row_ptr(i + 1) - 1
+            work(A%col(p)) = 0.0_dp
+         end do
+      end do
+   end subroutine csr_row_gram
 
 end module ffrf_la_sparse

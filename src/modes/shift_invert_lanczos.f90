@@ -6,7 +6,7 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
-   use ffrf_la_sparse, only: csr_add, csr_upper_coo, csr_matvec
+   use ffrf_la_sparse, only: csr_add, csr_upper_coo, csr_matvec, csr_row_gram
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
    use ffrf_la_arpack, only: dsaupd, dseupd
@@ -614,29 +614,11 @@ contains
       type(csr_t), intent(in) :: C
       real(dp), intent(inout) :: r(:, :)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: gram(:, :), cr(:, :), work(:), row_norm(:)
-      integer(ip) :: nc, i, j, p, info
+      real(dp), allocatable :: gram(:, :), cr(:, :), row_norm(:)
+      integer(ip) :: nc, i, p, info
       nc = C%num_rows
-      allocate (gram(nc, nc), cr(nc, size(r, 2)), work(C%num_cols), row_norm(nc))
-      do i = 1, nc
-         row_norm(i) = norm2(C%val(C%row_ptr(i):C%row_ptr(i + 1) - 1))
-      end do
-      ! Gram matrix of the normalised rows, one row scattered into a dense vector at a time.
-      work = 0.0_dp
-      do i = 1, nc
-         do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
-            work(C%col(p)) = C%val(p) / row_norm(i)
-         end do
-         do j = 1, nc
-            gram(i, j) = 0.0_dp
-            do p = C%row_ptr(j), C%row_ptr(j + 1) - 1
-               gram(i, j) = gram(i, j) + work(C%col(p)) * C%val(p) / row_norm(j)
-            end do
-         end do
-         do p = C%row_ptr(i), C%row_ptr(i + 1) - 1
-            work(C%col(p)) = 0.0_dp
-         end do
-      end do
+      call csr_row_gram(C, gram, row_norm)
+      allocate (cr(nc, size(r, 2)))
       ! C r with the normalised rows.
       cr = 0.0_dp
       do i = 1, nc

@@ -7,9 +7,9 @@
 !> Since q_B lies in range(F), q_V = F^+ q_B exactly, F^+ = (F^T F)^{-1} F^T.
 module ffrf_mpc_rbe2
    use ffrf_core_kinds, only: dp
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str
-   use ffrf_la_dense, only: skew, symmetric_eigen
+   use ffrf_core_error, only: error_t
+   use ffrf_la_dense, only: skew
+   use ffrf_mpc_rigid_fit, only: weighted_rigid_fit
    implicit none
    private
    public :: rbe2_matrix, rbe2_pseudo_inverse
@@ -34,9 +34,9 @@ contains
       end do
    end subroutine rbe2_matrix
 
-   !> F^+ = (F^T F)^{-1} F^T (6 x 3 nB). F^T F is singular iff the nodes are collinear: then the
-   !> rotation about that line is undefined and `undefined_direction` (unit, in rotation space)
-   !> is returned with `rank_deficient` set; F^+ then uses the pseudo-inverse of F^T F.
+   !> F^+ = (F^T F)^{-1} F^T (6 x 3 nB), the unit-weight rigid fit. F^T F is singular iff the
+   !> nodes are collinear: then the rotation about that line is undefined and
+   !> `undefined_direction` is returned with `rank_deficient` set (pseudo-inverse of F^T F).
    subroutine rbe2_pseudo_inverse(F, length_scale, Fplus, rank_deficient, undefined_direction, &
          error)
       !> F of the interface, (3 nB, 6)
@@ -50,33 +50,8 @@ contains
       !> Rotation axis left undefined (zero if none)
       real(dp), intent(out) :: undefined_direction(3)
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: ftf(6, 6), values(6), vectors(6, 6), scale(6), inverse(6, 6)
-      integer :: k
-      if (length_scale <= 0.0_dp) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'RBE2: non-positive length scale ' // &
-            to_str(length_scale))
-         return
-      end if
-      ! Scale rotations by the interface size so that the rank test is dimensionless.
-      scale = [1.0_dp, 1.0_dp, 1.0_dp, length_scale, length_scale, length_scale]
-      ftf = matmul(transpose(F), F)
-      do k = 1, 6
-         ftf(:, k) = ftf(:, k) / (scale(k) * scale)
-      end do
-      call symmetric_eigen(ftf, values, vectors, error)
-      if (allocated(error)) return
-      rank_deficient = values(1) <= 1.0e-10_dp * values(6)
-      undefined_direction = 0.0_dp
-      if (rank_deficient) undefined_direction = vectors(4:6, 1) / norm2(vectors(4:6, 1))
-      inverse = 0.0_dp
-      do k = 1, 6
-         if (values(k) > 1.0e-10_dp * values(6)) inverse = inverse + &
-            spread(vectors(:, k), 2, 6) * spread(vectors(:, k), 1, 6) / values(k)
-      end do
-      do k = 1, 6
-         inverse(:, k) = inverse(:, k) / (scale(k) * scale)
-      end do
-      Fplus = matmul(inverse, transpose(F))
+      call weighted_rigid_fit(F, spread(1.0_dp, 1, size(F, 1) / 3), length_scale, Fplus, &
+         rank_deficient, undefined_direction, error)
    end subroutine rbe2_pseudo_inverse
 
 end module ffrf_mpc_rbe2

@@ -9,9 +9,9 @@
 !> the face is reproduced exactly at the virtual node, and the RBE3 adds no stiffness.
 module ffrf_mpc_rbe3
    use ffrf_core_kinds, only: dp
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str
-   use ffrf_la_dense, only: skew, symmetric_eigen
+   use ffrf_core_error, only: error_t
+   use ffrf_mpc_rbe2, only: rbe2_matrix
+   use ffrf_mpc_rigid_fit, only: weighted_rigid_fit
    implicit none
    private
    public :: rbe3_matrix
@@ -38,56 +38,11 @@ contains
       !> Rotation axis left undefined (zero if none)
       real(dp), intent(out) :: undefined_direction(3)
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: stws(6, 6), values(6), vectors(6, 6), scale(6), inverse(6, 6), s_i(3, 6)
-      integer :: i, k, num_nodes
-      num_nodes = size(node_xyz, 2)
-      if (any(weights <= 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'RBE3: weights must be positive')
-         return
-      end if
-      if (length_scale <= 0.0_dp) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'RBE3: non-positive length scale ' // &
-            to_str(length_scale))
-         return
-      end if
-      scale = [1.0_dp, 1.0_dp, 1.0_dp, length_scale, length_scale, length_scale]
-      ! S^T W S, rotations scaled by the interface size for a dimensionless rank test.
-      stws = 0.0_dp
-      allocate (G(6, 3 * num_nodes))
-      do i = 1, num_nodes
-         s_i = node_s_matrix(node_xyz(:, i) - virtual_xyz)
-         do k = 1, 6
-            s_i(:, k) = s_i(:, k) / scale(k)
-         end do
-         stws = stws + weights(i) * matmul(transpose(s_i), s_i)
-         G(:, 3 * i - 2:3 * i) = weights(i) * transpose(s_i)      ! S^T W, scaled
-      end do
-      call symmetric_eigen(stws, values, vectors, error)
-      if (allocated(error)) return
-      rank_deficient = values(1) <= 1.0e-10_dp * values(6)
-      undefined_direction = 0.0_dp
-      if (rank_deficient) undefined_direction = vectors(4:6, 1) / norm2(vectors(4:6, 1))
-      inverse = 0.0_dp
-      do k = 1, 6
-         if (values(k) > 1.0e-10_dp * values(6)) inverse = inverse + &
-            spread(vectors(:, k), 2, 6) * spread(vectors(:, k), 1, 6) / values(k)
-      end do
-      G = matmul(inverse, G)
-      ! Undo the scaling: q_V = diag(1/scale) q_V(scaled).
-      do k = 1, 6
-         G(k, :) = G(k, :) / scale(k)
-      end do
+      real(dp), allocatable :: S(:, :)
+      ! S_i = [I3, -skew(r_i)] is the RBE2 row block of node i.
+      call rbe2_matrix(node_xyz, virtual_xyz, S)
+      call weighted_rigid_fit(S, weights, length_scale, G, rank_deficient, undefined_direction, &
+         error)
    end subroutine rbe3_matrix
-
-   !> S_i = [I3, -skew(r_i)]: rigid motion of a point at offset r_i from the virtual node.
-   pure function node_s_matrix(r) result(s)
-      real(dp), intent(in) :: r(3)
-      real(dp) :: s(3, 6)
-      s = 0.0_dp
-      s(1, 1) = 1.0_dp
-      s(2, 2) = 1.0_dp
-      s(3, 3) = 1.0_dp
-      s(:, 4:6) = -skew(r)
-   end function node_s_matrix
 
 end module ffrf_mpc_rbe3

@@ -12,7 +12,7 @@ module ffrf_mpc_reduction
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_transpose
+   use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_transpose, csr_row_gram
    use ffrf_la_dense, only: null_space, symmetric_eigen
    use ffrf_mpc_interface, only: interface_t, MPC_RBE2, MPC_RBE3, DOF_NAMES
    implicit none
@@ -265,33 +265,11 @@ contains
    subroutine check_independent_rows(red, error)
       type(reduction_t), intent(in) :: red
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: gram(:, :), values(:), vectors(:, :), row_norm(:), work(:)
-      integer :: n, i, j, m
-      integer(ip) :: p, q
+      real(dp), allocatable :: gram(:, :), values(:), vectors(:, :), row_norm(:)
+      integer :: n, m
       n = red%C%num_rows
       if (n == 0) return
-      allocate (gram(n, n), row_norm(n))
-      do i = 1, n
-         row_norm(i) = norm2(red%C%val(red%C%row_ptr(i):red%C%row_ptr(i + 1) - 1))
-      end do
-      ! Gram matrix of the normalised rows, one row scattered into a dense work vector at a time.
-      allocate (work(red%C%num_cols), source=0.0_dp)
-      do i = 1, n
-         do p = red%C%row_ptr(i), red%C%row_ptr(i + 1) - 1
-            work(red%C%col(p)) = red%C%val(p)
-         end do
-         do j = i, n
-            gram(i, j) = 0.0_dp
-            do q = red%C%row_ptr(j), red%C%row_ptr(j + 1) - 1
-               gram(i, j) = gram(i, j) + work(red%C%col(q)) * red%C%val(q)
-            end do
-            gram(i, j) = gram(i, j) / (row_norm(i) * row_norm(j))
-            gram(j, i) = gram(i, j)
-         end do
-         do p = red%C%row_ptr(i), red%C%row_ptr(i + 1) - 1
-            work(red%C%col(p)) = 0.0_dp
-         end do
-      end do
+      call csr_row_gram(red%C, gram, row_norm)
       do m = 1, n
          allocate (values(m), vectors(m, m))
          call symmetric_eigen(gram(1:m, 1:m), values, vectors, error)

@@ -45,21 +45,24 @@ def main():
                 sys.exit(f"FAIL missing {path}")
         print("ok   schema: every documented dataset is present")
         body = h5["/bodies/crank"]
-        # Curved Tet10 geometry: volume error of the lc = 8 mm mesh is far below 1e-4.
-        close("mass (kg)", float(body["mass/mass"][()]), rho * volume, rtol=1e-4)
+        # Curved Tet10 geometry of the lc = 8 mm mesh: measured errors are 6.5e-6 (mass), 3e-8 m
+        # (centre of mass) and 1.3e-5..1.6e-5 (face areas); tolerances are about three times those
+        # (the geometry error falls as h^4, so a wrong element or face set shows far above them).
+        close("mass (kg)", float(body["mass/mass"][()]), rho * volume, rtol=2e-5)
         com = body["mass/center_of_mass"][()]
-        close("centre of mass y (m)", float(com[1]), y_com, atol=1e-6)
-        close("centre of mass x (m)", float(com[0]), 0.0, atol=1e-6)
+        close("centre of mass y (m)", float(com[1]), y_com, atol=1e-7)
+        close("centre of mass x (m)", float(com[0]), 0.0, atol=1e-7)
         expected = {"B1": (0.020, (0.0, 0.0, -0.0475)), "B2": (0.018, (0.0, 0.045, 0.0)),
                     "B3": (0.020, (0.0, 0.0, 0.0475))}
         order = [s.decode().strip() for s in body["interfaces/order"][()]]
         for name, (radius, centre) in expected.items():
             face = body["interfaces/" + name]
             close(f"{name} area (m^2)", float(face["area"][()]), 2 * math.pi * radius * 0.025,
-                  rtol=1e-4)
+                  rtol=5e-5)
             node = face["virtual_node"][()]
+            # Area centroids of the meshed faces sit within ~6e-8 m of the exact axes (measured).
             for k in range(3):
-                close(f"{name} virtual node[{k}] (m)", float(node[k]), centre[k], atol=1e-6)
+                close(f"{name} virtual node[{k}] (m)", float(node[k]), centre[k], atol=2e-7)
         freq = body["modes/frequency"][()]
         if not (np.all(np.diff(freq) > 0) and freq[0] > 100.0):
             sys.exit(f"FAIL frequencies not ascending and above 100 Hz: {freq}")

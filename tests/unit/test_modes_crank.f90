@@ -108,7 +108,8 @@ contains
    end subroutine check_rc_sets
 
    !> G F = I6 on the real faces B1, B2, B3 of the mesh (curved Tri6 faces, corner and mid-side
-   !> nodes, uniform weights): an RBE3 reproduces every rigid motion of its face (round-off).
+   !> nodes, uniform weights): an RBE3 reproduces every rigid motion of its face. Round-off:
+   !> measured 2e-14; 1e-12 allows for the condition of the 6 x 6 normal matrix.
    subroutine check_gf_identity(body, error)
       type(body_modes_t), intent(in) :: body
       type(error_t), allocatable, intent(out) :: error
@@ -123,8 +124,9 @@ contains
             do i = 1, 6
                gf(i, i) = gf(i, i) - 1.0_dp
             end do
+            call report('face ' // face%name // ': max |G F - I6| = ' // to_str(maxval(abs(gf)), 2))
             call check_close(error, 'face ' // face%name // ' (' // to_str(size(face%nodes)) // &
-               ' nodes): max |G F - I6|', maxval(abs(gf)), 0.0_dp, atol=1.0e-11_dp)
+               ' nodes): max |G F - I6|', maxval(abs(gf)), 0.0_dp, atol=1.0e-12_dp)
             if (allocated(error)) return
          end associate
       end do

@@ -128,7 +128,7 @@ contains
       theta = moment
       call dgesv(3_ip, 1_ip, J, 3_ip, pivots, theta, 3_ip, info)
       call check_close(error, 'theta_V(z) - J^-1 sum r x u', q_v(6) - theta(3), 0.0_dp, &
-         atol=1.0e-10_dp * maxval(abs(theta)))
+         atol=tight * maxval(abs(theta)))
    end subroutine test_rbe3_average
 
 
@@ -156,7 +156,7 @@ contains
       call check_close(error, 'max |resultant force - F_V| (N)', maxval(abs(force - f_v(1:3))), &
          0.0_dp, atol=tight * 100.0_dp)
       if (.not. allocated(error)) call check_close(error, 'max |resultant moment - M_V| (N m)', &
-         maxval(abs(moment - f_v(4:6))), 0.0_dp, atol=1.0e-10_dp * 7.0_dp)
+         maxval(abs(moment - f_v(4:6))), 0.0_dp, atol=tight * 7.0_dp)
    end subroutine test_rbe3_load_statics
 
    subroutine test_rbe2_pseudo_inverse(error)
@@ -173,7 +173,7 @@ contains
       do i = 1, 6
          pf(i, i) = pf(i, i) - 1.0_dp
       end do
-      call check_close(error, 'max |F^+ F - I6|', maxval(abs(pf)), 0.0_dp, atol=1.0e-10_dp)
+      call check_close(error, 'max |F^+ F - I6|', maxval(abs(pf)), 0.0_dp, atol=tight)
    end subroutine test_rbe2_pseudo_inverse
 
    !> Nodes on a line along (1, 2, 2)/3: the rotation about that line is flagged as undefined.
