@@ -4,8 +4,9 @@
 program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
-   use ffrf, only: error_t, logger_t, run_options_t, run_modal_case, FFRF_INPUT_ERROR, &
-      FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, LOG_DEBUG
+   use ffrf, only: error_t, logger_t, run_options_t, run_modal_case, run_mechanism_case, &
+      case_is_mechanism, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
+      LOG_DEBUG
    implicit none
    interface
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
@@ -51,7 +52,11 @@ program ffrf_driver
    if (len(case_file) == 0) call bad_usage('no case file given')
 
    log%unit = output_unit
-   call run_modal_case(case_file, options, log, error)
+   if (case_is_mechanism(case_file)) then
+      call run_mechanism_case(case_file, options, log, error)
+   else
+      call run_modal_case(case_file, options, log, error)
+   end if
    if (allocated(error)) then
       write (error_unit, '(a)') 'ffrf: error: ' // error%message
       flush (output_unit)
@@ -79,8 +84,11 @@ contains
       integer, intent(in) :: unit
       write (unit, '(a)') 'usage: ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] ' // &
          '[--quiet|--debug]'
-      write (unit, '(a)') '  Computes the constrained normal modes of the bodies of CASE.nml and'
-      write (unit, '(a)') '  writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
+      write (unit, '(a)') '  A modal case computes the constrained normal modes of the bodies of CASE.nml'
+      write (unit, '(a)') '  and writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
+      write (unit, '(a)') '  A mechanism case (one with &joint groups) also integrates the motion'
+      write (unit, '(a)') '  with generalized-alpha and writes the time histories to <output>.h5'
+      write (unit, '(a)') '  and each flexible body''s deformation to <output>_<body>_animation.msh.'
       write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files ' // &
          '(default: the case folder)'
       write (unit, '(a)') '  --output-dir DIR  folder of the results (default: current folder)'

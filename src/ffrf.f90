@@ -1,4 +1,5 @@
-!> `use ffrf` gives the public API of the library: kinds, errors, logging, the modal pipeline.
+!> `use ffrf` gives the public API of the library: kinds, errors, logging, the modal pipeline,
+!> mechanism runs (bodies, joints, loads, generalized-alpha).
 module ffrf
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
@@ -11,6 +12,9 @@ module ffrf
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_modes_modal_case, only: run_options_t, run_modal_case
    use ffrf_io_case, only: case_input_t, read_case
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
+   use ffrf_sim_mechanism_case, only: run_mechanism_case, case_is_mechanism
    implicit none
    public
 end module ffrf

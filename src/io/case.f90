@@ -10,11 +10,14 @@ module ffrf_io_case
    use ffrf_io_nml_body, only: read_body_groups
    use ffrf_io_nml_interface, only: read_interface_groups
    use ffrf_io_nml_modes, only: read_modes_group
+   use ffrf_io_nml_mechanism, only: read_mechanism_groups, has_group
+   use ffrf_mbs_mechanism_input, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
+   use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP
    implicit none
    private
    public :: case_input_t, read_case, case_echo
 
-   !> Everything a modal run needs.
+   !> Everything a modal or mechanism run needs.
    type :: case_input_t
       !> Case file as given
       character(len=:), allocatable :: file_name
@@ -24,6 +27,12 @@ module ffrf_io_case
       type(body_input_t), allocatable :: bodies(:)
       type(interface_input_t), allocatable :: interfaces(:)
       type(modes_input_t) :: modes
+      !> How each body moves (mechanism runs), same order as bodies
+      type(body_motion_input_t), allocatable :: motions(:)
+      !> .true. for a mechanism run (the case has a &joint group)
+      logical :: is_mechanism = .false.
+      !> Markers, joints, loads, pressure, integrator (mechanism runs)
+      type(mechanism_case_input_t) :: mechanism
    end type case_input_t
 
 contains
@@ -43,12 +52,16 @@ contains
             '": ' // trim(msg))
          return
       end if
-      call check_group_names(unit, [character(len=16) :: 'run', 'body', 'interface', 'modes'], &
-         error)
+      call check_group_names(unit, [character(len=16) :: 'run', 'body', 'interface', 'modes', &
+         'mechanism', 'marker', 'joint', 'load', 'pressure', 'integrator'], error)
       if (.not. allocated(error)) call read_run_group(unit, case%run, error)
-      if (.not. allocated(error)) call read_body_groups(unit, case%bodies, error)
+      if (.not. allocated(error)) call read_body_groups(unit, case%bodies, case%motions, error)
       if (.not. allocated(error)) call read_interface_groups(unit, case%interfaces, error)
       if (.not. allocated(error)) call read_modes_group(unit, case%modes, error)
+      if (.not. allocated(error)) then
+         case%is_mechanism = has_group(unit, 'joint')
+         if (case%is_mechanism) call read_mechanism_groups(unit, case%mechanism, error)
+      end if
       close (unit)
       if (allocated(error)) then
          call add_context(error, file_name)
@@ -69,6 +82,13 @@ contains
             return
          end if
       end do
+      if (case%is_mechanism) then
+         call check_mechanism_names(case, error)
+         if (allocated(error)) then
+            call add_context(error, file_name)
+            return
+         end if
+      end if
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
       if (len_trim(case%run%mode_shapes_msh) == 0) then
          case%run%mode_shapes_msh = case%name // '_modes.msh'
@@ -95,7 +115,9 @@ contains
                if (len_trim(b%volumes(v)) > 0) text = text // ' ''' // trim(b%volumes(v)) // ''''
             end do
             text = text // ', young = ' // to_str(b%young, 12) // ', poisson = ' // &
-               to_str(b%poisson, 12) // ', density = ' // to_str(b%density, 12) // ' /' // nl
+               to_str(b%poisson, 12) // ', density = ' // to_str(b%density, 12)
+            if (case%is_mechanism) text = text // motion_echo(case%motions(k))
+            text = text // ' /' // nl
          end associate
       end do
       do k = 1, size(case%interfaces)
@@ -114,7 +136,243 @@ contains
          trim(case%modes%formulation) // ''', rc_label = ''' // trim(case%modes%rc_label) // &
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
          to_str(case%modes%lanczos_vectors) // ' /' // nl
+      if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
    end function case_echo
+
+   !> The mechanism keys of a &body.
+   function motion_echo(m) result(text)
+      type(body_motion_input_t), intent(in) :: m
+      character(len=:), allocatable :: text
+      text = ', type = ''' // trim(m%type) // ''''
+      if (m%type == 'rigid') then
+         text = text // ', mass = ' // to_str(m%mass, 12) // ', center_of_mass = ' // &
+            vector_text(m%center_of_mass) // ', inertia = ' // vector_text(m%inertia)
+      else
+         text = text // ', num_modes = ' // to_str(m%num_modes) // ', modal_damping = ' // &
+            to_str(m%modal_damping, 6)
+      end if
+      text = text // ', position = ' // vector_text(m%position)
+   end function motion_echo
+
+   !> The mechanism groups, resolved.
+   function mechanism_echo(mech) result(text)
+      type(mechanism_case_input_t), intent(in) :: mech
+      character(len=:), allocatable :: text
+      character(len=*), parameter :: nl = new_line('a')
+      integer :: k
+      associate (m => mech%mechanism, p => mech%pressure, s => mech%integrator)
+         text = '&mechanism crank = ''' // trim(m%crank) // ''', crank_angle_deg = ' // &
+            to_str(m%crank_angle_deg, 12) // ', crank_speed = ' // to_str(m%crank_speed, 12) // &
+            ', gravity = ' // vector_text(m%gravity) // ', label = ''' // trim(m%label) // &
+            ''', progress_interval = ' // to_str(m%progress_interval, 6) // &
+            ', animation_frames = ' // to_str(m%animation_frames) // ' /' // nl
+         do k = 1, size(mech%markers)
+            text = text // '&marker body = ''' // trim(mech%markers(k)%body) // ''', name = ''' &
+               // trim(mech%markers(k)%name) // ''', position = ' // &
+               vector_text(mech%markers(k)%position) // ' /' // nl
+         end do
+         do k = 1, size(mech%joints)
+            associate (j => mech%joints(k))
+               text = text // '&joint name = ''' // trim(j%name) // ''', type = ''' // &
+                  trim(j%type) // ''', body1 = ''' // trim(j%body1) // ''', marker1 = ''' // &
+                  trim(j%marker1) // ''', body2 = ''' // trim(j%body2) // ''', marker2 = ''' &
+                  // trim(j%marker2) // ''', axis = ' // vector_text(j%axis) // ' /' // nl
+            end associate
+         end do
+         do k = 1, size(mech%loads)
+            associate (l => mech%loads(k))
+               text = text // '&load name = ''' // trim(l%name) // ''', type = ''' // &
+                  trim(l%type) // ''', body = ''' // trim(l%body) // ''', marker = ''' // &
+                  trim(l%marker) // ''', direction = ' // vector_text(l%direction)
+               select case (trim(l%type))
+               case ('force', 'torque')
+                  text = text // ', value = ' // to_str(l%value, 12)
+               case ('starter')
+                  text = text // ', stall_torque = ' // to_str(l%stall_torque, 12) // &
+                     ', free_speed = ' // to_str(l%free_speed, 12) // ', switch_off = ' // &
+                     to_str(l%switch_off, 12)
+               case ('drag')
+                  text = text // ', coefficient = ' // to_str(l%coefficient, 12)
+               end select
+               text = text // ' /' // nl
+            end associate
+         end do
+         text = text // '&pressure bore = ' // to_str(p%bore, 12) // ', stroke = ' // &
+            to_str(p%stroke, 12) // ', conrod_length = ' // to_str(p%conrod_length, 12) // &
+            ', compression_ratio = ' // to_str(p%compression_ratio, 12) // &
+            ', intake_pressure = ' // to_str(p%intake_pressure, 12) // ', exhaust_pressure = ' &
+            // to_str(p%exhaust_pressure, 12) // ', polytropic_exponent = ' // &
+            to_str(p%polytropic_exponent, 12) // ', wiebe_a = ' // to_str(p%wiebe_a, 12) // &
+            ', wiebe_m = ' // to_str(p%wiebe_m, 12) // ', combustion_start_deg = ' // &
+            to_str(p%combustion_start_deg, 12) // ', combustion_duration_deg = ' // &
+            to_str(p%combustion_duration_deg, 12) // ', heat_per_cycle = ' // &
+            to_str(p%heat_per_cycle, 12) // ', target_peak_pressure = ' // &
+            to_str(p%target_peak_pressure, 12) // ', reference_pressure = ' // &
+            to_str(p%reference_pressure, 12) // ', table_file = ''' // &
+            trim(mech%pressure_table) // ''' /' // nl
+         text = text // '&integrator h = ' // to_str(s%h, 12) // ', t_end = ' // &
+            to_str(s%t_end, 12) // ', rho_inf = ' // to_str(s%rho_inf, 12) // &
+            ', newton_atol = ' // to_str(s%newton_atol, 6) // ', newton_rtol = ' // &
+            to_str(s%newton_rtol, 6) // ', max_iterations = ' // to_str(s%max_iterations) // &
+            ', min_step = ' // to_str(s%min_step, 6) // ', rank_rtol = ' // &
+            to_str(s%rank_rtol, 6) // ', jacobian = ''' // jacobian_name(s%jacobian) // &
+            ''' /' // nl
+      end associate
+   end function mechanism_echo
+
+   pure function jacobian_name(policy) result(name)
+      integer, intent(in) :: policy
+      character(len=:), allocatable :: name
+      select case (policy)
+      case (GALPHA_NEWTON_FULL)
+         name = 'full'
+      case (GALPHA_NEWTON_STEP)
+         name = 'step'
+      case default
+         name = 'adaptive'
+      end select
+   end function jacobian_name
+
+   !> "x, y, z" of a vector, 12 digits each.
+   function vector_text(v) result(text)
+      real(dp), intent(in) :: v(:)
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(v)
+         if (k > 1) text = text // ', '
+         text = text // to_str(v(k), 12)
+      end do
+   end function vector_text
+
+   !> Every body, marker and interface a &joint, &load, &marker or &mechanism names exists: the
+   !> markers of a body with a mesh are its interfaces, those of a rigid body or the ground
+   !> are its &marker groups.
+   subroutine check_mechanism_names(case, error)
+      type(case_input_t), intent(in) :: case
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      associate (mech => case%mechanism)
+         do k = 1, size(case%interfaces)
+            if (case%motions(body_index(case, case%interfaces(k)%body))%type == 'rigid') then
+               call fatal_error(error, FFRF_INPUT_ERROR, '&interface "' // &
+                  trim(case%interfaces(k)%name) // '": body "' // &
+                  trim(case%interfaces(k)%body) // '" is rigid (no mesh); give its joint ' // &
+                  'points as &marker groups')
+               return
+            end if
+         end do
+         do k = 1, size(mech%markers)
+            associate (m => mech%markers(k))
+               if (m%body == GROUND_NAME) cycle
+               if (body_index(case, m%body) == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&marker "' // trim(m%name) // &
+                     '": body "' // trim(m%body) // '" is not a &body of this case (nor ' // &
+                     '"ground")')
+               else if (case%motions(body_index(case, m%body))%type /= 'rigid') then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&marker "' // trim(m%name) // &
+                     '": body "' // trim(m%body) // '" has a mesh; its markers are its ' // &
+                     '&interface groups (virtual nodes)')
+               end if
+               if (allocated(error)) return
+            end associate
+         end do
+         do k = 1, size(mech%joints)
+            associate (j => mech%joints(k))
+               call check_marker(case, '&joint "' // trim(j%name) // '"', j%body1, j%marker1, &
+                  error)
+               if (.not. allocated(error)) call check_marker(case, '&joint "' // trim(j%name) &
+                  // '"', j%body2, j%marker2, error)
+               if (allocated(error)) return
+            end associate
+         end do
+         do k = 1, size(mech%loads)
+            associate (l => mech%loads(k))
+               call check_marker(case, '&load "' // trim(l%name) // '"', l%body, l%marker, &
+                  error)
+               if (allocated(error)) return
+               if (l%body == GROUND_NAME) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&load "' // trim(l%name) // &
+                     '": a load on the ground does nothing; name a moving body')
+                  return
+               end if
+               if (any(l%type == [character(len=16) :: 'pressure', 'starter', 'drag']) .and. &
+                  len_trim(mech%mechanism%crank) == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&load "' // trim(l%name) // &
+                     '" (' // trim(l%type) // ') depends on the crank angle or speed: name ' // &
+                     'the crank body in &mechanism crank = ...')
+                  return
+               end if
+            end associate
+         end do
+         if (len_trim(mech%mechanism%crank) > 0) then
+            if (body_index(case, mech%mechanism%crank) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: crank = "' // &
+                  trim(mech%mechanism%crank) // '" is not a &body of this case')
+               return
+            end if
+         end if
+      end associate
+   end subroutine check_mechanism_names
+
+   !> body is 'ground' or a &body, and marker one of its markers (module header).
+   subroutine check_marker(case, where, body, marker, error)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: where, body, marker
+      type(error_t), allocatable, intent(out) :: error
+      integer :: b
+      b = body_index(case, body)
+      if (body /= GROUND_NAME .and. b == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': body "' // trim(body) // &
+            '" is not a &body of this case (bodies: ' // body_list(case) // ', ground)')
+      else if (body == GROUND_NAME .or. case%motions(max(b, 1))%type == 'rigid') then
+         if (.not. any(case%mechanism%markers%body == body .and. &
+            case%mechanism%markers%name == marker)) call fatal_error(error, FFRF_INPUT_ERROR, &
+            where // ': marker "' // trim(marker) // '" of body "' // trim(body) // &
+            '" is not defined; add &marker body = ''' // trim(body) // ''', name = ''' // &
+            trim(marker) // ''', position = x, y, z /')
+      else if (.not. any(case%interfaces%body == body .and. case%interfaces%name == marker)) &
+         then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': body "' // trim(body) // &
+            '" has no interface "' // trim(marker) // '" (the markers of a meshed body are ' // &
+            'its &interface groups: ' // interface_list(case, body) // ')')
+      end if
+   end subroutine check_marker
+
+   !> Index of the &body called name, 0 if none.
+   pure integer function body_index(case, name) result(k)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: name
+      do k = 1, size(case%bodies)
+         if (case%bodies(k)%name == name) return
+      end do
+      k = 0
+   end function body_index
+
+   function body_list(case) result(text)
+      type(case_input_t), intent(in) :: case
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(case%bodies)
+         if (k > 1) text = text // ', '
+         text = text // trim(case%bodies(k)%name)
+      end do
+   end function body_list
+
+   function interface_list(case, body) result(text)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: body
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(case%interfaces)
+         if (case%interfaces(k)%body /= body) cycle
+         if (len(text) > 0) text = text // ', '
+         text = text // trim(case%interfaces(k)%name)
+      end do
+      if (len(text) == 0) text = 'none'
+   end function interface_list
 
    !> The mode-shape file name, 'none' when no file is written.
    pure function msh_name(file_name) result(name)

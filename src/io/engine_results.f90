@@ -6,9 +6,12 @@
 !> /engine/mpc: a group needs a dataset to exist); growing series (one entry per step)
 !> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]},
 !> /energy/{kinetic, strain, external_work, numerical_dissipation} [J],
-!> /bodies/<body>/modal_coordinates (num_modes rows) [1],
+!> /bodies/<body>/{position (3 rows) [m], euler_parameters (4 rows) [1]} (the body frame),
+!> /bodies/<body>/modal_coordinates (num_modes rows, flexible bodies only) [1],
 !> /joints/<joint>/reaction (12 rows: force and moment on each of the two bodies) [N, N m];
 !> at the end /timings/stage, /timings/seconds [s] and status 'complete' or the error message.
+!> `write_real`/`write_int` store run information (redundant joint equations, integrator
+!> counters) anywhere in the file.
 !> Steps are buffered in memory and appended + flushed every `steps_per_flush` steps (100 by
 !> default) and by `finish`: HDF5 is touched once per chunk, not once per step.
 module ffrf_io_engine_results
@@ -50,13 +53,14 @@ module ffrf_io_engine_results
       integer :: num_buffered = 0
       !> Steps recorded so far (buffered or written)
       integer :: num_recorded = 0
-      !> Paths of the body and joint series
+      !> Paths of the body groups and joint series
       character(len=256), allocatable :: body_paths(:), joint_paths(:)
       !> Modes per body
       integer, allocatable :: num_modes(:)
       !> Buffered scalars (steps_per_flush, NUM_SCALARS)
       real(dp), allocatable :: scalars(:, :)
-      !> Buffered modal coordinates of all bodies, stacked (sum(num_modes), steps_per_flush)
+      !> Buffered coordinates [R; theta; zeta] of all bodies, stacked
+      !> (sum(7 + num_modes), steps_per_flush)
       real(dp), allocatable :: modal(:, :)
       !> Buffered reactions (REACTION_ROWS, steps_per_flush, num_joints)
       real(dp), allocatable :: reactions(:, :, :)
@@ -69,6 +73,8 @@ module ffrf_io_engine_results
       procedure :: flush => engine_results_flush
       procedure :: finish => engine_results_finish
       procedure :: num_steps => engine_results_num_steps
+      procedure :: write_real => engine_results_write_real
+      procedure :: write_int => engine_results_write_int
    end type engine_results_t
 
 contains
@@ -125,26 +131,30 @@ contains
       if (.not. allocated(error)) self%steps_per_flush = steps
    end subroutine engine_results_set_steps_per_flush
 
-   !> Add the series /bodies/<body_name>/modal_coordinates (num_modes rows), before the first
-   !> `record`. `record` takes the bodies' coordinates stacked in the order of these calls.
+   !> Add the series /bodies/<body_name>/{position, euler_parameters, modal_coordinates} (3, 4
+   !> and num_modes rows; no modal series for num_modes = 0), before the first `record`.
+   !> `record` takes the bodies' coordinates [R; theta; zeta] stacked in the order of these calls.
    subroutine engine_results_add_body_series(self, body_name, num_modes, error)
       class(engine_results_t), intent(inout) :: self
       !> Body name
       character(len=*), intent(in) :: body_name
-      !> Number of modal coordinates (>= 1)
+      !> Number of modal coordinates (>= 0)
       integer, intent(in) :: num_modes
       type(error_t), allocatable, intent(out) :: error
       character(len=256) :: path
       call check_not_started(self, 'add_body_series', error)
       if (allocated(error)) return
-      if (num_modes < 1) then
+      if (num_modes < 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
-            '": body "' // body_name // '" has ' // to_str(num_modes) // ' modes; a rigid ' // &
-            'body has no modal coordinates to save, do not add it')
+            '": body "' // body_name // '" has ' // to_str(num_modes) // ' modes; give >= 0')
          return
       end if
-      path = '/bodies/' // body_name // '/modal_coordinates'
-      call self%h5%create_series(trim(path), num_modes, '1', error)
+      path = '/bodies/' // body_name
+      call self%h5%create_series(trim(path) // '/position', 3, 'm', error)
+      if (.not. allocated(error)) call self%h5%create_series(trim(path) // &
+         '/euler_parameters', 4, '1', error)
+      if (.not. allocated(error) .and. num_modes > 0) call self%h5%create_series(trim(path) &
+         // '/modal_coordinates', num_modes, '1', error)
       if (allocated(error)) return
       self%body_paths = [character(len=256) :: self%body_paths, path]
       self%num_modes = [self%num_modes, num_modes]
@@ -181,7 +191,8 @@ contains
       real(dp), intent(in) :: pressure
       !> Kinetic energy, strain energy, external work, numerical dissipation (J)
       real(dp), intent(in) :: energies(4)
-      !> Modal coordinates of the bodies, stacked in the order of `add_body_series`
+      !> Coordinates [R (3); theta (4); zeta (num_modes)] of the bodies, stacked in the order of
+      !> `add_body_series`
       real(dp), intent(in) :: modal(:)
       !> Joint reactions (12, num_joints), columns in the order of `add_joint_series`
       real(dp), intent(in) :: reactions(:, :)
@@ -193,12 +204,12 @@ contains
             'that is not open; call create first')
          return
       end if
-      if (size(modal) /= sum(self%num_modes) .or. size(reactions, 1) /= REACTION_ROWS .or. &
+      if (size(modal) /= sum(self%num_modes + 7) .or. size(reactions, 1) /= REACTION_ROWS .or. &
          size(reactions, 2) /= size(self%joint_paths)) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
-            '": record got ' // to_str(size(modal)) // ' modal coordinates and reactions ' // &
+            '": record got ' // to_str(size(modal)) // ' body coordinates and reactions ' // &
             to_str(size(reactions, 1)) // ' x ' // to_str(size(reactions, 2)) // &
-            ', expected ' // to_str(sum(self%num_modes)) // ' and ' // &
+            ', expected ' // to_str(sum(self%num_modes + 7)) // ' and ' // &
             to_str(REACTION_ROWS) // ' x ' // to_str(size(self%joint_paths)) // &
             ' (the bodies and joints added)')
          return
@@ -213,7 +224,7 @@ contains
       end if
       if (.not. allocated(self%scalars)) then
          allocate (self%scalars(self%steps_per_flush, NUM_SCALARS))
-         allocate (self%modal(sum(self%num_modes), self%steps_per_flush))
+         allocate (self%modal(sum(self%num_modes + 7), self%steps_per_flush))
          allocate (self%reactions(REACTION_ROWS, self%steps_per_flush, size(self%joint_paths)))
       end if
       n = self%num_buffered + 1
@@ -240,10 +251,19 @@ contains
          end do
          first = 1
          do k = 1, size(self%body_paths)
-            block = self%modal(first:first + self%num_modes(k) - 1, 1:n)
-            call self%h5%append(trim(self%body_paths(k)), block, error)
+            block = self%modal(first:first + 2, 1:n)
+            call self%h5%append(trim(self%body_paths(k)) // '/position', block, error)
             if (allocated(error)) return
-            first = first + self%num_modes(k)
+            block = self%modal(first + 3:first + 6, 1:n)
+            call self%h5%append(trim(self%body_paths(k)) // '/euler_parameters', block, error)
+            if (allocated(error)) return
+            if (self%num_modes(k) > 0) then
+               block = self%modal(first + 7:first + 6 + self%num_modes(k), 1:n)
+               call self%h5%append(trim(self%body_paths(k)) // '/modal_coordinates', block, &
+                  error)
+               if (allocated(error)) return
+            end if
+            first = first + 7 + self%num_modes(k)
          end do
          do k = 1, size(self%joint_paths)
             call self%h5%append(trim(self%joint_paths(k)), self%reactions(:, 1:n, k), error)
@@ -292,6 +312,26 @@ contains
       class(engine_results_t), intent(in) :: self
       num_steps = self%num_recorded
    end function engine_results_num_steps
+
+   !> Write run information, e.g. /integrator/newton_iterations, with its unit.
+   subroutine engine_results_write_real(self, path, values, unit, error)
+      class(engine_results_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      real(dp), intent(in) :: values(:)
+      !> Unit, '1' when dimensionless
+      character(len=*), intent(in) :: unit
+      type(error_t), allocatable, intent(out) :: error
+      call self%h5%write_real(path, values, unit, error)
+   end subroutine engine_results_write_real
+
+   !> Write integer run information, e.g. /joints/<joint>/redundant_equations.
+   subroutine engine_results_write_int(self, path, values, error)
+      class(engine_results_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      call self%h5%write_int(path, values, error)
+   end subroutine engine_results_write_int
 
    !> Error unless the file is open and no step has been recorded.
    subroutine check_not_started(self, what, error)

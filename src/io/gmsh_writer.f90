@@ -14,6 +14,11 @@
 !>   Gmsh's play button steps through the modes. To see one mode oscillate, apply
 !>   Tools > Plugins > HarmonicToTime (RealPart 0, ImaginaryPart 0) to its view: the result
 !>   sqrt(2) cos(w t + pi/4) times the shape animates over its time steps.
+!> `write_displacement_frames_msh` writes, in the same format, ONE view "elastic displacement"
+!> with one time step per frame (time value = the frame's time in s), e.g. the elastic
+!> deformation of a flexible body over an engine cycle in its body frame; its .opt file uses one
+!> displacement factor for all frames and Gmsh's play button animates them; frame values are
+!> written with 7 significant digits (for viewing, not for reading back).
 !> Numbers are written with 17 significant digits, so they read back as the same doubles.
 module ffrf_io_gmsh_writer
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -23,7 +28,7 @@ module ffrf_io_gmsh_writer
    use ffrf_core_strings, only: to_str
    implicit none
    private
-   public :: write_mode_shapes_msh
+   public :: write_mode_shapes_msh, write_displacement_frames_msh
 
    !> Largest displacement drawn, as a fraction of the bounding-box diagonal
    real(dp), parameter :: shown_amplitude = 0.1_dp
@@ -44,11 +49,47 @@ contains
       !> Natural frequencies (num_modes), Hz
       real(dp), intent(in) :: frequencies_hz(:)
       type(error_t), allocatable, intent(out) :: error
-      integer :: unit, stat, num_nodes, num_modes, mode, i
+      call write_views(file_name, xyz, tets, shapes, frequencies_hz, .false., error)
+   end subroutine write_mode_shapes_msh
+
+   !> Write `file_name` (MSH 2.2 ASCII) with the mesh and one view of num_frames time steps, and
+   !> its .opt file (module notes).
+   subroutine write_displacement_frames_msh(file_name, xyz, tets, displacements, times, error)
+      !> Output file, e.g. 'engine_rc1_crank_animation.msh'
+      character(len=*), intent(in) :: file_name
+      !> Node coordinates (3, num_nodes), m
+      real(dp), intent(in) :: xyz(:, :)
+      !> Tetrahedra (4 or 10, num_tets), 1-based node numbers, Gmsh node order
+      integer, intent(in) :: tets(:, :)
+      !> Displacements (3*num_nodes, num_frames): ux, uy, uz of node 1, then node 2, ...
+      real(dp), intent(in) :: displacements(:, :)
+      !> Time of each frame (s)
+      real(dp), intent(in) :: times(:)
+      type(error_t), allocatable, intent(out) :: error
+      call write_views(file_name, xyz, tets, displacements, times, .true., error)
+   end subroutine write_displacement_frames_msh
+
+   !> The mesh and the views: one per column of `fields` (modes), or one view with a time step
+   !> per column (`frames`).
+   subroutine write_views(file_name, xyz, tets, shapes, frequencies_hz, frames, error)
+      character(len=*), intent(in) :: file_name
+      real(dp), intent(in) :: xyz(:, :)
+      integer, intent(in) :: tets(:, :)
+      real(dp), intent(in) :: shapes(:, :)
+      !> Frequency of each mode (Hz), or time of each frame (s)
+      real(dp), intent(in) :: frequencies_hz(:)
+      logical, intent(in) :: frames
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, stat, num_nodes, num_modes, mode, i, step
+      character(len=:), allocatable :: name
       integer :: element_type
       character(len=512) :: msg
-      character(len=*), parameter :: real_line = '(i0, 3(1x, es24.16e3))'
+      character(len=*), parameter :: exact_line = '(i0, 3(1x, es24.16e3))'
+      !> Frames are for viewing: 7 digits keep the files a third of the size
+      character(len=*), parameter :: short_line = '(i0, 3(1x, es14.6e3))'
+      character(len=:), allocatable :: real_line
 
+      real_line = exact_line
       call check_input(file_name, xyz, tets, shapes, frequencies_hz, element_type, error)
       if (allocated(error)) return
       num_nodes = size(xyz, 2)
@@ -80,9 +121,17 @@ contains
          if (stat /= 0) exit
          ! 1 string tag (name), 1 real tag (time = frequency), 3 integer tags (time step,
          ! components, entities)
+         if (frames) then
+            name = 'elastic displacement'
+            step = mode - 1
+         else
+            name = view_name(mode, frequencies_hz(mode))
+            step = 0
+         end if
          write (unit, '(a / i0 / a / i0 / es24.16e3 / i0 / i0 / i0 / i0)', iostat=stat, &
-            iomsg=msg) '$NodeData', 1, '"' // view_name(mode, frequencies_hz(mode)) // '"', 1, &
-            frequencies_hz(mode), 3, 0, 3, num_nodes
+            iomsg=msg) '$NodeData', 1, '"' // name // '"', 1, &
+            frequencies_hz(mode), 3, step, 3, num_nodes
+         if (frames) real_line = short_line
          do i = 1, num_nodes
             if (stat /= 0) exit
             write (unit, real_line, iostat=stat, iomsg=msg) i, shapes(3 * i - 2:3 * i, mode)
@@ -101,8 +150,8 @@ contains
             '" failed: ' // trim(msg))
          return
       end if
-      call write_options(file_name // '.opt', xyz, shapes, error)
-   end subroutine write_mode_shapes_msh
+      call write_options(file_name // '.opt', xyz, shapes, frames, error)
+   end subroutine write_views
 
    !> Sizes, node numbers and finiteness of the input.
    subroutine check_input(file_name, xyz, tets, shapes, frequencies_hz, element_type, error)
@@ -168,10 +217,12 @@ contains
    end function view_name
 
    !> The option file Gmsh merges after the mesh: displaced-mesh display of every view.
-   subroutine write_options(file_name, xyz, shapes, error)
+   subroutine write_options(file_name, xyz, shapes, frames, error)
       character(len=*), intent(in) :: file_name
       real(dp), intent(in) :: xyz(:, :)
       real(dp), intent(in) :: shapes(:, :)
+      !> One view with a time step per column (one displacement factor for all)
+      logical, intent(in) :: frames
       type(error_t), allocatable, intent(out) :: error
       character(len=512) :: msg
       character(len=:), allocatable :: view
@@ -186,10 +237,24 @@ contains
             file_name // '": ' // trim(msg))
          return
       end if
-      write (unit, '(a)', iostat=stat, iomsg=msg) &
-         '// ffrf: show each mode as a displaced mesh, largest displacement 10% of the size', &
-         'PostProcessing.AnimationCycle = 1; // the play button steps through the modes'
-      do mode = 1, size(shapes, 2)
+      if (frames) then
+         largest = 0.0_dp
+         do i = 1, size(shapes, 1) / 3
+            largest = max(largest, maxval(norm2(shapes(3 * i - 2:3 * i, :), dim=1)))
+         end do
+         factor = 1.0_dp
+         if (largest > 0.0_dp .and. diagonal > 0.0_dp) factor = shown_amplitude * diagonal / &
+            largest
+         write (unit, '(a)', iostat=stat, iomsg=msg) &
+            '// ffrf: elastic displacement frames, largest displacement 10% of the size', &
+            'PostProcessing.AnimationCycle = 0; // the play button steps through the frames', &
+            'View[0].VectorType = 5;', 'View[0].DisplacementFactor = ' // to_str(factor, 8) // ';'
+      else
+         write (unit, '(a)', iostat=stat, iomsg=msg) &
+            '// ffrf: show each mode as a displaced mesh, largest displacement 10% of the size', &
+            'PostProcessing.AnimationCycle = 1; // the play button steps through the modes'
+      end if
+      do mode = 1, merge(0, size(shapes, 2), frames)
          if (stat /= 0) exit
          largest = 0.0_dp
          do i = 1, size(shapes, 1) / 3

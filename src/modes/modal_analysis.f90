@@ -82,9 +82,11 @@ contains
       sigma = sign((2.0_dp * pi * shift_hz)**2, shift_hz)
    end function sigma_of_shift
 
-   !> Compute the constrained normal modes of one body.
+   !> Compute the constrained normal modes of one body. With modes_input%num_modes = 0 no modes
+   !> are computed: the body gets its mesh, mass properties and interfaces (a rigid body with the
+   !> mesh's exact mass, e.g. a rigid reference in a mechanism run).
    subroutine compute_body_modes(body_input, interface_inputs, modes_input, mesh_dir, log, times, &
-         body, error)
+         body, error, mass_matrix)
       !> Body: mesh, volumes, material
       type(body_input_t), intent(in) :: body_input
       !> All interfaces of the case (those of this body are used)
@@ -100,6 +102,8 @@ contains
       !> Result
       type(body_modes_t), intent(out) :: body
       type(error_t), allocatable, intent(out) :: error
+      !> The consistent FE mass matrix of the body (for the inertia invariants of FFRF)
+      type(csr_t), intent(out), optional :: mass_matrix
       type(mesh_t) :: mesh
       type(material_t) :: material
       type(csr_t) :: K, M, K_r, M_r
@@ -136,6 +140,7 @@ contains
          return
       end if
       call body_mass_properties(M, body%mesh%xyz, body%mass, body%center_of_mass, body%inertia)
+      if (present(mass_matrix)) mass_matrix = M
       body%num_dofs = 3 * body%mesh%num_nodes
       body%stiffness_nnz = int(K%row_ptr(K%num_rows + 1) - 1, i8)
       call times%add(tag // ': assembly', timer%seconds())
@@ -171,6 +176,15 @@ contains
                'is undefined and reads zero')
          end associate
       end do
+      if (modes_input%num_modes == 0) then
+         allocate (body%shape(body%num_dofs, 0), body%virtual_node_shape(6 * n_if, 0))
+         allocate (body%frequency_hz(0), body%residual(0))
+         body%formulation = 'none'
+         call times%add(tag // ': interfaces', timer%seconds())
+         call log%info('modes', tag // ': no modes asked: rigid body with the mass ' // &
+            'properties of its mesh, markers at its virtual nodes')
+         return
+      end if
       call check_reference_conditions(body%interfaces, body%center_of_mass, body%rc, error)
       if (allocated(error)) then
          call add_context(error, 'body "' // body%name // '"')

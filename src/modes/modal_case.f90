@@ -5,6 +5,7 @@ module ffrf_modes_modal_case
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
+   use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, &
       LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_io_case, only: case_input_t, read_case, case_echo
@@ -14,7 +15,7 @@ module ffrf_modes_modal_case
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    implicit none
    private
-   public :: run_options_t, run_modal_case
+   public :: run_options_t, run_modal_case, set_log_level
 
    !> Where inputs come from and results go, and how much to log.
    type :: run_options_t
@@ -49,17 +50,7 @@ contains
       call total%begin()
       call read_case(case_file, case, error)
       if (allocated(error)) return
-      log%level = options%log_level
-      if (log%level < 0) then
-         select case (trim(case%run%log_level))
-         case ('quiet')
-            log%level = LOG_QUIET
-         case ('debug')
-            log%level = LOG_DEBUG
-         case default
-            log%level = LOG_INFO
-         end select
-      end if
+      call set_log_level(log, options, case%run%log_level)
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
       echo = case_echo(case)
@@ -73,6 +64,10 @@ contains
 
       allocate (bodies(size(case%bodies)))
       do k = 1, size(case%bodies)
+         if (case%motions(k)%type == 'rigid') then
+            call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
+            cycle
+         end if
          call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
             times, bodies(k), error)
          call output_timer%begin()
@@ -106,6 +101,24 @@ contains
          'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
    end subroutine run_modal_case
 
+   !> The log level of the command line options, else that of the case ('quiet', 'info',
+   !> 'debug').
+   subroutine set_log_level(log, options, case_level)
+      type(logger_t), intent(inout) :: log
+      type(run_options_t), intent(in) :: options
+      character(len=*), intent(in) :: case_level
+      log%level = options%log_level
+      if (log%level >= 0) return
+      select case (trim(case_level))
+      case ('quiet')
+         log%level = LOG_QUIET
+      case ('debug')
+         log%level = LOG_DEBUG
+      case default
+         log%level = LOG_INFO
+      end select
+   end subroutine set_log_level
+
    subroutine log_frequency_table(log, body, rc_label)
       type(logger_t), intent(in) :: log
       type(body_modes_t), intent(in) :: body
@@ -122,38 +135,5 @@ contains
          call log%info('modes', trim(line))
       end do
    end subroutine log_frequency_table
-
-   pure function folder_of(path) result(folder)
-      character(len=*), intent(in) :: path
-      character(len=:), allocatable :: folder
-      integer :: slash
-      slash = index(path, '/', back=.true.)
-      folder = ''
-      if (slash > 0) folder = path(:slash - 1)
-      if (slash == 1) folder = '/'
-   end function folder_of
-
-   pure function join_path(dir, name) result(path)
-      character(len=*), intent(in) :: dir, name
-      character(len=:), allocatable :: path
-      if (len_trim(dir) == 0 .or. name(1:1) == '/') then
-         path = name
-      else
-         path = trim(dir) // '/' // name
-      end if
-   end function join_path
-
-   !> "a/b.msh" + "_crank" -> "a/b_crank.msh".
-   pure function insert_suffix(path, suffix) result(new_path)
-      character(len=*), intent(in) :: path, suffix
-      character(len=:), allocatable :: new_path
-      integer :: dot
-      dot = index(path, '.', back=.true.)
-      if (dot > index(path, '/', back=.true.)) then
-         new_path = path(:dot - 1) // suffix // path(dot:)
-      else
-         new_path = path // suffix
-      end if
-   end function insert_suffix
 
 end module ffrf_modes_modal_case

@@ -38,3 +38,27 @@ file(REMOVE "${_dir}/missing_case.nml")
 ffrf_error_case(bad_option 1 "unknown option --frobnicate" "${_body}\n${_iface}" --frobnicate)
 ffrf_error_case(inverted_element 2 "mesh .*inverted_tet.msh.*tetrahedron 3 is inverted"
   "&body name = 'block', mesh_file = '${PROJECT_SOURCE_DIR}/tests/data/regression/inverted_tet.msh' /\n&interface body = 'block', name = 'face', rc = '123456' /")
+
+# Mechanism input (a case with &joint groups): a rigid arm on a revolute to the ground
+set(_arm "&body name = 'arm', type = 'rigid', mass = 1.0, inertia = 0.01, 0.01, 0.01, 0, 0, 0 /
+&marker body = 'arm', name = 'hinge', position = 0, 0, 0 /
+&marker body = 'ground', name = 'hinge', position = 0, 0, 0 /")
+set(_pivot "&joint name = 'pivot', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
+ffrf_error_case(joint_unknown_body 2 "&joint \"pivot\": body \"arn\" is not a &body"
+  "${_arm}\n&joint name = 'pivot', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'arn', marker2 = 'hinge' /")
+ffrf_error_case(joint_missing_interface 2 "&joint \"bearing\": body \"crank\" has no interface \"B4\""
+  "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0, 0 /\n&joint name = 'bearing', type = 'revolute', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B4' /")
+ffrf_error_case(rigid_inertia_not_positive 2 "\"arm\": the inertia .* is not positive definite"
+  "${_pivot}\n&body name = 'arm', type = 'rigid', mass = 1.0, inertia = 0.01, 0.01, 0.01, 0.02, 0, 0 /\n&marker body = 'arm', name = 'hinge', position = 0, 0, 0 /\n&marker body = 'ground', name = 'hinge', position = 0, 0, 0 /")
+ffrf_error_case(rigid_mass_zero 2 "\"arm\": rigid body mass = 0 kg"
+  "${_pivot}\n&body name = 'arm', type = 'rigid', inertia = 0.01, 0.01, 0.01, 0, 0, 0 /\n&marker body = 'arm', name = 'hinge', position = 0, 0, 0 /")
+ffrf_error_case(joint_undefined_marker 2 "marker \"tip\" of body \"arm\" is not defined"
+  "${_arm}\n&joint name = 'pivot', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'tip' /")
+ffrf_error_case(joint_bad_type 2 "type = 'hinge', must be one of revolute"
+  "${_arm}\n&joint name = 'pivot', type = 'hinge', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
+ffrf_error_case(load_needs_crank 2 "&load \"starter\" \\(starter\\) depends on the crank"
+  "${_arm}\n${_pivot}\n&load name = 'starter', type = 'starter', body = 'arm', marker = 'hinge' /")
+ffrf_error_case(joint_axis_on_flexible 2 "&joint \"bearing\": a revolute joint at an interface of a flexible body"
+  "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0.045, 0 /\n&joint name = 'bearing', type = 'revolute', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B2', axis = 1, 0, 0 /\n&modes num_modes = 2 /")
+ffrf_error_case(integrator_rho 2 "&integrator: .*rho_inf = 1.5"
+  "${_arm}\n${_pivot}\n&integrator rho_inf = 1.5 /")

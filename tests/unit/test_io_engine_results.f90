@@ -62,6 +62,29 @@ contains
       end do
    end function modal_of
 
+   !> Body coordinates of step k as `record` takes them: [R; theta; zeta] of the crank, then
+   !> of the rod (R and theta: a turn about z at speed W0, R along a small circle).
+   pure function coordinates_of(k) result(c)
+      integer, intent(in) :: k
+      real(dp) :: c(14 + MODES_CRANK + MODES_ROD)
+      real(dp) :: q(MODES_CRANK + MODES_ROD)
+      q = modal_of(k)
+      c(1:7) = pose_of(k, 1)
+      c(8:7 + MODES_CRANK) = q(1:MODES_CRANK)
+      c(8 + MODES_CRANK:14 + MODES_CRANK) = pose_of(k, 2)
+      c(15 + MODES_CRANK:) = q(MODES_CRANK + 1:)
+   end function coordinates_of
+
+   !> Reference position and Euler parameters of body b at step k.
+   pure function pose_of(k, b) result(p)
+      integer, intent(in) :: k, b
+      real(dp) :: p(7)
+      real(dp) :: phi
+      phi = W0 * k * DT
+      p = [0.01_dp * b * cos(phi), 0.01_dp * sin(phi), 0.0_dp, cos(phi / 2), 0.0_dp, 0.0_dp, &
+         sin(phi / 2)]
+   end function pose_of
+
    !> Reactions of step k (12, NUM_JOINTS).
    pure function reactions_of(k) result(r)
       integer, intent(in) :: k
@@ -103,7 +126,8 @@ contains
       if (allocated(error)) return
       do k = 0, num_steps - 1
          s = scalars_of(k)
-         call writer%record(s(1), s(2), s(3), s(4), s(5:8), modal_of(k), reactions_of(k), error)
+         call writer%record(s(1), s(2), s(3), s(4), s(5:8), coordinates_of(k), reactions_of(k), &
+            error)
          if (allocated(error)) return
       end do
    end subroutine write_steps
@@ -124,13 +148,15 @@ contains
       real(dp), allocatable :: v1(:), v2(:, :)
       character(len=:), allocatable :: text
       real(dp) :: expected(8, 0:num_steps - 1), q(5, 0:num_steps - 1)
-      real(dp) :: r(12, NUM_JOINTS, 0:num_steps - 1)
+      real(dp) :: r(12, NUM_JOINTS, 0:num_steps - 1), pose(7, 2, 0:num_steps - 1)
       integer :: i, k
 
       do k = 0, num_steps - 1
          expected(:, k) = scalars_of(k)
          q(:, k) = modal_of(k)
          r(:, :, k) = reactions_of(k)
+         pose(:, 1, k) = pose_of(k, 1)
+         pose(:, 2, k) = pose_of(k, 2)
       end do
       call h5%open(file_name, 'r', error)
       if (allocated(error)) return
@@ -155,6 +181,15 @@ contains
          size(v2, 1) == MODES_CRANK .and. size(v2, 2) == num_steps)
       if (.not. allocated(error)) call check(error, 'crank modal coordinates differ', &
          all(v2 == q(1:MODES_CRANK, :)))
+      if (.not. allocated(error)) call h5%read_real('/bodies/rod/euler_parameters', v2, error)
+      if (.not. allocated(error)) call check(error, 'rod Euler parameters shape ' // &
+         to_str(size(v2, 1)) // ' x ' // to_str(size(v2, 2)), &
+         size(v2, 1) == 4 .and. size(v2, 2) == num_steps)
+      if (.not. allocated(error)) call check(error, 'rod Euler parameters differ', &
+         all(v2 == pose(4:7, 2, :)))
+      if (.not. allocated(error)) call h5%read_real('/bodies/crank/position', v2, error)
+      if (.not. allocated(error)) call check(error, 'crank position differs', &
+         all(v2 == pose(1:3, 1, :)))
       if (.not. allocated(error)) call h5%read_real('/bodies/rod/modal_coordinates', v2, error)
       if (.not. allocated(error)) call check(error, 'rod modal coordinates shape ' // &
          to_str(size(v2, 1)) // ' x ' // to_str(size(v2, 2)), &
@@ -251,10 +286,11 @@ contains
       s = scalars_of(3)
       q = modal_of(3)
       call writer%record(s(1), s(2), s(3), s(4), s(5:8), q(1:4), reactions_of(3), failed)
-      call check(error, 'too few modal coordinates accepted', allocated(failed))
+      call check(error, 'too few body coordinates accepted', allocated(failed))
       if (allocated(error)) return
       nan = ieee_value(nan, ieee_quiet_nan)
-      call writer%record(s(1), s(2), nan, s(4), s(5:8), modal_of(3), reactions_of(3), failed)
+      call writer%record(s(1), s(2), nan, s(4), s(5:8), coordinates_of(3), reactions_of(3), &
+         failed)
       call check(error, 'NaN crank speed accepted', allocated(failed))
       if (allocated(error)) return
       call writer%add_body_series('late', 2, failed)

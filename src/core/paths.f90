@@ -1,0 +1,45 @@
+!> File-path helpers of the case runners: folder of a file, joining a folder and a name, and a
+!> suffix before the extension.
+module ffrf_core_paths
+   implicit none
+   private
+   public :: folder_of, join_path, insert_suffix
+
+contains
+
+   !> "input/crank.nml" -> "input"; "crank.nml" -> ""; "/crank.nml" -> "/".
+   pure function folder_of(path) result(folder)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: folder
+      integer :: slash
+      slash = index(path, '/', back=.true.)
+      folder = ''
+      if (slash > 0) folder = path(:slash - 1)
+      if (slash == 1) folder = '/'
+   end function folder_of
+
+   !> dir/name, or name itself when dir is empty or name is absolute.
+   pure function join_path(dir, name) result(path)
+      character(len=*), intent(in) :: dir, name
+      character(len=:), allocatable :: path
+      if (len_trim(dir) == 0 .or. name(1:1) == '/') then
+         path = name
+      else
+         path = trim(dir) // '/' // name
+      end if
+   end function join_path
+
+   !> "a/b.msh" + "_crank" -> "a/b_crank.msh".
+   pure function insert_suffix(path, suffix) result(new_path)
+      character(len=*), intent(in) :: path, suffix
+      character(len=:), allocatable :: new_path
+      integer :: dot
+      dot = index(path, '.', back=.true.)
+      if (dot > index(path, '/', back=.true.)) then
+         new_path = path(:dot - 1) // suffix // path(dot:)
+      else
+         new_path = path // suffix
+      end if
+   end function insert_suffix
+
+end module ffrf_core_paths

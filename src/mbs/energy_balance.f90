@@ -1,0 +1,221 @@
+!> Energy balance of a mechanism run (theory.md 4.1; scene.md output: energy balance). The run loop
+!> calls init once at the start and update after every accepted step; the type keeps
+!>
+!>     T   kinetic energy sum_b v_b^T M_b(q_b) v_b / 2 (mechanism%kinetic_energy)
+!>     U   strain energy sum_b zeta_b^T K_ff,b zeta_b / 2 (mechanism%strain_energy)
+!>     W   work of the applied loads and gravity, W = int P dt, P = Q_applied . v
+!>         (mechanism%applied_power), plus the work of a driving constraint when the multipliers
+!>         are passed (below)
+!>     D_p energy dissipated by the physical modal damping of the flexible bodies,
+!>         D_p = int P_d dt, P_d = sum_b zeta_dot_b^T D_ff,b zeta_dot_b >= 0
+!>         (flexible_body_t%damping = diag(2 xi_j omega_j), mass-normalised modes)
+!>     D   numerical dissipation, D = W - (T + U - T_0 - U_0) - D_p.
+!>
+!> Exact balance. Along an exact solution of M q'' + Phi_q^T lambda = f_v + Q_e + Q_applied,
+!> Phi(q, t) = 0, d(T + U)/dt = P - P_d + P_c, where P_c = -lambda^T Phi_q v = lambda^T Phi_t is
+!> the power of the constraint forces: zero for the scleronomic joint and Euler-parameter rows,
+!> lambda_d Phi_t,d for the rheonomic driving constraint (ffrf_mbs_mechanism). So D = 0 exactly
+!> for the continuous problem, and D measures what the integrator loses (or gains).
+!>
+!> Quadrature. Each integral is advanced by the trapezoidal rule over the accepted step
+!> h = t_{n+1} - t_n: W += h/2 (P_n + P_{n+1}), likewise D_p and the drive work. The rule is
+!> O(h^3) per step on a smooth power, O(h^2) over a fixed interval, so D carries an O(h^2)
+!> quadrature part (~ t h^2 max|P''|/12) besides the integrator's own energy error: D is not the
+!> pure algorithmic dissipation when loads vary fast within a step (pressure peaks: take it as an
+!> O(h^2)-accurate estimate and compare it across step sizes).
+!>
+!> Generalized-alpha energy behaviour (Chung & Hulbert, J. Appl. Mech. 60 (1993) 371; theory.md
+!> 4.1). On the linear oscillator x'' + omega^2 x = 0 the step is y_{n+1} = A(Omega) y_n,
+!> Omega = omega h, with a 3 x 3 amplification matrix; its principal (complex pair) eigenvalues
+!> lambda_1,2 carry the physical oscillation, so the energy of a vibrating mode decays as
+!> E_n / E_0 = kappa |lambda_1(Omega)|^(2n) over whole discrete periods once the spurious root
+!> (|lambda_3| <= rho_inf) has died out; kappa = 1 + O(Omega^2) is the share of the start in the
+!> principal pair. rho_inf < 1 damps high Omega (|lambda_1| -> rho_inf as Omega -> inf) and
+!> leaves the low modes almost untouched (1 - |lambda_1| = O(Omega^4)). With rho_inf = 1
+!> (trapezoidal rule) |lambda_1| = 1 and a linear system keeps its quadratic energy to round-off,
+!> but the spurious root is -1 (undamped), and the integrator refuses rho_inf = 1 for any
+!> mechanism with a free body (its Euler row is a constraint). For the nonlinear rigid rotation
+!> with Euler parameters the scheme conserves neither energy nor angular momentum; both drift by
+!> O(h^2) over a fixed interval (tests/unit/test_mbs_energy.f90: D / T_0 = 4.7e-10 and
+!> |L - L_0| / |L_0| = 6.8e-10 for a tumbling rigid body, 2 s, h = 2e-4 s, rho_inf = 0.8).
+!> D > 0 is energy removed by the scheme; D < 0 beyond the O(h^2) quadrature part (a damped mode
+!> resolved by 200 steps per period: D = -2.5e-4 D_p) would signal energy created (instability).
+module ffrf_mbs_energy_balance
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_NUMERIC_ERROR, &
+      FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_rigid_body, only: flexible_body_adapter_t
+   implicit none
+   private
+   public :: energy_balance_t
+
+   !> Running energy balance of a mechanism (module header); all energies in J, time in s.
+   type :: energy_balance_t
+      !> Time of the last update (s)
+      real(dp) :: t = 0.0_dp
+      !> Kinetic energy T and strain energy U at the last update (J)
+      real(dp) :: kinetic = 0.0_dp, strain = 0.0_dp
+      !> T_0 and U_0 at init (J)
+      real(dp) :: kinetic_start = 0.0_dp, strain_start = 0.0_dp
+      !> Work W of the applied loads and gravity (and of a driving constraint) since init (J)
+      real(dp) :: work = 0.0_dp
+      !> Energy D_p dissipated by the physical modal damping since init (J)
+      real(dp) :: physical_dissipation = 0.0_dp
+      !> Numerical dissipation D = W - (T + U - T_0 - U_0) - D_p (J)
+      real(dp) :: numerical_dissipation = 0.0_dp
+      !> Power P of the applied loads (and drive) and damping power P_d at the last update (W)
+      real(dp) :: power = 0.0_dp, damping_power = 0.0_dp
+      !> Number of updates after init
+      integer :: steps = 0
+   contains
+      !> Energies at the start of the run; zero work and dissipation
+      procedure :: init => energy_balance_init
+      !> Advance the balance to an accepted step
+      procedure :: update => energy_balance_update
+      !> Total mechanical energy T + U (J)
+      procedure :: total => energy_balance_total
+   end type energy_balance_t
+
+contains
+
+   !> Start the balance at (t, q, v): T_0, U_0 and the powers at t; W = D_p = D = 0.
+   subroutine energy_balance_init(self, mech, t, q, v, error, lambda)
+      !> The balance
+      class(energy_balance_t), intent(out) :: self
+      !> The mechanism
+      class(mechanism_t), intent(inout) :: mech
+      !> Start time (s)
+      real(dp), intent(in) :: t
+      !> Coordinates, n
+      real(dp), intent(in) :: q(:)
+      !> Velocities, n
+      real(dp), intent(in) :: v(:)
+      type(error_t), allocatable, intent(out) :: error
+      !> Multipliers, nc (optional): with them the work of a driving constraint enters W
+      real(dp), intent(in), optional :: lambda(:)
+      call evaluate(mech, t, q, v, self%kinetic, self%strain, self%power, self%damping_power, &
+         error, lambda)
+      if (allocated(error)) then
+         call add_context(error, 'energy balance at the start, t = ' // to_str(t, 12) // ' s')
+         return
+      end if
+      self%t = t
+      self%kinetic_start = self%kinetic
+      self%strain_start = self%strain
+   end subroutine energy_balance_init
+
+   !> Advance to the accepted step (t, q, v): new T, U, powers; W and D_p by the trapezoidal rule
+   !> over [t_last, t]; D from the balance (module header).
+   subroutine energy_balance_update(self, mech, t, q, v, error, lambda)
+      !> The balance (after init)
+      class(energy_balance_t), intent(inout) :: self
+      !> The mechanism
+      class(mechanism_t), intent(inout) :: mech
+      !> Time of the accepted step (s), after the last update
+      real(dp), intent(in) :: t
+      !> Coordinates, n
+      real(dp), intent(in) :: q(:)
+      !> Velocities, n
+      real(dp), intent(in) :: v(:)
+      type(error_t), allocatable, intent(out) :: error
+      !> Multipliers, nc (optional): with them the work of a driving constraint enters W
+      real(dp), intent(in), optional :: lambda(:)
+      real(dp) :: kinetic, strain, power, damping_power, h
+      h = t - self%t
+      if (.not. h >= 0.0_dp) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: update at t = ' // &
+            to_str(t, 12) // ' s is before the last one at t = ' // to_str(self%t, 12) // &
+            ' s; call update once per accepted step, in time order')
+         return
+      end if
+      call evaluate(mech, t, q, v, kinetic, strain, power, damping_power, error, lambda)
+      if (allocated(error)) then
+         call add_context(error, 'energy balance at step ' // to_str(self%steps + 1) // &
+            ', t = ' // to_str(t, 12) // ' s')
+         return
+      end if
+      self%work = self%work + 0.5_dp * h * (self%power + power)
+      self%physical_dissipation = self%physical_dissipation + 0.5_dp * h * &
+         (self%damping_power + damping_power)
+      self%t = t
+      self%kinetic = kinetic
+      self%strain = strain
+      self%power = power
+      self%damping_power = damping_power
+      self%steps = self%steps + 1
+      self%numerical_dissipation = self%work - (kinetic + strain - self%kinetic_start - &
+         self%strain_start) - self%physical_dissipation
+      if (.not. (ieee_is_finite(self%work) .and. ieee_is_finite(self%numerical_dissipation))) &
+         then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'energy balance: NaN or Inf in the work ' &
+            // 'or the dissipation at step ' // to_str(self%steps) // ', t = ' // &
+            to_str(t, 12) // ' s')
+      end if
+   end subroutine energy_balance_update
+
+   !> T + U at the last update (J).
+   pure real(dp) function energy_balance_total(self) result(energy)
+      !> The balance
+      class(energy_balance_t), intent(in) :: self
+      energy = self%kinetic + self%strain
+   end function energy_balance_total
+
+   !> T, U, P (applied loads, gravity, drive if lambda is given) and P_d at one state; all finite.
+   subroutine evaluate(mech, t, q, v, kinetic, strain, power, damping_power, error, lambda)
+      class(mechanism_t), intent(inout) :: mech
+      real(dp), intent(in) :: t, q(:), v(:)
+      real(dp), intent(out) :: kinetic, strain, power, damping_power
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(in), optional :: lambda(:)
+      real(dp), allocatable :: phi_t(:)
+      integer :: b, k, nb
+      kinetic = 0.0_dp
+      strain = 0.0_dp
+      power = 0.0_dp
+      damping_power = 0.0_dp
+      if (size(q) /= mech%n .or. size(v) /= mech%n) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: ' // to_str(size(q)) // &
+            ' coordinates and ' // to_str(size(v)) // ' velocities for a mechanism with ' // &
+            to_str(mech%n) // '; pass the integrator state')
+         return
+      end if
+      kinetic = mech%kinetic_energy(q, v)
+      strain = mech%strain_energy(q)
+      call mech%applied_power(q, v, t, power, error)
+      if (allocated(error)) return
+      ! Driving constraint: power of its reaction, -lambda_d (Phi_q v)_d = lambda_d Phi_t,d.
+      if (present(lambda) .and. mech%drive_row > 0) then
+         if (size(lambda) /= mech%nc) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: ' // &
+               to_str(size(lambda)) // ' multipliers for ' // to_str(mech%nc) // &
+               ' constraint rows; pass the integrator lambda')
+            return
+         end if
+         allocate (phi_t(mech%nc))
+         call mech%constraint_rate(q, t, phi_t, error)
+         if (allocated(error)) return
+         power = power + lambda(mech%drive_row) * phi_t(mech%drive_row)
+      end if
+      ! Physical modal damping of the flexible bodies: P_d = zeta_dot^T D_ff zeta_dot.
+      if (.not. allocated(mech%bodies)) return
+      do b = 1, size(mech%bodies)
+         k = mech%bodies(b)%offset
+         nb = mech%bodies(b)%body%num_coordinates
+         select type (body => mech%bodies(b)%body)
+         type is (flexible_body_adapter_t)
+            if (allocated(body%flexible%damping)) damping_power = damping_power + &
+               sum(body%flexible%damping * v(k + 8:k + nb)**2)
+         end select
+      end do
+      if (.not. (ieee_is_finite(kinetic) .and. ieee_is_finite(strain) .and. &
+         ieee_is_finite(power) .and. ieee_is_finite(damping_power))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'energy balance: NaN or Inf in T = ' // &
+            to_str(kinetic) // ' J, U = ' // to_str(strain) // ' J, P = ' // to_str(power) // &
+            ' W or P_d = ' // to_str(damping_power) // ' W at t = ' // to_str(t, 12) // ' s')
+      end if
+   end subroutine evaluate
+
+end module ffrf_mbs_energy_balance

@@ -1,0 +1,104 @@
+!> Plain input types of a mechanism run, with their defaults (namelist groups &body's motion
+!> keys, &marker, &joint, &load, &pressure, &integrator, &mechanism; readers in
+!> src/io/nml_mechanism.f90 and src/io/nml_body.f90). SI units; angles in degrees where named so.
+module ffrf_mbs_mechanism_input
+   use ffrf_core_kinds, only: dp
+   use ffrf_mbs_pressure, only: pressure_input_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t
+   implicit none
+   private
+   public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t
+   public :: mechanism_input_t, mechanism_case_input_t, GROUND_NAME
+
+   !> Name of the ground body in &marker and &joint (it needs no &body group)
+   character(len=*), parameter :: GROUND_NAME = 'ground'
+
+   !> How a &body moves in a mechanism run.
+   type :: body_motion_input_t
+      !> 'flexible' (reduced FFRF body from its mesh) or 'rigid'
+      character(len=16) :: type = 'flexible'
+      !> Flexible bodies: modes kept (-1: &modes num_modes). 0 keeps none: the body moves rigidly
+      !> with the mesh's exact mass properties and its interfaces' virtual nodes as markers.
+      integer :: num_modes = -1
+      !> Flexible bodies: modal damping ratio of every mode (0: none)
+      real(dp) :: modal_damping = 0.0_dp
+      !> Rigid bodies without a mesh: mass (kg), centre of mass (m, body frame) and inertia about
+      !> the centre of mass, body axes: Jxx Jyy Jzz Jxy Jyz Jxz (kg m^2). A rigid body with a
+      !> mesh takes the mesh's exact mass properties; its markers are &marker groups either way.
+      real(dp) :: mass = 0.0_dp
+      real(dp) :: center_of_mass(3) = 0.0_dp
+      real(dp) :: inertia(6) = 0.0_dp
+      !> Global position of the body-frame origin at the start (m); the body axes start parallel
+      !> to the global axes
+      real(dp) :: position(3) = 0.0_dp
+   end type body_motion_input_t
+
+   !> A named point of a body without a mesh, or of the ground (&marker).
+   type :: marker_input_t
+      !> Body name ('ground' for the ground)
+      character(len=64) :: body = ''
+      !> Marker name, unique on its body
+      character(len=64) :: name = ''
+      !> Position in the body frame (m); for the ground, global
+      real(dp) :: position(3) = 0.0_dp
+   end type marker_input_t
+
+   !> A joint between a marker of body1 and a marker of body2 (&joint).
+   type :: joint_input_t
+      character(len=64) :: name = ''
+      !> revolute, prismatic, spherical, universal or fixed
+      character(len=16) :: type = ''
+      !> Bodies and markers; a flexible body's markers are its interfaces (virtual nodes)
+      character(len=64) :: body1 = '', marker1 = '', body2 = '', marker2 = ''
+      !> Joint axis, global, in the starting pose: rotation axis of a revolute, sliding direction
+      !> of a prismatic, shaft of body 1 of a universal (ignored by spherical and fixed)
+      real(dp) :: axis(3) = [0.0_dp, 0.0_dp, 1.0_dp]
+   end type joint_input_t
+
+   !> An applied load on a body at one of its markers (&load).
+   type :: load_input_t
+      character(len=64) :: name = ''
+      !> pressure (in-cylinder gas force, &pressure), starter, drag (T = -c omega |omega|),
+      !> force or torque (constant value)
+      character(len=16) :: type = ''
+      character(len=64) :: body = '', marker = ''
+      !> Global direction of the force or axis of the moment
+      real(dp) :: direction(3) = [0.0_dp, 0.0_dp, 1.0_dp]
+      !> force / torque: magnitude (N, N m)
+      real(dp) :: value = 0.0_dp
+      !> starter: stall torque (N m), no-load speed (rad/s), switch-off time (s)
+      real(dp) :: stall_torque = 40.0_dp, free_speed = 157.0_dp, switch_off = 0.5_dp
+      !> drag: coefficient c (N m s^2)
+      real(dp) :: coefficient = 3.6e-4_dp
+   end type load_input_t
+
+   !> Mechanism-wide settings (&mechanism).
+   type :: mechanism_input_t
+      !> Body whose rotation about z is the crank angle (pressure, starter, drag, output)
+      character(len=64) :: crank = ''
+      !> Crank angle (deg) and speed (rad/s) at the start
+      real(dp) :: crank_angle_deg = 0.0_dp, crank_speed = 0.0_dp
+      !> Gravity (m/s^2), global; off by default
+      real(dp) :: gravity(3) = 0.0_dp
+      !> Label of the run in charts and tables, e.g. 'RC set 1' or 'rigid crank'
+      character(len=64) :: label = ''
+      !> Progress line every this many simulated seconds
+      real(dp) :: progress_interval = 0.1_dp
+      !> Frames of the deformed-shape animation over the last 720 deg cycle (0: none)
+      integer :: animation_frames = 24
+   end type mechanism_input_t
+
+   !> Everything of a mechanism run besides the modal input of the flexible bodies.
+   type :: mechanism_case_input_t
+      type(mechanism_input_t) :: mechanism
+      type(marker_input_t), allocatable :: markers(:)
+      type(joint_input_t), allocatable :: joints(:)
+      type(load_input_t), allocatable :: loads(:)
+      !> Pressure model data (&pressure); table_file: angle (deg) and absolute pressure (Pa) per
+      !> line instead of the single-zone model
+      type(pressure_input_t) :: pressure
+      character(len=256) :: pressure_table = ''
+      type(galpha_settings_t) :: integrator
+   end type mechanism_case_input_t
+
+end module ffrf_mbs_mechanism_input

@@ -1,0 +1,490 @@
+!> A mechanism_t from a case file's input (namelists of ffrf_io_case) and the modal results of
+!> its meshed bodies: bodies, markers, joints, loads, crank, and the consistent starting pose.
+!>
+!> Bodies. Mechanism body 1 is the ground; then every &body in input order. A flexible body is
+!> the reduced FFRF body of its modes (flexible_body_t through flexible_body_adapter_t); with
+!> num_modes = 0 it moves rigidly with its mesh's exact inertia. A rigid body is a rigid_body_t
+!> with the &body mass keys, or with its mesh's mass properties (mass, centre of mass, inertia
+!> about it, from the consistent mass matrix) when it has a mesh_file.
+!> Every body starts with its axes parallel to the global axes, its frame origin at `position`.
+!>
+!> Markers and joint frames. A flexible body's markers are its interfaces' virtual nodes, with
+!> the body axes as marker axes (theory.md 3.5). A rigid body's or the ground's markers are
+!> made from its &marker points, one per joint end (and per load) that uses them, with the
+!> joint's frame: z along the joint axis, x = the unit projection of e_x (e_y if the axis is
+!> near e_x) normal to it, y = z × x; so axis = e_z gives the body axes. Both ends of a joint get
+!> the same frame in the starting pose (the joints of ffrf_mbs_joints expect coinciding frames).
+!> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
+!> (its marker axes are the body axes): this is checked.
+module ffrf_sim_mechanism_builder
+   use ffrf_core_kinds, only: dp, pi
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: logger_t, stage_times_t
+   use ffrf_la_sparse, only: csr_t
+   use ffrf_io_case, only: case_input_t
+   use ffrf_io_nml_body, only: inertia_tensor
+   use ffrf_modes_input, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_mbs_mechanism_input, only: GROUND_NAME, load_input_t
+   use ffrf_mbs_rotation, only: identity3
+   use ffrf_mbs_flexible_body, only: flexible_body_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t, flexible_body_adapter_t
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_mechanism_loads, only: load_t, pressure_force_t, starter_torque_t, &
+      drag_torque_t, constant_load_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_pressure, only: pressure_model_t
+   implicit none
+   private
+   public :: built_body_t, build_mechanism, frame_from_axis
+
+   !> What the run keeps of each &body.
+   type :: built_body_t
+      !> Mechanism index (add_body)
+      integer :: index = 0
+      !> Kept modes (0 for rigid bodies)
+      integer :: num_modes = 0
+      !> .true. when it has a mesh (flexible, or rigid with the mesh's inertia)
+      logical :: meshed = .false.
+      !> Its modal results (meshed bodies): mesh, interfaces, modes
+      type(body_modes_t) :: modes
+   end type built_body_t
+
+   !> Marker requests of one rigid body or the ground: position (body frame) and frame.
+   type :: marker_list_t
+      character(len=64), allocatable :: names(:)
+      real(dp), allocatable :: xyz(:, :)
+      real(dp), allocatable :: frames(:, :, :)
+   end type marker_list_t
+
+contains
+
+   !> The marker frame of a joint axis (module header); frame_from_axis(e_z) = I.
+   pure function frame_from_axis(axis) result(frame)
+      real(dp), intent(in) :: axis(3)
+      real(dp) :: frame(3, 3)
+      real(dp) :: z(3), x(3), helper(3)
+      z = axis / norm2(axis)
+      helper = [1.0_dp, 0.0_dp, 0.0_dp]
+      if (abs(z(1)) > 0.9_dp) helper = [0.0_dp, 1.0_dp, 0.0_dp]
+      x = helper - dot_product(helper, z) * z
+      x = x / norm2(x)
+      frame(:, 1) = x
+      frame(:, 2) = [z(2) * x(3) - z(3) * x(2), z(3) * x(1) - z(1) * x(3), &
+         z(1) * x(2) - z(2) * x(1)]
+      frame(:, 3) = z
+   end function frame_from_axis
+
+   !> Compute the modes of the meshed bodies, build the mechanism and its starting state q, v
+   !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
+   !> model when a &load of type pressure exists (has_pressure).
+   subroutine build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
+         has_pressure, error)
+      type(case_input_t), intent(in) :: case
+      !> Folder of relative mesh files
+      character(len=*), intent(in) :: mesh_dir
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(mechanism_t), intent(out) :: mech
+      type(built_body_t), allocatable, intent(out) :: bodies(:)
+      real(dp), allocatable, intent(out) :: q(:), v(:)
+      type(pressure_model_t), intent(out) :: pressure
+      logical, intent(out) :: has_pressure
+      type(error_t), allocatable, intent(out) :: error
+      type(marker_list_t), allocatable :: lists(:)
+      type(ground_t) :: ground
+      integer, allocatable :: ends(:, :)
+      integer :: nb, k, ground_index
+
+      nb = size(case%bodies)
+      allocate (bodies(nb), lists(0:nb))
+      do k = 0, nb
+         allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0))
+      end do
+      has_pressure = any(case%mechanism%loads%type == 'pressure')
+
+      do k = 1, nb
+         bodies(k)%meshed = len_trim(case%bodies(k)%mesh_file) > 0
+      end do
+      ! Markers of the joint ends and loads
+      call resolve_markers(case, lists, ends)
+      call check_interface_markers(case, error)
+      if (allocated(error)) return
+      call ground%init(lists(0)%xyz, lists(0)%frames, error)
+      if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
+      if (allocated(error)) return
+      do k = 1, nb
+         call add_body(case, k, mesh_dir, log, times, lists(k), mech, bodies(k), error)
+         if (allocated(error)) then
+            call add_context(error, '&body "' // trim(case%bodies(k)%name) // '"')
+            return
+         end if
+      end do
+      call add_joints(case, bodies, ground_index, ends, mech, error)
+      if (.not. allocated(error)) call add_loads(case, bodies, ends, mech, pressure, error)
+      if (allocated(error)) return
+      mech%gravity = case%mechanism%mechanism%gravity
+      if (len_trim(case%mechanism%mechanism%crank) > 0) then
+         call mech%set_crank(bodies(body_index(case, case%mechanism%mechanism%crank))%index, &
+            error)
+         if (allocated(error)) return
+      end if
+      call starting_state(case, bodies, mech, q, v, error)
+   end subroutine build_mechanism
+
+   !> Index of the &body called name (0 for the ground).
+   pure integer function body_index(case, name) result(k)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: name
+      do k = 1, size(case%bodies)
+         if (case%bodies(k)%name == name) return
+      end do
+      k = 0
+   end function body_index
+
+   !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
+   !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's position among the
+   !> body's &interface groups (their order in compute_body_modes). Rigid bodies and the
+   !> ground: a new marker per distinct (point, axis) in `lists`.
+   subroutine resolve_markers(case, lists, ends)
+      type(case_input_t), intent(in) :: case
+      type(marker_list_t), intent(inout) :: lists(0:)
+      integer, allocatable, intent(out) :: ends(:, :)
+      integer :: j, l
+      associate (joints => case%mechanism%joints, loads => case%mechanism%loads)
+         allocate (ends(3, max(size(joints), size(loads))), source=0)
+         do j = 1, size(joints)
+            call marker_of(joints(j)%body1, joints(j)%marker1, joints(j)%axis, ends(1, j))
+            call marker_of(joints(j)%body2, joints(j)%marker2, joints(j)%axis, ends(2, j))
+         end do
+         do l = 1, size(loads)
+            call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], ends(3, l))
+         end do
+      end associate
+
+   contains
+
+      subroutine marker_of(body, name, axis, marker)
+         character(len=*), intent(in) :: body, name
+         real(dp), intent(in) :: axis(3)
+         integer, intent(out) :: marker
+         integer :: b, k
+         real(dp) :: frame(3, 3)
+         b = body_index(case, body)
+         if (b > 0) then
+            if (case%motions(b)%type /= 'rigid') then
+               marker = 0
+               do k = 1, size(case%interfaces)
+                  if (case%interfaces(k)%body /= body) cycle
+                  marker = marker + 1
+                  if (case%interfaces(k)%name == name) return
+               end do
+               marker = 0
+               return
+            end if
+         end if
+         frame = frame_from_axis(axis)
+         do k = 1, size(lists(b)%names)
+            if (lists(b)%names(k) == name .and. maxval(abs(lists(b)%frames(:, :, k) - frame)) &
+               < 1.0e-12_dp) then
+               marker = k
+               return
+            end if
+         end do
+         do k = 1, size(case%mechanism%markers)
+            if (case%mechanism%markers(k)%body == body .and. &
+               case%mechanism%markers(k)%name == name) exit
+         end do
+         ! (ffrf_io_case checked that the marker exists)
+         lists(b)%names = [character(len=64) :: lists(b)%names, name]
+         lists(b)%xyz = reshape([lists(b)%xyz, case%mechanism%markers(k)%position], &
+            [3, size(lists(b)%names)])
+         lists(b)%frames = reshape([lists(b)%frames, frame], [3, 3, size(lists(b)%names)])
+         marker = size(lists(b)%names)
+      end subroutine marker_of
+
+   end subroutine resolve_markers
+
+   !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
+   subroutine add_body(case, k, mesh_dir, log, times, list, mech, built, error)
+      type(case_input_t), intent(in) :: case
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: mesh_dir
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(marker_list_t), intent(in) :: list
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(inout) :: built
+      type(error_t), allocatable, intent(out) :: error
+      type(modes_input_t) :: modes_input
+      type(csr_t) :: mass_matrix
+      type(flexible_body_t) :: flexible
+      type(flexible_body_adapter_t) :: adapter
+      type(rigid_body_t) :: rigid
+      real(dp) :: mass, com(3), inertia(3, 3)
+      character(len=:), allocatable :: name
+
+      name = trim(case%bodies(k)%name)
+      associate (motion => case%motions(k))
+         if (built%meshed) then
+            modes_input = case%modes
+            if (motion%type == 'rigid') then
+               modes_input%num_modes = 0
+            else if (motion%num_modes >= 0) then
+               modes_input%num_modes = motion%num_modes
+            end if
+            call compute_body_modes(case%bodies(k), case%interfaces, modes_input, mesh_dir, &
+               log, times, built%modes, error, mass_matrix=mass_matrix)
+            if (allocated(error)) return
+            built%num_modes = size(built%modes%frequency_hz)
+         end if
+         if (motion%type == 'rigid') then
+            if (built%meshed) then
+               mass = built%modes%mass
+               com = built%modes%center_of_mass
+               inertia = built%modes%inertia
+            else
+               mass = motion%mass
+               com = motion%center_of_mass
+               inertia = inertia_tensor(motion%inertia)
+            end if
+            built%num_modes = 0
+            call rigid%init(mass, com, inertia, list%xyz, list%frames, error)
+            if (.not. allocated(error)) call mech%add_body(rigid, name, built%index, error)
+            if (.not. allocated(error)) call log%info('mechanism', name // ': rigid, mass ' // &
+               to_str(mass, 6) // ' kg, ' // to_str(size(list%names)) // ' marker(s)')
+            return
+         end if
+         call flexible%init(mass_matrix, built%modes%mesh%xyz, built%modes%shape, &
+            (2.0_dp * pi * built%modes%frequency_hz)**2, built%modes%virtual_node_shape, &
+            virtual_positions(built%modes), error)
+         if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
+            built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
+         if (.not. allocated(error)) call adapter%init(flexible, error)
+         if (.not. allocated(error)) call mech%add_body(adapter, name, built%index, error)
+         if (allocated(error)) return
+         call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
+            ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
+            to_str(flexible%num_interfaces) // ' interface marker(s)')
+      end associate
+   end subroutine add_body
+
+   function virtual_positions(modes) result(xyz)
+      type(body_modes_t), intent(in) :: modes
+      real(dp) :: xyz(3, size(modes%interfaces))
+      integer :: i
+      do i = 1, size(modes%interfaces)
+         xyz(:, i) = modes%interfaces(i)%virtual_xyz
+      end do
+   end function virtual_positions
+
+   !> A joint at a flexible body's interface uses the body axes: its axis must be e_z (module
+   !> header) unless it is spherical.
+   subroutine check_interface_markers(case, error)
+      type(case_input_t), intent(in) :: case
+      type(error_t), allocatable, intent(out) :: error
+      integer :: j
+      associate (joints => case%mechanism%joints)
+         do j = 1, size(joints)
+            if (joints(j)%type == 'spherical') cycle
+            if (.not. (is_flexible(joints(j)%body1) .or. is_flexible(joints(j)%body2))) cycle
+            if (abs(joints(j)%axis(3)) < 1.0_dp - 1.0e-12_dp) then
+               call fatal_error(error, FFRF_INPUT_ERROR, '&joint "' // trim(joints(j)%name) // &
+                  '": a ' // trim(joints(j)%type) // ' joint at an interface of a flexible ' // &
+                  'body turns about the body z axis (its marker axes are the body axes), ' // &
+                  'but axis = (' // to_str(joints(j)%axis(1)) // ', ' // &
+                  to_str(joints(j)%axis(2)) // ', ' // to_str(joints(j)%axis(3)) // &
+                  '); mesh the body with the joint axis along z')
+               return
+            end if
+         end do
+      end associate
+
+   contains
+
+      logical function is_flexible(name)
+         character(len=*), intent(in) :: name
+         integer :: k
+         k = body_index(case, name)
+         is_flexible = .false.
+         if (k > 0) is_flexible = case%motions(k)%type /= 'rigid'
+      end function is_flexible
+
+   end subroutine check_interface_markers
+
+   subroutine add_joints(case, bodies, ground_index, ends, mech, error)
+      type(case_input_t), intent(in) :: case
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index
+      integer, intent(in) :: ends(:, :)
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      integer :: j
+      associate (joints => case%mechanism%joints)
+         do j = 1, size(joints)
+            call mech%add_joint(trim(joints(j)%type), trim(joints(j)%name), &
+               mechanism_index(joints(j)%body1), ends(1, j), &
+               mechanism_index(joints(j)%body2), ends(2, j), error)
+            if (allocated(error)) then
+               call add_context(error, '&joint "' // trim(joints(j)%name) // '"')
+               return
+            end if
+         end do
+      end associate
+
+   contains
+
+      integer function mechanism_index(name)
+         character(len=*), intent(in) :: name
+         integer :: k
+         k = body_index(case, name)
+         mechanism_index = ground_index
+         if (k > 0) mechanism_index = bodies(k)%index
+      end function mechanism_index
+
+   end subroutine add_joints
+
+   subroutine add_loads(case, bodies, ends, mech, pressure, error)
+      type(case_input_t), intent(in) :: case
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ends(:, :)
+      type(mechanism_t), intent(inout) :: mech
+      type(pressure_model_t), intent(inout) :: pressure
+      type(error_t), allocatable, intent(out) :: error
+      type(pressure_force_t) :: gas
+      type(starter_torque_t) :: starter
+      type(drag_torque_t) :: drag
+      type(constant_load_t) :: constant
+      integer :: l
+      if (any(case%mechanism%loads%type == 'pressure')) then
+         call make_pressure_model(case, pressure, error)
+         if (allocated(error)) return
+      end if
+      do l = 1, size(case%mechanism%loads)
+         associate (input => case%mechanism%loads(l))
+            select case (trim(input%type))
+            case ('pressure')
+               gas%model = pressure
+               call fill(gas, input, LOAD_FORCE, ends(3, l))
+               call mech%add_load(gas, error)
+            case ('starter')
+               starter%stall_torque = input%stall_torque
+               starter%free_speed = input%free_speed
+               starter%switch_off = input%switch_off
+               call fill(starter, input, LOAD_TORQUE, ends(3, l))
+               call mech%add_load(starter, error)
+            case ('drag')
+               drag%coefficient = input%coefficient
+               call fill(drag, input, LOAD_TORQUE, ends(3, l))
+               call mech%add_load(drag, error)
+            case ('force', 'torque')
+               constant%value = input%value
+               call fill(constant, input, merge(LOAD_FORCE, LOAD_TORQUE, input%type == 'force'), &
+                  ends(3, l))
+               call mech%add_load(constant, error)
+            end select
+            if (allocated(error)) then
+               call add_context(error, '&load "' // trim(input%name) // '"')
+               return
+            end if
+         end associate
+      end do
+
+   contains
+
+      !> The load_t part of a load from its &load group.
+      subroutine fill(load, input, kind, marker)
+         class(load_t), intent(inout) :: load
+         type(load_input_t), intent(in) :: input
+         integer, intent(in) :: kind, marker
+         load%kind = kind
+         load%body = bodies(body_index(case, input%body))%index
+         load%marker = marker
+         load%direction = input%direction
+         load%name = input%name(:len(load%name))
+      end subroutine fill
+
+   end subroutine add_loads
+
+   !> The single-zone model of &pressure, or the user's table (angle in deg, absolute pressure
+   !> in Pa, one pair per line, '#' comments).
+   subroutine make_pressure_model(case, pressure, error)
+      type(case_input_t), intent(in) :: case
+      type(pressure_model_t), intent(out) :: pressure
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: angles(:), values(:)
+      real(dp) :: pair(2)
+      character(len=512) :: line, msg
+      character(len=:), allocatable :: file_name
+      integer :: unit, stat, line_number
+      if (len_trim(case%mechanism%pressure_table) == 0) then
+         call pressure%init(case%mechanism%pressure, error)
+         if (allocated(error)) call add_context(error, '&pressure')
+         return
+      end if
+      file_name = trim(case%mechanism%pressure_table)
+      open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&pressure table_file "' // file_name // &
+            '": ' // trim(msg))
+         return
+      end if
+      allocate (angles(0), values(0))
+      line_number = 0
+      do
+         read (unit, '(a)', iostat=stat) line
+         if (stat /= 0) exit
+         line_number = line_number + 1
+         line = adjustl(line)
+         if (len_trim(line) == 0 .or. line(1:1) == '#') cycle
+         read (line, *, iostat=stat) pair
+         if (stat /= 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&pressure table_file "' // file_name // &
+               '", line ' // to_str(line_number) // ': expected two numbers, angle (deg) ' // &
+               'and absolute pressure (Pa)')
+            close (unit)
+            return
+         end if
+         angles = [angles, pair(1)]
+         values = [values, pair(2)]
+      end do
+      close (unit)
+      call pressure%init_from_table(case%mechanism%pressure, angles, values, error)
+      if (allocated(error)) call add_context(error, '&pressure table_file "' // file_name // '"')
+   end subroutine make_pressure_model
+
+   !> Starting pose: every body at its &body position with identity Euler parameters and zero
+   !> modal coordinates, then assembled (minimum-norm Gauss-Newton) at the &mechanism crank angle,
+   !> and velocities at its crank speed.
+   subroutine starting_state(case, bodies, mech, q, v, error)
+      type(case_input_t), intent(in) :: case
+      type(built_body_t), intent(in) :: bodies(:)
+      type(mechanism_t), intent(inout) :: mech
+      real(dp), allocatable, intent(out) :: q(:), v(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, offset
+      real(dp) :: angle, tolerance
+      allocate (q(mech%num_coordinates()), v(mech%num_coordinates()), source=0.0_dp)
+      do k = 1, size(bodies)
+         offset = mech%bodies(bodies(k)%index)%offset
+         q(offset + 1:offset + 3) = case%motions(k)%position
+         q(offset + 4) = 1.0_dp
+      end do
+      angle = case%mechanism%mechanism%crank_angle_deg * pi / 180.0_dp
+      ! The joints close to the integrator's constraint tolerance: a mesh's virtual nodes are
+      ! off their ideal places by round-off of the mesh (~1e-8 m on the crank), which a few
+      ! modes cannot always absorb exactly (a 1e-11 m misfit was seen on the reference engine).
+      tolerance = case%mechanism%integrator%newton_atol
+      if (mech%crank > 0) then
+         call mech%assemble(q, 0.0_dp, error, crank_angle=angle, tolerance=tolerance)
+         if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error, &
+            crank_speed=case%mechanism%mechanism%crank_speed)
+      else
+         call mech%assemble(q, 0.0_dp, error, tolerance=tolerance)
+         if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error)
+      end if
+      if (allocated(error)) call add_context(error, 'assembling the starting pose (check ' // &
+         'the &body positions and &marker points: the joints must nearly close)')
+   end subroutine starting_state
+
+end module ffrf_sim_mechanism_builder

@@ -1,0 +1,459 @@
+!> A mechanism case from its namelist file to its results: read and echo the input, compute the
+!> modes of the flexible bodies, build the mechanism, integrate it with generalized-alpha and
+!> write the time histories progressively (ffrf_io_engine_results), the redundant constraint
+!> equations, the integrator's counters, the final state and a Gmsh animation of each flexible
+!> body's elastic deformation over the last 720 deg of the crank. Nothing here stops or prints
+!> errors; a failed integration still closes the results file with every recorded step, the
+!> last converged state and status = the error message.
+!>
+!> Energy balance per step (issue 3, part 5; ffrf_mbs_energy_balance): kinetic energy T, strain
+!> energy U of the modal coordinates, work of the applied loads W (trapezoidal rule on their
+!> power), and the numerical dissipation D = W - (T + U - T_0 - U_0) - D_damping (D_damping: the
+!> energy taken by modal damping). For the exact solution D = 0; generalized-alpha with
+!> rho_inf < 1 removes energy from the high frequencies, so D grows slowly (and the trapezoidal
+!> quadrature adds O(h^2)).
+module ffrf_sim_mechanism_case
+   use ffrf_core_kinds, only: dp, i8, pi
+   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_paths, only: folder_of, join_path, insert_suffix
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
+   use ffrf_io_case, only: case_input_t, read_case, case_echo
+   use ffrf_io_nml_mechanism, only: has_group
+   use ffrf_io_engine_results, only: engine_results_t
+   use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
+   use ffrf_modes_modal_case, only: run_options_t, set_log_level
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
+   use ffrf_mbs_energy_balance, only: energy_balance_t
+   use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
+   implicit none
+   private
+   public :: run_mechanism_case, case_is_mechanism
+
+   !> Rows of a joint reaction record: force and moment on body 1, then on body 2
+   integer, parameter :: REACTION_ROWS = 12
+
+   !> Crank angle and modal coordinates of every step, kept for the animation.
+   type :: history_t
+      integer :: num_steps = 0
+      real(dp), allocatable :: t(:), angle(:)
+      !> Modal coordinates of all flexible bodies, stacked (sum of modes, steps)
+      real(dp), allocatable :: zeta(:, :)
+   end type history_t
+
+contains
+
+   !> .true. when the case file has a &joint group (a mechanism run, not a modal one).
+   function case_is_mechanism(case_file) result(is_mechanism)
+      character(len=*), intent(in) :: case_file
+      logical :: is_mechanism
+      integer :: unit, stat
+      is_mechanism = .false.
+      open (newunit=unit, file=case_file, status='old', action='read', iostat=stat)
+      if (stat /= 0) return
+      is_mechanism = has_group(unit, 'joint')
+      close (unit)
+   end function case_is_mechanism
+
+   !> Run the mechanism case `case_file`; progress goes to `log`'s unit.
+   subroutine run_mechanism_case(case_file, options, log, error)
+      !> Namelist case file
+      character(len=*), intent(in) :: case_file
+      !> Folders and log level
+      type(run_options_t), intent(in) :: options
+      !> Logger (its level is set from the case unless the options fix it)
+      type(logger_t), intent(inout) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(case_input_t) :: case
+      type(mechanism_t) :: mech
+      type(built_body_t), allocatable :: bodies(:)
+      type(pressure_model_t) :: pressure
+      type(galpha_integrator_t) :: integrator
+      type(engine_results_t) :: results
+      type(stage_times_t) :: times
+      type(stage_timer_t) :: total, timer
+      type(history_t) :: history
+      type(error_t), allocatable :: run_error, close_error
+      real(dp), allocatable :: q(:), v(:)
+      character(len=:), allocatable :: mesh_dir, results_file, echo, status
+      logical :: has_pressure
+
+      call total%begin()
+      call read_case(case_file, case, error)
+      if (allocated(error)) return
+      call set_log_level(log, options, case%run%log_level)
+      mesh_dir = options%mesh_dir
+      if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
+      echo = case_echo(case)
+      call log%info('input', case_file // ': ' // trim(case%run%title))
+      call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
+
+      ! Bodies (modes of the meshed ones), joints, loads, starting pose
+      call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
+         has_pressure, error)
+      if (allocated(error)) then
+         call add_context(error, case_file)
+         return
+      end if
+      call timer%begin()
+      call integrator%init(mech, case%mechanism%integrator, q, v, error)
+      if (allocated(error)) then
+         call add_context(error, case_file // ': starting the integration')
+         return
+      end if
+      call times%add('start of the integration', timer%seconds())
+      call log_mechanism(log, mech, integrator)
+
+      results_file = join_path(options%output_dir, trim(case%run%output))
+      call open_results(results, results_file, case, echo, mech, bodies, integrator, error)
+      if (allocated(error)) return
+      call log%info('output', 'results: ' // results_file)
+
+      call timer%begin()
+      call integrate(case, mech, bodies, pressure, has_pressure, integrator, results, log, &
+         history, run_error)
+      call times%add('integration', timer%seconds())
+      call log_statistics(log, integrator, mech)
+
+      ! Whatever happened: the counters, the last converged state, the animation
+      call timer%begin()
+      call write_run_information(results, mech, integrator, error)
+      if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0) &
+         call write_animations(case, options, bodies, history, log, error)
+      call times%add('output', timer%seconds())
+      call times%add('total', total%seconds())
+      if (allocated(run_error)) then
+         call add_context(run_error, case_file)
+         status = 'error: ' // run_error%message
+         call results%finish(status, times%names, times%seconds, close_error)
+         call move_alloc(run_error, error)
+         return
+      end if
+      if (allocated(error)) then
+         call results%finish('error: ' // error%message, times%names, times%seconds, close_error)
+         return
+      end if
+      call results%finish('complete', times%names, times%seconds, error)
+      if (allocated(error)) then
+         call add_context(error, results_file)
+         return
+      end if
+      call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
+         'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+   end subroutine run_mechanism_case
+
+   !> Sizes and the redundant constraint equations found at the start.
+   subroutine log_mechanism(log, mech, integrator)
+      type(logger_t), intent(in) :: log
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      integer :: k
+      call log%info('mechanism', to_str(size(mech%bodies) - 1) // ' moving bodies, ' // &
+         to_str(size(mech%joints)) // ' joints, ' // to_str(size(mech%loads)) // ' loads; ' // &
+         to_str(mech%num_coordinates()) // ' coordinates, ' // to_str(mech%num_constraints()) // &
+         ' constraint equations')
+      if (size(integrator%dropped) == 0) then
+         call log%info('mechanism', 'no redundant constraint equations')
+         return
+      end if
+      call log%note('mechanism', to_str(size(integrator%dropped)) // ' redundant constraint ' // &
+         'equation(s) found by rank-revealing QR and dropped (their reactions are reported ' // &
+         'as zero: the split of a redundant reaction is not unique for rigid bodies):')
+      do k = 1, size(integrator%dropped)
+         call log%note('mechanism', '  ' // row_name(mech, integrator%dropped(k)))
+      end do
+   end subroutine log_mechanism
+
+   !> "joint 'B3', equation 2 of 5" for a constraint row.
+   function row_name(mech, row) result(name)
+      type(mechanism_t), intent(in) :: mech
+      integer, intent(in) :: row
+      character(len=:), allocatable :: name
+      integer :: j, b
+      do j = 1, size(mech%joints)
+         associate (joint => mech%joints(j))
+            if (row > joint%offset .and. row <= joint%offset + joint%joint%num_equations) then
+               name = 'joint ''' // joint%name // ''' (' // joint%joint%kind_name() // &
+                  '), equation ' // to_str(row - joint%offset) // ' of ' // &
+                  to_str(joint%joint%num_equations)
+               return
+            end if
+         end associate
+      end do
+      do b = 1, size(mech%bodies)
+         if (mech%bodies(b)%euler_row == row) then
+            name = 'Euler-parameter normalisation of ''' // mech%bodies(b)%name // ''''
+            return
+         end if
+      end do
+      name = 'driving constraint (row ' // to_str(row) // ')'
+   end function row_name
+
+   !> Create the results file with its series and the redundant-equation flags.
+   subroutine open_results(results, results_file, case, echo, mech, bodies, integrator, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: results_file, echo
+      type(case_input_t), intent(in) :: case
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      integer, allocatable :: flags(:)
+      integer :: k, j
+      call results%create(results_file, case%name, trim(case%run%title), &
+         trim(case%mechanism%mechanism%label), crank_mpc(case), echo, error)
+      do k = 1, size(bodies)
+         if (allocated(error)) exit
+         call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
+            error)
+      end do
+      do j = 1, size(mech%joints)
+         if (allocated(error)) exit
+         call results%add_joint_series(mech%joints(j)%name, error)
+         if (allocated(error)) exit
+         associate (joint => mech%joints(j))
+            flags = [(merge(1, 0, any(integrator%dropped == joint%offset + k)), &
+               k=1, joint%joint%num_equations)]
+            call results%write_int('/joints/' // joint%name // '/redundant_equations', flags, &
+               error)
+         end associate
+      end do
+      if (allocated(error)) call add_context(error, 'results file "' // results_file // '"')
+   end subroutine open_results
+
+   !> MPC kind of the crank's interfaces ('RBE3', 'RBE2', 'rigid'), for labels.
+   function crank_mpc(case) result(mpc)
+      type(case_input_t), intent(in) :: case
+      character(len=:), allocatable :: mpc
+      integer :: k
+      mpc = ''
+      associate (crank => case%mechanism%mechanism%crank)
+         do k = 1, size(case%bodies)
+            if (case%bodies(k)%name /= crank) cycle
+            if (case%motions(k)%type == 'rigid' .or. case%motions(k)%num_modes == 0) then
+               mpc = 'rigid'
+               return
+            end if
+         end do
+         do k = 1, size(case%interfaces)
+            if (case%interfaces(k)%body == crank) then
+               mpc = trim(case%interfaces(k)%mpc)
+               return
+            end if
+         end do
+      end associate
+   end function crank_mpc
+
+   !> Step to t_end, recording every step; progress every progress_interval simulated seconds.
+   subroutine integrate(case, mech, bodies, pressure, has_pressure, integrator, results, log, &
+         history, error)
+      type(case_input_t), intent(in) :: case
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(pressure_model_t), intent(in) :: pressure
+      logical, intent(in) :: has_pressure
+      type(galpha_integrator_t), intent(inout) :: integrator
+      type(engine_results_t), intent(inout) :: results
+      type(logger_t), intent(in) :: log
+      type(history_t), intent(inout) :: history
+      type(error_t), allocatable, intent(out) :: error
+      type(energy_balance_t) :: balance
+      real(dp) :: next_progress, start
+      real(dp), allocatable :: coordinates(:), reactions(:, :)
+      integer :: num_modes_total
+
+      start = wall_time()
+      num_modes_total = sum(bodies%num_modes)
+      allocate (history%t(1024), history%angle(1024), history%zeta(num_modes_total, 1024))
+      allocate (reactions(REACTION_ROWS, size(mech%joints)))
+      call balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
+         lambda=integrator%lambda)
+      if (allocated(error)) return
+      next_progress = integrator%t + case%mechanism%mechanism%progress_interval
+      call record_step(error)
+      if (allocated(error)) return
+      ! t accumulates h with round-off (~1e-12 s over 2e4 steps): stop within 1e-6 h of t_end
+      ! rather than take a last step of a few 1e-13 s.
+      do while (integrator%t < integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h)
+         call integrator%step(mech, error)
+         if (.not. allocated(error)) call balance%update(mech, integrator%t, integrator%q, &
+            integrator%v, error, lambda=integrator%lambda)
+         if (.not. allocated(error)) call record_step(error)
+         if (allocated(error)) return
+         if (integrator%t >= next_progress - 1.0e-3_dp * integrator%settings%h .or. &
+            integrator%t >= integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h) then
+            call log_progress()
+            do while (next_progress <= integrator%t + 1.0e-3_dp * integrator%settings%h)
+               next_progress = next_progress + case%mechanism%mechanism%progress_interval
+            end do
+         end if
+      end do
+
+   contains
+
+      !> Record the current state (results file and animation history).
+      subroutine record_step(error)
+         type(error_t), allocatable, intent(out) :: error
+         real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
+         integer :: j, k, first, n
+         angle = mech%crank_angle(integrator%q)
+         speed = mech%crank_speed(integrator%q, integrator%v)
+         p = 0.0_dp
+         if (has_pressure) p = pressure%pressure(angle)
+         do j = 1, size(mech%joints)
+            call mech%reaction(j, integrator%q, integrator%lambda, force, moment)
+            reactions(:, j) = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]
+         end do
+         coordinates = [real(dp) ::]
+         do k = 1, size(bodies)
+            associate (b => mech%bodies(bodies(k)%index))
+               coordinates = [coordinates, integrator%q(b%offset + 1:b%offset + 7 + &
+                  bodies(k)%num_modes)]
+            end associate
+         end do
+         call results%record(integrator%t, angle, speed, p, [balance%kinetic, balance%strain, &
+            balance%work, balance%numerical_dissipation], coordinates, reactions, error)
+         if (allocated(error)) return
+         ! Animation history
+         n = history%num_steps + 1
+         if (n > size(history%t)) call grow(history)
+         history%t(n) = integrator%t
+         history%angle(n) = angle
+         first = 0
+         do k = 1, size(bodies)
+            if (bodies(k)%num_modes == 0) cycle
+            associate (b => mech%bodies(bodies(k)%index))
+               history%zeta(first + 1:first + bodies(k)%num_modes, n) = &
+                  integrator%q(b%offset + 8:b%offset + 7 + bodies(k)%num_modes)
+            end associate
+            first = first + bodies(k)%num_modes
+         end do
+         history%num_steps = n
+      end subroutine record_step
+
+      subroutine log_progress()
+         real(dp) :: wall
+         wall = wall_time() - start
+         call log%info('run', 't = ' // to_str(integrator%t, 5) // ' s, ' // &
+            to_str(integrator%stats%steps) // ' steps (' // &
+            to_str(integrator%stats%rejected_steps) // ' rejected), ' // &
+            to_str(integrator%stats%newton_iterations) // ' Newton iterations, crank ' // &
+            to_str(mech%crank_speed(integrator%q, integrator%v), 6) // ' rad/s, wall ' // &
+            to_str(wall, 4) // ' s (' // to_str(integrator%t / max(wall, 1.0e-9_dp), 3) // &
+            ' x real time)')
+      end subroutine log_progress
+
+   end subroutine integrate
+
+   !> Double the history's capacity.
+   subroutine grow(history)
+      type(history_t), intent(inout) :: history
+      real(dp), allocatable :: t(:), angle(:), zeta(:, :)
+      integer :: n
+      n = size(history%t)
+      allocate (t(2 * n), angle(2 * n), zeta(size(history%zeta, 1), 2 * n))
+      t(:n) = history%t
+      angle(:n) = history%angle
+      zeta(:, :n) = history%zeta
+      call move_alloc(t, history%t)
+      call move_alloc(angle, history%angle)
+      call move_alloc(zeta, history%zeta)
+   end subroutine grow
+
+   subroutine log_statistics(log, integrator, mech)
+      type(logger_t), intent(in) :: log
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(mechanism_t), intent(in) :: mech
+      associate (s => integrator%stats)
+         call log%info('run', to_str(s%steps) // ' steps, ' // to_str(s%rejected_steps) // &
+            ' rejected, ' // to_str(s%newton_iterations) // ' Newton iterations, ' // &
+            to_str(s%factorizations) // ' Jacobian factorisations, smallest step ' // &
+            to_str(s%h_min, 3) // ' s, ' // to_str(s%wall_seconds, 4) // ' s (' // &
+            to_str(1.0e3_dp * s%wall_seconds / real(max(s%steps, 1_i8), dp), 3) // &
+            ' ms/step), largest constraint violation ' // to_str(s%max_constraint_violation, 3))
+         call log%info('run', 'final crank angle ' // to_str(mech%crank_angle(integrator%q) * &
+            180.0_dp / pi, 8) // ' deg, speed ' // &
+            to_str(mech%crank_speed(integrator%q, integrator%v), 8) // ' rad/s')
+      end associate
+   end subroutine log_statistics
+
+   !> Integrator counters and the last converged state (also after a failure).
+   subroutine write_run_information(results, mech, integrator, error)
+      type(engine_results_t), intent(inout) :: results
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      associate (s => integrator%stats)
+         call results%write_real('/integrator/counters', real([s%steps, s%rejected_steps, &
+            s%newton_iterations, s%factorizations, s%residual_evaluations], dp), '1', error)
+         if (.not. allocated(error)) call results%write_real('/integrator/wall_seconds', &
+            [s%wall_seconds], 's', error)
+         if (.not. allocated(error)) call results%write_real('/integrator/max_constraint_violation', &
+            [s%max_constraint_violation], 'm', error)
+         if (.not. allocated(error)) call results%write_int('/integrator/dropped_rows', &
+            integrator%dropped, error)
+      end associate
+      if (.not. allocated(error)) call results%write_real('/final_state/t', [integrator%t], 's', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/q', integrator%q, '1', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/v', integrator%v, '1', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/lambda', &
+         integrator%lambda, '1', error)
+      if (.not. allocated(error)) call results%write_real('/final_state/crank_angle', &
+         [mech%crank_angle(integrator%q)], 'rad', error)
+   end subroutine write_run_information
+
+   !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
+   !> Psi zeta (body frame) at animation_frames instants evenly spread over the last 720 deg of
+   !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle.
+   subroutine write_animations(case, options, bodies, history, log, error)
+      type(case_input_t), intent(in) :: case
+      type(run_options_t), intent(in) :: options
+      type(built_body_t), intent(in) :: bodies(:)
+      type(history_t), intent(in) :: history
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      integer :: frames, f, k, first, n, s
+      integer, allocatable :: steps(:)
+      real(dp) :: angle_end, angle_start, target
+      real(dp), allocatable :: fields(:, :)
+      character(len=:), allocatable :: file_name
+      n = history%num_steps
+      if (n < 2 .or. .not. any(bodies%num_modes > 0)) return
+      frames = case%mechanism%mechanism%animation_frames
+      angle_end = history%angle(n)
+      angle_start = max(history%angle(1), angle_end - 4.0_dp * pi)
+      allocate (steps(frames))
+      s = 1
+      do f = 1, frames
+         target = angle_start + (angle_end - angle_start) * real(f - 1, dp) / real(max(frames - &
+            1, 1), dp)
+         do while (s < n)
+            if (abs(history%angle(s + 1) - target) > abs(history%angle(s) - target)) exit
+            s = s + 1
+         end do
+         steps(f) = s
+      end do
+      first = 0
+      do k = 1, size(bodies)
+         if (bodies(k)%num_modes == 0) cycle
+         associate (modes => bodies(k)%modes, m => bodies(k)%num_modes)
+            fields = matmul(modes%shape, history%zeta(first + 1:first + m, steps))
+            file_name = insert_suffix(join_path(options%output_dir, trim(case%run%output)), &
+               '_' // modes%name // '_animation')
+            file_name = file_name(:index(file_name, '.', back=.true.)) // 'msh'
+            call write_displacement_frames_msh(file_name, modes%mesh%xyz, modes%mesh%tets, &
+               fields, history%t(steps), error)
+            if (allocated(error)) return
+            call log%info('output', modes%name // ': elastic deformation over the last ' // &
+               'cycle for gmsh: ' // file_name)
+            first = first + m
+         end associate
+      end do
+   end subroutine write_animations
+
+end module ffrf_sim_mechanism_case

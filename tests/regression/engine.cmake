@@ -1,0 +1,57 @@
+# Engine runs of the ffrf driver on the lc = 8 mm meshes, made from the real input files
+# (input/engine_*.nml) with the mesh names, end time and animation changed, read back by
+# check_engine.py:
+#  - engine_lc8_all_rigid (0.3 s, three engine cycles for the charts): every body rigid (crank
+#    and conrod with their meshes' inertia). The
+#    redundant equations must be exactly those of the Gruebler-Kutzbach count: 4 moving bodies
+#    (24 dofs) - 31 joint equations (5 revolute x 3 + 6 fixed + 5 prismatic) = -7 dofs for a
+#    mechanism that has 1, so 8 equations are redundant; the run must complete.
+#  - engine_lc8_rc1: flexible crank (RC set 1) and conrod, 10 modes each: the run completes,
+#    the redundant equations are found and flagged, and the energy balance closes.
+set(_out "${PROJECT_BINARY_DIR}/tests/engine")
+file(MAKE_DIRECTORY "${_out}")
+
+# ffrf_engine_case(<name> <input case> <t_end>): write ${_out}/<name>.nml
+function(ffrf_engine_case name source t_end)
+  file(READ "${PROJECT_SOURCE_DIR}/input/${source}.nml" text)
+  string(REPLACE "'crank.msh'" "'crank_lc8.msh'" text "${text}")
+  string(REPLACE "'conrod.msh'" "'conrod_lc8.msh'" text "${text}")
+  string(REPLACE "t_end = 2.0" "t_end = ${t_end}" text "${text}")
+  string(REPLACE "label = '" "animation_frames = 4, label = '" text "${text}")
+  set(_text "${text}" PARENT_SCOPE)
+endfunction()
+
+ffrf_engine_case(engine_lc8_rc1 engine_rc1 0.1)
+file(WRITE "${_out}/engine_lc8_rc1.nml" "${_text}")
+
+ffrf_engine_case(engine_lc8_all_rigid engine_rigid 0.3)
+# The conrod rigid too: its interfaces become markers at the bore centres
+string(REPLACE "type = 'flexible', num_modes = 10,\n      position = 0.0, 0.045, 0.0 /"
+  "type = 'rigid', position = 0.0, 0.045, 0.0 /\n&marker body = 'conrod', name = 'big_end', position = 0.0, 0.0, 0.0 /\n&marker body = 'conrod', name = 'small_end', position = 0.0, 0.150, 0.0 /"
+  _text "${_text}")
+string(REGEX REPLACE "&interface body = 'conrod'[^\n]*\n" "" _text "${_text}")
+file(WRITE "${_out}/engine_lc8_all_rigid.nml" "${_text}")
+
+foreach(case engine_lc8_all_rigid engine_lc8_rc1)
+  add_test(NAME regression_${case}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf> ${_out}/${case}.nml
+      --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_out})
+  set_tests_properties(regression_${case} PROPERTIES LABELS "regression;engine"
+    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh" FIXTURES_SETUP ${case}_results)
+endforeach()
+add_test(NAME regression_engine_lc8_all_rigid_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_engine.py
+    ${_out}/engine_lc8_all_rigid.h5 --redundant 8)
+set_tests_properties(regression_engine_lc8_all_rigid_check PROPERTIES
+  LABELS "regression;engine;postprocess" FIXTURES_REQUIRED engine_lc8_all_rigid_results)
+add_test(NAME regression_engine_lc8_rc1_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_engine.py
+    ${_out}/engine_lc8_rc1.h5 --animation ${_out}/engine_lc8_rc1_crank_animation.msh)
+set_tests_properties(regression_engine_lc8_rc1_check PROPERTIES
+  LABELS "regression;engine;postprocess" FIXTURES_REQUIRED engine_lc8_rc1_results)
+add_test(NAME regression_engine_charts
+  COMMAND ${CMAKE_COMMAND} -E chdir ${_out} ${Python3_EXECUTABLE}
+    ${PROJECT_SOURCE_DIR}/postprocess/plot_engine.py engine_lc8_all_rigid.h5 engine_lc8_rc1.h5
+    -o engine_lc8_speed.png --pressure engine_lc8_pressure.png)
+set_tests_properties(regression_engine_charts PROPERTIES LABELS "regression;engine;postprocess"
+  FIXTURES_REQUIRED "engine_lc8_all_rigid_results;engine_lc8_rc1_results")

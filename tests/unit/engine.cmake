@@ -1,0 +1,3 @@
+# Rigid reference engine (scene.md): observed order of convergence in time of the crank angle and
+# of the pin reactions, and the regime speed against the closed-form energy balance. ~4 s Release.
+ffrf_add_unit_suite(test_mbs_engine_convergence LABELS mbs)
