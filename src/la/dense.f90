@@ -1,15 +1,53 @@
 !> Small dense linear algebra on top of LAPACK: skew matrices, symmetric eigen decomposition,
-!> singular values, null spaces and pseudo-inverses of the 6-column MPC matrices.
+!> singular values, null spaces and pseudo-inverses of the 6-column MPC matrices, minimum-norm
+!> least squares.
 module ffrf_la_dense
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_la_lapack, only: dgesvd, dsyev
+   use ffrf_la_lapack, only: dgesvd, dsyev, dgelsy
    implicit none
    private
-   public :: skew, symmetric_eigen, singular_values, null_space, numerical_rank
+   public :: skew, symmetric_eigen, singular_values, null_space, numerical_rank, &
+      min_norm_solve
 
 contains
+
+   !> x = the minimum-norm least-squares solution of A x = b (LAPACK dgelsy, rank from the
+   !> relative tolerance rcond): exact for consistent systems even when A has dependent rows.
+   subroutine min_norm_solve(a, b, x, rcond, rank, error)
+      !> Matrix (m, n)
+      real(dp), intent(in) :: a(:, :)
+      !> Right-hand side (m)
+      real(dp), intent(in) :: b(:)
+      !> Solution (n)
+      real(dp), intent(out) :: x(:)
+      !> Relative rank tolerance
+      real(dp), intent(in) :: rcond
+      !> Numerical rank found
+      integer, intent(out) :: rank
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: work(:), a_copy(:, :), rhs(:, :)
+      real(dp) :: query(1)
+      integer(ip), allocatable :: pivots(:)
+      integer(ip) :: m, n, ld, info, r
+      m = int(size(a, 1), ip)
+      n = int(size(a, 2), ip)
+      ld = max(m, n, 1_ip)
+      a_copy = a
+      allocate (rhs(ld, 1), source=0.0_dp)
+      rhs(1:m, 1) = b
+      allocate (pivots(n), source=0_ip)
+      call dgelsy(m, n, 1_ip, a_copy, max(m, 1_ip), rhs, ld, pivots, rcond, r, query, -1_ip, &
+         info)
+      allocate (work(max(1, int(query(1)))))
+      call dgelsy(m, n, 1_ip, a_copy, max(m, 1_ip), rhs, ld, pivots, rcond, r, work, &
+         int(size(work), ip), info)
+      rank = int(r)
+      x = rhs(1:n, 1)
+      if (info /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'minimum-norm least squares (dgelsy) failed, info = ' // to_str(info))
+   end subroutine min_norm_solve
 
    !> skew(a) b = a x b.
    pure function skew(a) result(s)

@@ -4,9 +4,22 @@ module ffrf_la_lapack
    use ffrf_core_kinds, only: dp, ip
    implicit none
    private
-   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm
+   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm, dgelsy
 
    interface
+      !> Minimum-norm least squares by complete orthogonal factorisation, A P = Q [R11 R12; 0 R22].
+      subroutine dgelsy(m, n, nrhs, a, lda, b, ldb, jpvt, rcond, rank, work, lwork, info)
+         import :: dp, ip
+         implicit none
+         integer(ip), intent(in) :: m, n, nrhs, lda, ldb, lwork
+         real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+         integer(ip), intent(inout) :: jpvt(*)
+         real(dp), intent(in) :: rcond
+         integer(ip), intent(out) :: rank
+         real(dp), intent(out) :: work(*)
+         integer(ip), intent(out) :: info
+      end subroutine dgelsy
+
       !> Singular value decomposition A = U S V^T.
       subroutine dgesvd(jobu, jobvt, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, info)
          import :: dp, ip
