@@ -23,6 +23,9 @@ module ffrf_mbs_dae_system
    implicit none
    private
    public :: dae_system_t, fd_step
+   !> The central-difference tangents, public so that a system with analytic overrides can keep
+   !> them as a reference path (mechanism_t%analytic_tangents = .false.)
+   public :: dae_stiffness_fd, dae_damping_fd, dae_constraint_stiffness_fd, dae_mass_stiffness_fd
 
    !> A constrained mechanical system M q'' + Phi_q^T lambda = f, Phi = 0 (theory.md section 4).
    type, abstract :: dae_system_t

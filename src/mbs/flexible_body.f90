@@ -75,6 +75,16 @@ module ffrf_mbs_flexible_body
       procedure :: set_modal_damping => flexible_body_set_modal_damping
       procedure :: mass_matrix => flexible_body_mass_matrix
       procedure :: quadratic_velocity => flexible_body_quadratic_velocity
+      !> Exact -df_v/dq and -df_v/dv (Newton tangents of the mechanism)
+      procedure :: quadratic_velocity_tangents => flexible_body_quadratic_velocity_tangents
+      !> Hessian of weighted marker position and axes (joints' constraint stiffness)
+      procedure :: marker_hessian => flexible_body_marker_hessian
+      !> d(marker_generalized_force)/dq at a fixed force and moment
+      procedure :: marker_force_tangent => flexible_body_marker_force_tangent
+      !> d(M(q) a)/dq at a fixed a
+      procedure :: mass_stiffness => flexible_body_mass_stiffness
+      !> Marker position, orientation, position and axis Jacobians in one call
+      procedure :: marker_kinematics => flexible_body_marker_kinematics
       procedure :: elastic_force => flexible_body_elastic_force
       procedure :: kinetic_energy => flexible_body_kinetic_energy
       procedure :: strain_energy => flexible_body_strain_energy
@@ -377,6 +387,383 @@ contains
          end do
       end associate
    end function flexible_body_quadratic_velocity
+
+   !> Exact -df_v/dq and -df_v/dv of the quadratic velocity vector
+   !> (flexible_body_quadratic_velocity) by the chain rule through
+   !> omega = G_bar(theta) theta_dot = -G_bar(theta_dot) theta:
+   !> f_v = [A a; -G_bar^T b; c] with the body-frame vectors
+   !>     a = w~ S w + 2 T w,  S = m chi~ + sum_k z_k P_k,  T = sum_k zd_k P_k,
+   !>     b = w~ I w + 2 Cor w, I = I_thth(zeta), Cor = sum_k zd_k (Q_k + sum_j z_j N_jk),
+   !>     c_j = w^T (Q_j^T + sum_k z_k N_jk) w + 2 sum_k zd_k m_Psi~Psi(3k-2:3k, j) . w,
+   !> P_k, Q_k the 3 x 3 blocks of M_PhitPsi~ and M_xPsi~, N_jk those of M_Psi~Psi~ (z = zeta,
+   !> zd = zeta_dot, w = omega); derivatives in w, z and zd are linear algebra on these blocks.
+   pure subroutine flexible_body_quadratic_velocity_tangents(self, q, v, K, C)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Velocities [R_dot; theta_dot; zeta_dot]
+      real(dp), intent(in) :: v(:)
+      !> -df_v/dq, (7+m) x (7+m)
+      real(dp), intent(out) :: K(:, :)
+      !> -df_v/dv, (7+m) x (7+m)
+      real(dp), intent(out) :: C(:, :)
+      real(dp) :: A(3, 3), G_bar(3, 4), G_dot(3, 4), omega(3), w_skew(3, 3), S(3, 3), T(3, 3)
+      real(dp) :: inertia(3, 3), coriolis(3, 3), a_vec(3), b_vec(3), a_w(3, 3), b_w(3, 3)
+      real(dp) :: a_z(3, self%num_modes), a_zd(3, self%num_modes), b_z(3, self%num_modes)
+      real(dp) :: b_zd(3, self%num_modes), c_w(self%num_modes, 3), c_z(self%num_modes, &
+         self%num_modes), c_zd(self%num_modes, self%num_modes), W_j(3, 3), D(3, 3)
+      integer :: m, nc, j, l
+      m = self%num_modes
+      nc = self%num_coordinates
+      A = euler_rotation(q(4:7))
+      G_bar = euler_g_bar(q(4:7))
+      G_dot = euler_g_bar(v(4:7))
+      omega = matmul(G_bar, v(4:7))
+      w_skew = skew3(omega)
+      associate (zeta => q(8:nc), zeta_dot => v(8:nc))
+         S = first_moment_skew(self, zeta)
+         T = times_z(self%m_phit_psit, zeta_dot)
+         inertia = deformed_inertia(self, zeta)
+         coriolis = times_z(self%m_x_psit, zeta_dot) + &
+            z_times(zeta, times_z(self%m_psit_psit, zeta_dot))
+         a_vec = matmul(w_skew, matmul(S, omega)) + 2.0_dp * matmul(T, omega)
+         b_vec = matmul(w_skew, matmul(inertia, omega)) + 2.0_dp * matmul(coriolis, omega)
+         a_w = -skew3(matmul(S, omega)) + matmul(w_skew, S) + 2.0_dp * T
+         b_w = -skew3(matmul(inertia, omega)) + matmul(w_skew, inertia) + 2.0_dp * coriolis
+         c_w = 0.0_dp
+         do l = 1, m
+            associate (P_l => self%m_phit_psit(:, 3 * l - 2:3 * l), &
+               Q_l => self%m_x_psit(:, 3 * l - 2:3 * l))
+               a_z(:, l) = matmul(w_skew, matmul(P_l, omega))
+               a_zd(:, l) = 2.0_dp * matmul(P_l, omega)
+               ! dI/dz_k = Q_l + Q_l^T + sum_j z_j (N_jk + N_kj); dCor/dz_k = sum_l zd_l N_kl;
+               ! dCor/dzd_k = Q_l + sum_j z_j N_jk
+               D = Q_l + transpose(Q_l)
+               do j = 1, m
+                  D = D + zeta(j) * (self%m_psit_psit(3 * j - 2:3 * j, 3 * l - 2:3 * l) + &
+                     self%m_psit_psit(3 * l - 2:3 * l, 3 * j - 2:3 * j))
+               end do
+               b_z(:, l) = matmul(w_skew, matmul(D, omega)) + 2.0_dp * &
+                  matmul(times_z(self%m_psit_psit(3 * l - 2:3 * l, :), zeta_dot), omega)
+               D = Q_l + z_times(zeta, self%m_psit_psit(:, 3 * l - 2:3 * l))
+               b_zd(:, l) = 2.0_dp * matmul(D, omega)
+            end associate
+         end do
+         do j = 1, m
+            W_j = transpose(self%m_x_psit(:, 3 * j - 2:3 * j)) + &
+               times_z(self%m_psit_psit(3 * j - 2:3 * j, :), zeta)
+            c_w(j, :) = matmul(W_j + transpose(W_j), omega)
+            do l = 1, m
+               c_w(j, :) = c_w(j, :) + 2.0_dp * zeta_dot(l) * &
+                  self%m_psit_psi(3 * l - 2:3 * l, j)
+               c_z(j, l) = dot_product(omega, matmul(self%m_psit_psit(3 * j - 2:3 * j, &
+                  3 * l - 2:3 * l), omega))
+               c_zd(j, l) = 2.0_dp * dot_product(self%m_psit_psi(3 * l - 2:3 * l, j), omega)
+            end do
+         end do
+      end associate
+      ! df/dq and df/dv, then the signs of K = -df/dq, C = -df/dv
+      K = 0.0_dp
+      C = 0.0_dp
+      K(1:3, 4:7) = rotated_vector_jacobian(q(4:7), a_vec) - matmul(A, matmul(a_w, G_dot))
+      K(1:3, 8:nc) = matmul(A, a_z)
+      C(1:3, 4:7) = matmul(A, matmul(a_w, G_bar))
+      C(1:3, 8:nc) = matmul(A, a_zd)
+      K(4:7, 4:7) = -g_bar_transpose_derivative(b_vec) + &
+         matmul(transpose(G_bar), matmul(b_w, G_dot))
+      K(4:7, 8:nc) = -matmul(transpose(G_bar), b_z)
+      C(4:7, 4:7) = -matmul(transpose(G_bar), matmul(b_w, G_bar))
+      C(4:7, 8:nc) = -matmul(transpose(G_bar), b_zd)
+      K(8:nc, 4:7) = -matmul(c_w, G_dot)
+      K(8:nc, 8:nc) = c_z
+      C(8:nc, 4:7) = matmul(c_w, G_bar)
+      C(8:nc, 8:nc) = c_zd
+      K = -K
+      C = -C
+   end subroutine flexible_body_quadratic_velocity_tangents
+
+   !> d(G_bar(theta)^T p)/dtheta = 2 [[0, -p^T], [p, -p~]] (4 x 4; G_bar is linear in theta).
+   pure function g_bar_transpose_derivative(p) result(B)
+      real(dp), intent(in) :: p(3)
+      real(dp) :: B(4, 4)
+      B(1, 1) = 0.0_dp
+      B(1, 2:4) = -2.0_dp * p
+      B(2:4, 1) = 2.0_dp * p
+      B(2:4, 2:4) = -2.0_dp * skew3(p)
+   end function g_bar_transpose_derivative
+
+   !> Hessian (7+m) x (7+m) of w_r . r_V + sum_j w_j . A_V e_j for marker k (the second
+   !> derivatives of joint equations, weighted by their multipliers). With b_p = x_V + Psi_Vt zeta
+   !> and b_j = exp(phi~) e_j, phi = Psi_Vr zeta, every term is w . A(theta) b(zeta):
+   !> - theta-theta: exact, constant in theta (A + I is a quadratic form in theta): euler terms
+   !>   of X = w_r b_p^T + sum_j w_j b_j^T;
+   !> - theta-zeta: exact, d(w . A b)/dtheta is linear in b (Z(w) b, Z 4 x 3) with
+   !>   db_p/dzeta = Psi_Vt, db_j/dzeta = -b_j~ T(phi) Psi_Vr;
+   !> - zeta-zeta: the position is linear in zeta; the axes give Psi_Vr^T dt/dphi Psi_Vr with
+   !>   t(phi) = T(phi)^T sum_j b_j x (A^T w_j), dt/dphi (3 x 3) by central differences in phi
+   !>   (the exponential map's second derivative);
+   !> - rows and columns of R: zero.
+   pure subroutine flexible_body_marker_hessian(self, q, k, w_position, w_axes, H)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Interface (marker) number
+      integer, intent(in) :: k
+      !> Weight of the marker position (3)
+      real(dp), intent(in) :: w_position(3)
+      !> Weights of the marker axes (3 x 3, column j for axis j)
+      real(dp), intent(in) :: w_axes(3, 3)
+      !> The Hessian ((7+m) x (7+m))
+      real(dp), intent(out) :: H(:, :)
+      real(dp) :: A(3, 3), E(3, 3), X(3, 3), phi(3), delta, b_p(3), Z(4, 3), y(3, 3)
+      real(dp) :: tangent_psi(3, self%num_modes), dt(3, 3), t_plus(3), t_minus(3), shifted(3)
+      integer :: m, nc, j
+      m = self%num_modes
+      nc = self%num_coordinates
+      A = euler_rotation(q(4:7))
+      phi = marker_rotation_vector(self, q, k)
+      E = rotation_vector_matrix(phi)
+      b_p = marker_local(self, q, k)
+      H = 0.0_dp
+      ! theta-theta
+      X = matmul(w_axes, transpose(E))
+      do j = 1, 3
+         X(:, j) = X(:, j) + w_position * b_p(j)
+      end do
+      H(4:7, 4:7) = euler_quadratic_hessian(X)
+      ! theta-zeta
+      tangent_psi = matmul(rotation_vector_tangent(phi), self%virtual_shapes(6 * k - 2:6 * k, :))
+      Z = theta_gradient_matrix(q(4:7), w_position)
+      H(4:7, 8:nc) = matmul(Z, self%virtual_shapes(6 * k - 5:6 * k - 3, :))
+      do j = 1, 3
+         if (all(w_axes(:, j) == 0.0_dp)) cycle
+         Z = theta_gradient_matrix(q(4:7), w_axes(:, j))
+         H(4:7, 8:nc) = H(4:7, 8:nc) - matmul(Z, matmul(skew3(E(:, j)), tangent_psi))
+      end do
+      H(8:nc, 4:7) = transpose(H(4:7, 8:nc))
+      ! zeta-zeta
+      if (any(w_axes /= 0.0_dp)) then
+         y = matmul(transpose(A), w_axes)
+         do j = 1, 3
+            delta = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(abs(phi(j)), 1.0_dp)
+            shifted = phi
+            shifted(j) = phi(j) + delta
+            t_plus = axis_term(shifted)
+            shifted(j) = phi(j) - delta
+            t_minus = axis_term(shifted)
+            dt(:, j) = (t_plus - t_minus) / (2.0_dp * delta)
+         end do
+         associate (psi_r => self%virtual_shapes(6 * k - 2:6 * k, :))
+            H(8:nc, 8:nc) = matmul(transpose(psi_r), matmul(0.5_dp * (dt + transpose(dt)), &
+               psi_r))
+         end associate
+      end if
+   contains
+      !> t(phi) = T(phi)^T sum_j exp(phi~) e_j x y_j.
+      pure function axis_term(rotation) result(t)
+         real(dp), intent(in) :: rotation(3)
+         real(dp) :: t(3)
+         real(dp) :: exp_matrix(3, 3)
+         integer :: i
+         exp_matrix = rotation_vector_matrix(rotation)
+         t = 0.0_dp
+         do i = 1, 3
+            t = t + cross_product(exp_matrix(:, i), y(:, i))
+         end do
+         t = matmul(transpose(rotation_vector_tangent(rotation)), t)
+      end function axis_term
+   end subroutine flexible_body_marker_hessian
+
+   !> Z(theta, w) (4 x 3) with Z b = d(w . A(theta) b)/dtheta = rotated_vector_jacobian(theta,
+   !> b)^T w, linear in b.
+   pure function theta_gradient_matrix(theta, w) result(Z)
+      real(dp), intent(in) :: theta(4), w(3)
+      real(dp) :: Z(4, 3)
+      real(dp), parameter :: unit_axes(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
+      integer :: c
+      do c = 1, 3
+         Z(:, c) = matmul(w, rotated_vector_jacobian(theta, unit_axes(:, c)))
+      end do
+   end function theta_gradient_matrix
+
+   !> Hessian in theta of sum w^T A(theta) b, from X = sum w b^T (4 x 4; A + I = 2 e0^2 I
+   !> + 2 e e^T + 2 e0 e~ is a quadratic form): H_00 = 4 tr X, H_ee = 2 (X + X^T),
+   !> H_0e = 2 sum b x w.
+   pure function euler_quadratic_hessian(X) result(H)
+      real(dp), intent(in) :: X(3, 3)
+      real(dp) :: H(4, 4)
+      H(1, 1) = 4.0_dp * (X(1, 1) + X(2, 2) + X(3, 3))
+      H(2:4, 1) = 2.0_dp * [X(3, 2) - X(2, 3), X(1, 3) - X(3, 1), X(2, 1) - X(1, 2)]
+      H(1, 2:4) = H(2:4, 1)
+      H(2:4, 2:4) = 2.0_dp * (X + transpose(X))
+   end function euler_quadratic_hessian
+
+   !> d(L_r^T F + L_w^T M)/dq at fixed global F, M ((7+m) x (7+m)). With u = x_V + Psi_Vt zeta,
+   !> phi = Psi_Vr zeta and y = A^T F, n = A^T M: rows theta are G_bar^T (u x y + n), rows zeta
+   !> Psi_Vt^T y + Psi_Vr^T T(phi)^T n. Exact in theta (A, A^T quadratic, G_bar linear) and in
+   !> zeta but for d(T(phi)^T n)/dphi (3 x 3), central differences of T (moment loads only).
+   pure subroutine flexible_body_marker_force_tangent(self, q, k, force, moment, tangent)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Interface (marker) number
+      integer, intent(in) :: k
+      !> Force, global (N)
+      real(dp), intent(in) :: force(3)
+      !> Moment, global (N m)
+      real(dp), intent(in) :: moment(3)
+      !> The derivative ((7+m) x (7+m))
+      real(dp), intent(out) :: tangent(:, :)
+      real(dp) :: A(3, 3), G_bar(3, 4), u(3), y(3), n(3), p(3), dy(3, 4), dn(3, 4), phi(3)
+      real(dp) :: psi_r(3, self%num_modes), delta, t_plus(3), t_minus(3), shifted(3), dt(3, 3)
+      integer :: m, nc, l
+      m = self%num_modes
+      nc = self%num_coordinates
+      A = euler_rotation(q(4:7))
+      G_bar = euler_g_bar(q(4:7))
+      u = marker_local(self, q, k)
+      y = matmul(transpose(A), force)
+      n = matmul(transpose(A), moment)
+      p = cross_product(u, y) + n
+      dy = transposed_rotation_derivative(q(4:7), force)
+      dn = transposed_rotation_derivative(q(4:7), moment)
+      psi_r = self%virtual_shapes(6 * k - 2:6 * k, :)
+      phi = matmul(psi_r, q(8:nc))
+      tangent = 0.0_dp
+      tangent(4:7, 4:7) = g_bar_transpose_derivative(p) + matmul(transpose(G_bar), &
+         matmul(skew3(u), dy) + dn)
+      do l = 1, m
+         tangent(4:7, 7 + l) = matmul(transpose(G_bar), &
+            cross_product(self%virtual_shapes(6 * k - 5:6 * k - 3, l), y))
+      end do
+      tangent(8:nc, 4:7) = matmul(transpose(self%virtual_shapes(6 * k - 5:6 * k - 3, :)), dy) &
+         + matmul(transpose(psi_r), matmul(transpose(rotation_vector_tangent(phi)), dn))
+      if (any(moment /= 0.0_dp)) then
+         ! Psi_Vr^T d(T(phi)^T n)/dphi Psi_Vr, the 3 x 3 derivative by central differences
+         do l = 1, 3
+            delta = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(abs(phi(l)), 1.0_dp)
+            shifted = phi
+            shifted(l) = phi(l) + delta
+            t_plus = matmul(transpose(rotation_vector_tangent(shifted)), n)
+            shifted(l) = phi(l) - delta
+            t_minus = matmul(transpose(rotation_vector_tangent(shifted)), n)
+            dt(:, l) = (t_plus - t_minus) / (2.0_dp * delta)
+         end do
+         tangent(8:nc, 8:nc) = matmul(transpose(psi_r), matmul(dt, psi_r))
+      end if
+   end subroutine flexible_body_marker_force_tangent
+
+   !> d(A(theta)^T x)/dtheta (3 x 4): A^T is A at the conjugate [e0, -e].
+   pure function transposed_rotation_derivative(theta, x) result(jac)
+      real(dp), intent(in) :: theta(4), x(3)
+      real(dp) :: jac(3, 4)
+      jac = rotated_vector_jacobian([theta(1), -theta(2:4)], x)
+      jac(:, 2:4) = -jac(:, 2:4)
+   end function transposed_rotation_derivative
+
+   pure function cross_product(a, b) result(c)
+      real(dp), intent(in) :: a(3), b(3)
+      real(dp) :: c(3)
+      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+   end function cross_product
+
+   !> Exact d(M(q) a)/dq ((7+m) x (7+m)) at fixed a = [a_R; a_theta; a_zeta]. With
+   !> alpha = G_bar a_theta = -G_bar(a_theta) theta, S = m chi~ + sum_l z_l P_l (skew),
+   !> I = I_thth(zeta), H = M_xPsi + (z (x) I)^T M_Psi~Psi:
+   !>     M a = [m a_R + A (-S alpha + M_PhitPsi a_z);
+   !>            G_bar^T (S A^T a_R + I alpha - H a_z);
+   !>            M_PhitPsi^T A^T a_R - H^T alpha + M_PsiPsi a_z],
+   !> differentiated in theta (A, A^T quadratic, G_bar linear) and zeta (S, H linear, I quadratic).
+   pure subroutine flexible_body_mass_stiffness(self, q, a, K)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Acceleration held fixed
+      real(dp), intent(in) :: a(:)
+      !> d(M a)/dq ((7+m) x (7+m))
+      real(dp), intent(out) :: K(:, :)
+      real(dp) :: rot(3, 3), G_bar(3, 4), G_a(3, 4), S(3, 3), inertia(3, 3), alpha(3), p(3)
+      real(dp) :: H(3, self%num_modes), y(3), dy(3, 4), D(3, 3)
+      integer :: m, nc, j, l
+      m = self%num_modes
+      nc = self%num_coordinates
+      rot = euler_rotation(q(4:7))
+      G_bar = euler_g_bar(q(4:7))
+      G_a = euler_g_bar(a(4:7))
+      alpha = matmul(G_bar, a(4:7))
+      y = matmul(transpose(rot), a(1:3))
+      dy = transposed_rotation_derivative(q(4:7), a(1:3))
+      associate (zeta => q(8:nc), a_z => a(8:nc))
+         S = first_moment_skew(self, zeta)
+         inertia = deformed_inertia(self, zeta)
+         H = self%m_x_psi + z_times(zeta, self%m_psit_psi)
+         p = matmul(S, y) + matmul(inertia, alpha) - matmul(H, a_z)
+         K = 0.0_dp
+         K(1:3, 4:7) = rotated_vector_jacobian(q(4:7), -matmul(S, alpha) + &
+            matmul(self%m_phit_psi, a_z)) + matmul(rot, matmul(S, G_a))
+         K(4:7, 4:7) = g_bar_transpose_derivative(p) + matmul(transpose(G_bar), &
+            matmul(S, dy) - matmul(inertia, G_a))
+         K(8:nc, 4:7) = matmul(transpose(self%m_phit_psi), dy) + matmul(transpose(H), G_a)
+         do l = 1, m
+            associate (P_l => self%m_phit_psit(:, 3 * l - 2:3 * l), &
+               Q_l => self%m_x_psit(:, 3 * l - 2:3 * l), &
+               N_l => self%m_psit_psi(3 * l - 2:3 * l, :))
+               K(1:3, 7 + l) = -matmul(rot, matmul(P_l, alpha))
+               D = Q_l + transpose(Q_l)
+               do j = 1, m
+                  D = D + zeta(j) * (self%m_psit_psit(3 * j - 2:3 * j, 3 * l - 2:3 * l) + &
+                     self%m_psit_psit(3 * l - 2:3 * l, 3 * j - 2:3 * j))
+               end do
+               K(4:7, 7 + l) = matmul(transpose(G_bar), matmul(P_l, y) + matmul(D, alpha) - &
+                  matmul(N_l, a_z))
+               K(8:nc, 7 + l) = -matmul(transpose(N_l), alpha)
+            end associate
+         end do
+      end associate
+   end subroutine flexible_body_mass_stiffness
+
+   !> Marker k in one call, sharing A, u_V, phi, exp(phi~) and T(phi): position R + A u_V,
+   !> orientation A exp(phi~), dr/dq = [I, d(A u_V)/dtheta, A Psi_Vt] and, for need_axes(j),
+   !> d(A_V e_j)/dq = [0, d(A b_j)/dtheta, -A b_j~ T(phi) Psi_Vr], b_j = exp(phi~) e_j (as the
+   !> separate marker functions).
+   pure subroutine flexible_body_marker_kinematics(self, q, k, need_axes, position, &
+         orientation, position_jacobian, axis_jacobian)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Interface (marker) number
+      integer, intent(in) :: k
+      !> Which axis Jacobians to form (x, y, z)
+      logical, intent(in) :: need_axes(3)
+      !> Global position (m)
+      real(dp), intent(out) :: position(3)
+      !> Orientation, marker frame -> global
+      real(dp), intent(out) :: orientation(3, 3)
+      !> dr/dq (3 x (7+m))
+      real(dp), intent(out) :: position_jacobian(:, :)
+      !> d(A_V e_j)/dq (3 x (7+m) x 3)
+      real(dp), intent(inout) :: axis_jacobian(:, :, :)
+      real(dp) :: A(3, 3), u(3), phi(3), E(3, 3), tangent_psi(3, self%num_modes)
+      integer :: j
+      A = euler_rotation(q(4:7))
+      u = marker_local(self, q, k)
+      phi = marker_rotation_vector(self, q, k)
+      E = rotation_vector_matrix(phi)
+      position = q(1:3) + matmul(A, u)
+      orientation = matmul(A, E)
+      position_jacobian(:, 1:3) = identity3()
+      position_jacobian(:, 4:7) = rotated_vector_jacobian(q(4:7), u)
+      position_jacobian(:, 8:) = matmul(A, self%virtual_shapes(6 * k - 5:6 * k - 3, :))
+      if (.not. any(need_axes)) return
+      tangent_psi = matmul(rotation_vector_tangent(phi), self%virtual_shapes(6 * k - 2:6 * k, :))
+      do j = 1, 3
+         if (.not. need_axes(j)) cycle
+         axis_jacobian(:, 1:3, j) = 0.0_dp
+         axis_jacobian(:, 4:7, j) = rotated_vector_jacobian(q(4:7), E(:, j))
+         axis_jacobian(:, 8:, j) = -matmul(A, matmul(skew3(E(:, j)), tangent_psi))
+      end do
+   end subroutine flexible_body_marker_kinematics
 
    !> z (x) w: the 3m-vector [z_1 w; ...; z_m w].
    pure function kron_vector(z, w) result(zw)

@@ -38,11 +38,22 @@
 !> (summed over the equations). F_a = -F_b, and the moments balance about a common point. The
 !> identity -lambda^T Phi_qb v_b = F_b . r_b_dot + M_b . omega_b (and the same for a) holds for
 !> every velocity on the constraint |theta| = 1 (the unit test checks it).
+!>
+!> Constraint stiffness (constraint_hessian): the blocks of d(Phi_q^T lambda)/dq =
+!> sum_i lambda_i d^2 Phi_i/dq^2 for the Newton iteration. A table joint forms it exactly: with
+!> P = dr/dq, U = du_a/dq, W = dw_b/dq (the exact marker Jacobians) and the bodies'
+!> marker_hessian for the second derivatives of r and of the axes,
+!>     position c:     lambda (e_c . r_b'' - e_c . r_a'')
+!>     lateral u_a:    lambda (d . u_a'' + u_a . (r_b'' - r_a'')) - lambda (U^T P_a + P_a^T U)
+!>                     on (a, a), lambda U^T P_b on (a, b)
+!>     perpendicular:  lambda (w_b . u_a'' + u_a . w_b''), lambda U^T W on (a, b).
+!> The joint_t default is a central difference of `jacobian` over the joint's two bodies.
 module ffrf_mbs_joints
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_mbs_rigid_body, only: body_t
+   use ffrf_mbs_dae_system, only: fd_step
    implicit none
    private
    public :: joint_t, table_joint_t
@@ -82,6 +93,8 @@ module ffrf_mbs_joints
       procedure(joint_reaction_interface), deferred :: reaction
       !> Attach to the markers of two bodies (checks that they exist)
       procedure :: connect => joint_connect
+      !> Blocks of d(Phi_q^T lambda)/dq (default: central differences of `jacobian`)
+      procedure :: constraint_hessian => joint_constraint_hessian_fd
    end type joint_t
 
    abstract interface
@@ -168,6 +181,7 @@ module ffrf_mbs_joints
       procedure :: residual => table_joint_residual
       procedure :: jacobian => table_joint_jacobian
       procedure :: reaction => table_joint_reaction
+      procedure :: constraint_hessian => table_joint_constraint_hessian
    end type table_joint_t
 
    abstract interface
@@ -281,6 +295,140 @@ contains
       self%marker_b = marker_b
    end subroutine joint_connect
 
+   !> Blocks of d(Phi_q^T lambda)/dq by central differences of `jacobian` over q_a and q_b:
+   !> K_aa = d(jac_a^T lambda)/dq_a, K_ab = d(jac_a^T lambda)/dq_b, K_bb = d(jac_b^T lambda)/dq_b
+   !> (the (b, a) block is K_ab^T).
+   pure subroutine joint_constraint_hessian_fd(self, body_a, q_a, body_b, q_b, lambda, K_aa, &
+         K_ab, K_bb)
+      !> The joint
+      class(joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Multipliers of the joint's equations
+      real(dp), intent(in) :: lambda(:)
+      !> (a, a) block, n_a x n_a
+      real(dp), intent(out) :: K_aa(:, :)
+      !> (a, b) block, n_a x n_b
+      real(dp), intent(out) :: K_ab(:, :)
+      !> (b, b) block, n_b x n_b
+      real(dp), intent(out) :: K_bb(:, :)
+      real(dp) :: xa(size(q_a)), xb(size(q_b)), delta
+      real(dp) :: ja_p(self%num_equations, size(q_a)), jb_p(self%num_equations, size(q_b))
+      real(dp) :: ja_m(self%num_equations, size(q_a)), jb_m(self%num_equations, size(q_b))
+      integer :: j
+      xa = q_a
+      xb = q_b
+      do j = 1, size(q_a)
+         delta = fd_step(q_a(j))
+         xa(j) = q_a(j) + delta
+         call self%jacobian(body_a, xa, body_b, xb, ja_p, jb_p)
+         xa(j) = q_a(j) - delta
+         call self%jacobian(body_a, xa, body_b, xb, ja_m, jb_m)
+         xa(j) = q_a(j)
+         K_aa(:, j) = matmul(lambda, ja_p - ja_m) / (2.0_dp * delta)
+      end do
+      do j = 1, size(q_b)
+         delta = fd_step(q_b(j))
+         xb(j) = q_b(j) + delta
+         call self%jacobian(body_a, xa, body_b, xb, ja_p, jb_p)
+         xb(j) = q_b(j) - delta
+         call self%jacobian(body_a, xa, body_b, xb, ja_m, jb_m)
+         xb(j) = q_b(j)
+         K_ab(:, j) = matmul(lambda, ja_p - ja_m) / (2.0_dp * delta)
+         K_bb(:, j) = matmul(lambda, jb_p - jb_m) / (2.0_dp * delta)
+      end do
+   end subroutine joint_constraint_hessian_fd
+
+   !> Exact blocks of d(Phi_q^T lambda)/dq of a table joint (module header).
+   pure subroutine table_joint_constraint_hessian(self, body_a, q_a, body_b, q_b, lambda, &
+         K_aa, K_ab, K_bb)
+      class(table_joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Multipliers of the joint's equations
+      real(dp), intent(in) :: lambda(:)
+      !> (a, a) block, n_a x n_a
+      real(dp), intent(out) :: K_aa(:, :)
+      !> (a, b) block, n_a x n_b
+      real(dp), intent(out) :: K_ab(:, :)
+      !> (b, b) block, n_b x n_b
+      real(dp), intent(out) :: K_bb(:, :)
+      integer :: table(3, max_table_equations)
+      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3), w(3)
+      real(dp) :: pos_a(3, body_a%num_coordinates), pos_b(3, body_b%num_coordinates)
+      real(dp) :: axis_a(3, body_a%num_coordinates, 3), axis_b(3, body_b%num_coordinates, 3)
+      real(dp) :: wr_a(3), wr_b(3), wx_a(3, 3), wx_b(3, 3)
+      real(dp) :: hess_a(body_a%num_coordinates, body_a%num_coordinates)
+      real(dp) :: hess_b(body_b%num_coordinates, body_b%num_coordinates)
+      real(dp) :: r_a(3), r_b(3)
+      logical :: need_a(3), need_b(3)
+      integer :: i, ia, ib
+      table = self%equation_table()
+      ! Axis Jacobians only for the axes that appear in the table
+      need_a = .false.
+      need_b = .false.
+      do i = 1, table_size(table)
+         if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
+         if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
+      end do
+      call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
+      call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
+      d = r_b - r_a
+      ! Weights of the second derivatives of the markers' positions and axes, and the products
+      ! of first derivatives
+      wr_a = 0.0_dp
+      wr_b = 0.0_dp
+      wx_a = 0.0_dp
+      wx_b = 0.0_dp
+      K_ab = 0.0_dp
+      K_aa = 0.0_dp
+      do i = 1, table_size(table)
+         select case (table(1, i))
+         case (EQ_POSITION)
+            wr_b(table(2, i)) = wr_b(table(2, i)) + lambda(i)
+            wr_a(table(2, i)) = wr_a(table(2, i)) - lambda(i)
+         case (EQ_LATERAL)
+            ia = table(2, i)
+            u = frame_a(:, ia)
+            wx_a(:, ia) = wx_a(:, ia) + lambda(i) * d
+            wr_a = wr_a - lambda(i) * u
+            wr_b = wr_b + lambda(i) * u
+            K_aa = K_aa - lambda(i) * (matmul(transpose(axis_a(:, :, ia)), pos_a) + &
+               matmul(transpose(pos_a), axis_a(:, :, ia)))
+            K_ab = K_ab + lambda(i) * matmul(transpose(axis_a(:, :, ia)), pos_b)
+         case default
+            ia = table(2, i)
+            ib = table(3, i)
+            u = frame_a(:, ia)
+            w = frame_b(:, ib)
+            wx_a(:, ia) = wx_a(:, ia) + lambda(i) * w
+            wx_b(:, ib) = wx_b(:, ib) + lambda(i) * u
+            K_ab = K_ab + lambda(i) * matmul(transpose(axis_a(:, :, ia)), axis_b(:, :, ib))
+         end select
+      end do
+      if (body_a%num_coordinates > 0) then
+         call body_a%marker_hessian(q_a, self%marker_a, wr_a, wx_a, hess_a)
+         K_aa = K_aa + hess_a
+      end if
+      K_bb = 0.0_dp
+      if (body_b%num_coordinates > 0) then
+         call body_b%marker_hessian(q_b, self%marker_b, wr_b, wx_b, hess_b)
+         K_bb = hess_b
+      end if
+   end subroutine table_joint_constraint_hessian
+
    !> Force and moment that the joint transmits for the multipliers lambda (module header):
    !> force(:, 1), moment(:, 1) act on body a at marker a, force(:, 2), moment(:, 2) on body b
    !> at marker b; global components (N, N m).
@@ -375,16 +523,10 @@ contains
       real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3)
       real(dp) :: pos_a(3, body_a%num_coordinates), pos_b(3, body_b%num_coordinates)
       real(dp) :: axis_a(3, body_a%num_coordinates, 3), axis_b(3, body_b%num_coordinates, 3)
-      real(dp), parameter :: unit_axes(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-         1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
+      real(dp) :: r_a(3), r_b(3)
       logical :: need_a(3), need_b(3)
-      integer :: i, j
+      integer :: i
       table = self%equation_table()
-      frame_a = body_a%marker_orientation(q_a, self%marker_a)
-      frame_b = body_b%marker_orientation(q_b, self%marker_b)
-      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
-      pos_a = body_a%marker_position_jacobian(q_a, self%marker_a)
-      pos_b = body_b%marker_position_jacobian(q_b, self%marker_b)
       ! Axis Jacobians only for the axes that appear in the table
       need_a = .false.
       need_b = .false.
@@ -392,12 +534,9 @@ contains
          if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
          if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
       end do
-      do j = 1, 3
-         if (need_a(j)) axis_a(:, :, j) = body_a%marker_axis_jacobian(q_a, self%marker_a, &
-            unit_axes(:, j))
-         if (need_b(j)) axis_b(:, :, j) = body_b%marker_axis_jacobian(q_b, self%marker_b, &
-            unit_axes(:, j))
-      end do
+      call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
+      call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
+      d = r_b - r_a
       do i = 1, table_size(table)
          select case (table(1, i))
          case (EQ_POSITION)

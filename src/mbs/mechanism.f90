@@ -34,8 +34,23 @@
 !>   Euler rows (-2 theta_dot^T theta_dot) and the drive row (A is quadratic in theta: the second
 !>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b); joint rows by a central
 !>   difference of Phi_q(q + s v) v in s (joints do not depend on t), s = eps**(1/3) relative.
-!> - stiffness, damping, constraint_stiffness, mass_stiffness: dae_system_t's central-difference
-!>   defaults (2 n evaluations each per factorisation; a mechanism has tens of coordinates).
+!> - stiffness, damping, constraint_stiffness, mass_stiffness (analytic_tangents = .true., the
+!>   default): assembled per body and per joint, without differences over the mechanism:
+!>   * constraint stiffness d(Phi_q^T lambda)/dq: joints exact (joint_t%constraint_hessian from
+!>     the bodies' marker_hessian: exact for rigid bodies; for flexible ones exact but for the
+!>     second derivative of the exponential map of the marker rotation, a 3 x 3 central
+!>     difference), drive row exact (n . A(theta) e_x is quadratic in theta), Euler rows exact
+!>     (2 lambda I4);
+!>   * stiffness -df/dq and damping -df/dq': bodies' force_tangents (exact: rigid and FFRF
+!>     quadratic velocity vectors, modal K_ff and D_ff); loads: the marker force at fixed
+!>     magnitude by body%marker_force_tangent (rigid exact; flexible exact but for the derivative
+!>     of the exponential map's tangent operator, a 3 x 3 difference) plus the magnitude's
+!>     dependence on the crank angle and speed (exact d(angle)/dtheta, d(speed)/d(theta,
+!>     theta_dot); d(magnitude)/d(angle, speed) by a central difference of the scalar load law,
+!>     which has no derivative in its interface); gravity exact;
+!>   * mass stiffness d(M a)/dq: body%mass_stiffness (rigid and flexible exact).
+!>   analytic_tangents = .false. selects dae_system_t's central differences over the whole
+!>   mechanism (2 n evaluations each per factorisation), the reference the tests compare with.
 !>
 !> Consistent initial state (assemble, initial_velocities): Gauss-Newton on Phi(q, t) = 0, plus
 !> optionally the crank angle equation, each step the minimum-norm least-squares solution of
@@ -105,6 +120,12 @@ module ffrf_mbs_mechanism
       integer :: drive_row = 0
       !> Prescribed rotation of the driven body about z
       class(drive_law_t), allocatable :: drive
+      !> Tangents of the Newton iteration assembled per body and joint (module header); .false.:
+      !> central differences over the whole mechanism (dae_system_t defaults, the reference)
+      logical :: analytic_tangents = .true.
+      !> -df/dq' computed with the last stiffness, for the damping call at the same state
+      real(dp), allocatable, private :: damping_cache(:, :), cache_q(:), cache_v(:)
+      real(dp), private :: cache_t = 0.0_dp
    contains
       !> Add a body (copied); returns its mechanism index
       procedure :: add_body => mechanism_add_body
@@ -148,6 +169,10 @@ module ffrf_mbs_mechanism
       procedure :: constraint_rate => mechanism_constraint_rate
       procedure :: acceleration_rhs => mechanism_acceleration_rhs
       procedure :: accepted_step => mechanism_accepted_step
+      procedure :: stiffness => mechanism_stiffness
+      procedure :: damping => mechanism_damping
+      procedure :: constraint_stiffness => mechanism_constraint_stiffness
+      procedure :: mass_stiffness => mechanism_mass_stiffness
    end type mechanism_t
 
    interface
@@ -435,6 +460,64 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: lambda(:)
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_accepted_step
+
+      !> K_t = -df/dq (module header: per body and load; differences if .not. analytic_tangents).
+      module subroutine mechanism_stiffness(self, q, v, t, K_t, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         !> Velocities, n
+         real(dp), intent(in) :: v(:)
+         !> Time (s)
+         real(dp), intent(in) :: t
+         !> -df/dq, n x n
+         real(dp), intent(out) :: K_t(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_stiffness
+
+      !> C_t = -df/dq' (module header; reuses the stiffness call's result at the same state).
+      module subroutine mechanism_damping(self, q, v, t, C_t, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         !> Velocities, n
+         real(dp), intent(in) :: v(:)
+         !> Time (s)
+         real(dp), intent(in) :: t
+         !> -df/dq', n x n
+         real(dp), intent(out) :: C_t(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_damping
+
+      !> d(Phi_q^T lambda)/dq: joints, drive row and Euler rows (module header).
+      module subroutine mechanism_constraint_stiffness(self, q, t, lambda, K_c, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         !> Time (s)
+         real(dp), intent(in) :: t
+         !> Multipliers, nc
+         real(dp), intent(in) :: lambda(:)
+         !> d(Phi_q^T lambda)/dq, n x n
+         real(dp), intent(out) :: K_c(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_constraint_stiffness
+
+      !> d(M(q) a)/dq for a fixed a: blockdiag of the bodies' mass_stiffness.
+      module subroutine mechanism_mass_stiffness(self, q, a, K_m, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         !> Acceleration held fixed, n
+         real(dp), intent(in) :: a(:)
+         !> d(M a)/dq, n x n
+         real(dp), intent(out) :: K_m(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_mass_stiffness
 
       !> Solve Phi(q, t) = 0 from an approximate q by Gauss-Newton, each step the minimum-norm
       !> least-squares correction (dgelsy). With crank_angle, the crank's rotation about z is fixed

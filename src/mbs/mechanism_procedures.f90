@@ -8,7 +8,10 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
       rotated_vector_jacobian
-   use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t, euler_hessian, &
+      point_load_tangent
+   use ffrf_mbs_dae_system, only: fd_step, dae_stiffness_fd, dae_damping_fd, &
+      dae_constraint_stiffness_fd, dae_mass_stiffness_fd
    use ffrf_mbs_joints, only: new_joint, joint_reaction
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
    implicit none
@@ -427,7 +430,6 @@ contains
 
    !> Phi_q: joint blocks, drive row n^T d(A e_x)/dtheta, Euler rows 2 theta^T.
    module procedure mechanism_constraint_jacobian
-      real(dp), allocatable :: jac_a(:, :), jac_b(:, :)
       real(dp) :: f(3)
       integer :: j, b, k, ka, kb, na, nb, ne
       Phi_q = 0.0_dp
@@ -439,13 +441,12 @@ contains
                kb = self%bodies(jt%body_b)%offset
                na = self%bodies(jt%body_a)%body%num_coordinates
                nb = self%bodies(jt%body_b)%body%num_coordinates
-               allocate (jac_a(ne, na), jac_b(ne, nb))
+               ! The two bodies differ (add_joint), so their column blocks do not overlap: the
+               ! joint writes its blocks in place
                call jt%joint%jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
-                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), jac_a, jac_b)
-               Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na) = jac_a
-               Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb) = &
-                  Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb) + jac_b
-               deallocate (jac_a, jac_b)
+                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
+                  Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
             end associate
          end do
       end if
@@ -538,6 +539,223 @@ contains
       end if
       self%crank_reference = self%crank_angle(q)
    end procedure mechanism_accepted_step
+
+   ! ----------------------------------------------------------------------------------------------
+   ! Tangents of the Newton iteration (module header)
+
+   !> K_t = -df/dq (module header: per body and load; differences if .not. analytic_tangents).
+   module procedure mechanism_stiffness
+      real(dp), allocatable :: K_b(:, :), C_b(:, :)
+      integer :: b, k, nb
+      if (.not. self%analytic_tangents) then
+         call dae_stiffness_fd(self, q, v, t, K_t, error)
+         return
+      end if
+      if (allocated(self%damping_cache)) then
+         if (size(self%damping_cache, 1) /= self%n) deallocate (self%damping_cache)
+      end if
+      if (.not. allocated(self%damping_cache)) allocate (self%damping_cache(self%n, self%n))
+      K_t = 0.0_dp
+      self%damping_cache = 0.0_dp
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         if (nb == 0) cycle
+         allocate (K_b(nb, nb), C_b(nb, nb))
+         call self%bodies(b)%body%force_tangents(q(k + 1:k + nb), v(k + 1:k + nb), K_b, C_b)
+         K_t(k + 1:k + nb, k + 1:k + nb) = K_b
+         self%damping_cache(k + 1:k + nb, k + 1:k + nb) = C_b
+         deallocate (K_b, C_b)
+      end do
+      call applied_tangents(self, q, v, t, K_t, self%damping_cache, error)
+      if (allocated(error)) return
+      self%cache_q = q
+      self%cache_v = v
+      self%cache_t = t
+      if (.not. (all(ieee_is_finite(K_t)) .and. all(ieee_is_finite(self%damping_cache)))) &
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism: force tangents not finite ' &
+         // 'at t = ' // to_str(t) // ' s')
+   end procedure mechanism_stiffness
+
+   !> C_t = -df/dq' (module header; reuses the stiffness call's result at the same state).
+   module procedure mechanism_damping
+      real(dp), allocatable :: K_t(:, :)
+      logical :: cached
+      if (.not. self%analytic_tangents) then
+         call dae_damping_fd(self, q, v, t, C_t, error)
+         return
+      end if
+      cached = allocated(self%damping_cache) .and. allocated(self%cache_q) .and. &
+         allocated(self%cache_v)
+      if (cached) cached = size(self%damping_cache, 1) == self%n .and. &
+         size(self%cache_q) == size(q) .and. size(self%cache_v) == size(v)
+      if (cached) cached = all(self%cache_q == q) .and. all(self%cache_v == v) .and. &
+         self%cache_t == t
+      if (.not. cached) then
+         allocate (K_t(self%n, self%n))
+         call self%stiffness(q, v, t, K_t, error)
+         if (allocated(error)) return
+      end if
+      C_t = self%damping_cache
+   end procedure mechanism_damping
+
+   !> Subtract the derivatives of the applied loads and gravity from K_t (-df/dq) and C_t
+   !> (-df/dq'): marker force at fixed magnitude, plus magnitude(t, angle, speed) through the
+   !> crank angle 2 atan2(e3, e0) and speed e_z . G(theta) theta_dot = -e_z . G(theta_dot) theta.
+   subroutine applied_tangents(self, q, v, t, K_t, C_t, error)
+      type(mechanism_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:), v(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: tangent(:, :), unit_force(:)
+      real(dp) :: angle, speed, value, vector(3), zero(3), theta(4), d_angle(4), d_speed_q(4)
+      real(dp) :: d_speed_v(4), g_rows(3, 4), da, ds, dm_da, dm_ds, radius2
+      integer :: i, b, k, nb, kc, j
+      zero = 0.0_dp
+      angle = self%crank_angle(q)
+      speed = self%crank_speed(q, v)
+      kc = 0
+      if (self%crank > 0) then
+         kc = self%bodies(self%crank)%offset
+         theta = q(kc + 4:kc + 7)
+         radius2 = max(theta(1)**2 + theta(4)**2, tiny(1.0_dp))
+         d_angle = [-2.0_dp * theta(4), 0.0_dp, 0.0_dp, 2.0_dp * theta(1)] / radius2
+         g_rows = euler_g(v(kc + 4:kc + 7))
+         d_speed_q = -g_rows(3, :)
+         g_rows = euler_g(theta)
+         d_speed_v = g_rows(3, :)
+      end if
+      if (allocated(self%loads)) then
+         do i = 1, size(self%loads)
+            associate (load => self%loads(i)%load)
+               b = load%body
+               k = self%bodies(b)%offset
+               nb = self%bodies(b)%body%num_coordinates
+               if (nb == 0) cycle
+               value = load%magnitude(t, angle, speed)
+               allocate (tangent(nb, nb), unit_force(nb))
+               vector = value * load%direction
+               if (load%kind == LOAD_FORCE) then
+                  call self%bodies(b)%body%marker_force_tangent(q(k + 1:k + nb), load%marker, &
+                     vector, zero, tangent)
+                  unit_force = self%bodies(b)%body%marker_generalized_force(q(k + 1:k + nb), &
+                     load%marker, load%direction, zero)
+               else
+                  call self%bodies(b)%body%marker_force_tangent(q(k + 1:k + nb), load%marker, &
+                     zero, vector, tangent)
+                  unit_force = self%bodies(b)%body%marker_generalized_force(q(k + 1:k + nb), &
+                     load%marker, zero, load%direction)
+               end if
+               K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
+               if (self%crank > 0) then
+                  da = fd_step(angle)
+                  ds = fd_step(speed)
+                  dm_da = (load%magnitude(t, angle + da, speed) - &
+                     load%magnitude(t, angle - da, speed)) / (2.0_dp * da)
+                  dm_ds = (load%magnitude(t, angle, speed + ds) - &
+                     load%magnitude(t, angle, speed - ds)) / (2.0_dp * ds)
+                  do j = 1, 4
+                     K_t(k + 1:k + nb, kc + 3 + j) = K_t(k + 1:k + nb, kc + 3 + j) - &
+                        unit_force * (dm_da * d_angle(j) + dm_ds * d_speed_q(j))
+                     C_t(k + 1:k + nb, kc + 3 + j) = C_t(k + 1:k + nb, kc + 3 + j) - &
+                        unit_force * dm_ds * d_speed_v(j)
+                  end do
+               end if
+               deallocate (tangent, unit_force)
+            end associate
+         end do
+      end if
+      if (maxval(abs(self%gravity)) <= 0.0_dp) return
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         select type (body => self%bodies(b)%body)
+         class is (rigid_body_t)
+            K_t(k + 4:k + 7, k + 4:k + 7) = K_t(k + 4:k + 7, k + 4:k + 7) - &
+               point_load_tangent(q(k + 4:k + 7), body%center_of_mass, &
+               body%mass * self%gravity, zero)
+         class default
+            if (body%num_coordinates > 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: gravity is implemented ' &
+                  // 'for rigid bodies only; body "' // self%bodies(b)%name // '" is not rigid')
+               return
+            end if
+         end select
+      end do
+   end subroutine applied_tangents
+
+   !> d(Phi_q^T lambda)/dq: joints, drive row and Euler rows (module header).
+   module procedure mechanism_constraint_stiffness
+      real(dp), allocatable :: K_aa(:, :), K_ab(:, :), K_bb(:, :)
+      real(dp) :: f(3), X(3, 3)
+      integer :: j, b, k, ka, kb, na, nb, ne, i
+      if (.not. self%analytic_tangents) then
+         call dae_constraint_stiffness_fd(self, q, t, lambda, K_c, error)
+         return
+      end if
+      K_c = 0.0_dp
+      if (allocated(self%joints)) then
+         do j = 1, size(self%joints)
+            associate (jt => self%joints(j))
+               ne = jt%joint%num_equations
+               ka = self%bodies(jt%body_a)%offset
+               kb = self%bodies(jt%body_b)%offset
+               na = self%bodies(jt%body_a)%body%num_coordinates
+               nb = self%bodies(jt%body_b)%body%num_coordinates
+               allocate (K_aa(na, na), K_ab(na, nb), K_bb(nb, nb))
+               call jt%joint%constraint_hessian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  lambda(jt%offset + 1:jt%offset + ne), K_aa, K_ab, K_bb)
+               K_c(ka + 1:ka + na, ka + 1:ka + na) = K_c(ka + 1:ka + na, ka + 1:ka + na) + K_aa
+               K_c(ka + 1:ka + na, kb + 1:kb + nb) = K_c(ka + 1:ka + na, kb + 1:kb + nb) + K_ab
+               K_c(kb + 1:kb + nb, ka + 1:ka + na) = K_c(kb + 1:kb + nb, ka + 1:ka + na) + &
+                  transpose(K_ab)
+               K_c(kb + 1:kb + nb, kb + 1:kb + nb) = K_c(kb + 1:kb + nb, kb + 1:kb + nb) + K_bb
+               deallocate (K_aa, K_ab, K_bb)
+            end associate
+         end do
+      end if
+      if (self%drive_row > 0) then
+         ! lambda_d n(f) . A(theta) e_x: Hessian of a term w . A b with w = lambda_d n, b = e_x
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         do i = 1, 3
+            X(:, i) = lambda(self%drive_row) * drive_normal(f(1)) * e_x(i)
+         end do
+         K_c(k + 4:k + 7, k + 4:k + 7) = K_c(k + 4:k + 7, k + 4:k + 7) + euler_hessian(X)
+      end if
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row == 0) cycle
+         k = self%bodies(b)%offset
+         do i = 4, 7
+            K_c(k + i, k + i) = K_c(k + i, k + i) + 2.0_dp * lambda(self%bodies(b)%euler_row)
+         end do
+      end do
+      if (.not. all(ieee_is_finite(K_c))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: constraint stiffness not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraint_stiffness
+
+   !> d(M(q) a)/dq for a fixed a: blockdiag of the bodies' mass_stiffness.
+   module procedure mechanism_mass_stiffness
+      real(dp), allocatable :: K_b(:, :)
+      integer :: b, k, nb
+      if (.not. self%analytic_tangents) then
+         call dae_mass_stiffness_fd(self, q, a, K_m, error)
+         return
+      end if
+      K_m = 0.0_dp
+      do b = 1, num_bodies(self)
+         k = self%bodies(b)%offset
+         nb = self%bodies(b)%body%num_coordinates
+         if (nb == 0) cycle
+         allocate (K_b(nb, nb))
+         call self%bodies(b)%body%mass_stiffness(q(k + 1:k + nb), a(k + 1:k + nb), K_b)
+         K_m(k + 1:k + nb, k + 1:k + nb) = K_b
+         deallocate (K_b)
+      end do
+      if (.not. all(ieee_is_finite(K_m))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: mass stiffness not finite')
+   end procedure mechanism_mass_stiffness
 
    ! ----------------------------------------------------------------------------------------------
    ! Consistent initial state

@@ -18,7 +18,7 @@
 !> (its marker axes are the body axes): this is checked.
 module ffrf_sim_mechanism_builder
    use ffrf_core_kinds, only: dp, pi
-   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t
    use ffrf_la_sparse, only: csr_t
@@ -425,7 +425,7 @@ contains
       file_name = trim(case%mechanism%pressure_table)
       open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
       if (stat /= 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&pressure table_file "' // file_name // &
+         call fatal_error(error, FFRF_IO_ERROR, '&pressure table_file "' // file_name // &
             '": ' // trim(msg))
          return
       end if

@@ -10,7 +10,9 @@
   -2.6e-7 W, bound -1e-6 W) and small: D <= 1e-3 W at the end (a few 1e-6 W measured);
 - kinematics: the crank angle never decreases after the start (the engine turns one way) and the
   piston pin stays on the cylinder axis x = z = 0 to 1e-8 m (the prismatic joint);
-- the gmsh animation (--animation): a MSH 2.2 file whose views all have one value per node.
+- the gmsh animation (--animation): a MSH 2.2 file whose views all have one value per node;
+- a failed run (--failed): status 'error: ...' naming the time, the series readable, and the
+  last converged state /final_state at the last recorded time.
 """
 import argparse
 import sys
@@ -52,10 +54,21 @@ def main():
     parser.add_argument("results")
     parser.add_argument("--redundant", type=int, help="expected number of redundant equations")
     parser.add_argument("--animation", help="gmsh animation file to check")
+    parser.add_argument("--failed", action="store_true", help="the run must have failed")
     args = parser.parse_args()
     with h5py.File(args.results, "r") as f:
         status = f.attrs["status"]
         status = status.decode() if isinstance(status, bytes) else str(status)
+        if args.failed:
+            t = f["time/t"][()]
+            final = float(f["final_state/t"][()][0])
+            if not (status.startswith("error: ") and "no convergence at t = " in status):
+                fail(f"status {status!r}, expected 'error: ... no convergence at t = ...'")
+            if len(t) < 1 or final != t[-1] or len(f["final_state/q"][()]) == 0:
+                fail(f"final state at t = {final} s, last recorded step at {t[-1]} s")
+            ok(f"failed run: {len(t)} steps recorded, final state at t = {final} s; "
+               f"status {status[:90]!r}...")
+            return
         if status != "complete":
             fail(f"status {status!r}")
         t = f["time/t"][()]

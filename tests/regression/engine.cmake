@@ -55,3 +55,23 @@ add_test(NAME regression_engine_charts
     -o engine_lc8_speed.png --pressure engine_lc8_pressure.png)
 set_tests_properties(regression_engine_charts PROPERTIES LABELS "regression;engine;postprocess"
   FIXTURES_REQUIRED "engine_lc8_all_rigid_results;engine_lc8_rc1_results")
+
+# A failing integration (Newton allowed 2 iterations, no step cut allowed): exit 4, one-line
+# message naming the time, and the results file closed with status 'error: ...', every recorded
+# step and the last converged state.
+ffrf_engine_case(engine_lc8_fail engine_rigid 0.1)
+string(REPLACE "rho_inf = 0.8 /" "rho_inf = 0.8, max_iterations = 2, min_step = 1.0e-4 /"
+  _text "${_text}")
+file(WRITE "${_out}/engine_lc8_fail.nml" "${_text}")
+add_test(NAME regression_engine_lc8_fail
+  COMMAND ${CMAKE_COMMAND}
+    "-DCOMMAND=$<TARGET_FILE:ffrf>;${_out}/engine_lc8_fail.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_out}"
+    -DEXIT_CODE=4 "-DMESSAGE=generalized-alpha: no convergence at t = "
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+set_tests_properties(regression_engine_lc8_fail PROPERTIES LABELS "regression;engine;errors"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh" FIXTURES_SETUP engine_lc8_fail_results)
+add_test(NAME regression_engine_lc8_fail_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_engine.py
+    ${_out}/engine_lc8_fail.h5 --failed)
+set_tests_properties(regression_engine_lc8_fail_check PROPERTIES
+  LABELS "regression;engine;postprocess" FIXTURES_REQUIRED engine_lc8_fail_results)

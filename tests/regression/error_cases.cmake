@@ -62,3 +62,8 @@ ffrf_error_case(joint_axis_on_flexible 2 "&joint \"bearing\": a revolute joint a
   "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0.045, 0 /\n&joint name = 'bearing', type = 'revolute', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B2', axis = 1, 0, 0 /\n&modes num_modes = 2 /")
 ffrf_error_case(integrator_rho 2 "&integrator: .*rho_inf = 1.5"
   "${_arm}\n${_pivot}\n&integrator rho_inf = 1.5 /")
+file(WRITE "${_dir}/bad_table.txt" "# angle_deg pressure_pa\n0 1.0e5\n90 1.0e5\nninety 2.0e5\n")
+ffrf_error_case(pressure_table_line 2 "table_file .*bad_table.txt\", line 4: expected two numbers"
+  "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = '${_dir}/bad_table.txt' /")
+ffrf_error_case(pressure_table_missing 3 "&pressure table_file .*no_such_table.txt"
+  "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = 'no_such_table.txt' /")
