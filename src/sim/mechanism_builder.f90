@@ -20,7 +20,7 @@ module ffrf_sim_mechanism_builder
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_core_log, only: logger_t, stage_times_t
+   use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
    use ffrf_io_case, only: case_input_t
    use ffrf_io_nml_body, only: inertia_tensor
@@ -221,6 +221,7 @@ contains
       type(flexible_body_t) :: flexible
       type(flexible_body_adapter_t) :: adapter
       type(rigid_body_t) :: rigid
+      type(stage_timer_t) :: timer
       real(dp) :: mass, com(3), inertia(3, 3)
       character(len=:), allocatable :: name
 
@@ -255,9 +256,11 @@ contains
                to_str(mass, 6) // ' kg, ' // to_str(size(list%names)) // ' marker(s)')
             return
          end if
+         call timer%begin()
          call flexible%init(mass_matrix, built%modes%mesh%xyz, built%modes%shape, &
             (2.0_dp * pi * built%modes%frequency_hz)**2, built%modes%virtual_node_shape, &
             virtual_positions(built%modes), error)
+         call times%add(name // ': inertia invariants', timer%seconds())
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error)) call adapter%init(flexible, error)
