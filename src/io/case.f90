@@ -15,7 +15,7 @@ module ffrf_io_case
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP
    implicit none
    private
-   public :: case_input_t, read_case, case_echo
+   public :: case_input_t, read_case, case_echo, body_index
 
    !> Everything a modal or mechanism run needs.
    type :: case_input_t
@@ -339,7 +339,7 @@ contains
       end if
    end subroutine check_marker
 
-   !> Index of the &body called name, 0 if none.
+   !> Index of the &body called name, 0 if none (e.g. the ground).
    pure integer function body_index(case, name) result(k)
       type(case_input_t), intent(in) :: case
       character(len=*), intent(in) :: name

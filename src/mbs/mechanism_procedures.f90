@@ -13,6 +13,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_mbs_dae_system, only: fd_step, dae_stiffness_fd, dae_damping_fd, &
       dae_constraint_stiffness_fd, dae_mass_stiffness_fd
    use ffrf_mbs_joints, only: new_joint, joint_reaction
+   use ffrf_la_lapack, only: dgelsy
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
    implicit none
 
@@ -20,21 +21,6 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    real(dp), parameter :: e_x(3) = [1.0_dp, 0.0_dp, 0.0_dp]
    !> Relative rank tolerance of the least-squares solves (dgelsy rcond)
    real(dp), parameter :: rank_rcond = 1.0e-10_dp
-
-   interface
-      !> Minimum-norm least squares by complete orthogonal factorisation, A P = Q [R11 R12; 0 R22].
-      subroutine dgelsy(m, n, nrhs, a, lda, b, ldb, jpvt, rcond, rank, work, lwork, info)
-         import :: dp, ip
-         implicit none
-         integer(ip), intent(in) :: m, n, nrhs, lda, ldb, lwork
-         real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-         integer(ip), intent(inout) :: jpvt(*)
-         real(dp), intent(in) :: rcond
-         integer(ip), intent(out) :: rank
-         real(dp), intent(out) :: work(*)
-         integer(ip), intent(out) :: info
-      end subroutine dgelsy
-   end interface
 
 contains
 

@@ -22,7 +22,7 @@ module ffrf_sim_mechanism_builder
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
-   use ffrf_io_case, only: case_input_t
+   use ffrf_io_case, only: case_input_t, body_index
    use ffrf_io_nml_body, only: inertia_tensor
    use ffrf_modes_input, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
@@ -131,16 +131,6 @@ contains
       end if
       call starting_state(case, bodies, mech, q, v, error)
    end subroutine build_mechanism
-
-   !> Index of the &body called name (0 for the ground).
-   pure integer function body_index(case, name) result(k)
-      type(case_input_t), intent(in) :: case
-      character(len=*), intent(in) :: name
-      do k = 1, size(case%bodies)
-         if (case%bodies(k)%name == name) return
-      end do
-      k = 0
-   end function body_index
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's position among the
