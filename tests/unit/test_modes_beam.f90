@@ -42,6 +42,7 @@ contains
          new_unittest('free_free_bending_torsion', test_free_free), &
          new_unittest('clamped_bending_torsion', test_clamped), &
          new_unittest('convergence_under_refinement', test_convergence), &
+         new_unittest('tet4_locks_in_bending', test_tet4_locking), &
          new_unittest('rbe3_adds_no_stiffness', test_rbe3_no_stiffness), &
          new_unittest('null_space_equals_multipliers', test_formulations)]
    end subroutine collect_modes_beam
@@ -203,6 +204,37 @@ contains
       call check(error, 'frequencies decrease under refinement: ' // to_str(f(1), 9) // &
          ' > ' // to_str(f(2), 9) // ' > ' // to_str(f(3), 9), f(1) > f(2) .and. f(2) > f(3))
    end subroutine test_convergence
+
+   !> Linear tetrahedra lock in bending (constant strain: a bent Tet4 cannot represent a linear
+   !> strain across its thickness and stores spurious shear energy), Tet10 does not. Free-free
+   !> beam, Tet4 at lc = 2 mm (12,423 nodes, 37,269 dofs: more dofs than the Tet10 lc = 4 mm mesh,
+   !> 43,935) against Tet10 at lc = 4 mm, both against the Timoshenko first bending frequency.
+   !> Asserted: Tet4 too stiff by more than 1 % (measured +2.0 %, 44 times the Tet10 error, with
+   !> fewer dofs: the locking), Tet10 within 0.1 % (measured +0.045 %).
+   subroutine test_tet4_locking(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(body_modes_t) :: tet4, tet10
+      real(dp) :: reference, error4, error10
+      integer :: b4, b10
+      reference = bending_reference(.false.)
+      call beam_modes('beam_tet4.msh', .false., 4, tet4, error)
+      if (.not. allocated(error)) call beam_modes('beam_lc4.msh', .false., 4, tet10, error)
+      if (allocated(error)) return
+      b4 = first_of_kind(tet4, BENDING)
+      b10 = first_of_kind(tet10, BENDING)
+      call check(error, 'a bending mode on both meshes', b4 > 0 .and. b10 > 0)
+      if (allocated(error)) return
+      error4 = tet4%frequency_hz(b4) / reference - 1.0_dp
+      error10 = tet10%frequency_hz(b10) / reference - 1.0_dp
+      call report('first bending vs Timoshenko ' // to_str(reference, 8) // ' Hz: Tet4 (' // &
+         to_str(3 * tet4%mesh%num_nodes) // ' dofs) ' // to_str(tet4%frequency_hz(b4), 8) // &
+         ' Hz (' // to_str(error4, 3) // '), Tet10 (' // to_str(3 * tet10%mesh%num_nodes) // &
+         ' dofs) ' // to_str(tet10%frequency_hz(b10), 8) // ' Hz (' // to_str(error10, 3) // ')')
+      call check(error, 'Tet4 locks: bending ' // to_str(error4, 3) // ' above Timoshenko, ' // &
+         'expected more than +1 %', error4 > 1.0e-2_dp)
+      if (.not. allocated(error)) call check(error, 'Tet10 bending within 0.1 % of ' // &
+         'Timoshenko: ' // to_str(error10, 3), abs(error10) < 1.0e-3_dp)
+   end subroutine test_tet4_locking
 
    !> p with (f1 - f2)/(f2 - f3) = (h1^p - h2^p)/(h2^p - h3^p), by bisection on p in [0.5, 8].
    real(dp) function observed_order(h, f) result(p)
