@@ -75,3 +75,12 @@ add_test(NAME regression_engine_lc8_fail_check
     ${_out}/engine_lc8_fail.h5 --failed)
 set_tests_properties(regression_engine_lc8_fail_check PROPERTIES
   LABELS "regression;engine;postprocess" FIXTURES_REQUIRED engine_lc8_fail_results)
+
+# The real gmsh reads the crank's animation as one view with one time step per frame (4).
+file(WRITE "${_out}/count_views.geo"
+  "Merge \"engine_lc8_rc1_crank_animation.msh\";\nPrintf(\"views %g steps %g\", PostProcessing.NbViews, View[0].NbTimeStep);\n")
+add_test(NAME regression_engine_animation_gmsh
+  COMMAND ${GMSH_EXECUTABLE} count_views.geo -0 -o count_views.geo_unrolled
+  WORKING_DIRECTORY ${_out})
+set_tests_properties(regression_engine_animation_gmsh PROPERTIES LABELS "regression;engine"
+  FIXTURES_REQUIRED engine_lc8_rc1_results PASS_REGULAR_EXPRESSION "views 1 steps 4")
