@@ -279,14 +279,15 @@ contains
       self%damping = 2.0_dp * xi * sqrt(self%stiffness)
    end subroutine flexible_body_set_modal_damping
 
-   !> sum_j z_j B(:, 3j-2:3j) = B (z (x) I3), for B with 3m columns (r x 3).
+   !> sum_j z_j B(:, 3j-2:3j) = B (z (x) I3), for B with 3 rows and 3m columns (3 x 3; a
+   !> fixed-size result: no heap temporary in the per-evaluation paths).
    pure function times_z(B, z) result(c)
       real(dp), intent(in) :: B(:, :), z(:)
-      real(dp) :: c(size(B, 1), 3)
+      real(dp) :: c(3, 3)
       integer :: j
       c = 0.0_dp
       do j = 1, size(z)
-         c = c + z(j) * B(:, 3 * j - 2:3 * j)
+         c = c + z(j) * B(1:3, 3 * j - 2:3 * j)
       end do
    end function times_z
 
@@ -301,6 +302,19 @@ contains
       end do
    end function z_times
 
+   !> (z (x) I3)^T N (y (x) I3) = sum_jk z_j y_k N(3j-2:3j, 3k-2:3k) for N with 3m x 3m (3 x 3).
+   pure function z_times_z(z, N, y) result(c)
+      real(dp), intent(in) :: z(:), N(:, :), y(:)
+      real(dp) :: c(3, 3)
+      integer :: j, k
+      c = 0.0_dp
+      do k = 1, size(y)
+         do j = 1, size(z)
+            c = c + (z(j) * y(k)) * N(3 * j - 2:3 * j, 3 * k - 2:3 * k)
+         end do
+      end do
+   end function z_times_z
+
    !> Deformed inertia I_thth(zeta) = Theta_u + M_xPsi~ (z(x)I) + (z(x)I)^T M_xPsi~^T
    !> + (z(x)I)^T M_Psi~Psi~ (z(x)I) (theory.md 3.3) = u~^T M u~ (kg m^2).
    pure function deformed_inertia(self, zeta) result(inertia)
@@ -308,7 +322,7 @@ contains
       real(dp), intent(in) :: zeta(:)
       real(dp) :: inertia(3, 3), x(3, 3)
       x = times_z(self%m_x_psit, zeta)
-      inertia = self%theta_u + x + transpose(x) + z_times(zeta, times_z(self%m_psit_psit, zeta))
+      inertia = self%theta_u + x + transpose(x) + z_times_z(zeta, self%m_psit_psit, zeta)
    end function deformed_inertia
 
    !> First moment skew: m chi~ + M_PhitPsi~ (z(x)I) = skew(int rho u dV) (kg m).
@@ -329,8 +343,8 @@ contains
       !> Coordinates [R; theta; zeta]
       real(dp), intent(in) :: q(:)
       real(dp) :: mass_matrix(self%num_coordinates, self%num_coordinates)
-      real(dp) :: A(3, 3), G_bar(3, 4)
-      integer :: nc, j
+      real(dp) :: A(3, 3), G_bar(3, 4), h(3)
+      integer :: nc, j, l
       nc = self%num_coordinates
       A = euler_rotation(q(4:7))
       G_bar = euler_g_bar(q(4:7))
@@ -340,11 +354,17 @@ contains
             mass_matrix(j, j) = self%mass
          end do
          mass_matrix(1:3, 4:7) = -matmul(A, matmul(first_moment_skew(self, zeta), G_bar))
-         mass_matrix(1:3, 8:nc) = matmul(A, self%m_phit_psi)
          mass_matrix(4:7, 4:7) = matmul(transpose(G_bar), &
             matmul(deformed_inertia(self, zeta), G_bar))
-         mass_matrix(4:7, 8:nc) = -matmul(transpose(G_bar), &
-            self%m_x_psi + z_times(zeta, self%m_psit_psi))
+         ! Column by column (3-vectors): no m-sized temporaries
+         do l = 1, self%num_modes
+            mass_matrix(1:3, 7 + l) = matmul(A, self%m_phit_psi(:, l))
+            h = self%m_x_psi(:, l)
+            do j = 1, self%num_modes
+               h = h + zeta(j) * self%m_psit_psi(3 * j - 2:3 * j, l)
+            end do
+            mass_matrix(4:7, 7 + l) = -matmul(h, G_bar)
+         end do
          mass_matrix(8:nc, 8:nc) = self%m_psi_psi
       end associate
       mass_matrix(4:nc, 1:3) = transpose(mass_matrix(1:3, 4:nc))
@@ -365,9 +385,8 @@ contains
       !> Velocities [R_dot; theta_dot; zeta_dot]
       real(dp), intent(in) :: v(:)
       real(dp) :: f_v(self%num_coordinates)
-      real(dp) :: A(3, 3), G_bar(3, 4), omega(3), w_skew(3, 3), coriolis(3, 3)
-      real(dp) :: W(3 * self%num_modes, 3)
-      integer :: nc, j
+      real(dp) :: A(3, 3), G_bar(3, 4), omega(3), w_skew(3, 3), coriolis(3, 3), W_j(3, 3)
+      integer :: nc, j, k
       nc = self%num_coordinates
       A = euler_rotation(q(4:7))
       G_bar = euler_g_bar(q(4:7))
@@ -377,13 +396,18 @@ contains
          f_v(1:3) = matmul(A, matmul(w_skew, matmul(first_moment_skew(self, zeta), omega)) + &
             2.0_dp * matmul(times_z(self%m_phit_psit, zeta_dot), omega))
          coriolis = times_z(self%m_x_psit, zeta_dot) + &
-            z_times(zeta, times_z(self%m_psit_psit, zeta_dot))
+            z_times_z(zeta, self%m_psit_psit, zeta_dot)
          f_v(4:7) = -matmul(transpose(G_bar), matmul(w_skew, &
             matmul(deformed_inertia(self, zeta), omega)) + 2.0_dp * matmul(coriolis, omega))
-         W = transpose(self%m_x_psit) + times_z(self%m_psit_psit, zeta)
+         ! W_j = M_xPsi~(:, 3j-2:3j)^T + sum_k z_k N_jk (3 x 3 blocks of the header's W)
          do j = 1, self%num_modes
-            f_v(7 + j) = dot_product(omega, matmul(W(3 * j - 2:3 * j, :), omega)) + &
-               2.0_dp * dot_product(self%m_psit_psi(:, j), kron_vector(zeta_dot, omega))
+            W_j = transpose(self%m_x_psit(:, 3 * j - 2:3 * j)) + &
+               times_z(self%m_psit_psit(3 * j - 2:3 * j, :), zeta)
+            f_v(7 + j) = dot_product(omega, matmul(W_j, omega))
+            do k = 1, self%num_modes
+               f_v(7 + j) = f_v(7 + j) + 2.0_dp * zeta_dot(k) * &
+                  dot_product(self%m_psit_psi(3 * k - 2:3 * k, j), omega)
+            end do
          end do
       end associate
    end function flexible_body_quadratic_velocity
@@ -425,7 +449,7 @@ contains
          T = times_z(self%m_phit_psit, zeta_dot)
          inertia = deformed_inertia(self, zeta)
          coriolis = times_z(self%m_x_psit, zeta_dot) + &
-            z_times(zeta, times_z(self%m_psit_psit, zeta_dot))
+            z_times_z(zeta, self%m_psit_psit, zeta_dot)
          a_vec = matmul(w_skew, matmul(S, omega)) + 2.0_dp * matmul(T, omega)
          b_vec = matmul(w_skew, matmul(inertia, omega)) + 2.0_dp * matmul(coriolis, omega)
          a_w = -skew3(matmul(S, omega)) + matmul(w_skew, S) + 2.0_dp * T
@@ -445,7 +469,10 @@ contains
                end do
                b_z(:, l) = matmul(w_skew, matmul(D, omega)) + 2.0_dp * &
                   matmul(times_z(self%m_psit_psit(3 * l - 2:3 * l, :), zeta_dot), omega)
-               D = Q_l + z_times(zeta, self%m_psit_psit(:, 3 * l - 2:3 * l))
+               D = Q_l
+               do j = 1, m
+                  D = D + zeta(j) * self%m_psit_psit(3 * j - 2:3 * j, 3 * l - 2:3 * l)
+               end do
                b_zd(:, l) = 2.0_dp * matmul(D, omega)
             end associate
          end do
@@ -516,10 +543,11 @@ contains
       !> The Hessian ((7+m) x (7+m))
       real(dp), intent(out) :: H(:, :)
       real(dp) :: A(3, 3), E(3, 3), X(3, 3), phi(3), delta, b_p(3), Z(4, 3), y(3, 3)
-      real(dp) :: tangent_psi(3, self%num_modes), dt(3, 3), t_plus(3), t_minus(3), shifted(3)
-      integer :: m, nc, j
+      real(dp) :: T(3, 3), Z_axes(4, 3, 3), column(4), t_l(3), dt(3, 3), t_plus(3), t_minus(3)
+      real(dp) :: shifted(3)
+      logical :: need(3)
+      integer :: m, j, l
       m = self%num_modes
-      nc = self%num_coordinates
       A = euler_rotation(q(4:7))
       phi = marker_rotation_vector(self, q, k)
       E = rotation_vector_matrix(phi)
@@ -531,16 +559,23 @@ contains
          X(:, j) = X(:, j) + w_position * b_p(j)
       end do
       H(4:7, 4:7) = euler_quadratic_hessian(X)
-      ! theta-zeta
-      tangent_psi = matmul(rotation_vector_tangent(phi), self%virtual_shapes(6 * k - 2:6 * k, :))
+      ! theta-zeta, mode by mode (3-vectors, no m-sized temporaries)
+      T = rotation_vector_tangent(phi)
       Z = theta_gradient_matrix(q(4:7), w_position)
-      H(4:7, 8:nc) = matmul(Z, self%virtual_shapes(6 * k - 5:6 * k - 3, :))
       do j = 1, 3
-         if (all(w_axes(:, j) == 0.0_dp)) cycle
-         Z = theta_gradient_matrix(q(4:7), w_axes(:, j))
-         H(4:7, 8:nc) = H(4:7, 8:nc) - matmul(Z, matmul(skew3(E(:, j)), tangent_psi))
+         need(j) = .not. all(w_axes(:, j) == 0.0_dp)
+         if (need(j)) Z_axes(:, :, j) = matmul(theta_gradient_matrix(q(4:7), w_axes(:, j)), &
+            skew3(E(:, j)))
       end do
-      H(8:nc, 4:7) = transpose(H(4:7, 8:nc))
+      do l = 1, m
+         column = matmul(Z, self%virtual_shapes(6 * k - 5:6 * k - 3, l))
+         t_l = matmul(T, self%virtual_shapes(6 * k - 2:6 * k, l))
+         do j = 1, 3
+            if (need(j)) column = column - matmul(Z_axes(:, :, j), t_l)
+         end do
+         H(4:7, 7 + l) = column
+         H(7 + l, 4:7) = column
+      end do
       ! zeta-zeta
       if (any(w_axes /= 0.0_dp)) then
          y = matmul(transpose(A), w_axes)
@@ -553,10 +588,13 @@ contains
             t_minus = axis_term(shifted)
             dt(:, j) = (t_plus - t_minus) / (2.0_dp * delta)
          end do
-         associate (psi_r => self%virtual_shapes(6 * k - 2:6 * k, :))
-            H(8:nc, 8:nc) = matmul(transpose(psi_r), matmul(0.5_dp * (dt + transpose(dt)), &
-               psi_r))
-         end associate
+         dt = 0.5_dp * (dt + transpose(dt))
+         do l = 1, m
+            t_l = matmul(dt, self%virtual_shapes(6 * k - 2:6 * k, l))
+            do j = 1, m
+               H(7 + j, 7 + l) = dot_product(self%virtual_shapes(6 * k - 2:6 * k, j), t_l)
+            end do
+         end do
       end if
    contains
       !> t(phi) = T(phi)^T sum_j exp(phi~) e_j x y_j.
@@ -744,8 +782,8 @@ contains
       real(dp), intent(out) :: position_jacobian(:, :)
       !> d(A_V e_j)/dq (3 x (7+m) x 3)
       real(dp), intent(inout) :: axis_jacobian(:, :, :)
-      real(dp) :: A(3, 3), u(3), phi(3), E(3, 3), tangent_psi(3, self%num_modes)
-      integer :: j
+      real(dp) :: A(3, 3), u(3), phi(3), E(3, 3), T(3, 3), t_l(3), AE_skew(3, 3, 3)
+      integer :: j, l
       A = euler_rotation(q(4:7))
       u = marker_local(self, q, k)
       phi = marker_rotation_vector(self, q, k)
@@ -754,26 +792,25 @@ contains
       orientation = matmul(A, E)
       position_jacobian(:, 1:3) = identity3()
       position_jacobian(:, 4:7) = rotated_vector_jacobian(q(4:7), u)
-      position_jacobian(:, 8:) = matmul(A, self%virtual_shapes(6 * k - 5:6 * k - 3, :))
+      ! Mode by mode (3-vectors): no m-sized temporaries
+      do l = 1, self%num_modes
+         position_jacobian(:, 7 + l) = matmul(A, self%virtual_shapes(6 * k - 5:6 * k - 3, l))
+      end do
       if (.not. any(need_axes)) return
-      tangent_psi = matmul(rotation_vector_tangent(phi), self%virtual_shapes(6 * k - 2:6 * k, :))
+      T = rotation_vector_tangent(phi)
       do j = 1, 3
          if (.not. need_axes(j)) cycle
          axis_jacobian(:, 1:3, j) = 0.0_dp
          axis_jacobian(:, 4:7, j) = rotated_vector_jacobian(q(4:7), E(:, j))
-         axis_jacobian(:, 8:, j) = -matmul(A, matmul(skew3(E(:, j)), tangent_psi))
+         AE_skew(:, :, j) = -matmul(A, skew3(E(:, j)))
+      end do
+      do l = 1, self%num_modes
+         t_l = matmul(T, self%virtual_shapes(6 * k - 2:6 * k, l))
+         do j = 1, 3
+            if (need_axes(j)) axis_jacobian(:, 7 + l, j) = matmul(AE_skew(:, :, j), t_l)
+         end do
       end do
    end subroutine flexible_body_marker_kinematics
-
-   !> z (x) w: the 3m-vector [z_1 w; ...; z_m w].
-   pure function kron_vector(z, w) result(zw)
-      real(dp), intent(in) :: z(:), w(3)
-      real(dp) :: zw(3 * size(z))
-      integer :: j
-      do j = 1, size(z)
-         zw(3 * j - 2:3 * j) = z(j) * w
-      end do
-   end function kron_vector
 
    !> Elastic and damping generalized force Q_e = [0; 0; -K_ff zeta - D_ff zeta_dot].
    pure function flexible_body_elastic_force(self, q, v) result(force)
@@ -816,8 +853,11 @@ contains
       real(dp), intent(in) :: q(:)
       integer, intent(in) :: k
       real(dp) :: u(3)
-      u = self%virtual_xyz(:, k) + matmul(self%virtual_shapes(6 * k - 5:6 * k - 3, :), &
-         q(8:self%num_coordinates))
+      integer :: l
+      u = self%virtual_xyz(:, k)
+      do l = 1, self%num_modes
+         u = u + q(7 + l) * self%virtual_shapes(6 * k - 5:6 * k - 3, l)
+      end do
    end function marker_local
 
    !> Elastic rotation vector of virtual node k, phi = Psi_Vr zeta (body frame, rad).
@@ -826,7 +866,11 @@ contains
       real(dp), intent(in) :: q(:)
       integer, intent(in) :: k
       real(dp) :: phi(3)
-      phi = matmul(self%virtual_shapes(6 * k - 2:6 * k, :), q(8:self%num_coordinates))
+      integer :: l
+      phi = 0.0_dp
+      do l = 1, self%num_modes
+         phi = phi + q(7 + l) * self%virtual_shapes(6 * k - 2:6 * k, l)
+      end do
    end function marker_rotation_vector
 
    !> Global position of marker k, r_V = R + A (x_V + Psi_Vt zeta) (m). k in 1..num_interfaces.
@@ -945,10 +989,22 @@ contains
       !> Moment, global components (N m)
       real(dp), intent(in) :: moment(3)
       real(dp) :: gen(self%num_coordinates)
-      real(dp) :: L_r(3, self%num_coordinates), L_w(3, self%num_coordinates)
-      L_r = self%marker_velocity_jacobian(q, k)
-      L_w = self%marker_rotation_jacobian(q, k)
-      gen = matmul(force, L_r) + matmul(moment, L_w)
+      real(dp) :: A(3, 3), u(3), y(3), n(3), T(3, 3), Tn(3)
+      integer :: l
+      ! The header's closed forms (= matmul(force, L_r) + matmul(moment, L_w) without the
+      ! 3 x (7+m) Jacobians)
+      A = euler_rotation(q(4:7))
+      u = marker_local(self, q, k)
+      y = matmul(force, A)
+      n = matmul(moment, A)
+      T = rotation_vector_tangent(marker_rotation_vector(self, q, k))
+      Tn = matmul(n, T)
+      gen(1:3) = force
+      gen(4:7) = matmul(cross_product(u, y) + n, euler_g_bar(q(4:7)))
+      do l = 1, self%num_modes
+         gen(7 + l) = dot_product(self%virtual_shapes(6 * k - 5:6 * k - 3, l), y) + &
+            dot_product(self%virtual_shapes(6 * k - 2:6 * k, l), Tn)
+      end do
    end function flexible_body_marker_generalized_force
 
 end module ffrf_mbs_flexible_body

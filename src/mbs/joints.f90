@@ -405,9 +405,9 @@ contains
             wx_a(:, ia) = wx_a(:, ia) + lambda(i) * d
             wr_a = wr_a - lambda(i) * u
             wr_b = wr_b + lambda(i) * u
-            K_aa = K_aa - lambda(i) * (matmul(transpose(axis_a(:, :, ia)), pos_a) + &
-               matmul(transpose(pos_a), axis_a(:, :, ia)))
-            K_ab = K_ab + lambda(i) * matmul(transpose(axis_a(:, :, ia)), pos_b)
+            call add_product(-lambda(i), axis_a(:, :, ia), pos_a, K_aa)
+            call add_product(-lambda(i), pos_a, axis_a(:, :, ia), K_aa)
+            call add_product(lambda(i), axis_a(:, :, ia), pos_b, K_ab)
          case default
             ia = table(2, i)
             ib = table(3, i)
@@ -415,7 +415,7 @@ contains
             w = frame_b(:, ib)
             wx_a(:, ia) = wx_a(:, ia) + lambda(i) * w
             wx_b(:, ib) = wx_b(:, ib) + lambda(i) * u
-            K_ab = K_ab + lambda(i) * matmul(transpose(axis_a(:, :, ia)), axis_b(:, :, ib))
+            call add_product(lambda(i), axis_a(:, :, ia), axis_b(:, :, ib), K_ab)
          end select
       end do
       if (body_a%num_coordinates > 0) then
@@ -428,6 +428,19 @@ contains
          K_bb = hess_b
       end if
    end subroutine table_joint_constraint_hessian
+
+   !> K <- K + s X^T Y for X (3 x n_x), Y (3 x n_y): element by element, without the transpose
+   !> and product temporaries of matmul(transpose(X), Y).
+   pure subroutine add_product(s, X, Y, K)
+      real(dp), intent(in) :: s, X(:, :), Y(:, :)
+      real(dp), intent(inout) :: K(:, :)
+      integer :: i, j
+      do j = 1, size(Y, 2)
+         do i = 1, size(X, 2)
+            K(i, j) = K(i, j) + s * (X(1, i) * Y(1, j) + X(2, i) * Y(2, j) + X(3, i) * Y(3, j))
+         end do
+      end do
+   end subroutine add_product
 
    !> Force and moment that the joint transmits for the multipliers lambda (module header):
    !> force(:, 1), moment(:, 1) act on body a at marker a, force(:, 2), moment(:, 2) on body b
@@ -520,12 +533,12 @@ contains
       !> dPhi/dq_b, num_equations x body_b%num_coordinates
       real(dp), intent(out) :: jac_b(:, :)
       integer :: table(3, max_table_equations)
-      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3)
+      real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3), w(3)
       real(dp) :: pos_a(3, body_a%num_coordinates), pos_b(3, body_b%num_coordinates)
       real(dp) :: axis_a(3, body_a%num_coordinates, 3), axis_b(3, body_b%num_coordinates, 3)
       real(dp) :: r_a(3), r_b(3)
       logical :: need_a(3), need_b(3)
-      integer :: i
+      integer :: i, c
       table = self%equation_table()
       ! Axis Jacobians only for the axes that appear in the table
       need_a = .false.
@@ -537,6 +550,8 @@ contains
       call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
       call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
       d = r_b - r_a
+      ! Row by row as explicit 3-term products (matmul of a 3-vector by a row section would
+      ! build a temporary per equation)
       do i = 1, table_size(table)
          select case (table(1, i))
          case (EQ_POSITION)
@@ -544,11 +559,22 @@ contains
             jac_b(i, :) = pos_b(table(2, i), :)
          case (EQ_LATERAL)
             u = frame_a(:, table(2, i))
-            jac_a(i, :) = matmul(d, axis_a(:, :, table(2, i))) - matmul(u, pos_a)
-            jac_b(i, :) = matmul(u, pos_b)
+            do c = 1, size(jac_a, 2)
+               jac_a(i, c) = dot_product(d, axis_a(:, c, table(2, i))) - &
+                  dot_product(u, pos_a(:, c))
+            end do
+            do c = 1, size(jac_b, 2)
+               jac_b(i, c) = dot_product(u, pos_b(:, c))
+            end do
          case default
-            jac_a(i, :) = matmul(frame_b(:, table(3, i)), axis_a(:, :, table(2, i)))
-            jac_b(i, :) = matmul(frame_a(:, table(2, i)), axis_b(:, :, table(3, i)))
+            u = frame_a(:, table(2, i))
+            w = frame_b(:, table(3, i))
+            do c = 1, size(jac_a, 2)
+               jac_a(i, c) = dot_product(w, axis_a(:, c, table(2, i)))
+            end do
+            do c = 1, size(jac_b, 2)
+               jac_b(i, c) = dot_product(u, axis_b(:, c, table(3, i)))
+            end do
          end select
       end do
    end subroutine table_joint_jacobian
@@ -626,8 +652,11 @@ contains
    !> d = 0.
    pure function spherical_table() result(table)
       integer :: table(3, max_table_equations)
-      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0], &
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: spherical_equations(3, max_table_equations) = &
+         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0], &
          [3, max_table_equations], pad=[0])
+      table = spherical_equations
    end function spherical_table
 
    pure function revolute_name(self) result(name)
@@ -640,8 +669,11 @@ contains
    !> d = 0, x_a.z_b = 0, y_a.z_b = 0.
    pure function revolute_table() result(table)
       integer :: table(3, max_table_equations)
-      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: revolute_equations(3, max_table_equations) = &
+         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
          EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
+      table = revolute_equations
    end function revolute_table
 
    pure function universal_name(self) result(name)
@@ -654,8 +686,11 @@ contains
    !> d = 0, x_a.y_b = 0.
    pure function universal_table() result(table)
       integer :: table(3, max_table_equations)
-      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: universal_equations(3, max_table_equations) = &
+         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
          EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
+      table = universal_equations
    end function universal_table
 
    pure function prismatic_name(self) result(name)
@@ -668,8 +703,11 @@ contains
    !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
    pure function prismatic_table() result(table)
       integer :: table(3, max_table_equations)
-      table = reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: prismatic_equations(3, max_table_equations) = &
+         reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
          EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
+      table = prismatic_equations
    end function prismatic_table
 
    pure function fixed_name(self) result(name)
@@ -682,9 +720,12 @@ contains
    !> d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
    pure function fixed_table() result(table)
       integer :: table(3, max_table_equations)
-      table = reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: fixed_equations(3, max_table_equations) = &
+         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
          EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], &
          [3, max_table_equations], pad=[0])
+      table = fixed_equations
    end function fixed_table
 
 end module ffrf_mbs_joints
