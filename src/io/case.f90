@@ -216,7 +216,7 @@ contains
             to_str(s%newton_rtol, 6) // ', max_iterations = ' // to_str(s%max_iterations) // &
             ', min_step = ' // to_str(s%min_step, 6) // ', rank_rtol = ' // &
             to_str(s%rank_rtol, 6) // ', jacobian = ''' // jacobian_name(s%jacobian) // &
-            ''' /' // nl
+            ''', tangent_reuse = ' // to_str(s%tangent_reuse) // ' /' // nl
       end associate
    end function mechanism_echo
 

@@ -307,11 +307,11 @@ contains
       type(galpha_settings_t), intent(inout) :: settings
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
-      integer :: max_iterations, stat
+      integer :: max_iterations, tangent_reuse, stat
       character(len=16) :: jacobian
       character(len=512) :: msg
       namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
-         min_step, rank_rtol, jacobian
+         min_step, rank_rtol, jacobian, tangent_reuse
       h = settings%h
       t_end = settings%t_end
       rho_inf = settings%rho_inf
@@ -320,13 +320,15 @@ contains
       max_iterations = settings%max_iterations
       min_step = settings%min_step
       rank_rtol = settings%rank_rtol
+      tangent_reuse = settings%tangent_reuse
       jacobian = 'adaptive'
       rewind (unit)
       read (unit, nml=integrator, iostat=stat, iomsg=msg)
       if (.not. is_iostat_end(stat)) then
          if (stat /= 0) then
             call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
-               'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian')
+               'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
+               'tangent_reuse')
             return
          end if
       end if
@@ -338,6 +340,7 @@ contains
       settings%max_iterations = max_iterations
       settings%min_step = min_step
       settings%rank_rtol = rank_rtol
+      settings%tangent_reuse = tangent_reuse
       select case (to_lower(jacobian))
       case ('adaptive')
          settings%jacobian = GALPHA_NEWTON_ADAPTIVE

@@ -42,6 +42,9 @@ module ffrf_mbs_dae_system
       procedure(dae_constraints), deferred :: constraints
       !> Constraint Jacobian Phi_q(q, t), nc x n
       procedure(dae_jacobian), deferred :: constraint_jacobian
+      !> Phi and Phi_q in one call (default: `constraints`, then `constraint_jacobian`; a system
+      !> whose two share work overrides it)
+      procedure :: constraints_and_jacobian => dae_constraints_and_jacobian
       !> K_t = -df/dq, n x n (default: central differences of `force`)
       procedure :: stiffness => dae_stiffness_fd
       !> C_t = -df/dq', n x n (default: central differences of `force`)
@@ -201,6 +204,24 @@ contains
          C_t(:, j) = -(f_plus - f_minus) / (2.0_dp * delta)
       end do
    end subroutine dae_damping_fd
+
+   !> Phi(q, t) and Phi_q(q, t): `constraints`, then `constraint_jacobian`.
+   subroutine dae_constraints_and_jacobian(self, q, t, phi, Phi_q, error)
+      !> The system
+      class(dae_system_t), intent(inout) :: self
+      !> Coordinates, n
+      real(dp), intent(in) :: q(:)
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Phi, nc
+      real(dp), intent(out) :: phi(:)
+      !> Phi_q, nc x n
+      real(dp), intent(out) :: Phi_q(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      call self%constraints(q, t, phi, error)
+      if (allocated(error)) return
+      call self%constraint_jacobian(q, t, Phi_q, error)
+   end subroutine dae_constraints_and_jacobian
 
    !> d(Phi_q^T lambda)/dq by central differences of `constraint_jacobian`.
    subroutine dae_constraint_stiffness_fd(self, q, t, lambda, K_c, error)

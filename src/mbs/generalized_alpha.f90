@@ -76,6 +76,7 @@ module ffrf_mbs_generalized_alpha
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_finite, only: all_finite
    use ffrf_core_log, only: wall_time
    use ffrf_la_lapack, only: dposv
    use ffrf_mbs_dae_system, only: dae_system_t
@@ -127,6 +128,10 @@ module ffrf_mbs_generalized_alpha
       !> Predicted further iterations with an old iteration matrix (from its contraction rate)
       !> above which it is refactored
       integer :: refactor_iterations = 3
+      !> Factorisations at the predictor of a step that may reuse the tangent matrices K_t, C_t
+      !> of an earlier one (the iteration matrix is then rebuilt from the current M and Phi_q,
+      !> which change fastest, and the kept tangents); 0: fresh tangents at every factorisation
+      integer :: tangent_reuse = 4
       !> Smallest step before giving up (s)
       real(dp) :: min_step = 1.0e-9_dp
       !> Factor applied to the step after a failed attempt, in (0, 1)
@@ -149,8 +154,10 @@ module ffrf_mbs_generalized_alpha
       integer(i8) :: rejected_steps = 0
       !> Newton iterations (linear solves), accepted and rejected attempts
       integer(i8) :: newton_iterations = 0
-      !> LU factorisations of the iteration matrix (each with a tangent evaluation)
+      !> LU factorisations of the iteration matrix
       integer(i8) :: factorizations = 0
+      !> Evaluations of the tangent matrices K_t, C_t (at most one per factorisation)
+      integer(i8) :: tangents = 0
       !> Evaluations of the residual (mass, force, constraints, Jacobian)
       integer(i8) :: residual_evaluations = 0
       !> Wall time spent in init and step (s)
@@ -200,6 +207,10 @@ module ffrf_mbs_generalized_alpha
       !> Round-off floors of r_q (n, N) and of Phi on the kept rows (m or rad) (noise_floor)
       real(dp), allocatable, private :: residual_floor(:), constraint_floor(:)
       integer(ip), allocatable, private :: pivots(:)
+      !> Kept tangent matrices K_t = d(M q'' + Phi_q^T lambda - f)/dq and C_t = -df/dq' (n x n)
+      !> and the factorisations that have used them since they were computed
+      real(dp), allocatable, private :: tangent_K(:, :), tangent_C(:, :)
+      integer, private :: tangent_uses = huge(1)
       !> Step the factors were computed for (s); negative: no valid factors
       real(dp), private :: h_factored = -1.0_dp
       !> Accepted steps since the last cut
@@ -270,6 +281,9 @@ contains
          else if (.not. (s%refactor_rate > 0.0_dp .and. s%refactor_rate < 1.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'refactor_rate = ' // &
                to_str(s%refactor_rate) // ', must lie in (0, 1)')
+         else if (s%tangent_reuse < 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'tangent_reuse = ' // &
+               to_str(s%tangent_reuse) // ', must be 0 (fresh tangents) or positive')
          else if (s%refactor_iterations < 1) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'refactor_iterations = ' // &
                to_str(s%refactor_iterations) // ', must be at least 1')
@@ -689,7 +703,9 @@ contains
       allocate (dx(n + nr))
       do iteration = 1, self%settings%max_iterations
          if (need_factor) then
-            call factor(self, system, h, t_new, trial, ok, error)
+            ! A fresh tangent except at the predictor of a normal step (settings%tangent_reuse)
+            call factor(self, system, h, t_new, trial, fresh_start .or. iteration > 1, ok, &
+               error)
             if (allocated(error)) return
             if (.not. ok) then
                reason = 'singular iteration matrix (dependent constraints not detected, or a ' &
@@ -707,7 +723,7 @@ contains
          call kkt_solve(self%lu, self%pivots, dx)
          self%stats%solve_seconds = self%stats%solve_seconds + wall_time() - clock
          self%stats%newton_iterations = self%stats%newton_iterations + 1
-         if (.not. all(ieee_is_finite(dx))) then
+         if (.not. all_finite(dx)) then
             reason = 'NaN or Inf in the Newton increment'
             return
          end if
@@ -716,6 +732,21 @@ contains
          trial%qdd = trial%qdd + beta_p * dx(:n)
          trial%lambda(self%active) = trial%lambda(self%active) + self%row_scale * dx(n + 1:) / bh2
          increment = increment_norm(self, trial, dx, bh2)
+         if (iteration >= 2 .and. self%last_residual <= 1.0_dp) then
+            ! The residual passed at the iterate this increment started from: if the increment
+            ! (or its contraction estimate) passes too, the step has converged and the residual
+            ! at the new iterate, which Newton only reduces further, is not evaluated (one
+            ! residual evaluation less per step)
+            rate = increment / max(previous, tiny(1.0_dp))
+            estimate = increment
+            if (rate < 1.0_dp) estimate = min(increment, rate / (1.0_dp - rate) * increment)
+            if (estimate <= 1.0_dp) then
+               self%last_increment = increment
+               converged = .true.
+               self%reuse_factors = age <= self%settings%refactor_iterations
+               return
+            end if
+         end if
          call evaluate(self, system, t_new, trial, error)
          if (allocated(error)) return
          if (.not. finite_trial(trial)) then
@@ -780,9 +811,7 @@ contains
       if (allocated(error)) return
       call system%force(trial%q, trial%v, t, f, error)
       if (allocated(error)) return
-      call system%constraints(trial%q, t, trial%phi, error)
-      if (allocated(error)) return
-      call system%constraint_jacobian(trial%q, t, trial%Phi_q, error)
+      call system%constraints_and_jacobian(trial%q, t, trial%phi, trial%Phi_q, error)
       if (allocated(error)) return
       inertia = matmul(trial%M, trial%qdd)
       reaction = matmul(trial%lambda, trial%Phi_q)
@@ -796,14 +825,16 @@ contains
    !> 4.2): D_L S_t D_R = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]] with
    !> c = (1 - alpha_f)/(1 - alpha_m), K_t = d(M q'')/dq + d(Phi_q^T lambda)/dq - df/dq,
    !> C_t = -df/dq', then the constraint rows equilibrated (kkt_matrix).
-   subroutine factor(self, system, h, t, trial, ok, error)
+   subroutine factor(self, system, h, t, trial, fresh_tangent, ok, error)
       type(galpha_integrator_t), intent(inout) :: self
       class(dae_system_t), intent(inout) :: system
       real(dp), intent(in) :: h, t
       type(trial_t), intent(in) :: trial
+      !> Compute K_t and C_t at the trial state even if settings%tangent_reuse allows old ones
+      logical, intent(in) :: fresh_tangent
       logical, intent(out) :: ok
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: block(:, :), work(:, :), tangent(:, :)
+      real(dp), allocatable :: block(:, :), work(:, :)
       real(dp) :: c_af, clock
       integer(ip) :: info
       integer :: n
@@ -811,32 +842,43 @@ contains
       ok = .false.
       clock = wall_time()
       c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
-      allocate (block(n, n), work(n, n))
-      call system%stiffness(trial%q, trial%v, t, block, error)
-      if (allocated(error)) return
-      call system%mass_stiffness(trial%q, trial%qdd, work, error)
-      if (allocated(error)) return
-      block = block + work
-      if (self%nc > 0) then
-         call system%constraint_stiffness(trial%q, t, trial%lambda, work, error)
+      if (fresh_tangent .or. self%tangent_uses >= self%settings%tangent_reuse .or. &
+         .not. allocated(self%tangent_K)) then
+         if (.not. allocated(self%tangent_K)) allocate (self%tangent_K(n, n), &
+            self%tangent_C(n, n))
+         allocate (work(n, n))
+         self%tangent_uses = huge(1)
+         call system%stiffness(trial%q, trial%v, t, self%tangent_K, error)
          if (allocated(error)) return
-         block = block + work
+         call system%mass_stiffness(trial%q, trial%qdd, work, error)
+         if (allocated(error)) return
+         self%tangent_K = self%tangent_K + work
+         if (self%nc > 0) then
+            call system%constraint_stiffness(trial%q, t, trial%lambda, work, error)
+            if (allocated(error)) return
+            self%tangent_K = self%tangent_K + work
+         end if
+         call system%damping(trial%q, trial%v, t, self%tangent_C, error)
+         if (allocated(error)) return
+         self%tangent_uses = 0
+         self%stats%tangents = self%stats%tangents + 1
       end if
-      tangent = block
-      block = self%beta * h**2 * block + trial%M / c_af
-      call system%damping(trial%q, trial%v, t, work, error)
-      if (allocated(error)) return
-      block = block + self%gamma * h * work
+      self%tangent_uses = self%tangent_uses + 1
+      block = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * h * &
+         self%tangent_C
       self%stats%tangent_seconds = self%stats%tangent_seconds + wall_time() - clock
       clock = wall_time()
       self%stats%factorizations = self%stats%factorizations + 1
       self%h_factored = -1.0_dp
-      if (.not. all(ieee_is_finite(block))) return
+      if (.not. all_finite(block)) return
       call kkt_matrix(block, trial%Phi_q(self%active, :), self%lu, self%row_scale)
       call kkt_factor(self%lu, self%pivots, info)
+      if (info /= 0) then
+         self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
+         return
+      end if
+      call noise_floor(self, h, self%tangent_K, trial)
       self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
-      if (info /= 0) return
-      call noise_floor(self, h, tangent, trial)
       self%h_factored = h
       ok = .true.
    end subroutine factor
@@ -935,11 +977,9 @@ contains
    !> Whether the residual of a trial is finite.
    logical function finite_trial(trial)
       type(trial_t), intent(in) :: trial
-      ! A NaN or Inf in an array makes its sum of magnitudes non-finite (one reduction per array
-      ! instead of a test per element; finite values of physical size do not overflow)
-      finite_trial = ieee_is_finite(sum(abs(trial%r_q))) .and. &
-         ieee_is_finite(sum(abs(trial%phi))) .and. ieee_is_finite(sum(abs(trial%Phi_q))) .and. &
-         ieee_is_finite(trial%force_scale)
+      ! A NaN or Inf in M, f, Phi_q or lambda reaches r_q (NaN * 0 is NaN), and one in Phi reaches
+      ! phi: two reductions screen the whole evaluation
+      finite_trial = all_finite(trial%r_q) .and. all_finite(trial%phi)
    end function finite_trial
 
    !> max |x_i|, 0 for an empty vector.

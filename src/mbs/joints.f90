@@ -95,6 +95,8 @@ module ffrf_mbs_joints
       procedure :: connect => joint_connect
       !> Blocks of d(Phi_q^T lambda)/dq (default: central differences of `jacobian`)
       procedure :: constraint_hessian => joint_constraint_hessian_fd
+      !> Phi and dPhi/dq_a, dPhi/dq_b in one call (default: `residual`, then `jacobian`)
+      procedure :: residual_jacobian => joint_residual_jacobian
    end type joint_t
 
    abstract interface
@@ -180,6 +182,7 @@ module ffrf_mbs_joints
       procedure :: connect => table_joint_connect
       procedure :: residual => table_joint_residual
       procedure :: jacobian => table_joint_jacobian
+      procedure :: residual_jacobian => table_joint_residual_jacobian
       procedure :: reaction => table_joint_reaction
       procedure :: constraint_hessian => table_joint_constraint_hessian
    end type table_joint_t
@@ -294,6 +297,28 @@ contains
       self%marker_a = marker_a
       self%marker_b = marker_b
    end subroutine joint_connect
+
+   !> Phi and its Jacobian blocks (the residual and jacobian procedures, one after the other).
+   pure subroutine joint_residual_jacobian(self, body_a, q_a, body_b, q_b, phi, jac_a, jac_b)
+      !> The joint
+      class(joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> Phi, num_equations
+      real(dp), intent(out) :: phi(:)
+      !> dPhi/dq_a, num_equations x body_a%num_coordinates
+      real(dp), intent(out) :: jac_a(:, :)
+      !> dPhi/dq_b, num_equations x body_b%num_coordinates
+      real(dp), intent(out) :: jac_b(:, :)
+      call self%residual(body_a, q_a, body_b, q_b, phi)
+      call self%jacobian(body_a, q_a, body_b, q_b, jac_a, jac_b)
+   end subroutine joint_residual_jacobian
 
    !> Blocks of d(Phi_q^T lambda)/dq by central differences of `jacobian` over q_a and q_b:
    !> K_aa = d(jac_a^T lambda)/dq_a, K_ab = d(jac_a^T lambda)/dq_b, K_bb = d(jac_b^T lambda)/dq_b
@@ -514,11 +539,13 @@ contains
       end do
    end subroutine table_joint_residual
 
-   !> dPhi/dq_a and dPhi/dq_b from the markers' exact Jacobians:
+   !> Phi (as table_joint_residual) and dPhi/dq_a, dPhi/dq_b from one evaluation of each marker's
+   !> kinematics, with the markers' exact Jacobians:
    !>     position c:     -(dr_a/dq_a)_c,                  (dr_b/dq_b)_c
    !>     lateral u_a:    d^T du_a/dq_a - u_a^T dr_a/dq_a,  u_a^T dr_b/dq_b
    !>     perpendicular:  w_b^T du_a/dq_a,                 u_a^T dw_b/dq_b
-   pure subroutine table_joint_jacobian(self, body_a, q_a, body_b, q_b, jac_a, jac_b)
+   pure subroutine table_joint_residual_jacobian(self, body_a, q_a, body_b, q_b, phi, jac_a, &
+         jac_b)
       class(table_joint_t), intent(in) :: self
       !> Body a
       class(body_t), intent(in) :: body_a
@@ -528,6 +555,8 @@ contains
       class(body_t), intent(in) :: body_b
       !> Coordinates of body b
       real(dp), intent(in) :: q_b(:)
+      !> Phi, num_equations
+      real(dp), intent(out) :: phi(:)
       !> dPhi/dq_a, num_equations x body_a%num_coordinates
       real(dp), intent(out) :: jac_a(:, :)
       !> dPhi/dq_b, num_equations x body_b%num_coordinates
@@ -555,10 +584,12 @@ contains
       do i = 1, table_size(table)
          select case (table(1, i))
          case (EQ_POSITION)
+            phi(i) = d(table(2, i))
             jac_a(i, :) = -pos_a(table(2, i), :)
             jac_b(i, :) = pos_b(table(2, i), :)
          case (EQ_LATERAL)
             u = frame_a(:, table(2, i))
+            phi(i) = dot_product(u, d)
             do c = 1, size(jac_a, 2)
                jac_a(i, c) = dot_product(d, axis_a(:, c, table(2, i))) - &
                   dot_product(u, pos_a(:, c))
@@ -569,6 +600,7 @@ contains
          case default
             u = frame_a(:, table(2, i))
             w = frame_b(:, table(3, i))
+            phi(i) = dot_product(u, w)
             do c = 1, size(jac_a, 2)
                jac_a(i, c) = dot_product(w, axis_a(:, c, table(2, i)))
             end do
@@ -577,6 +609,25 @@ contains
             end do
          end select
       end do
+   end subroutine table_joint_residual_jacobian
+
+   !> dPhi/dq_a, dPhi/dq_b of a table joint (table_joint_residual_jacobian without Phi).
+   pure subroutine table_joint_jacobian(self, body_a, q_a, body_b, q_b, jac_a, jac_b)
+      class(table_joint_t), intent(in) :: self
+      !> Body a
+      class(body_t), intent(in) :: body_a
+      !> Coordinates of body a
+      real(dp), intent(in) :: q_a(:)
+      !> Body b
+      class(body_t), intent(in) :: body_b
+      !> Coordinates of body b
+      real(dp), intent(in) :: q_b(:)
+      !> dPhi/dq_a, num_equations x body_a%num_coordinates
+      real(dp), intent(out) :: jac_a(:, :)
+      !> dPhi/dq_b, num_equations x body_b%num_coordinates
+      real(dp), intent(out) :: jac_b(:, :)
+      real(dp) :: phi(self%num_equations)
+      call table_joint_residual_jacobian(self, body_a, q_a, body_b, q_b, phi, jac_a, jac_b)
    end subroutine table_joint_jacobian
 
    !> Reaction force and moment on each body from the multipliers (module header).

@@ -166,6 +166,7 @@ module ffrf_mbs_mechanism
       procedure :: force => mechanism_force
       procedure :: constraints => mechanism_constraints
       procedure :: constraint_jacobian => mechanism_constraint_jacobian
+      procedure :: constraints_and_jacobian => mechanism_constraints_and_jacobian
       procedure :: constraint_rate => mechanism_constraint_rate
       procedure :: acceleration_rhs => mechanism_acceleration_rhs
       procedure :: accepted_step => mechanism_accepted_step
@@ -413,6 +414,21 @@ module ffrf_mbs_mechanism
          real(dp), intent(out) :: Phi_q(:, :)
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_constraint_jacobian
+
+      !> Phi and Phi_q in one pass over the joints (each joint evaluates its markers once).
+      module subroutine mechanism_constraints_and_jacobian(self, q, t, phi, Phi_q, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         !> Time (s)
+         real(dp), intent(in) :: t
+         !> Residuals, nc
+         real(dp), intent(out) :: phi(:)
+         !> dPhi/dq, nc x n
+         real(dp), intent(out) :: Phi_q(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_constraints_and_jacobian
 
       !> Phi_t: zero except the drive row, f' n_f . A e_x (module header).
       module subroutine mechanism_constraint_rate(self, q, t, phi_t, error)

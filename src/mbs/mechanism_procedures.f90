@@ -6,6 +6,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_core_kinds, only: ip, pi
    use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_finite, only: all_finite
    use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
       rotated_vector_jacobian
    use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t, euler_hessian, &
@@ -365,7 +366,7 @@ contains
          if (nb > 0) M(k + 1:k + nb, k + 1:k + nb) = self%bodies(b)%body% &
             mass_matrix(q(k + 1:k + nb))
       end do
-      if (.not. all(ieee_is_finite(M))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+      if (.not. all_finite(M)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: mass matrix not finite (NaN coordinates?)')
    end procedure mechanism_mass
 
@@ -387,8 +388,7 @@ contains
 
    !> Phi: joint equations, drive row, Euler normalisations.
    module procedure mechanism_constraints
-      real(dp) :: f(3)
-      integer :: j, b, k
+      integer :: j
       if (allocated(self%joints)) then
          do j = 1, size(self%joints)
             associate (jt => self%joints(j))
@@ -399,25 +399,24 @@ contains
             end associate
          end do
       end if
-      if (self%drive_row > 0) then
-         k = self%bodies(self%drive_body)%offset
-         f = self%drive%evaluate(t)
-         phi(self%drive_row) = dot_product(drive_normal(f(1)), &
-            matmul(euler_rotation(q(k + 4:k + 7)), e_x))
-      end if
-      do b = 1, num_bodies(self)
-         if (self%bodies(b)%euler_row == 0) cycle
-         k = self%bodies(b)%offset
-         phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
-      end do
-      if (.not. all(ieee_is_finite(phi))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+      call drive_and_euler_residuals(self, q, t, phi)
+      if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraints
 
    !> Phi_q: joint blocks, drive row n^T d(A e_x)/dtheta, Euler rows 2 theta^T.
    module procedure mechanism_constraint_jacobian
-      real(dp) :: f(3)
-      integer :: j, b, k, ka, kb, na, nb, ne
+      real(dp) :: phi(self%nc)
+      call self%constraints_and_jacobian(q, t, phi, Phi_q, error)
+      if (allocated(error)) return
+      if (.not. all_finite(Phi_q)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: constraint Jacobian not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraint_jacobian
+
+   !> Phi and Phi_q: one residual_jacobian call per joint, then the drive and Euler rows. Not
+   !> checked for NaN here: the integrator checks the residual, which carries any NaN of Phi_q.
+   module procedure mechanism_constraints_and_jacobian
+      integer :: j, ka, kb, na, nb, ne
       Phi_q = 0.0_dp
       if (allocated(self%joints)) then
          do j = 1, size(self%joints)
@@ -429,13 +428,49 @@ contains
                nb = self%bodies(jt%body_b)%body%num_coordinates
                ! The two bodies differ (add_joint), so their column blocks do not overlap: the
                ! joint writes its blocks in place
-               call jt%joint%jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+               call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
                   self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  phi(jt%offset + 1:jt%offset + ne), &
                   Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
                   Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
             end associate
          end do
       end if
+      call drive_and_euler_residuals(self, q, t, phi)
+      call drive_and_euler_jacobian(self, q, t, Phi_q)
+      if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
+   end procedure mechanism_constraints_and_jacobian
+
+   !> Drive row n . A(theta) e_x and Euler rows |theta|^2 - 1 of Phi.
+   subroutine drive_and_euler_residuals(self, q, t, phi)
+      type(mechanism_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: phi(:)
+      real(dp) :: f(3)
+      integer :: b, k
+      if (self%drive_row > 0) then
+         k = self%bodies(self%drive_body)%offset
+         f = self%drive%evaluate(t)
+         phi(self%drive_row) = dot_product(drive_normal(f(1)), &
+            matmul(euler_rotation(q(k + 4:k + 7)), e_x))
+      end if
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row == 0) cycle
+         k = self%bodies(b)%offset
+         phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
+      end do
+   end subroutine drive_and_euler_residuals
+
+   !> Drive row n^T d(A e_x)/dtheta and Euler rows 2 theta^T of Phi_q (other entries untouched).
+   subroutine drive_and_euler_jacobian(self, q, t, Phi_q)
+      type(mechanism_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: Phi_q(:, :)
+      real(dp) :: f(3)
+      integer :: b, k
       if (self%drive_row > 0) then
          k = self%bodies(self%drive_body)%offset
          f = self%drive%evaluate(t)
@@ -447,9 +482,7 @@ contains
          k = self%bodies(b)%offset
          Phi_q(self%bodies(b)%euler_row, k + 4:k + 7) = 2.0_dp * q(k + 4:k + 7)
       end do
-      if (.not. all(ieee_is_finite(Phi_q))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
-         'mechanism: constraint Jacobian not finite at t = ' // to_str(t) // ' s')
-   end procedure mechanism_constraint_jacobian
+   end subroutine drive_and_euler_jacobian
 
    !> Phi_t: zero except the drive row, f' n_f . A e_x (module header).
    module procedure mechanism_constraint_rate
@@ -558,7 +591,7 @@ contains
       self%cache_q = q
       self%cache_v = v
       self%cache_t = t
-      if (.not. (all(ieee_is_finite(K_t)) .and. all(ieee_is_finite(self%damping_cache)))) &
+      if (.not. (all_finite(K_t) .and. all_finite(self%damping_cache))) &
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism: force tangents not finite ' &
          // 'at t = ' // to_str(t) // ' s')
    end procedure mechanism_stiffness
@@ -717,7 +750,7 @@ contains
             K_c(k + i, k + i) = K_c(k + i, k + i) + 2.0_dp * lambda(self%bodies(b)%euler_row)
          end do
       end do
-      if (.not. all(ieee_is_finite(K_c))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+      if (.not. all_finite(K_c)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint stiffness not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraint_stiffness
 
@@ -739,7 +772,7 @@ contains
          K_m(k + 1:k + nb, k + 1:k + nb) = K_b
          deallocate (K_b)
       end do
-      if (.not. all(ieee_is_finite(K_m))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+      if (.not. all_finite(K_m)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: mass stiffness not finite')
    end procedure mechanism_mass_stiffness
 

@@ -369,10 +369,18 @@ contains
       associate (s => integrator%stats)
          call log%info('run', to_str(s%steps) // ' steps, ' // to_str(s%rejected_steps) // &
             ' rejected, ' // to_str(s%newton_iterations) // ' Newton iterations, ' // &
-            to_str(s%factorizations) // ' Jacobian factorisations, smallest step ' // &
+            to_str(s%factorizations) // ' Jacobian factorisations (' // to_str(s%tangents) // &
+            ' with new tangents), smallest step ' // &
             to_str(s%h_min, 3) // ' s, ' // to_str(s%wall_seconds, 4) // ' s (' // &
             to_str(1.0e3_dp * s%wall_seconds / real(max(s%steps, 1_i8), dp), 3) // &
             ' ms/step), largest constraint violation ' // to_str(s%max_constraint_violation, 3))
+         call log%info('run', 'integration time: residuals ' // to_str(s%residual_seconds, 3) &
+            // ' s (' // to_str(s%residual_evaluations) // '), tangents ' // &
+            to_str(s%tangent_seconds, 3) // ' s, factorisations ' // &
+            to_str(s%factor_seconds, 3) // ' s, solves ' // to_str(s%solve_seconds, 3) // &
+            ' s, other (predictor, output hook) ' // to_str(s%wall_seconds - &
+            s%residual_seconds - s%tangent_seconds - s%factor_seconds - s%solve_seconds, 3) // &
+            ' s')
          call log%info('run', 'final crank angle ' // to_str(mech%crank_angle(integrator%q) * &
             180.0_dp / pi, 8) // ' deg, speed ' // &
             to_str(mech%crank_speed(integrator%q, integrator%v), 8) // ' rad/s')
