@@ -321,7 +321,14 @@ contains
       min_step = settings%min_step
       rank_rtol = settings%rank_rtol
       tangent_reuse = settings%tangent_reuse
-      jacobian = 'adaptive'
+      select case (settings%jacobian)
+      case (GALPHA_NEWTON_FULL)
+         jacobian = 'full'
+      case (GALPHA_NEWTON_ADAPTIVE)
+         jacobian = 'adaptive'
+      case default
+         jacobian = 'step'
+      end select
       rewind (unit)
       read (unit, nml=integrator, iostat=stat, iomsg=msg)
       if (.not. is_iostat_end(stat)) then

@@ -302,16 +302,31 @@ contains
       end do
    end function z_times
 
-   !> (z (x) I3)^T N (y (x) I3) = sum_jk z_j y_k N(3j-2:3j, 3k-2:3k) for N with 3m x 3m (3 x 3).
+   !> P = N (z (x) I3) for N with 3m columns (P: size(N, 1) x 3): column c is
+   !> sum_k z_k N(:, 3k-3+c), contiguous column updates that vectorise (a subroutine: a function
+   !> result of run-time size would go through the heap).
+   pure subroutine n_times_z(N, z, P)
+      real(dp), intent(in) :: N(:, :), z(:)
+      real(dp), intent(out) :: P(:, :)
+      integer :: k, c
+      P = 0.0_dp
+      do k = 1, size(z)
+         do c = 1, 3
+            P(:, c) = P(:, c) + z(k) * N(:, 3 * k - 3 + c)
+         end do
+      end do
+   end subroutine n_times_z
+
+   !> (z (x) I3)^T N (y (x) I3) = sum_jk z_j y_k N(3j-2:3j, 3k-2:3k) for N with 3m x 3m (3 x 3),
+   !> as (z (x) I3)^T P with P = N (y (x) I3).
    pure function z_times_z(z, N, y) result(c)
       real(dp), intent(in) :: z(:), N(:, :), y(:)
-      real(dp) :: c(3, 3)
-      integer :: j, k
+      real(dp) :: c(3, 3), P(size(N, 1), 3)
+      integer :: j
+      call n_times_z(N, y, P)
       c = 0.0_dp
-      do k = 1, size(y)
-         do j = 1, size(z)
-            c = c + (z(j) * y(k)) * N(3 * j - 2:3 * j, 3 * k - 2:3 * k)
-         end do
+      do j = 1, size(z)
+         c = c + z(j) * P(3 * j - 2:3 * j, :)
       end do
    end function z_times_z
 
@@ -386,6 +401,7 @@ contains
       real(dp), intent(in) :: v(:)
       real(dp) :: f_v(self%num_coordinates)
       real(dp) :: A(3, 3), G_bar(3, 4), omega(3), w_skew(3, 3), coriolis(3, 3), W_j(3, 3)
+      real(dp) :: P(3 * self%num_modes, 3)
       integer :: nc, j, k
       nc = self%num_coordinates
       A = euler_rotation(q(4:7))
@@ -399,10 +415,11 @@ contains
             z_times_z(zeta, self%m_psit_psit, zeta_dot)
          f_v(4:7) = -matmul(transpose(G_bar), matmul(w_skew, &
             matmul(deformed_inertia(self, zeta), omega)) + 2.0_dp * matmul(coriolis, omega))
-         ! W_j = M_xPsi~(:, 3j-2:3j)^T + sum_k z_k N_jk (3 x 3 blocks of the header's W)
+         ! W_j = M_xPsi~(:, 3j-2:3j)^T + sum_k z_k N_jk (3 x 3 blocks of the header's W), the
+         ! sums being the blocks of P = N (z (x) I3)
+         call n_times_z(self%m_psit_psit, zeta, P)
          do j = 1, self%num_modes
-            W_j = transpose(self%m_x_psit(:, 3 * j - 2:3 * j)) + &
-               times_z(self%m_psit_psit(3 * j - 2:3 * j, :), zeta)
+            W_j = transpose(self%m_x_psit(:, 3 * j - 2:3 * j)) + P(3 * j - 2:3 * j, :)
             f_v(7 + j) = dot_product(omega, matmul(W_j, omega))
             do k = 1, self%num_modes
                f_v(7 + j) = f_v(7 + j) + 2.0_dp * zeta_dot(k) * &

@@ -363,11 +363,15 @@ contains
       do b = 1, num_bodies(self)
          k = self%bodies(b)%offset
          nb = self%bodies(b)%body%num_coordinates
-         if (nb > 0) M(k + 1:k + nb, k + 1:k + nb) = self%bodies(b)%body% &
-            mass_matrix(q(k + 1:k + nb))
+         if (nb == 0) cycle
+         M(k + 1:k + nb, k + 1:k + nb) = self%bodies(b)%body%mass_matrix(q(k + 1:k + nb))
+         ! Only the bodies' blocks can hold a NaN
+         if (.not. all_finite(M(k + 1:k + nb, k + 1:k + nb))) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism: mass matrix of body "' // &
+               self%bodies(b)%name // '" not finite (NaN coordinates?)')
+            return
+         end if
       end do
-      if (.not. all_finite(M)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
-         'mechanism: mass matrix not finite (NaN coordinates?)')
    end procedure mechanism_mass
 
    !> f = sum_b (f_v + Q_e) + applied loads + gravity.
