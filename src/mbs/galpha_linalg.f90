@@ -9,7 +9,7 @@ module ffrf_mbs_galpha_linalg
    implicit none
    private
    public :: dgetrf, dgetrs, dgeqp3
-   public :: find_redundant_rows, kkt_matrix, kkt_factor, kkt_solve
+   public :: find_redundant_rows, kkt_matrix, kkt_complete, kkt_factor, kkt_solve
 
    interface
       !> LU factorisation with partial pivoting, A = P L U.
@@ -117,40 +117,70 @@ contains
       real(dp), allocatable, intent(out) :: kkt(:, :)
       !> Row scale of the constraint block, nr
       real(dp), allocatable, intent(out) :: scale(:)
-      real(dp) :: reference, row_max
       integer :: n, nr, i
       n = size(A, 1)
       nr = size(Phi_q, 1)
       allocate (kkt(n + nr, n + nr), scale(nr))
+      kkt(:n, :n) = A
+      call kkt_complete(kkt, Phi_q, [(i, i=1, nr)], scale)
+   end subroutine kkt_matrix
+
+   !> The constraint blocks of kkt_matrix around an upper-left block already in kkt(:n, :n):
+   !> rows `rows` of Phi_q (nr of them, n = size(kkt, 1) - nr), each scaled to the largest
+   !> diagonal entry of the block; the lower-right block zero. In place: no copy of the n x n
+   !> block nor of the selected rows.
+   pure subroutine kkt_complete(kkt, Phi_q, rows, scale)
+      !> The (n + nr) square matrix, its (:n, :n) block set on entry
+      real(dp), intent(inout) :: kkt(:, :)
+      !> Constraint Jacobian, all rows (nc x n)
+      real(dp), intent(in) :: Phi_q(:, :)
+      !> The independent rows of Phi_q to use, nr
+      integer, intent(in) :: rows(:)
+      !> Row scale of the constraint block, nr
+      real(dp), intent(out) :: scale(:)
+      real(dp) :: reference, row_max
+      integer :: n, nr, i, j
+      nr = size(rows)
+      n = size(kkt, 1) - nr
       reference = 0.0_dp
       do i = 1, n
-         reference = max(reference, abs(A(i, i)))
+         reference = max(reference, abs(kkt(i, i)))
       end do
       if (reference <= 0.0_dp) reference = 1.0_dp
       do i = 1, nr
-         row_max = maxval(abs(Phi_q(i, :)))
+         row_max = 0.0_dp
+         do j = 1, n
+            row_max = max(row_max, abs(Phi_q(rows(i), j)))
+         end do
          scale(i) = 1.0_dp
          if (row_max > 0.0_dp) scale(i) = reference / row_max
       end do
-      kkt = 0.0_dp
-      kkt(:n, :n) = A
-      do i = 1, nr
-         kkt(n + i, :n) = scale(i) * Phi_q(i, :)
-         kkt(:n, n + i) = scale(i) * Phi_q(i, :)
+      do j = 1, n
+         do i = 1, nr
+            kkt(n + i, j) = scale(i) * Phi_q(rows(i), j)
+         end do
       end do
-   end subroutine kkt_matrix
+      do i = 1, nr
+         kkt(:n, n + i) = kkt(n + i, :n)
+      end do
+      kkt(n + 1:, n + 1:) = 0.0_dp
+   end subroutine kkt_complete
 
-   !> LU factors of a square matrix in place (dgetrf); info > 0 means singular.
+   !> LU factors of a square matrix in place (dgetrf); info > 0 means singular. The pivot array
+   !> is (re)allocated only when its size differs.
    subroutine kkt_factor(kkt, pivots, info)
       !> Matrix on entry, its LU factors on exit
       real(dp), intent(inout) :: kkt(:, :)
       !> Row interchanges
-      integer(ip), allocatable, intent(out) :: pivots(:)
+      integer(ip), allocatable, intent(inout) :: pivots(:)
       !> dgetrf status: 0 success, > 0 exactly singular pivot
       integer(ip), intent(out) :: info
       integer(ip) :: m
       m = int(size(kkt, 1), ip)
-      allocate (pivots(m))
+      if (allocated(pivots)) then
+         if (size(pivots) /= m) deallocate (pivots)
+      end if
+      if (.not. allocated(pivots)) allocate (pivots(m))
       info = 0
       if (m == 0) return
       call dgetrf(m, m, kkt, m, pivots, info)

@@ -98,7 +98,8 @@ module ffrf_mbs_generalized_alpha
    use ffrf_core_log, only: wall_time
    use ffrf_la_lapack, only: dposv
    use ffrf_mbs_dae_system, only: dae_system_t
-   use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_factor, kkt_solve
+   use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_complete, &
+      kkt_factor, kkt_solve
    implicit none
    private
    public :: galpha_settings_t, galpha_stats_t, galpha_integrator_t
@@ -854,12 +855,13 @@ contains
       logical, intent(in) :: fresh_tangent
       logical, intent(out) :: ok
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: block(:, :), work(:, :)
+      real(dp), allocatable :: work(:, :)
       real(dp) :: c_af, clock
       integer(ip) :: info
-      integer :: n
+      integer :: n, nr
       logical :: new_tangent
       n = self%n
+      nr = size(self%active)
       ok = .false.
       clock = wall_time()
       c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
@@ -886,15 +888,20 @@ contains
          self%stats%tangents = self%stats%tangents + 1
       end if
       self%tangent_uses = self%tangent_uses + 1
-      block = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * h * &
-         self%tangent_C
       self%stats%tangent_seconds = self%stats%tangent_seconds + wall_time() - clock
       clock = wall_time()
       self%stats%factorizations = self%stats%factorizations + 1
       self%h_factored = -1.0_dp
+      ! The iteration matrix is assembled in the factor storage, kept between factorisations.
       ! (M is screened with the residual, the tangents when computed; a NaN that got through
-      ! shows in the Newton increment)
-      call kkt_matrix(block, trial%Phi_q(self%active, :), self%lu, self%row_scale)
+      ! shows in the Newton increment.)
+      if (allocated(self%lu)) then
+         if (size(self%lu, 1) /= n + nr) deallocate (self%lu, self%row_scale)
+      end if
+      if (.not. allocated(self%lu)) allocate (self%lu(n + nr, n + nr), self%row_scale(nr))
+      self%lu(:n, :n) = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * h * &
+         self%tangent_C
+      call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
       call kkt_factor(self%lu, self%pivots, info)
       if (info /= 0) then
          self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
