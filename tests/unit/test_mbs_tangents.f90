@@ -37,7 +37,8 @@ module test_mbs_tangents
    use ffrf_mbs_mechanism_loads, only: pressure_force_t, starter_torque_t, drag_torque_t, &
       polynomial_drive_t, LOAD_FORCE, LOAD_TORQUE
    use ffrf_mbs_pressure, only: pressure_input_t
-   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
+      GALPHA_NEWTON_FULL
    use ffrf_testing, only: unittest_t, new_unittest, check, report
    implicit none
    private
@@ -461,10 +462,15 @@ contains
 
    !> The rigid-crank engine started at rest at top dead centre with newton_atol = 1e-12,
    !> newton_rtol = 1e-10, h = 1e-4 s: 0.05 s (500 steps, starter run-up) with the central
-   !> differences, 0.15 s (1500 steps, through the first firings) with the analytic tangents.
-   !> References: (a) at t = 0.05 s the two runs agree (the tangents only change the Newton path,
-   !> both converge to the same tolerances): crank speeds within 1e-9 relative (measured 1e-13);
-   !> (b) no rejected step (before the change of the Jacobian-reuse policy in
+   !> differences, 0.15 s (1500 steps, through the first firings) with the analytic tangents and
+   !> the default Jacobian policy (factorised at each predictor, tangents kept up to
+   !> tangent_reuse factorisations, no residual evaluation after a converged last increment),
+   !> and 0.05 s with full Newton (fresh analytic tangents and factors at every iteration).
+   !> References: (a) at t = 0.05 s the runs agree (the tangents and the policy only change the
+   !> Newton path, all converge to the same tolerances): crank speeds within 1e-9 relative of the
+   !> central-difference run (measured 1e-13) and of the full-Newton run; (b) the default run
+   !> kept tangents (fewer tangent evaluations than factorisations) and skipped evaluations
+   !> (fewer residual evaluations than iterations plus steps); (c) no rejected step (before the change of the Jacobian-reuse policy in
    !> ffrf_mbs_generalized_alpha, stale iteration matrices with contraction rates 0.1-0.2 ran out
    !> of iterations: 54 rejected steps in 3000 on test_mbs_flexible_engine's rigid engine).
    subroutine test_engine_run(error)
@@ -474,7 +480,8 @@ contains
       type(galpha_settings_t) :: settings
       type(galpha_integrator_t) :: integrator
       real(dp), allocatable :: q(:), v(:)
-      real(dp) :: frames(3, 3, 3), speeds(2)
+      real(dp) :: frames(3, 3, 3), speeds(3)
+      character(len=*), parameter :: names(3) = ['analytic', 'FD      ', 'full    ']
       integer :: run, i, k
       frames = spread(identity3(), 3, 3)
       call crank%init(2.92_dp, [0.0_dp, 0.0175_dp, 0.0_dp], diagonal([4.0e-3_dp, 1.5e-3_dp, &
@@ -485,11 +492,15 @@ contains
       settings%rho_inf = 0.8_dp
       settings%newton_atol = 1.0e-12_dp
       settings%newton_rtol = 1.0e-10_dp
-      do run = 1, 2
+      do run = 1, 3
          call build_engine(mech, crank, error)
          if (allocated(error)) return
-         mech%analytic_tangents = run == 1
+         mech%analytic_tangents = run /= 2
          settings%t_end = merge(0.15_dp, 0.05_dp, run == 1)
+         if (run == 3) then
+            settings%jacobian = GALPHA_NEWTON_FULL
+            settings%tangent_reuse = 0
+         end if
          allocate (q(mech%num_coordinates()), v(mech%num_coordinates()))
          q = 0.0_dp
          do k = 1, 4
@@ -507,12 +518,27 @@ contains
             if (allocated(error)) return
             if (i == 500) speeds(run) = mech%crank_speed(integrator%q, integrator%v)
          end do
-         call report(merge('analytic', 'FD      ', run == 1) // ' tangents: crank speed ' // &
+         call report(names(run) // ' tangents: crank speed ' // &
             to_str(speeds(run), 14) // ' rad/s at 0.05 s; ' // to_str(integrator%stats%steps) // &
             ' steps, ' // to_str(integrator%stats%rejected_steps) // ' rejected, ' // &
             to_str(integrator%stats%newton_iterations) // ' iterations, ' // &
             to_str(integrator%stats%factorizations) // ' factorisations, ' // &
+            to_str(integrator%stats%tangents) // ' tangents, ' // &
+            to_str(integrator%stats%residual_evaluations) // ' residual evaluations, ' // &
             to_str(integrator%stats%wall_seconds, 3) // ' s')
+         if (run == 1) then
+            call check(error, 'default policy kept tangents: ' // &
+               to_str(integrator%stats%tangents) // ' tangents < ' // &
+               to_str(integrator%stats%factorizations) // ' factorisations', &
+               integrator%stats%tangents < integrator%stats%factorizations)
+            if (allocated(error)) return
+            call check(error, 'default policy skipped evaluations: ' // &
+               to_str(integrator%stats%residual_evaluations) // ' < iterations + steps = ' // &
+               to_str(integrator%stats%newton_iterations + integrator%stats%steps), &
+               integrator%stats%residual_evaluations < integrator%stats%newton_iterations + &
+               integrator%stats%steps)
+            if (allocated(error)) return
+         end if
          call check(error, 'no rejected step (' // to_str(integrator%stats%rejected_steps) // &
             ')', integrator%stats%rejected_steps == 0)
          if (allocated(error)) return
@@ -521,6 +547,10 @@ contains
       call check(error, 'crank speed with analytic tangents ' // to_str(speeds(1), 14) // &
          ' vs differences ' // to_str(speeds(2), 14), abs(speeds(1) - speeds(2)) <= &
          1.0e-9_dp * abs(speeds(2)) .and. speeds(2) > 0.0_dp)
+      if (allocated(error)) return
+      call check(error, 'crank speed with the default policy ' // to_str(speeds(1), 14) // &
+         ' vs full Newton ' // to_str(speeds(3), 14), abs(speeds(1) - speeds(3)) <= &
+         1.0e-9_dp * abs(speeds(3)))
    end subroutine test_engine_run
 
 end module test_mbs_tangents
