@@ -77,7 +77,7 @@ contains
       type(unittest_t), allocatable, intent(out) :: tests(:)
       tests = [new_unittest('rho_inf_1_refused_on_the_engine', test_refusal), &
          new_unittest('pendulum_multipliers_vs_rho_inf', test_pendulum_fine), &
-         new_unittest('pendulum_coarse_step_known_defect', test_pendulum_coarse), &
+         new_unittest('pendulum_coarse_step_instability_stopped', test_pendulum_coarse), &
          new_unittest('engine_multipliers_vs_rho_inf', test_engine)]
    end subroutine collect_stability_constraints
 
@@ -165,20 +165,20 @@ contains
 
    !> The same pendulum with h = 1e-2 s (Omega = 0.03 for its ~3 rad/s swing: well resolved):
    !> - rho_inf = 0.8: max |lambda| within 1e-4 of the closed form 18.8293 (measured 18.8294);
-   !> - rho_inf = 0.99, KNOWN DEFECT (this documents ffrf as it is): the weak instability of
-   !>   index-3 generalized-alpha near rho_inf = 1 grows the multiplier to 2.7e4 (1400 x the
-   !>   closed form; a few rejected attempts on the way) and the run completes WITHOUT an error:
-   !>   silent garbage. Asserted as measured: it completes, max |lambda| > 100 x the closed form.
-   !>   Needed (in generalized_alpha.f90, which this work did not change): refuse or diagnose
-   !>   rho_inf close to 1 with constraints, e.g. FFRF_NUMERIC_ERROR when the alternating part of
-   !>   lambda exceeds a fraction of |lambda|, naming rho_inf; then assert that message here;
-   !> - rho_inf = 0.999: lambda reaches 6.6e18 and Newton fails at t = 8.19 s: the run stops
-   !>   with FFRF_NUMERIC_ERROR ("no convergence ... below min_step"), keeping the last state,
-   !>   but the message does not name rho_inf as the cause. Asserted: that error.
+   !> - rho_inf = 0.99 and 0.999: the weak instability of index-3 generalized-alpha near
+   !>   rho_inf = 1 grows the multiplier as a step-to-step alternation (before the check in
+   !>   ffrf_mbs_generalized_alpha, 0.99 completed WITHOUT an error with max |lambda| = 2.7e4,
+   !>   1400 x the closed form, and 0.999 reached 6.6e18 before Newton failed at 8.19 s with a
+   !>   message that did not name the cause). Now the run stops with FFRF_NUMERIC_ERROR naming
+   !>   rho_inf as soon as the alternating part exceeds alternation_limit (0.25) of the largest
+   !>   |lambda|. Asserted: the error, its message (alternation, rho_inf), and that the stop comes
+   !>   before the multipliers are garbage: max |lambda| at the stop below 100 x the closed form.
    subroutine test_pendulum_coarse(error)
       type(error_t), allocatable, intent(out) :: error
       type(error_t), allocatable :: failure
+      real(dp), parameter :: rhos(2) = [0.99_dp, 0.999_dp]
       real(dp) :: alternating, second, lambda_max, closed
+      integer :: i
       closed = bob * gravity * (3.0_dp - 2.0_dp * cos(theta0)) / rod
       call pendulum_run(0.8_dp, 1.0e-2_dp, lambda_max, alternating, second, failure)
       if (allocated(failure)) then
@@ -190,23 +190,22 @@ contains
       call check_close(error, 'h = 1e-2 s, rho_inf = 0.8: max lambda (N/m)', lambda_max, &
          closed, rtol=1.0e-4_dp)
       if (allocated(error)) return
-      call pendulum_run(0.99_dp, 1.0e-2_dp, lambda_max, alternating, second, failure)
-      call check(error, 'h = 1e-2 s, rho_inf = 0.99 completes (known defect)', &
-         .not. allocated(failure))
-      if (allocated(error)) return
-      call report('h = 1e-2 s, rho_inf = 0.99 (known defect): completes with max lambda ' // &
-         to_str(lambda_max, 6) // ' against ' // to_str(closed, 6))
-      call check(error, 'h = 1e-2 s, rho_inf = 0.99: max lambda ' // to_str(lambda_max, 6) // &
-         ', expected the known garbage > 100 x ' // to_str(closed, 6), &
-         lambda_max > 100.0_dp * closed)
-      if (allocated(error)) return
-      call pendulum_run(0.999_dp, 1.0e-2_dp, lambda_max, alternating, second, failure)
-      call check(error, 'h = 1e-2 s, rho_inf = 0.999 stops with an error', allocated(failure))
-      if (allocated(error)) return
-      call report('h = 1e-2 s, rho_inf = 0.999: max lambda ' // to_str(lambda_max, 3) // &
-         ' before: ' // failure%message)
-      call check(error, 'FFRF_NUMERIC_ERROR, no convergence: ' // failure%message, &
-         failure%code == FFRF_NUMERIC_ERROR .and. index(failure%message, 'no convergence') > 0)
+      do i = 1, size(rhos)
+         call pendulum_run(rhos(i), 1.0e-2_dp, lambda_max, alternating, second, failure)
+         call check(error, 'h = 1e-2 s, rho_inf = ' // to_str(rhos(i)) // &
+            ' stops with an error', allocated(failure))
+         if (allocated(error)) return
+         call report('h = 1e-2 s, rho_inf = ' // to_str(rhos(i)) // ': max lambda ' // &
+            to_str(lambda_max, 6) // ' (closed form ' // to_str(closed, 6) // ') at the stop: ' &
+            // failure%message)
+         call check(error, 'FFRF_NUMERIC_ERROR naming the alternation and rho_inf: ' // &
+            failure%message, failure%code == FFRF_NUMERIC_ERROR .and. &
+            index(failure%message, 'alternate') > 0 .and. index(failure%message, 'rho_inf') > 0)
+         if (allocated(error)) return
+         call check(error, 'stopped before garbage: max lambda ' // to_str(lambda_max, 6) // &
+            ' < 100 x ' // to_str(closed, 6), lambda_max < 100.0_dp * closed)
+         if (allocated(error)) return
+      end do
    end subroutine test_pendulum_coarse
 
    !> Pendulum from theta0 at rest, 10 s with step h: the largest multiplier, and the largest
