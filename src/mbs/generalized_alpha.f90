@@ -619,6 +619,8 @@ contains
          if (converged) exit
          self%stats%rejected_steps = self%stats%rejected_steps + 1
          self%h_factored = -1.0_dp
+         ! Nor keep tangents that may come from a diverging iterate of the failed attempt
+         self%tangent_uses = huge(1)
          if (used_old .and. .not. retried) then
             retried = .true.
             cycle
