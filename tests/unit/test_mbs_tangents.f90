@@ -539,9 +539,10 @@ contains
    !> Newton path, all converge to the same tolerances): crank speeds within 1e-9 relative of the
    !> central-difference run (measured 1e-13) and of the full-Newton run; (b) the default run
    !> kept tangents (fewer tangent evaluations than factorisations) and skipped evaluations
-   !> (fewer residual evaluations than iterations plus steps); (c) no rejected step (before the change of the Jacobian-reuse policy in
-   !> ffrf_mbs_generalized_alpha, stale iteration matrices with contraction rates 0.1-0.2 ran out
-   !> of iterations: 54 rejected steps in 3000 on test_mbs_flexible_engine's rigid engine).
+   !> (fewer residual evaluations than iterations plus steps); (c) no rejected step (before the
+   !> change of the Jacobian-reuse policy in ffrf_mbs_generalized_alpha, stale iteration matrices
+   !> with contraction rates 0.1-0.2 ran out of iterations: 54 rejected steps in 3000 on
+   !> test_mbs_flexible_engine's rigid engine).
    subroutine test_engine_run(error)
       type(error_t), allocatable, intent(out) :: error
       type(rigid_body_t) :: crank
