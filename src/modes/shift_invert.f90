@@ -23,7 +23,7 @@ module ffrf_modes_shift_invert
    use ffrf_la_sparse, only: csr_t
    implicit none
    private
-   public :: eigen_options_t, eigen_result_t, solve_shift_invert
+   public :: eigen_options_t, eigen_result_t, solve_shift_invert, project_null_space
 
    !> Settings of the shift-invert Lanczos solver.
    type :: eigen_options_t
@@ -113,6 +113,16 @@ module ffrf_modes_shift_invert
          type(logger_t), intent(in) :: log
          type(error_t), allocatable, intent(out) :: error
       end subroutine solve_shift_invert
+
+      !> Columns of r replaced by their orthogonal projection P r = r - C^T (C C^T)^-1 C r onto
+      !> null(C) (C with a handful of rows, e.g. reference conditions).
+      module subroutine project_null_space(C, r, error)
+         !> Constraint rows, full row rank
+         type(csr_t), intent(in) :: C
+         !> Vectors as columns (C%num_cols rows), projected in place
+         real(dp), intent(inout) :: r(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine project_null_space
    end interface
 
 end module ffrf_modes_shift_invert

@@ -610,8 +610,10 @@ contains
    !> Columns of r replaced by their orthogonal projection P r = r - C^T (C C^T)^-1 C r onto
    !> null(C). C has a handful of rows (reference conditions), so C C^T is a small dense matrix,
    !> solved by Cholesky (LAPACK dposv) after scaling the rows to unit norm.
-   subroutine project_null_space(C, r, error)
+   module subroutine project_null_space(C, r, error)
+      !> Constraint rows, full row rank
       type(csr_t), intent(in) :: C
+      !> Vectors as columns (C%num_cols rows), projected in place
       real(dp), intent(inout) :: r(:, :)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: gram(:, :), cr(:, :), row_norm(:)

@@ -67,3 +67,4 @@ ffrf_error_case(pressure_table_line 2 "table_file .*bad_table.txt\", line 4: exp
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = '${_dir}/bad_table.txt' /")
 ffrf_error_case(pressure_table_missing 3 "&pressure table_file .*no_such_table.txt"
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = 'no_such_table.txt' /")
+ffrf_error_case(bad_basis 2 "&modes: basis = \"guyan\"" "${_body}\n${_iface}\n&modes basis = 'guyan' /")
