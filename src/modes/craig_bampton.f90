@@ -11,6 +11,10 @@
 !>   fixed-interface modes    X_f: K x = lambda M x subject to C_V x = 0 (every virtual-node dof
 !>       held), the lowest num_fixed by shift-invert Lanczos on MUMPS;
 !>
+!> Both come from one MUMPS factorisation of the KKT matrix at sigma = 0: with every virtual node
+!> held, K is positive definite on null(C_V), so (CB-1) is the static problem of the Lanczos
+!> shift-invert operator at sigma = 0 and its right-hand sides are solved with the same factors.
+!>
 !> C_V = [G_1; ...; G_nif] T: the six virtual-node rows of every interface (RBE3: q_V = G q_B;
 !> RBE2: q_V = F^+ q_B, which on q_B = F q_V picks the virtual-node coordinate of T) in the
 !> reduced coordinates p of the RC matrix q = T p. Rows that vanish identically are virtual-node
@@ -29,24 +33,21 @@
 !> (any q with zero RC components is sum_j q_V,j x_j plus a part with q_V = 0) and they are exact.
 module ffrf_modes_craig_bampton
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, wall_time
-   use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_matvec, csr_upper_coo, &
-      csr_row_gram
+   use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_matvec, csr_row_gram
    use ffrf_la_dense, only: symmetric_eigen
    use ffrf_la_lapack, only: dgemm, dsygv
-   use ffrf_la_mumps, only: mumps_solver_t, MUMPS_SYM_INDEFINITE
    use ffrf_mpc_interface, only: interface_t, DOF_NAMES
    use ffrf_mpc_reduction, only: reduction_t
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert, &
       project_null_space
    implicit none
    private
-   public :: cb_result_t, virtual_node_rows, static_constraint_modes, rayleigh_ritz, &
-      craig_bampton_modes
+   public :: cb_result_t, virtual_node_rows, rayleigh_ritz, craig_bampton_modes
 
    character(len=*), parameter :: stage = 'modes'
 
@@ -68,18 +69,16 @@ module ffrf_modes_craig_bampton
       real(dp), allocatable :: fixed_eigenvalues(:)
       !> Statistics of the fixed-interface Lanczos (ordering, factorisation, solves, ...)
       type(eigen_result_t) :: fixed
-      !> Wall seconds: (CB-1) ordering + analysis + factorisation, its solves, Rayleigh-Ritz
-      real(dp) :: time_static_factorisation = 0.0_dp
+      !> Wall seconds: the (CB-1) solves with the shared factors, Rayleigh-Ritz
       real(dp) :: time_static_solves = 0.0_dp
       real(dp) :: time_rayleigh_ritz = 0.0_dp
-      !> Entries in the factors of (CB-1) (MUMPS INFOG(29))
-      integer(i8) :: static_factor_entries = 0
    end type cb_result_t
 
 contains
 
-   !> The Craig-Bampton basis of a body: static modes (CB-1), num_fixed fixed-interface modes by
-   !> shift-invert Lanczos (options: its shift, tolerance, ncv), Rayleigh-Ritz (CB-2).
+   !> The Craig-Bampton basis of a body: num_fixed fixed-interface modes by shift-invert Lanczos
+   !> at sigma = 0 (options: its tolerance and ncv; its shift is not used), the static modes
+   !> (CB-1) with the same factors, Rayleigh-Ritz (CB-2).
    subroutine craig_bampton_modes(K, M, red, interfaces, num_fixed, options, log, cb, error)
       !> Reduced stiffness and mass T^T K T, T^T M T (both triangles)
       type(csr_t), intent(in) :: K, M
@@ -89,7 +88,7 @@ contains
       type(interface_t), intent(in) :: interfaces(:)
       !> Number of fixed-interface modes
       integer(ip), intent(in) :: num_fixed
-      !> Shift, tolerance and Lanczos size of the fixed-interface solve (num_modes is ignored)
+      !> Tolerance and Lanczos size of the fixed-interface solve (num_modes, sigma not used)
       type(eigen_options_t), intent(in) :: options
       !> Progress log
       type(logger_t), intent(in) :: log
@@ -99,9 +98,9 @@ contains
       type(csr_t) :: C_v
       type(eigen_options_t) :: fixed_options
       logical, allocatable :: is_rc(:)
-      real(dp), allocatable :: X(:, :)
+      real(dp), allocatable :: X(:, :), targets(:, :), X_s(:, :)
       real(dp) :: t0
-      integer(ip) :: n, num_static
+      integer(ip) :: n, num_static, r, j
 
       if (num_fixed < 1) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'Craig-Bampton: num_fixed = ' // &
@@ -122,27 +121,37 @@ contains
          // to_str(count(is_rc)) // ' reference conditions held), ' // to_str(num_static) // &
          ' static constraint modes + ' // to_str(num_fixed) // ' fixed-interface modes')
 
-      ! Fixed-interface modes: every virtual-node dof held.
+      ! Fixed-interface modes (every virtual-node dof held) at sigma = 0, and with the same
+      ! factors the static modes: target 1 on their own non-RC row, 0 on every other row.
       fixed_options = options
       fixed_options%num_modes = num_fixed
-      call solve_shift_invert(K, M, C_v, fixed_options, cb%fixed, log, error)
+      fixed_options%sigma = 0.0_dp
+      fixed_options%retry_shift = .false.
+      allocate (targets(size(is_rc), num_static), source=0.0_dp)
+      j = 0
+      do r = 1, int(size(is_rc), ip)
+         if (is_rc(r)) cycle
+         j = j + 1
+         targets(r, j) = 1.0_dp
+      end do
+      call solve_shift_invert(K, M, C_v, fixed_options, cb%fixed, log, error, &
+         constraint_targets=targets, constraint_solutions=X_s)
       if (allocated(error)) then
-         call add_context(error, 'Craig-Bampton, fixed-interface modes')
+         call add_context(error, 'Craig-Bampton, fixed-interface and static modes (K must ' // &
+            'be positive definite with every virtual node held: a loose part of the mesh?)')
          return
       end if
       cb%fixed_eigenvalues = cb%fixed%eigenvalues
-
-      ! Static constraint modes (CB-1), then the basis X = [X_s, X_f].
-      allocate (X(n, num_static + num_fixed))
-      call static_constraint_modes(K, C_v, is_rc, X(:, 1:num_static), cb, error)
-      if (allocated(error)) return
-      X(:, num_static + 1:) = cb%fixed%vectors
+      cb%time_static_solves = cb%fixed%time_constraint_solves
       cb%num_static = num_static
       cb%num_fixed = num_fixed
-      call log%info(stage, 'Craig-Bampton: static modes: MUMPS ' // &
-         to_str(cb%time_static_factorisation, 3) // ' s, ' // to_str(num_static) // &
-         ' solves ' // to_str(cb%time_static_solves, 3) // ' s, ' // &
-         to_str(real(cb%static_factor_entries, dp) / 1.0e6_dp, 4) // ' M factor entries')
+      call log%info(stage, 'Craig-Bampton: ' // to_str(num_static) // ' static modes with ' // &
+         'the Lanczos factors ... ' // to_str(cb%time_static_solves, 3) // ' s')
+
+      ! The basis X = [X_s, X_f]
+      allocate (X(n, num_static + num_fixed))
+      X(:, 1:num_static) = X_s
+      X(:, num_static + 1:) = cb%fixed%vectors
 
       t0 = wall_time()
       call rayleigh_ritz(K, M, red%C, X, cb%eigenvalues, cb%vectors, cb%residuals, &
@@ -264,108 +273,6 @@ contains
             'dofs; use basis = ''rc_normal''')
       end if
    end subroutine virtual_node_rows
-
-   !> Static constraint modes (CB-1): one MUMPS factorisation (SYM = 2) of [[K, C^T], [C, 0]],
-   !> the C rows scaled to max|diag K| (toolchain.md pitfall 7, the targets scaled alike), and
-   !> one solve per non-RC row j with target e_j. X(:, j) has C X(:, j) = e_j (of the non-RC
-   !> rows, in order) and zero RC rows.
-   subroutine static_constraint_modes(K, C, is_rc, X, stats, error)
-      !> Stiffness (both triangles), n x n, positive definite on null(C)
-      type(csr_t), intent(in) :: K
-      !> Virtual-node rows, num_rows x n, independent
-      type(csr_t), intent(in) :: C
-      !> Reference-condition rows (target 0 in every mode)
-      logical, intent(in) :: is_rc(:)
-      !> Static modes, (n, count(.not. is_rc))
-      real(dp), intent(out) :: X(:, :)
-      !> Timings and factor size are set here
-      type(cb_result_t), intent(inout) :: stats
-      type(error_t), allocatable, intent(out) :: error
-      type(mumps_solver_t) :: solver
-      integer(ip), allocatable :: irn(:), jcn(:), k_irn(:), k_jcn(:)
-      real(dp), allocatable :: val(:), k_val(:), rhs(:, :), scale(:)
-      real(dp) :: diag_scale, t0
-      integer(i8) :: e, total
-      integer(ip) :: n, nc, r, p, j
-
-      n = K%num_rows
-      nc = C%num_rows
-      if (C%num_cols /= n .or. size(is_rc) /= nc .or. size(X, 1) /= n .or. &
-         size(X, 2) /= count(.not. is_rc)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'Craig-Bampton static modes: K is ' // &
-            to_str(n) // ' x ' // to_str(K%num_cols) // ', C ' // to_str(nc) // ' x ' // &
-            to_str(C%num_cols) // ', ' // to_str(size(is_rc)) // ' RC flags, X ' // &
-            to_str(size(X, 1)) // ' x ' // to_str(size(X, 2)) // '; need C with n columns, ' &
-            // 'one flag per row and one column of X per non-RC row')
-         return
-      end if
-      if (size(X, 2) == 0) return
-      t0 = wall_time()
-      call csr_upper_coo(K, k_irn, k_jcn, k_val)
-      diag_scale = 0.0_dp
-      do e = 1, size(k_irn, kind=i8)
-         if (k_irn(e) == k_jcn(e)) diag_scale = max(diag_scale, abs(k_val(e)))
-      end do
-      if (diag_scale == 0.0_dp) diag_scale = 1.0_dp
-      total = size(k_irn, kind=i8) + int(C%row_ptr(nc + 1) - 1, i8)
-      allocate (irn(total), jcn(total), val(total), scale(nc))
-      e = size(k_irn, kind=i8)
-      irn(1:e) = k_irn
-      jcn(1:e) = k_jcn
-      val(1:e) = k_val
-      deallocate (k_irn, k_jcn, k_val)
-      do r = 1, nc
-         scale(r) = diag_scale / max(maxval(abs(C%val(C%row_ptr(r):C%row_ptr(r + 1) - 1))), &
-            tiny(1.0_dp))
-         do p = C%row_ptr(r), C%row_ptr(r + 1) - 1
-            e = e + 1
-            irn(e) = C%col(p)
-            jcn(e) = n + r
-            val(e) = C%val(p) * scale(r)
-         end do
-      end do
-
-      call solver%init(MUMPS_SYM_INDEFINITE, error)
-      if (.not. allocated(error)) call solver%analyse(n + nc, irn, jcn, error=error)
-      if (.not. allocated(error)) call solver%factorise(val, error)
-      if (allocated(error)) then
-         call solver%free()
-         call add_context(error, 'Craig-Bampton static modes, [[K, C^T], [C, 0]]')
-         return
-      end if
-      stats%time_static_factorisation = wall_time() - t0
-      stats%static_factor_entries = solver%factor_entries
-      if (solver%num_negative_pivots /= nc) then
-         call solver%free()
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'Craig-Bampton static modes: ' // &
-            to_str(solver%num_negative_pivots) // ' negative pivots for ' // to_str(nc) // &
-            ' virtual-node rows: K is not positive definite with every virtual node held ' // &
-            '(a loose part of the mesh?)')
-         return
-      end if
-
-      t0 = wall_time()
-      allocate (rhs(n + nc, size(X, 2)), source=0.0_dp)
-      j = 0
-      do r = 1, nc
-         if (is_rc(r)) cycle
-         j = j + 1
-         rhs(n + r, j) = scale(r)
-      end do
-      call solver%solve(rhs, error)
-      call solver%free()
-      if (allocated(error)) then
-         call add_context(error, 'Craig-Bampton static modes')
-         return
-      end if
-      if (.not. all(ieee_is_finite(rhs))) then
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'Craig-Bampton static modes: NaN or ' // &
-            'Inf in the solution of [[K, C^T], [C, 0]]')
-         return
-      end if
-      X = rhs(1:n, :)
-      stats%time_static_solves = wall_time() - t0
-   end subroutine static_constraint_modes
 
    !> Rayleigh-Ritz in span(X) (CB-2): the columns of X are M-normalised, X^T K X and X^T M X
    !> formed densely (BLAS) and solved by LAPACK dsygv; Psi = X V. Returns the Ritz values

@@ -27,10 +27,10 @@ module test_modes_craig_bampton
    use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix
    use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_shift_invert, only: eigen_options_t
+   use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
-   use ffrf_modes_craig_bampton, only: cb_result_t, virtual_node_rows, &
-      static_constraint_modes, rayleigh_ritz, craig_bampton_modes
+   use ffrf_modes_craig_bampton, only: cb_result_t, virtual_node_rows, rayleigh_ritz, &
+      craig_bampton_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
    implicit none
    private
@@ -126,9 +126,9 @@ contains
       end if
    end subroutine dense_constrained_eigen
 
-   !> Static modes (library, MUMPS) + all fixed-interface modes (dense reference) -> Rayleigh-
-   !> Ritz (library) vs the dense RC normal modes. Also C_V X_s = the unit targets (1e-10, the
-   !> round-off of one KKT solve). Tolerance of the eigenvalues: both sides are backward stable
+   !> Static modes (library: the KKT factors of the Lanczos at sigma = 0) + all fixed-interface
+   !> modes (dense reference) -> Rayleigh-Ritz (library) vs the dense RC normal modes. Also
+   !> C_V X_s = the unit targets (1e-10, the round-off of one KKT solve). Tolerance of the eigenvalues: both sides are backward stable
    !> dense/sparse factorisations of the same pencil, whose eigenvalues carry an absolute
    !> round-off of order eps * lambda_max (toolchain.md pitfall 9): |lambda_i - lambda_ref,i|
    !> <= 100 eps lambda_max for every i (relative 100 eps lambda_max / lambda_i).
@@ -137,10 +137,13 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(reduced_body_t) :: body
       type(csr_t) :: C_v
-      type(cb_result_t) :: stats
+      type(eigen_options_t) :: options
+      type(eigen_result_t) :: lanczos
+      type(logger_t) :: log
       logical, allocatable :: is_rc(:)
       real(dp), allocatable :: Kd(:, :), Md(:, :), Cv(:, :), Crc(:, :), X(:, :), Xf(:, :), &
-         lambda_fixed(:), lambda_ref(:), lambda(:), Psi(:, :), residuals(:), targets(:, :)
+         lambda_fixed(:), lambda_ref(:), lambda(:), Psi(:, :), residuals(:), targets(:, :), &
+         unit_targets(:, :)
       real(dp) :: orthonormality, low_error, all_error, target_error, scale
       integer :: num_static, num_fixed, n, j, r
       character(len=:), allocatable :: tag
@@ -159,8 +162,18 @@ contains
       allocate (Crc(body%red%C%num_rows, n))
       if (body%red%C%num_rows > 0) call csr_to_dense(body%red%C, Crc)
 
-      allocate (X(n, num_static))
-      call static_constraint_modes(body%K, C_v, is_rc, X, stats, error)
+      allocate (unit_targets(size(is_rc), num_static), source=0.0_dp)
+      j = 0
+      do r = 1, size(is_rc)
+         if (is_rc(r)) cycle
+         j = j + 1
+         unit_targets(r, j) = 1.0_dp
+      end do
+      options%num_modes = 1
+      options%sigma = 0.0_dp
+      log%level = LOG_QUIET
+      call solve_shift_invert(body%K, body%M, C_v, options, lanczos, log, error, &
+         constraint_targets=unit_targets, constraint_solutions=X)
       if (allocated(error)) return
       ! C_V X_s: unit target on its own non-RC row, zero on every other row (RC rows included)
       targets = matmul(Cv, X)
