@@ -43,6 +43,7 @@ module ffrf_fe_tet
    implicit none
    private
    public :: tet_shape, tet_stiffness, tet_mass, tet_stiffness_mass, tet_volume, tet_check_jacobian
+   public :: physical_gradients
    public :: TET10_EDGES, TET_REFERENCE_NODES, GMSH_TO_C3D10, DEGENERATE_RATIO
 
    !> Corner pair of each Tet10 edge node 5..10 (Gmsh order)

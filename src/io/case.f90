@@ -117,6 +117,9 @@ contains
             text = text // ', young = ' // to_str(b%young, 12) // ', poisson = ' // &
                to_str(b%poisson, 12) // ', density = ' // to_str(b%density, 12)
             if (case%is_mechanism) text = text // motion_echo(case%motions(k))
+            if (case%is_mechanism .and. case%motions(k)%type /= 'rigid') text = text // &
+               ', geometric_stiffness = ' // &
+               trim(merge('.true. ', '.false.', b%geometric_stiffness))
             text = text // ' /' // nl
          end associate
       end do

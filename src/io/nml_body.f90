@@ -3,6 +3,7 @@
 !>   mesh_file  Gmsh MSH 4.1/2.2 file; relative to the mesh directory (ffrf --mesh-dir)
 !>   volumes    physical volume name(s) of the body (default: the body name)
 !>   young [Pa], poisson [-], density [kg/m^3]   isotropic linear elastic material
+!>   geometric_stiffness  mechanism runs, flexible bodies: centrifugal stress stiffening (.false.)
 module ffrf_io_nml_body
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -31,10 +32,11 @@ contains
       real(dp) :: young, poisson, density, modal_damping, mass, center_of_mass(3), inertia(6)
       real(dp) :: position(3)
       integer :: num_modes
+      logical :: geometric_stiffness
       character(len=512) :: msg
       integer :: stat, k
       namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
-         modal_damping, mass, center_of_mass, inertia, position
+         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness
       allocate (bodies(0), motions(0))
       rewind (unit)
       do
@@ -44,6 +46,7 @@ contains
          young = defaults%young
          poisson = defaults%poisson
          density = defaults%density
+         geometric_stiffness = defaults%geometric_stiffness
          type = motion_defaults%type
          num_modes = motion_defaults%num_modes
          modal_damping = motion_defaults%modal_damping
@@ -56,13 +59,14 @@ contains
          if (stat /= 0) then
             call namelist_read_error(error, 'body', size(bodies) + 1, msg, &
                'name, mesh_file, volumes, young, poisson, density, type, num_modes, ' // &
-               'modal_damping, mass, center_of_mass, inertia, position')
+               'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness')
             return
          end if
          if (len_trim(volumes(1)) == 0) volumes(1) = name
          motion = body_motion_input_t(to_lower(type), num_modes, modal_damping, mass, &
             center_of_mass, inertia, position)
-         bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density)]
+         bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
+            geometric_stiffness)]
          motions = [motions, motion]
          call check_body(bodies(size(bodies)), motion, size(bodies), error)
          if (allocated(error)) return
@@ -96,6 +100,10 @@ contains
       else if (motion%type /= 'flexible' .and. motion%type /= 'rigid') then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
             '": type = ''' // trim(motion%type) // ''', must be ''flexible'' or ''rigid''')
+      else if (motion%type == 'rigid' .and. body%geometric_stiffness) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
+            '": geometric_stiffness = .true. needs a flexible body (type = ''flexible''); a ' // &
+            'rigid body does not deform')
       else if (motion%type == 'rigid') then
          call check_rigid_body(body, motion, where, error)
       else if (motion%num_modes < -1) then

@@ -24,12 +24,23 @@
 !> in zeta (the FFRF model is linear in zeta) but orthonormal, so that joint equations on marker
 !> axes are exact functions of q with exact Jacobians. Angular velocity of the marker (global)
 !> omega_V = A (omega_bar + T(phi) Psi_Vr zeta_dot), T the tangent operator of exp (T = I + O(phi)).
+!>
+!> Geometric (centrifugal) stiffening, optional (set_geometric_stiffness; linear modal FFRF
+!> without it). The modal stiffness of the spinning body becomes K_ff + K_G(omega_bar),
+!> K_G(omega) = sum_c p_c(omega) K_G^(c), p = [w1^2, w2^2, w3^2, w1 w2, w2 w3, w1 w3] and K_G^(c)
+!> the modes' geometric stiffness of the six centrifugal load cases
+!> (ffrf_modes_modal_geometric_stiffness). The force -K_G(omega_bar) zeta is quadratic in the
+!> velocities: it is the motion-induced stiffness of the inertia forces (Kane, Ryan & Banerjee,
+!> J. Guidance 10 (1987) 139), so it is added to f_v (quadratic_velocity) and its exact
+!> derivatives to quadratic_velocity_tangents; strain_energy stays zeta^T K_ff zeta / 2.
 module ffrf_mbs_flexible_body
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_la_sparse, only: csr_t, csr_matvec
+   use ffrf_fe_geometric_stiffness, only: centrifugal_products, centrifugal_product_jacobian, &
+      NUM_CENTRIFUGAL_CASES
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
       rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
    implicit none
@@ -70,9 +81,14 @@ module ffrf_mbs_flexible_body
       real(dp), allocatable :: virtual_shapes(:, :)
       !> Virtual node positions x_V in the body frame (3, num_interfaces) (m)
       real(dp), allocatable :: virtual_xyz(:, :)
+      !> Modal geometric stiffness K_G^(c) (m x m x 6) of the centrifugal load cases (module
+      !> header); not allocated: linear modal FFRF, no stiffening (the default)
+      real(dp), allocatable :: geometric_stiffness(:, :, :)
    contains
       procedure :: init => flexible_body_init
       procedure :: set_modal_damping => flexible_body_set_modal_damping
+      !> Turn on the geometric stiffening with the K_G^(c) of the six centrifugal load cases
+      procedure :: set_geometric_stiffness => flexible_body_set_geometric_stiffness
       procedure :: mass_matrix => flexible_body_mass_matrix
       procedure :: quadratic_velocity => flexible_body_quadratic_velocity
       !> Exact -df_v/dq and -df_v/dv (Newton tangents of the mechanism)
@@ -279,6 +295,65 @@ contains
       self%damping = 2.0_dp * xi * sqrt(self%stiffness)
    end subroutine flexible_body_set_modal_damping
 
+   !> Geometric stiffening (module header): K_G^(c), one symmetric m x m matrix per centrifugal
+   !> load case in the order of centrifugal_products (ffrf_modes_modal_geometric_stiffness).
+   subroutine flexible_body_set_geometric_stiffness(self, geometric_stiffness, error)
+      class(flexible_body_t), intent(inout) :: self
+      !> K_G^(c) (m, m, 6); dimensionless for mass-normalised modes (p_c K_G^(c) is in 1/s^2)
+      real(dp), intent(in) :: geometric_stiffness(:, :, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: m
+      m = self%num_modes
+      if (size(geometric_stiffness, 1) /= m .or. size(geometric_stiffness, 2) /= m .or. &
+         size(geometric_stiffness, 3) /= NUM_CENTRIFUGAL_CASES) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body: geometric stiffness ' // &
+            to_str(size(geometric_stiffness, 1)) // ' x ' // to_str(size(geometric_stiffness, &
+            2)) // ' x ' // to_str(size(geometric_stiffness, 3)) // ' for ' // to_str(m) // &
+            ' modes; pass one m x m matrix per centrifugal load case (m x m x 6)')
+         return
+      end if
+      if (.not. all(ieee_is_finite(geometric_stiffness))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body: NaN or Inf in the ' // &
+            'geometric stiffness')
+         return
+      end if
+      self%geometric_stiffness = geometric_stiffness
+   end subroutine flexible_body_set_geometric_stiffness
+
+   !> K_G(omega) = sum_c p_c(omega) K_G^(c) (m x m; module header).
+   pure function geometric_matrix(self, omega) result(K_G)
+      class(flexible_body_t), intent(in) :: self
+      real(dp), intent(in) :: omega(3)
+      real(dp) :: K_G(self%num_modes, self%num_modes)
+      real(dp) :: p(NUM_CENTRIFUGAL_CASES)
+      integer :: load_case
+      p = centrifugal_products(omega)
+      K_G = 0.0_dp
+      do load_case = 1, NUM_CENTRIFUGAL_CASES
+         K_G = K_G + p(load_case) * self%geometric_stiffness(:, :, load_case)
+      end do
+   end function geometric_matrix
+
+   !> Exact tangents of f_G = -K_G(omega) zeta added to K = -df/dq and C = -df/dv. With
+   !> g_c = K_G^(c) zeta, P = dp/domega (6 x 3) and omega = G_bar(theta) theta_dot
+   !> = -G_bar(theta_dot) theta:  -df/dzeta = K_G(omega), -df/dtheta = -g P G_bar(theta_dot),
+   !> -df/dtheta_dot = g P G_bar(theta).
+   pure subroutine add_geometric_tangents(self, q, omega, G_bar, G_dot, K, C)
+      class(flexible_body_t), intent(in) :: self
+      real(dp), intent(in) :: q(:), omega(3), G_bar(3, 4), G_dot(3, 4)
+      real(dp), intent(inout) :: K(:, :), C(:, :)
+      real(dp) :: g(self%num_modes, NUM_CENTRIFUGAL_CASES), gp(self%num_modes, 3)
+      integer :: nc, load_case
+      nc = self%num_coordinates
+      do load_case = 1, NUM_CENTRIFUGAL_CASES
+         g(:, load_case) = matmul(self%geometric_stiffness(:, :, load_case), q(8:nc))
+      end do
+      gp = matmul(g, centrifugal_product_jacobian(omega))
+      K(8:nc, 8:nc) = K(8:nc, 8:nc) + geometric_matrix(self, omega)
+      K(8:nc, 4:7) = K(8:nc, 4:7) - matmul(gp, G_dot)
+      C(8:nc, 4:7) = C(8:nc, 4:7) + matmul(gp, G_bar)
+   end subroutine add_geometric_tangents
+
    !> sum_j z_j B(:, 3j-2:3j) = B (z (x) I3), for B with 3 rows and 3m columns (3 x 3; a
    !> fixed-size result: no heap temporary in the per-evaluation paths).
    pure function times_z(B, z) result(c)
@@ -393,6 +468,7 @@ contains
    !>   f_vf  = (I (x) w)^T [M_xPsi~^T + M_Psi~Psi~ (z(x)I)] w + 2 M_Psi~Psi^T (zd (x) w)
    !> (z = zeta, zd = zeta_dot). It equals -(dM/dt) v + d(v^T M v / 2)/dq of Lagrange's equations
    !> up to a multiple of theta in the theta rows (taken by the normalisation constraint).
+   !> With the geometric stiffening on, f_vf also has -K_G(w) z (module header).
    pure function flexible_body_quadratic_velocity(self, q, v) result(f_v)
       class(flexible_body_t), intent(in) :: self
       !> Coordinates [R; theta; zeta]
@@ -426,6 +502,9 @@ contains
                   dot_product(self%m_psit_psi(3 * k - 2:3 * k, j), omega)
             end do
          end do
+         ! Geometric stiffening, optional: -K_G(omega) zeta (module header)
+         if (allocated(self%geometric_stiffness)) f_v(8:nc) = f_v(8:nc) - &
+            matmul(geometric_matrix(self, omega), zeta)
       end associate
    end function flexible_body_quadratic_velocity
 
@@ -524,6 +603,8 @@ contains
       C(8:nc, 8:nc) = c_zd
       K = -K
       C = -C
+      if (allocated(self%geometric_stiffness)) call add_geometric_tangents(self, q, omega, &
+         G_bar, G_dot, K, C)
    end subroutine flexible_body_quadratic_velocity_tangents
 
    !> d(G_bar(theta)^T p)/dtheta = 2 [[0, -p^T], [p, -p~]] (4 x 4; G_bar is linear in theta).

@@ -112,6 +112,9 @@ module ffrf_mbs_generalized_alpha
    !> estimated floor
    real(dp), parameter :: floor_factor = 10.0_dp
 
+   !> Consecutive steps over settings%alternation_limit that stop a run (check_alternation)
+   integer, parameter :: alternation_window = 20
+
    !> Jacobian policy: full Newton, a new iteration matrix at every iteration
    integer, parameter :: GALPHA_NEWTON_FULL = 1
    !> Jacobian policy: one iteration matrix per step (at the predictor)
@@ -161,6 +164,9 @@ module ffrf_mbs_generalized_alpha
       real(dp) :: rank_rtol = 1.0e-9_dp
       !> Recheck the redundant rows every this many steps (0: at the start only)
       integer :: rank_check_interval = 0
+      !> Largest step-to-step alternating part of the multipliers, as a fraction of the largest
+      !> |lambda| so far, before the run stops as unstable (0: no check); module header
+      real(dp) :: alternation_limit = 0.25_dp
       !> Project inconsistent initial positions/velocities onto the constraints (else refuse)
       logical :: project_initial = .true.
    end type galpha_settings_t
@@ -232,6 +238,13 @@ module ffrf_mbs_generalized_alpha
       integer, private :: tangent_uses = huge(1)
       !> Step the round-off floors were computed for (s); negative: none
       real(dp), private :: h_floor = -1.0_dp
+      !> Multipliers of the last accepted steps of equal size (nc x 4, newest last), how many
+      !> are valid, and the largest |lambda_j| of the run (alternation check)
+      real(dp), allocatable, private :: lambda_history(:, :)
+      integer, private :: history_count = 0
+      real(dp), private :: lambda_peak = 0.0_dp
+      !> Consecutive steps with the alternation above the limit
+      integer, private :: alternation_steps = 0
       !> Step the factors were computed for (s); negative: no valid factors
       real(dp), private :: h_factored = -1.0_dp
       !> Accepted steps since the last cut
@@ -320,6 +333,9 @@ contains
          else if (.not. (s%rank_rtol > 0.0_dp .and. s%rank_rtol < 1.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'rank_rtol = ' // &
                to_str(s%rank_rtol) // ', must lie in (0, 1)')
+         else if (.not. (s%alternation_limit >= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'alternation_limit = ' // &
+               to_str(s%alternation_limit) // ', must be 0 (no check) or positive')
          else if (s%rank_check_interval < 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'rank_check_interval = ' // &
                to_str(s%rank_check_interval) // ', must be 0 (start only) or positive')
@@ -421,7 +437,9 @@ contains
       call move_alloc(active, self%active)
       call move_alloc(dropped, self%dropped)
       self%lambda(self%dropped) = 0.0_dp
+      self%history_count = 0
       self%h_factored = -1.0_dp
+      self%h_floor = -1.0_dp
       if (size(self%dropped) > 0) then
          list = ''
          do i = 1, size(self%dropped)
@@ -602,6 +620,8 @@ contains
          if (converged) exit
          self%stats%rejected_steps = self%stats%rejected_steps + 1
          self%h_factored = -1.0_dp
+         ! Nor keep tangents that may come from a diverging iterate of the failed attempt
+         self%tangent_uses = huge(1)
          if (used_old .and. .not. retried) then
             retried = .true.
             cycle
@@ -620,6 +640,11 @@ contains
          self%h = h_try * self%settings%step_cut
       end do
       call commit(self, trial, h_try, last)
+      call check_alternation(self, h_try, last, error)
+      if (allocated(error)) then
+         self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
+         return
+      end if
       if (self%settings%rank_check_interval > 0) then
          if (mod(self%stats%steps, int(self%settings%rank_check_interval, i8)) == 0) then
             call detect_redundant(self, system, error)
@@ -633,6 +658,65 @@ contains
       end if
       self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
    end subroutine galpha_step
+
+   !> Weak instability of index-3 generalized-alpha near rho_inf = 1 (Cardona & Geradin 1989;
+   !> theory.md 4.3): the multipliers grow as an oscillation that alternates from step to step.
+   !> Its amplitude is the fourth difference (lambda_n - 4 lambda_n-1 + 6 lambda_n-2 -
+   !> 4 lambda_n-3 + lambda_n-4) / 16 over steps of equal size (exactly A for A (-1)^n, h^4
+   !> lambda''''/16 for a smooth history). Above settings%alternation_limit times the largest
+   !> |lambda| of the run (and above lambda_atol: round-off multipliers of free bodies' Euler
+   !> rows alternate at 1e-18) for alternation_window consecutive steps (a start-up or impact
+   !> transient decays by rho_inf per step: 0.8**20 = 1 %; on the flexible engine's first steps
+   !> it reaches 0.44 of the small multipliers so far) the integration stops with
+   !> FFRF_NUMERIC_ERROR naming rho_inf (the state of the step is kept). Measured
+   !> (test_stability_constraints): the 1 m pendulum at h = 1e-2 s reaches 0.25 of |lambda| at
+   !> 4-5 s with rho_inf = 0.99 and 0.999 (unchecked, 0.99 went on to lambda = 1400 times the
+   !> closed form) while healthy runs stay below 1e-4 (rigid engine, pendulum at 0.8); the
+   !> flexible reference engine (crank and conrod vibrating at 1.4-12 kHz, h = 1e-4 s) stays
+   !> near 0.03 of its largest reaction.
+   subroutine check_alternation(self, h, last, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      !> The step just accepted (s)
+      real(dp), intent(in) :: h
+      !> Whether it was the last, shortened step
+      logical, intent(in) :: last
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: alternating
+      if (self%nc == 0 .or. self%settings%alternation_limit <= 0.0_dp) return
+      if (.not. allocated(self%lambda_history)) allocate (self%lambda_history(self%nc, 4))
+      self%lambda_peak = max(self%lambda_peak, max_abs(self%lambda))
+      if (abs(h - self%settings%h) > 1.0e-10_dp * self%settings%h .or. last) then
+         self%history_count = 0
+         return
+      end if
+      if (self%history_count == 4) then
+         alternating = max_abs(self%lambda - 4.0_dp * self%lambda_history(:, 4) + 6.0_dp * &
+            self%lambda_history(:, 3) - 4.0_dp * self%lambda_history(:, 2) + &
+            self%lambda_history(:, 1)) / 16.0_dp
+         if (alternating > self%settings%alternation_limit * self%lambda_peak .and. &
+            alternating > self%settings%lambda_atol) then
+            self%alternation_steps = self%alternation_steps + 1
+         else
+            self%alternation_steps = 0
+         end if
+         if (self%alternation_steps >= alternation_window) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'generalized-alpha: the Lagrange ' // &
+               'multipliers alternate from step to step (' // to_str(alternation_window) // &
+               ' steps running) with an amplitude of ' // &
+               to_str(alternating, 3) // ', ' // to_str(alternating / self%lambda_peak, 3) // &
+               ' of the largest |lambda| so far, at t = ' // to_str(self%t, 12) // &
+               ' s: the weak instability of index-3 generalized-alpha near rho_inf = 1 ' // &
+               '(rho_inf = ' // to_str(self%settings%rho_inf) // ', h = ' // to_str(h) // &
+               ' s); lower rho_inf (0.8 is typical) or the step. The state at t = ' // &
+               to_str(self%t, 12) // ' s is kept')
+            return
+         end if
+         self%lambda_history(:, 1:3) = self%lambda_history(:, 2:4)
+      else
+         self%history_count = self%history_count + 1
+      end if
+      self%lambda_history(:, self%history_count) = self%lambda
+   end subroutine check_alternation
 
    !> Take the converged trial as the new state (theory.md 4.1, step 3 for a_{n+1}).
    subroutine commit(self, trial, h, last)
@@ -845,7 +929,8 @@ contains
    !> Tangent at the trial state and LU factors of the scaled iteration matrix (theory.md 4.1,
    !> 4.2): D_L S_t D_R = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]] with
    !> c = (1 - alpha_f)/(1 - alpha_m), K_t = d(M q'')/dq + d(Phi_q^T lambda)/dq - df/dq,
-   !> C_t = -df/dq', then the constraint rows equilibrated (kkt_matrix).
+   !> C_t = -df/dq' (kept ones up to settings%tangent_reuse, module header), then the constraint
+   !> rows equilibrated (kkt_complete).
    subroutine factor(self, system, h, t, trial, fresh_tangent, ok, error)
       type(galpha_integrator_t), intent(inout) :: self
       class(dae_system_t), intent(inout) :: system

@@ -22,6 +22,9 @@ module ffrf_modes_input
       real(dp) :: poisson = 0.3_dp
       !> Density (kg/m^3)
       real(dp) :: density = 7850.0_dp
+      !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal
+      !> load cases (stress stiffening of a spinning body, ffrf_modes_modal_geometric_stiffness)
+      logical :: geometric_stiffness = .false.
    end type body_input_t
 
    !> Constrained normal modes (&modes).

@@ -1,12 +1,14 @@
 !> Reference conditions (RCs) D q_V = 0 on the virtual nodes of a body (Cammarata et al. 2022,
 !> theory.md section 2). They must remove the six rigid-body motions (rank(D R) = 6, R the rigid
-!> motions of the virtual nodes); each RC must be carried by its interface (no dependent rows);
-!> more than six independent RCs make the set hyperstatic: it also constrains deformation.
+!> motions of the virtual nodes as their interfaces carry them: an interface with collinear
+!> nodes does not see the rotation about their line); each RC must be carried by its interface
+!> (no dependent rows); more than six independent RCs make the set hyperstatic: it also
+!> constrains deformation.
 module ffrf_mpc_reference_conditions
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_la_dense, only: skew, singular_values, numerical_rank
+   use ffrf_la_dense, only: skew, singular_values, numerical_rank, symmetric_eigen
    use ffrf_mpc_interface, only: interface_t, DOF_NAMES, MPC_RBE2, dofs_text
    implicit none
    private
@@ -40,6 +42,7 @@ contains
       real(dp), allocatable :: d_r(:, :), s(:), v(:, :)
       real(dp) :: length, rigid(6, 6)
       integer :: k, d, row
+      character(len=:), allocatable :: collinear
 
       call check_carried(interfaces, error)
       if (allocated(error)) return
@@ -62,8 +65,19 @@ contains
       end do
       allocate (d_r(summary%num_rc, 6))
       row = 0
+      collinear = ''
       do k = 1, size(interfaces)
          rigid = virtual_node_rigid_motion(interfaces(k)%virtual_xyz - reference_point, length)
+         if (interfaces(k)%rank_deficient) then
+            ! Only what the interface carries: the rotation about the line of its nodes moves
+            ! none of them, so its RCs cannot forbid it (test_stability_mpc: accepted before,
+            ! the body then had a "flexible" mode at 0.001 Hz)
+            call carried_motion(interfaces(k), length, rigid, error)
+            if (allocated(error)) return
+            collinear = collinear // '; interface "' // interfaces(k)%name // '" has ' // &
+               'collinear nodes and cannot carry the rotation about (' // &
+               vector_text(interfaces(k)%undefined_direction, 1.0e-6_dp) // ') through them'
+         end if
          do d = 1, 6
             if (.not. interfaces(k)%rc(d)) cycle
             row = row + 1
@@ -78,7 +92,8 @@ contains
             rc_set_text(interfaces) // ') leave ' // to_str(6 - summary%rigid_rank) // &
             ' rigid-body motion(s) free, e.g. the ' // &
             describe_rigid_motion(v(:, summary%rigid_rank + 1), reference_point, length) // &
-            '; add reference conditions that forbid it (six independent ones are needed)')
+            '; add reference conditions that forbid it (six independent ones are needed)' // &
+            collinear)
          return
       end if
       summary%redundancy = max(0, summary%num_rc - 6)
@@ -99,6 +114,48 @@ contains
       ! Rotation RC rows compare with translations after scaling by the body size.
       rigid(4:6, :) = rigid(4:6, :) * length
    end function virtual_node_rigid_motion
+
+   !> Columns of `rigid` (virtual-node motions [u; theta * length] of the body rigid motions, from
+   !> virtual_node_rigid_motion) replaced by the motions a rank-deficient interface carries. Its
+   !> G (ffrf_mpc_rigid_fit) is the pseudo-inverse fit, so for a rigid motion q_V = G F q_V,rigid
+   !> with G F = E^-1 (I - z z^T) E, E = diag(1, 1, 1, Lc, Lc, Lc) the fit's length scaling and z
+   !> the unit scaled virtual-node motion that moves no node (the rotation about the nodes' line):
+   !> the left null vector of E G. Without G (an interface built by hand) z = (0, n), n the
+   !> undefined direction, which is exact for a virtual node on the nodes' line.
+   subroutine carried_motion(face, length, rigid, error)
+      !> A rank-deficient interface
+      type(interface_t), intent(in) :: face
+      !> Body length the rotation rows and columns of `rigid` are scaled by (m)
+      real(dp), intent(in) :: length
+      !> Ideal rigid motions of the virtual node on entry, the carried ones on exit (6 x 6)
+      real(dp), intent(inout) :: rigid(6, 6)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: scale(6), gram(6, 6), values(6), vectors(6, 6), z(6)
+      real(dp), allocatable :: scaled(:, :)
+      integer :: k
+      ! rigid's rows are [u; theta * length]; the fit's scaled ones [u; theta * Lc]
+      scale = [1.0_dp, 1.0_dp, 1.0_dp, face%length_scale / length, face%length_scale / length, &
+         face%length_scale / length]
+      if (allocated(face%G)) then
+         scaled = face%G
+         do k = 4, 6
+            scaled(k, :) = scaled(k, :) * face%length_scale
+         end do
+         gram = matmul(scaled, transpose(scaled))
+         call symmetric_eigen(gram, values, vectors, error)
+         if (allocated(error)) return
+         z = vectors(:, 1)
+      else
+         z = [0.0_dp, 0.0_dp, 0.0_dp, face%undefined_direction / norm2(face%undefined_direction)]
+      end if
+      do k = 1, 6
+         rigid(k, :) = rigid(k, :) * scale(k)
+      end do
+      rigid = rigid - spread(z, 2, 6) * spread(matmul(z, rigid), 1, 6)
+      do k = 1, 6
+         rigid(k, :) = rigid(k, :) / scale(k)
+      end do
+   end subroutine carried_motion
 
    !> Each RC must be carried: an interface whose nodes cannot define the rotation about some
    !> axis (collinear nodes) cannot forbid that rotation (dependent row of D G), and an RBE2 whose

@@ -7,6 +7,9 @@
 !> with the &body mass keys, or with its mesh's mass properties (mass, centre of mass, inertia
 !> about it, from the consistent mass matrix) when it has a mesh_file.
 !> Every body starts with its axes parallel to the global axes, its frame origin at `position`.
+!> A flexible body with `geometric_stiffness` gets the modal geometric stiffness of its six
+!> centrifugal load cases (ffrf_modes_modal_geometric_stiffness; stress stiffening of a spinning
+!> body, off by default).
 !>
 !> Markers and joint frames. A flexible body's markers are its interfaces' virtual nodes, with
 !> the body axes as marker axes (theory.md 3.5). A rigid body's or the ground's markers are
@@ -24,8 +27,9 @@ module ffrf_sim_mechanism_builder
    use ffrf_la_sparse, only: csr_t
    use ffrf_io_case, only: case_input_t, body_index
    use ffrf_io_nml_body, only: inertia_tensor
-   use ffrf_modes_input, only: modes_input_t
+   use ffrf_modes_input, only: modes_input_t, body_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_mbs_mechanism_input, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -253,14 +257,43 @@ contains
          call times%add(name // ': inertia invariants', timer%seconds())
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
+         if (.not. allocated(error) .and. case%bodies(k)%geometric_stiffness) then
+            if (built%num_modes > 0) then
+               call add_geometric_stiffness(case%bodies(k), built%modes, log, times, flexible, &
+                  error)
+            else
+               call log%note('mechanism', name // ': geometric_stiffness ignored: no modes ' // &
+                  '(the body moves rigidly)')
+            end if
+         end if
          if (.not. allocated(error)) call adapter%init(flexible, error)
          if (.not. allocated(error)) call mech%add_body(adapter, name, built%index, error)
          if (allocated(error)) return
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
-            to_str(flexible%num_interfaces) // ' interface marker(s)')
+            to_str(flexible%num_interfaces) // ' interface marker(s)' // &
+            trim(merge(', geometric stiffness', '                     ', &
+            allocated(flexible%geometric_stiffness))))
       end associate
    end subroutine add_body
+
+   !> The modal geometric stiffness of the centrifugal load cases for a flexible body.
+   subroutine add_geometric_stiffness(input, modes, log, times, flexible, error)
+      !> The &body input (material)
+      type(body_input_t), intent(in) :: input
+      !> Its mesh, interfaces, RC set and modes
+      type(body_modes_t), intent(in) :: modes
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      !> The flexible body, initialised with the same modes
+      type(flexible_body_t), intent(inout) :: flexible
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: geometric_stiffness(:, :, :)
+      call compute_modal_geometric_stiffness(input, modes, log, times, geometric_stiffness, &
+         error)
+      if (.not. allocated(error)) call flexible%set_geometric_stiffness(geometric_stiffness, &
+         error)
+   end subroutine add_geometric_stiffness
 
    function virtual_positions(modes) result(xyz)
       type(body_modes_t), intent(in) :: modes

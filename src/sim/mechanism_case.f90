@@ -421,8 +421,8 @@ contains
             s%newton_iterations, s%factorizations, s%residual_evaluations], dp), '1', error)
          if (.not. allocated(error)) call results%write_real('/integrator/wall_seconds', &
             [s%wall_seconds], 's', error)
-         if (.not. allocated(error)) call results%write_real('/integrator/max_constraint_violation', &
-            [s%max_constraint_violation], 'm', error)
+         if (.not. allocated(error)) call results%write_real( &
+            '/integrator/max_constraint_violation', [s%max_constraint_violation], 'm', error)
          if (.not. allocated(error)) call results%write_int('/integrator/dropped_rows', &
             integrator%dropped, error)
       end associate

@@ -67,4 +67,10 @@ ffrf_error_case(pressure_table_line 2 "table_file .*bad_table.txt\", line 4: exp
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = '${_dir}/bad_table.txt' /")
 ffrf_error_case(pressure_table_missing 3 "&pressure table_file .*no_such_table.txt"
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = 'no_such_table.txt' /")
+# Geometric stiffness (README "FFRF limits"): only for flexible bodies, and only for a body held
+# by reference conditions (the centrifugal load of a free-free body is not in equilibrium)
+ffrf_error_case(rigid_geometric_stiffness 2 "geometric_stiffness = .true. needs a flexible body"
+  "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', type = 'rigid', geometric_stiffness = .true. /\n${_iface}")
+ffrf_error_case(free_free_geometric_stiffness 2 "geometric stiffness needs reference conditions"
+  "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', num_modes = 2, geometric_stiffness = .true. /\n&interface body = 'crank', name = 'B2' /\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&joint name = 'pin', type = 'spherical', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /")
 ffrf_error_case(bad_basis 2 "&modes: basis = \"guyan\"" "${_body}\n${_iface}\n&modes basis = 'guyan' /")

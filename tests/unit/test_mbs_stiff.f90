@@ -66,12 +66,12 @@ contains
 
    integer function pair_n(self)
       class(stiff_pair_t), intent(in) :: self
-      pair_n = 2
+      pair_n = 2 + 0 * int(self%k)
    end function pair_n
 
    integer function pair_nc(self)
       class(stiff_pair_t), intent(in) :: self
-      pair_nc = 2
+      pair_nc = 2 + 0 * int(self%k)
    end function pair_nc
 
    subroutine pair_mass(self, q, M, error)
@@ -79,7 +79,7 @@ contains
       real(dp), intent(in) :: q(:)
       real(dp), intent(out) :: M(:, :)
       type(error_t), allocatable, intent(out) :: error
-      M = 0.0_dp
+      M = 0.0_dp * (q(1) + self%k)
       M(1, 1) = mass
       M(2, 2) = mass
    end subroutine pair_mass
@@ -90,7 +90,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: f(:)
       type(error_t), allocatable, intent(out) :: error
-      f(1) = self%k * (q(2) - q(1) - rest_length)
+      f(1) = self%k * (q(2) - q(1) - rest_length) + 0.0_dp * (v(1) + t)
       f(2) = -f(1)
    end subroutine pair_force
 
@@ -100,7 +100,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: phi(:)
       type(error_t), allocatable, intent(out) :: error
-      phi(1) = q(1) - amplitude * sin(omega * t)
+      phi(1) = q(1) - amplitude * sin(omega * t) + 0.0_dp * self%k
       phi(2) = q(2) - amplitude * sin(omega * t) - rest_length
    end subroutine pair_phi
 
@@ -110,7 +110,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: Phi_q(:, :)
       type(error_t), allocatable, intent(out) :: error
-      Phi_q = 0.0_dp
+      Phi_q = 0.0_dp * (q(1) + t + self%k)
       Phi_q(1, 1) = 1.0_dp
       Phi_q(2, 2) = 1.0_dp
    end subroutine pair_jac
@@ -122,7 +122,8 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: K_t(:, :)
       type(error_t), allocatable, intent(out) :: error
-      K_t = self%k * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2])
+      K_t = self%k * reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]) + &
+         0.0_dp * (q(1) + v(1) + t)
    end subroutine pair_stiffness
 
    !> Phi_t = -s'(t) (exact)
@@ -132,7 +133,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: phi_t(:)
       type(error_t), allocatable, intent(out) :: error
-      phi_t = -amplitude * omega * cos(omega * t)
+      phi_t = -amplitude * omega * cos(omega * t) + 0.0_dp * (q(1) + self%k)
    end subroutine pair_rate
 
    !> g = -Phi_tt = s''(t) (exact)
@@ -142,7 +143,7 @@ contains
       real(dp), intent(in) :: t
       real(dp), intent(out) :: g(:)
       type(error_t), allocatable, intent(out) :: error
-      g = -amplitude * omega**2 * sin(omega * t)
+      g = -amplitude * omega**2 * sin(omega * t) + 0.0_dp * (q(1) + v(1) + self%k)
    end subroutine pair_rhs
 
    !> Module header: every stiffness runs without a rejected attempt, the multipliers split
