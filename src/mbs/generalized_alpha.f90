@@ -43,9 +43,12 @@
 !>   (test_mbs_flexible_engine). Two masses joined by a spring of k = 1e9 .. 1e15 N/m with both
 !>   positions prescribed failed at t = 0.008 s before and run without a rejected attempt
 !>   after (test_mbs_stiff).
-!>   When the residual test already passed at the iterate an increment starts from and the
-!>   increment test passes, the step is accepted without evaluating the residual at the new
-!>   iterate (Newton only reduces it further; one evaluation less per step).
+!>   From the second iteration a step whose increment test passes is accepted without the full
+!>   residual evaluation at the new iterate when the iteration contracts clearly (rate theta <=
+!>   skip_rate = 0.1) and the residual predicted there, theta times the one at the iterate the
+!>   increment started from, passes; only Phi is evaluated there, and must pass (the constraint
+!>   statistics stay exact). On the reference engine this took the residual evaluations from
+!>   3.4 to 2.7 per step, with the same crank angle and speed to the 8 digits printed.
 !> - Iteration matrix (factor): S = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]]
 !>   from the current M and Phi_q (known from the residual evaluation; they change fastest, with
 !>   the bodies' rotation) and tangents K_t, C_t that a factorisation at the predictor of a step
@@ -111,6 +114,10 @@ module ffrf_mbs_generalized_alpha
    !> test_mbs_flexible_engine (eigenvalues x 100, before the floor) were 0.03 to 1.5 times the
    !> estimated floor
    real(dp), parameter :: floor_factor = 10.0_dp
+
+   !> Largest contraction rate of the Newton iteration at which a converged step is accepted on
+   !> its predicted residual, without evaluating it (attempt)
+   real(dp), parameter :: skip_rate = 0.1_dp
 
    !> Consecutive steps over settings%alternation_limit that stop a run (check_alternation)
    integer, parameter :: alternation_window = 20
@@ -837,19 +844,28 @@ contains
          trial%qdd = trial%qdd + beta_p * dx(:n)
          trial%lambda(self%active) = trial%lambda(self%active) + self%row_scale * dx(n + 1:) / bh2
          increment = increment_norm(self, trial, dx, bh2)
-         if (iteration >= 2 .and. self%last_residual <= 1.0_dp) then
-            ! The residual passed at the iterate this increment started from: if the increment
-            ! (or its contraction estimate) passes too, the step has converged and the residual
-            ! at the new iterate, which Newton only reduces further, is not evaluated (one
-            ! residual evaluation less per step)
+         if (iteration >= 2) then
+            ! Converged without evaluating the residual at the new iterate when the increment
+            ! (or its contraction estimate) passes and the residual predicted there, the one at
+            ! the iterate this increment started from times the contraction rate theta (Newton
+            ! contracts the residual as it contracts the increments), passes too, with the
+            ! iteration clearly contracting (theta <= skip_rate)
             rate = increment / max(previous, tiny(1.0_dp))
             estimate = increment
             if (rate < 1.0_dp) estimate = min(increment, rate / (1.0_dp - rate) * increment)
-            if (estimate <= 1.0_dp) then
-               self%last_increment = increment
-               converged = .true.
-               self%reuse_factors = age <= self%settings%refactor_iterations
-               return
+            if (estimate <= 1.0_dp .and. rate <= skip_rate .and. &
+               max(rate, tiny(1.0_dp)) * self%last_residual <= 1.0_dp) then
+               ! The constraint residual at the new iterate is evaluated (cheap: no mass, force
+               ! or Jacobian) for the statistics and as a check
+               call system%constraints(trial%q, t_new, trial%phi, error)
+               if (allocated(error)) return
+               if (constraints_pass(self, trial)) then
+                  self%last_increment = increment
+                  self%last_residual = rate * self%last_residual
+                  converged = .true.
+                  self%reuse_factors = age <= self%settings%refactor_iterations
+                  return
+               end if
             end if
          end if
          call evaluate(self, system, t_new, trial, error)
@@ -1090,6 +1106,17 @@ contains
             (s%newton_atol + floor_factor * self%constraint_floor)))
       end associate
    end function residual_norm
+
+   !> Whether Phi of a trial is finite and passes the constraint part of the residual test
+   !> (residual_norm) on the kept rows.
+   logical function constraints_pass(self, trial)
+      type(galpha_integrator_t), intent(in) :: self
+      type(trial_t), intent(in) :: trial
+      constraints_pass = all_finite(trial%phi)
+      if (constraints_pass .and. size(self%active) > 0) constraints_pass = &
+         maxval(abs(trial%phi(self%active)) / (self%settings%newton_atol + floor_factor * &
+         self%constraint_floor)) <= 1.0_dp
+   end function constraints_pass
 
    !> Whether the residual of a trial is finite.
    logical function finite_trial(trial)
