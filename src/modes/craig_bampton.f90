@@ -109,7 +109,8 @@ contains
       end if
       call virtual_node_rows(interfaces, red, C_v, is_rc, error)
       if (allocated(error)) return
-      if (.not. any(is_rc)) then
+      ! RC rows of RBE3 interfaces stay in C_V, those of RBE2 interfaces are eliminated by T
+      if (.not. any([(any(interfaces(r)%rc), r=1, int(size(interfaces), ip))])) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'Craig-Bampton: the body has no reference ' &
             // 'conditions; the static modes would contain its rigid motions. Give the ' // &
             'interfaces an RC set (rc = ...) or use basis = ''rc_normal''')

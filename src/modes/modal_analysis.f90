@@ -362,7 +362,7 @@ contains
    !> expects; body%eigen keeps the fixed-interface solve's statistics.
    subroutine solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
       type(body_modes_t), intent(inout) :: body
-      !> Shift, tolerance, ncv; num_modes = the fixed-interface modes
+      !> Tolerance, ncv; num_modes = the fixed-interface modes (shift: 0, craig_bampton_modes)
       type(eigen_options_t), intent(in) :: options
       type(reduction_t), intent(in) :: red
       type(csr_t), intent(in) :: K_r, M_r

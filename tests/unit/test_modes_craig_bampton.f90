@@ -4,7 +4,7 @@
 !>   null space of the virtual-node rows) span the RC-constrained space, so Rayleigh-Ritz in it
 !>   gives every RC normal-mode eigenvalue of a dense reference (LAPACK in null(C_RC)) to
 !>   round-off; on a coarse Tet10 beam (fixture beam_lc40, 726 dofs) with RBE3 ends, and with
-!>   an RBE2 end eliminated by the RC matrix T;
+!>   an RBE2 end eliminated by the RC matrix T (three or all six of its dofs held);
 !> - static completeness: the response to loads at the virtual nodes lies in the span of the
 !>   static modes, so the CB basis (4 fixed-interface modes by Lanczos) reproduces the dense
 !>   constrained static solution exactly (to round-off);
@@ -54,6 +54,7 @@ contains
       tests = [ &
          new_unittest('complete_basis_rbe3', test_complete_rbe3), &
          new_unittest('complete_basis_rbe2_eliminated', test_complete_rbe2), &
+         new_unittest('complete_basis_rbe2_clamped', test_complete_rbe2_clamped), &
          new_unittest('static_response_exact', test_static_response), &
          new_unittest('crank_ritz_bounds_converge', test_crank_convergence), &
          new_unittest('free_free_refused', test_free_free_refused)]
@@ -237,6 +238,14 @@ contains
       call check_complete_basis([character(len=4) :: 'RBE2', 'RBE3'], &
          [character(len=16) :: 'Tx Ty Tz', 'Ty Tz Rx'], error)
    end subroutine test_complete_rbe2
+
+   !> end0 an RBE2 clamped by all six RCs (every row of its virtual node eliminated by T, so the
+   !> RCs are all in T, none in C_V), end1 a free RBE3: the six static modes are those of end1.
+   subroutine test_complete_rbe2_clamped(error)
+      type(error_t), allocatable, intent(out) :: error
+      call check_complete_basis([character(len=4) :: 'RBE2', 'RBE3'], &
+         [character(len=17) :: 'Tx Ty Tz Rx Ry Rz', ''], error)
+   end subroutine test_complete_rbe2_clamped
 
    !> Loads at the virtual nodes f = G_0^T f_V0 + G_1^T f_V1 on the RBE3 beam (RCs as in
    !> test_complete_rbe3): the dense constrained static solution [[K, C^T], [C, 0]] [u; mu] =
