@@ -129,10 +129,11 @@ contains
 
    !> Static modes (library: the KKT factors of the Lanczos at sigma = 0) + all fixed-interface
    !> modes (dense reference) -> Rayleigh-Ritz (library) vs the dense RC normal modes. Also
-   !> C_V X_s = the unit targets (1e-10, the round-off of one KKT solve). Tolerance of the eigenvalues: both sides are backward stable
-   !> dense/sparse factorisations of the same pencil, whose eigenvalues carry an absolute
-   !> round-off of order eps * lambda_max (toolchain.md pitfall 9): |lambda_i - lambda_ref,i|
-   !> <= 100 eps lambda_max for every i (relative 100 eps lambda_max / lambda_i).
+   !> C_V X_s = the unit targets (1e-10, the round-off of one KKT solve). Tolerance of the
+   !> eigenvalues: both sides are backward stable dense/sparse factorisations of the same
+   !> pencil, whose eigenvalues carry an absolute round-off of order eps * lambda_max
+   !> (toolchain.md pitfall 9): |lambda_i - lambda_ref,i| <= 100 eps lambda_max for every i
+   !> (relative 100 eps lambda_max / lambda_i).
    subroutine check_complete_basis(mpc, rc, error)
       character(len=*), intent(in) :: mpc(2), rc(2)
       type(error_t), allocatable, intent(out) :: error
