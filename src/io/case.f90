@@ -138,7 +138,8 @@ contains
          to_str(case%modes%shift_hz, 12) // ', formulation = ''' // &
          trim(case%modes%formulation) // ''', rc_label = ''' // trim(case%modes%rc_label) // &
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
-         to_str(case%modes%lanczos_vectors) // ' /' // nl
+         to_str(case%modes%lanczos_vectors) // ', basis = ''' // trim(case%modes%basis) // &
+         ''' /' // nl
       if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
    end function case_echo
 

@@ -9,7 +9,12 @@
 !> /bodies/<body>/{position (3 rows) [m], euler_parameters (4 rows) [1]} (the body frame),
 !> /bodies/<body>/modal_coordinates (num_modes rows, flexible bodies only) [1],
 !> /joints/<joint>/reaction (12 rows: force and moment on each of the two bodies) [N, N m];
-!> at the end /timings/stage, /timings/seconds [s] and status 'complete' or the error message.
+!> at the end /timings/stage, /timings/seconds [s], /timings/peak_memory_mib [MiB] (when given)
+!> and status 'complete' or the error message. `write_modes` stores, per flexible body, what the
+!> modal coordinates need to be read back in physical terms: /bodies/<body>/modes/{frequency [Hz],
+!> virtual_node_shape (6 n_if rows, m)} (attributes basis, num_static_modes) and
+!> /bodies/<body>/interfaces/{order, <name>/virtual_node [m]}; the virtual-node motion in the
+!> body frame is virtual_node_shape zeta(t).
 !> `write_real`/`write_int` store run information (redundant joint equations, integrator
 !> counters) anywhere in the file.
 !> Steps are buffered in memory and appended + flushed every `steps_per_flush` steps (100 by
@@ -75,6 +80,7 @@ module ffrf_io_engine_results
       procedure :: num_steps => engine_results_num_steps
       procedure :: write_real => engine_results_write_real
       procedure :: write_int => engine_results_write_int
+      procedure :: write_modes => engine_results_write_modes
    end type engine_results_t
 
 contains
@@ -276,7 +282,8 @@ contains
 
    !> Flush the buffer, write the stage timings, set the status ('complete' or the error
    !> message) and close. If the flush fails, the status becomes that failure's message.
-   subroutine engine_results_finish(self, status, stage_names, stage_seconds, error)
+   subroutine engine_results_finish(self, status, stage_names, stage_seconds, error, &
+         stage_peak_mib)
       class(engine_results_t), intent(inout) :: self
       !> 'complete' or the error message of the run
       character(len=*), intent(in) :: status
@@ -285,6 +292,8 @@ contains
       !> Wall time of each stage (s)
       real(dp), intent(in) :: stage_seconds(:)
       type(error_t), allocatable, intent(out) :: error
+      !> Peak resident memory of the process at the end of each stage (MiB, VmHWM)
+      real(dp), intent(in), optional :: stage_peak_mib(:)
       type(error_t), allocatable :: ignored
 
       if (size(stage_names) /= size(stage_seconds)) then
@@ -292,11 +301,19 @@ contains
             '": ' // to_str(size(stage_names)) // ' stage names but ' // &
             to_str(size(stage_seconds)) // ' stage times')
       end if
+      if (present(stage_peak_mib) .and. .not. allocated(error)) then
+         if (size(stage_peak_mib) /= size(stage_names)) call fatal_error(error, &
+            FFRF_INPUT_ERROR, 'engine results "' // self%file_name // '": ' // &
+            to_str(size(stage_names)) // ' stage names but ' // to_str(size(stage_peak_mib)) &
+            // ' peak memory values')
+      end if
       if (.not. allocated(error)) call self%flush(error)
       if (.not. allocated(error) .and. size(stage_names) > 0) then
          call self%h5%write_string_list('/timings/stage', stage_names, error)
          if (.not. allocated(error)) call self%h5%write_real('/timings/seconds', stage_seconds, &
             's', error)
+         if (.not. allocated(error) .and. present(stage_peak_mib)) call self%h5%write_real( &
+            '/timings/peak_memory_mib', stage_peak_mib, 'MiB', error)
       end if
       if (allocated(error)) then
          call self%h5%set_status(error%message, ignored)
@@ -332,6 +349,56 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call self%h5%write_int(path, values, error)
    end subroutine engine_results_write_int
+
+   !> The modal data of flexible body `body_name` (module header): frequencies, virtual-node rows
+   !> of the modes, the basis, and the interfaces' names and virtual-node positions.
+   subroutine engine_results_write_modes(self, body_name, frequency_hz, virtual_node_shape, &
+         interface_names, virtual_xyz, basis, num_static, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Body name
+      character(len=*), intent(in) :: body_name
+      !> Frequencies of the modes (Hz), (m)
+      real(dp), intent(in) :: frequency_hz(:)
+      !> Virtual-node rows [u; theta] per interface, (6 n_if, m), m kg^-1/2 and rad kg^-1/2
+      real(dp), intent(in) :: virtual_node_shape(:, :)
+      !> Interface names, in the order of the virtual-node rows
+      character(len=*), intent(in) :: interface_names(:)
+      !> Virtual-node positions in the body frame, (3, n_if), m
+      real(dp), intent(in) :: virtual_xyz(:, :)
+      !> 'rc_normal' or 'craig_bampton'
+      character(len=*), intent(in) :: basis
+      !> Static constraint modes in the basis (0 for rc_normal)
+      integer, intent(in) :: num_static
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: root
+      integer :: k
+      if (size(virtual_node_shape, 1) /= 6 * size(interface_names) .or. &
+         size(virtual_node_shape, 2) /= size(frequency_hz) .or. &
+         size(virtual_xyz, 2) /= size(interface_names)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '", body "' // body_name // '": ' // to_str(size(frequency_hz)) // ' modes, ' // &
+            to_str(size(interface_names)) // ' interfaces, virtual-node rows ' // &
+            to_str(size(virtual_node_shape, 1)) // ' x ' // to_str(size(virtual_node_shape, 2)) &
+            // '; need 6 rows per interface and one column per mode')
+         return
+      end if
+      root = '/bodies/' // body_name
+      call self%h5%write_real(root // '/modes/frequency', frequency_hz, 'Hz', error)
+      if (.not. allocated(error)) call self%h5%write_real(root // '/modes/virtual_node_shape', &
+         virtual_node_shape, 'm kg^-1/2 (u), rad kg^-1/2 (theta)', error)
+      if (.not. allocated(error)) call self%h5%set_attribute(root // '/modes', 'basis', basis, &
+         error)
+      if (.not. allocated(error)) call self%h5%set_attribute(root // '/modes', &
+         'num_static_modes', num_static, error)
+      if (.not. allocated(error) .and. size(interface_names) > 0) call &
+         self%h5%write_string_list(root // '/interfaces/order', interface_names, error)
+      do k = 1, size(interface_names)
+         if (allocated(error)) exit
+         call self%h5%write_real(root // '/interfaces/' // trim(interface_names(k)) // &
+            '/virtual_node', virtual_xyz(:, k), 'm', error)
+      end do
+      if (allocated(error)) call add_context(error, 'engine results "' // self%file_name // '"')
+   end subroutine engine_results_write_modes
 
    !> Error unless the file is open and no step has been recorded.
    subroutine check_not_started(self, what, error)

@@ -6,6 +6,9 @@
 !>   rc_label     label of the RC set for tables and plots (e.g. 'RC set 1')
 !>   tolerance    ARPACK relative tolerance (default 1e-9; 0: machine precision)
 !>   lanczos_vectors  Lanczos basis size, ARPACK's ncv (default 0: max(2 num_modes + 1, 20))
+!>   basis        'rc_normal' (default: constrained normal modes of the RC set) or
+!>                'craig_bampton' (static constraint modes of the non-RC virtual-node dofs +
+!>                num_modes fixed-interface modes, orthonormalised; Heirman & Desmet 2010)
 module ffrf_io_nml_modes
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -25,26 +28,29 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: num_modes, lanczos_vectors
       real(dp) :: shift_hz, tolerance
-      character(len=16) :: formulation
+      character(len=16) :: formulation, basis
       character(len=64) :: rc_label
       character(len=512) :: msg
       integer :: stat
-      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors
+      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
+         basis
       num_modes = input%num_modes
       shift_hz = input%shift_hz
       formulation = input%formulation
       rc_label = input%rc_label
       tolerance = input%tolerance
       lanczos_vectors = input%lanczos_vectors
+      basis = input%basis
       rewind (unit)
       read (unit, nml=modes, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'modes', 0, msg, &
-            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors')
+            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis')
          return
       end if
       formulation = to_lower(formulation)
+      basis = to_lower(basis)
       if (num_modes < 1 .or. num_modes > 10000) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: num_modes = ' // to_str(num_modes) // &
             ', must lie in 1..10000')
@@ -53,6 +59,9 @@ contains
       else if (all(formulation /= [character(len=16) :: 'multipliers', 'null_space'])) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: formulation = "' // &
             trim(formulation) // '"; use "multipliers" or "null_space"')
+      else if (all(basis /= [character(len=16) :: 'rc_normal', 'craig_bampton'])) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: basis = "' // trim(basis) // &
+            '"; use "rc_normal" (constrained normal modes) or "craig_bampton"')
       else if (lanczos_vectors /= 0 .and. lanczos_vectors <= num_modes) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: lanczos_vectors = ' // &
             to_str(lanczos_vectors) // ' must exceed num_modes = ' // to_str(num_modes) // &
@@ -63,7 +72,7 @@ contains
       end if
       if (allocated(error)) return
       input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
-         lanczos_vectors)
+         lanczos_vectors, basis)
    end subroutine read_modes_group
 
 end module ffrf_io_nml_modes

@@ -99,6 +99,11 @@ contains
       if (.not. allocated(error)) call h5%set_attribute(path, 'mpc', mpc_summary(body), error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'formulation', body%formulation, &
          error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'basis', body%basis, error)
+      if (.not. allocated(error) .and. body%basis == 'craig_bampton') call h5%write_int( &
+         path // '/num_static_modes', body%num_static, error)
+      if (.not. allocated(error) .and. body%basis == 'craig_bampton') call h5%write_real( &
+         path // '/fixed_interface_frequency', body%fixed_interface_hz, 'Hz', error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'num_rc', body%rc%num_rc, error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'rc_redundancy', &
          body%rc%redundancy, error)

@@ -2,6 +2,8 @@
 !> mesh -> Tet4/Tet10 K and M -> interfaces reduced to virtual nodes (RBE2/RBE3) -> reference
 !> conditions D q_V = 0 -> RC matrix T (and constraint rows C) -> (T^T K T) phi = w^2 (T^T M T) phi
 !> by shift-invert Lanczos on one MUMPS factorisation -> psi = T phi, mass-normalised.
+!> With modes_input%basis = 'craig_bampton' the basis is instead the Craig-Bampton one of
+!> src/modes/craig_bampton.f90 (static constraint modes + fixed-interface modes, Rayleigh-Ritz).
 module ffrf_modes_modal_analysis
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip, i8, pi
@@ -20,6 +22,7 @@ module ffrf_modes_modal_analysis
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
+   use ffrf_modes_craig_bampton, only: cb_result_t, craig_bampton_modes
    implicit none
    private
    public :: body_modes_t, compute_body_modes, sigma_of_shift
@@ -41,10 +44,17 @@ module ffrf_modes_modal_analysis
       type(rc_summary_t) :: rc
       !> 'multipliers' or 'null_space'
       character(len=:), allocatable :: formulation
+      !> Mode basis: 'rc_normal' or 'craig_bampton'
+      character(len=:), allocatable :: basis
+      !> Craig-Bampton: static constraint modes in the basis (0 for 'rc_normal')
+      integer(ip) :: num_static = 0
+      !> Craig-Bampton: frequencies of the fixed-interface modes (Hz); empty for 'rc_normal'
+      real(dp), allocatable :: fixed_interface_hz(:)
       !> Sizes: nodal dofs, reduced coordinates, constraint rows, stored entries of K
       integer(ip) :: num_dofs = 0, num_reduced = 0, num_constraints = 0
       integer(i8) :: stiffness_nnz = 0
-      !> Natural frequencies of the flexible modes (Hz), ascending
+      !> Natural frequencies of the flexible modes (Hz), ascending (Craig-Bampton: the Ritz
+      !> frequencies of the orthonormalised basis, upper bounds of the RC normal modes')
       real(dp), allocatable :: frequency_hz(:)
       !> Frequencies of the skipped rigid modes of a free-free body (Hz, ~0)
       real(dp), allocatable :: rigid_frequency_hz(:)
@@ -52,11 +62,12 @@ module ffrf_modes_modal_analysis
       real(dp), allocatable :: shape(:, :)
       !> Virtual-node motion of each mode, (6 num_interfaces, num_modes): [u; theta] per interface
       real(dp), allocatable :: virtual_node_shape(:, :)
-      !> ||K phi - lambda M phi|| / ||K phi|| of each mode on the constrained space
+      !> ||K phi - lambda M phi|| / ||K phi|| of each mode on the constrained space (Craig-
+      !> Bampton: the distance of each Ritz vector from a normal mode, not a solver accuracy)
       real(dp), allocatable :: residual(:)
       !> max |Psi^T M Psi - I|
       real(dp) :: orthonormality_error = 0.0_dp
-      !> Eigen solver statistics
+      !> Eigen solver statistics (Craig-Bampton: of the fixed-interface modes)
       type(eigen_result_t) :: eigen
    end type body_modes_t
 
@@ -176,10 +187,13 @@ contains
                'is undefined and reads zero')
          end associate
       end do
+      body%basis = trim(modes_input%basis)
+      allocate (body%fixed_interface_hz(0))
       if (modes_input%num_modes == 0) then
          allocate (body%shape(body%num_dofs, 0), body%virtual_node_shape(6 * n_if, 0))
          allocate (body%frequency_hz(0), body%residual(0))
          body%formulation = 'none'
+         body%basis = 'none'
          call times%add(tag // ': interfaces', timer%seconds())
          call log%info('modes', tag // ': no modes asked: rigid body with the mass ' // &
             'properties of its mesh, markers at its virtual nodes')
@@ -247,7 +261,7 @@ contains
       type(eigen_options_t) :: options
       type(stage_timer_t) :: timer
       real(dp), allocatable :: psi(:, :)
-      integer :: num_rigid, first, k, i, num_modes
+      integer :: num_rigid, first, k, num_modes
       character(len=:), allocatable :: tag
 
       tag = body%name
@@ -264,6 +278,10 @@ contains
       end if
       options%tolerance = modes_input%tolerance
       options%ncv = int(modes_input%lanczos_vectors, kind(options%ncv))
+      if (body%basis == 'craig_bampton') then
+         call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
+         return
+      end if
       call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error)
       if (allocated(error)) return
       call times%add(tag // ': ordering', body%eigen%time_ordering)
@@ -323,16 +341,7 @@ contains
 
       call timer%begin()
       call expand_vectors(red, body%eigen%vectors(:, first:), psi)
-      call move_alloc(psi, body%shape)
-      allocate (body%virtual_node_shape(6 * size(body%interfaces), num_modes))
-      do k = 1, size(body%interfaces)
-         associate (f => body%interfaces(k))
-            do i = 1, num_modes
-               body%virtual_node_shape(6 * k - 5:6 * k, i) = matmul(f%G, &
-                  gather_dofs(body%shape(:, i), f%nodes))
-            end do
-         end associate
-      end do
+      call set_shapes(body, psi)
       call times%add(tag // ': mode shapes', timer%seconds())
       if (len_trim(modes_input%rc_label) > 0) tag = tag // ', ' // trim(modes_input%rc_label)
       call log%info('modes', tag // ': ' // &
@@ -346,6 +355,99 @@ contains
             to_str(body%frequency_hz(k), 10) // ' Hz, residual ' // to_str(body%residual(k), 3))
       end do
    end subroutine solve_modes
+
+   !> Craig-Bampton basis (src/modes/craig_bampton.f90): num_modes fixed-interface modes plus
+   !> the static constraint modes of the non-RC virtual-node dofs, orthonormalised by
+   !> Rayleigh-Ritz so that Psi^T M Psi = I and Psi^T K Psi = diag(omega^2) as the flexible body
+   !> expects; body%eigen keeps the fixed-interface solve's statistics.
+   subroutine solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
+      type(body_modes_t), intent(inout) :: body
+      !> Tolerance, ncv; num_modes = the fixed-interface modes (shift: 0, craig_bampton_modes)
+      type(eigen_options_t), intent(in) :: options
+      type(reduction_t), intent(in) :: red
+      type(csr_t), intent(in) :: K_r, M_r
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(error_t), allocatable, intent(out) :: error
+      type(cb_result_t) :: cb
+      type(stage_timer_t) :: timer
+      real(dp), allocatable :: psi(:, :)
+      integer :: k, num_modes
+
+      if (body%rc%free_free) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'basis = ''craig_bampton'' needs ' // &
+            'reference conditions on the interfaces (the floating frame); this body has ' // &
+            'none: give an RC set or use basis = ''rc_normal''')
+         return
+      end if
+      call craig_bampton_modes(K_r, M_r, red, body%interfaces, options%num_modes, options, log, &
+         cb, error)
+      if (allocated(error)) return
+      body%eigen = cb%fixed
+      call times%add(body%name // ': ordering', cb%fixed%time_ordering)
+      call times%add(body%name // ': analysis', cb%fixed%time_analysis)
+      call times%add(body%name // ': factorisation', cb%fixed%time_factorisation)
+      call times%add(body%name // ': eigen loop', cb%fixed%time_lanczos)
+      call times%add(body%name // ': eigen check', cb%fixed%time_check)
+      call times%add(body%name // ': static modes', cb%time_static_solves)
+      call times%add(body%name // ': Rayleigh-Ritz', cb%time_rayleigh_ritz)
+      if (any(cb%eigenvalues <= 0.0_dp)) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'Craig-Bampton: a Ritz value ' // &
+            to_str(minval(cb%eigenvalues)) // ' is not positive: the reference conditions ' // &
+            'do not remove all rigid motions')
+         return
+      end if
+      num_modes = size(cb%eigenvalues)
+      body%num_static = cb%num_static
+      body%frequency_hz = [(frequency_of(cb%eigenvalues(k)), k=1, num_modes)]
+      body%fixed_interface_hz = [(frequency_of(cb%fixed_eigenvalues(k)), k=1, &
+         size(cb%fixed_eigenvalues))]
+      body%residual = cb%residuals
+      body%orthonormality_error = cb%orthonormality_error
+      if (body%orthonormality_error > 1.0e-8_dp) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'Craig-Bampton: the Ritz vectors are ' // &
+            'M-orthonormal only to ' // to_str(body%orthonormality_error, 3) // ' (> 1e-8): ' // &
+            'the basis is (nearly) dependent')
+         return
+      end if
+
+      call timer%begin()
+      call expand_vectors(red, cb%vectors, psi)
+      call set_shapes(body, psi)
+      call times%add(body%name // ': mode shapes', timer%seconds())
+      call log%info('modes', body%name // ': Craig-Bampton basis, ' // to_str(cb%num_static) // &
+         ' static + ' // to_str(cb%num_fixed) // ' fixed-interface modes (fixed interface ' // &
+         to_str(body%fixed_interface_hz(1), 6) // ' .. ' // &
+         to_str(body%fixed_interface_hz(size(body%fixed_interface_hz)), 6) // ' Hz): ' // &
+         to_str(num_modes) // ' Ritz modes ' // to_str(body%frequency_hz(1), 6) // ' .. ' // &
+         to_str(body%frequency_hz(num_modes), 6) // ' Hz, M-orthonormality ' // &
+         to_str(body%orthonormality_error, 2))
+      do k = 1, num_modes
+         call log%debug('modes', '  Ritz mode ' // to_str(k) // ': ' // &
+            to_str(body%frequency_hz(k), 10) // ' Hz, distance from a normal mode ' // &
+            to_str(body%residual(k), 3))
+      end do
+   end subroutine solve_craig_bampton
+
+   !> body%shape = psi (moved) and the virtual-node rows psi_V = G psi_B of every interface.
+   subroutine set_shapes(body, psi)
+      type(body_modes_t), intent(inout) :: body
+      !> Mode shapes (3 num_nodes, num_modes); deallocated on return
+      real(dp), allocatable, intent(inout) :: psi(:, :)
+      integer :: k, i, num_modes
+      num_modes = size(psi, 2)
+      call move_alloc(psi, body%shape)
+      if (allocated(body%virtual_node_shape)) deallocate (body%virtual_node_shape)
+      allocate (body%virtual_node_shape(6 * size(body%interfaces), num_modes))
+      do k = 1, size(body%interfaces)
+         associate (f => body%interfaces(k))
+            do i = 1, num_modes
+               body%virtual_node_shape(6 * k - 5:6 * k, i) = matmul(f%G, &
+                  gather_dofs(body%shape(:, i), f%nodes))
+            end do
+         end associate
+      end do
+   end subroutine set_shapes
 
    pure function frequency_of(lambda) result(hz)
       real(dp), intent(in) :: lambda

@@ -46,6 +46,10 @@ module ffrf_modes_input
       real(dp) :: tolerance = 1.0e-9_dp
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
       integer :: lanczos_vectors = 0
+      !> Mode basis: 'rc_normal' (the constrained normal modes of the RC set, the paper's) or
+      !> 'craig_bampton' (static constraint modes of the non-RC virtual-node dofs plus num_modes
+      !> fixed-interface modes, orthonormalised by Rayleigh-Ritz: src/modes/craig_bampton.f90)
+      character(len=16) :: basis = 'rc_normal'
    end type modes_input_t
 
 end module ffrf_modes_input

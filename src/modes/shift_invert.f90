@@ -23,7 +23,7 @@ module ffrf_modes_shift_invert
    use ffrf_la_sparse, only: csr_t
    implicit none
    private
-   public :: eigen_options_t, eigen_result_t, solve_shift_invert
+   public :: eigen_options_t, eigen_result_t, solve_shift_invert, project_null_space
 
    !> Settings of the shift-invert Lanczos solver.
    type :: eigen_options_t
@@ -94,11 +94,17 @@ module ffrf_modes_shift_invert
       real(dp) :: time_solves = 0.0_dp
       real(dp) :: time_check = 0.0_dp
       real(dp) :: time_total = 0.0_dp
+      !> Wall seconds of the static solves asked with constraint_targets
+      real(dp) :: time_constraint_solves = 0.0_dp
    end type eigen_result_t
 
    interface
       !> Eigenpairs of K x = lambda M x, C x = 0 nearest options%sigma (shift-invert Lanczos).
-      module subroutine solve_shift_invert(K, M, C, options, result, log, error)
+      !> With sigma = 0 the factorised KKT matrix is also that of the static problem
+      !> [[K, C^T], [C, 0]] [x; mu] = [0; t]: give `constraint_targets` (columns t) and get the
+      !> `constraint_solutions` x (Craig-Bampton static modes) from the same factorisation.
+      module subroutine solve_shift_invert(K, M, C, options, result, log, error, &
+            constraint_targets, constraint_solutions)
          !> Stiffness matrix, n x n, symmetric, both triangles stored
          type(csr_t), intent(in) :: K
          !> Mass matrix, n x n, symmetric, both triangles, positive definite on null(C)
@@ -112,7 +118,21 @@ module ffrf_modes_shift_invert
          !> Progress log
          type(logger_t), intent(in) :: log
          type(error_t), allocatable, intent(out) :: error
+         !> Right-hand sides t of C x = t, (num_constraints, nrhs); needs sigma = 0
+         real(dp), intent(in), optional :: constraint_targets(:, :)
+         !> Solutions x, (n, nrhs), when constraint_targets is given
+         real(dp), allocatable, intent(out), optional :: constraint_solutions(:, :)
       end subroutine solve_shift_invert
+
+      !> Columns of r replaced by their orthogonal projection P r = r - C^T (C C^T)^-1 C r onto
+      !> null(C) (C with a handful of rows, e.g. reference conditions).
+      module subroutine project_null_space(C, r, error)
+         !> Constraint rows, full row rank
+         type(csr_t), intent(in) :: C
+         !> Vectors as columns (C%num_cols rows), projected in place
+         real(dp), intent(inout) :: r(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine project_null_space
    end interface
 
 end module ffrf_modes_shift_invert

@@ -24,12 +24,15 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
       real(dp), allocatable :: val(:)
       !> Entries of the K - sigma M part (the first num_upper of irn/jcn/val)
       integer(i8) :: num_upper = 0
+      !> Scale of each constraint row in the matrix (max|diag K| / max|C_r|)
+      real(dp), allocatable :: row_scale(:)
    end type kkt_t
 
 contains
 
    !> Eigenpairs of K x = lambda M x, C x = 0 nearest options%sigma (shift-invert Lanczos).
-   module subroutine solve_shift_invert(K, M, C, options, result, log, error)
+   module subroutine solve_shift_invert(K, M, C, options, result, log, error, &
+         constraint_targets, constraint_solutions)
       !> Stiffness matrix, n x n, symmetric, both triangles stored
       type(csr_t), intent(in) :: K
       !> Mass matrix, n x n, symmetric, both triangles, positive definite on null(C)
@@ -43,6 +46,10 @@ contains
       !> Progress log
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
+      !> Right-hand sides t of C x = t, (num_constraints, nrhs); needs sigma = 0
+      real(dp), intent(in), optional :: constraint_targets(:, :)
+      !> Solutions x, (n, nrhs), when constraint_targets is given
+      real(dp), allocatable, intent(out), optional :: constraint_solutions(:, :)
       type(kkt_t) :: kkt
       type(mumps_solver_t) :: solver
       real(dp) :: t_start, t0, sigma
@@ -52,6 +59,16 @@ contains
       t_start = wall_time()
       call check_input(K, M, C, options, n, nc, ncv, error)
       if (allocated(error)) return
+      if (present(constraint_targets)) then
+         if (options%sigma /= 0.0_dp .or. size(constraint_targets, 1) /= nc .or. &
+            .not. present(constraint_solutions)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: constraint targets ' // &
+               'need sigma = 0 (now ' // to_str(options%sigma) // '), one row per ' // &
+               'constraint (' // to_str(size(constraint_targets, 1)) // ' rows for ' // &
+               to_str(nc) // ') and constraint_solutions')
+            return
+         end if
+      end if
       result%n = n
       result%num_constraints = nc
       result%ncv = ncv
@@ -73,6 +90,12 @@ contains
       t0 = wall_time()
       call lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
       result%time_lanczos = wall_time() - t0
+      if (.not. allocated(error) .and. present(constraint_targets)) then
+         t0 = wall_time()
+         call constraint_solve(solver, kkt, sigma, constraint_targets, constraint_solutions, &
+            error)
+         result%time_constraint_solves = wall_time() - t0
+      end if
       call solver%free()
       if (allocated(error)) return
       call log%info(stage, 'Lanczos: ' // to_str(result%num_iterations) // ' restarts, ' // &
@@ -216,6 +239,7 @@ contains
          if (irn(e) == jcn(e)) diag_scale = max(diag_scale, abs(val(e)))
       end do
       if (diag_scale == 0.0_dp) diag_scale = 1.0_dp
+      allocate (kkt%row_scale(nc))
       e = kkt%num_upper
       do r = 1, nc
          row_max = 0.0_dp
@@ -240,8 +264,49 @@ contains
             kkt%jcn(e) = n + r
             kkt%val(e) = C%val(p) * (diag_scale / row_max)
          end do
+         kkt%row_scale(r) = diag_scale / row_max
       end do
    end subroutine build_kkt
+
+   !> x of [[K, C^T], [C, 0]] [x; mu] = [0; t] for each column t of `targets`, with the factors
+   !> of the KKT matrix at sigma = 0 (the scaled rows take scaled targets).
+   subroutine constraint_solve(solver, kkt, sigma, targets, solutions, error)
+      type(mumps_solver_t), intent(inout) :: solver
+      type(kkt_t), intent(in) :: kkt
+      !> The shift of the factors (must still be 0 after any retry)
+      real(dp), intent(in) :: sigma
+      real(dp), intent(in) :: targets(:, :)
+      real(dp), allocatable, intent(out) :: solutions(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: rhs(:, :)
+      integer(ip) :: n, r, stat
+      n = kkt%n
+      if (sigma /= 0.0_dp) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: the shift moved to ' // &
+            to_str(sigma) // ', so the factors are not those of the static problem')
+         return
+      end if
+      allocate (rhs(n + kkt%num_constraints, size(targets, 2)), source=0.0_dp, stat=stat)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: cannot allocate ' // &
+            to_str(size(targets, 2)) // ' static right-hand sides')
+         return
+      end if
+      do r = 1, kkt%num_constraints
+         rhs(n + r, :) = targets(r, :) * kkt%row_scale(r)
+      end do
+      call solver%solve(rhs, error)
+      if (allocated(error)) then
+         call add_context(error, 'shift-invert, static solve with the KKT factors')
+         return
+      end if
+      if (.not. all(ieee_is_finite(rhs))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: NaN or Inf in the ' // &
+            'static solve: K is singular on null(C)')
+         return
+      end if
+      solutions = rhs(1:n, :)
+   end subroutine constraint_solve
 
    !> Values of K - sigma M in the KKT pattern (the C^T block stays).
    subroutine shift_values(K, M, sigma, kkt, error)
@@ -610,8 +675,10 @@ contains
    !> Columns of r replaced by their orthogonal projection P r = r - C^T (C C^T)^-1 C r onto
    !> null(C). C has a handful of rows (reference conditions), so C C^T is a small dense matrix,
    !> solved by Cholesky (LAPACK dposv) after scaling the rows to unit norm.
-   subroutine project_null_space(C, r, error)
+   module subroutine project_null_space(C, r, error)
+      !> Constraint rows, full row rank
       type(csr_t), intent(in) :: C
+      !> Vectors as columns (C%num_cols rows), projected in place
       real(dp), intent(inout) :: r(:, :)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: gram(:, :), cr(:, :), row_norm(:)

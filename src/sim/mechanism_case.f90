@@ -23,6 +23,7 @@ module ffrf_sim_mechanism_case
    use ffrf_io_engine_results, only: engine_results_t
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_modes_modal_case, only: run_options_t, set_log_level
+   use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
@@ -127,15 +128,16 @@ contains
       if (allocated(run_error)) then
          call add_context(run_error, case_file)
          status = 'error: ' // run_error%message
-         call results%finish(status, times%names, times%seconds, close_error)
+         call results%finish(status, times%names, times%seconds, close_error, times%peak_mib)
          call move_alloc(run_error, error)
          return
       end if
       if (allocated(error)) then
-         call results%finish('error: ' // error%message, times%names, times%seconds, close_error)
+         call results%finish('error: ' // error%message, times%names, times%seconds, &
+            close_error, times%peak_mib)
          return
       end if
-      call results%finish('complete', times%names, times%seconds, error)
+      call results%finish('complete', times%names, times%seconds, error, times%peak_mib)
       if (allocated(error)) then
          call add_context(error, results_file)
          return
@@ -208,6 +210,8 @@ contains
          if (allocated(error)) exit
          call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
             error)
+         if (allocated(error) .or. bodies(k)%num_modes == 0) cycle
+         call write_body_modes(results, mech%bodies(bodies(k)%index)%name, bodies(k)%modes, error)
       end do
       do j = 1, size(mech%joints)
          if (allocated(error)) exit
@@ -222,6 +226,25 @@ contains
       end do
       if (allocated(error)) call add_context(error, 'results file "' // results_file // '"')
    end subroutine open_results
+
+   !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
+   !> virtual-node rows, basis, interfaces), engine_results_write_modes.
+   subroutine write_body_modes(results, name, modes, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
+      type(body_modes_t), intent(in) :: modes
+      type(error_t), allocatable, intent(out) :: error
+      character(len=64), allocatable :: names(:)
+      real(dp), allocatable :: xyz(:, :)
+      integer :: i
+      allocate (names(size(modes%interfaces)), xyz(3, size(modes%interfaces)))
+      do i = 1, size(modes%interfaces)
+         names(i) = modes%interfaces(i)%name
+         xyz(:, i) = modes%interfaces(i)%virtual_xyz
+      end do
+      call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
+         modes%basis, int(modes%num_static), error)
+   end subroutine write_body_modes
 
    !> MPC kind of the crank's interfaces ('RBE3', 'RBE2', 'rigid'), for labels.
    function crank_mpc(case) result(mpc)
