@@ -407,12 +407,22 @@ contains
 
    !> Deformed inertia I_thth(zeta) = Theta_u + M_xPsi~ (z(x)I) + (z(x)I)^T M_xPsi~^T
    !> + (z(x)I)^T M_Psi~Psi~ (z(x)I) (theory.md 3.3) = u~^T M u~ (kg m^2).
-   pure function deformed_inertia(self, zeta) result(inertia)
+   pure function deformed_inertia(self, zeta, P) result(inertia)
       class(flexible_body_t), intent(in) :: self
       real(dp), intent(in) :: zeta(:)
+      !> N (zeta (x) I3), N = M_Psi~Psi~ (n_times_z), if the caller has it already
+      real(dp), intent(in), optional :: P(:, :)
       real(dp) :: inertia(3, 3), x(3, 3)
+      integer :: j
       x = times_z(self%m_x_psit, zeta)
-      inertia = self%theta_u + x + transpose(x) + z_times_z(zeta, self%m_psit_psit, zeta)
+      inertia = self%theta_u + x + transpose(x)
+      if (present(P)) then
+         do j = 1, size(zeta)
+            inertia = inertia + zeta(j) * P(3 * j - 2:3 * j, :)
+         end do
+      else
+         inertia = inertia + z_times_z(zeta, self%m_psit_psit, zeta)
+      end if
    end function deformed_inertia
 
    !> First moment skew: m chi~ + M_PhitPsi~ (z(x)I) = skew(int rho u dV) (kg m).
@@ -485,15 +495,16 @@ contains
       omega = matmul(G_bar, v(4:7))
       w_skew = skew3(omega)
       associate (zeta => q(8:nc), zeta_dot => v(8:nc))
+         ! P = N (z (x) I3): the quadratic term of I_thth and the sums in W_j below
+         call n_times_z(self%m_psit_psit, zeta, P)
          f_v(1:3) = matmul(A, matmul(w_skew, matmul(first_moment_skew(self, zeta), omega)) + &
             2.0_dp * matmul(times_z(self%m_phit_psit, zeta_dot), omega))
          coriolis = times_z(self%m_x_psit, zeta_dot) + &
             z_times_z(zeta, self%m_psit_psit, zeta_dot)
          f_v(4:7) = -matmul(transpose(G_bar), matmul(w_skew, &
-            matmul(deformed_inertia(self, zeta), omega)) + 2.0_dp * matmul(coriolis, omega))
+            matmul(deformed_inertia(self, zeta, P), omega)) + 2.0_dp * matmul(coriolis, omega))
          ! W_j = M_xPsi~(:, 3j-2:3j)^T + sum_k z_k N_jk (3 x 3 blocks of the header's W), the
-         ! sums being the blocks of P = N (z (x) I3)
-         call n_times_z(self%m_psit_psit, zeta, P)
+         ! sums being the blocks of P
          do j = 1, self%num_modes
             W_j = transpose(self%m_x_psit(:, 3 * j - 2:3 * j)) + P(3 * j - 2:3 * j, :)
             f_v(7 + j) = dot_product(omega, matmul(W_j, omega))

@@ -403,7 +403,7 @@ contains
             end associate
          end do
       end if
-      call drive_and_euler_residuals(self, q, t, phi)
+      call drive_and_euler_rows(self, q, t, phi)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraints
@@ -440,53 +440,37 @@ contains
             end associate
          end do
       end if
-      call drive_and_euler_residuals(self, q, t, phi)
-      call drive_and_euler_jacobian(self, q, t, Phi_q)
+      call drive_and_euler_rows(self, q, t, phi, Phi_q)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraints_and_jacobian
 
-   !> Drive row n . A(theta) e_x and Euler rows |theta|^2 - 1 of Phi.
-   subroutine drive_and_euler_residuals(self, q, t, phi)
+   !> Drive row n . A(theta) e_x and Euler rows |theta|^2 - 1 of Phi and, if present, their rows
+   !> n^T d(A e_x)/dtheta and 2 theta^T of Phi_q (other entries untouched).
+   subroutine drive_and_euler_rows(self, q, t, phi, Phi_q)
       type(mechanism_t), intent(inout) :: self
       real(dp), intent(in) :: q(:)
       real(dp), intent(in) :: t
       real(dp), intent(inout) :: phi(:)
-      real(dp) :: f(3)
+      real(dp), intent(inout), optional :: Phi_q(:, :)
+      real(dp) :: f(3), normal(3)
       integer :: b, k
       if (self%drive_row > 0) then
          k = self%bodies(self%drive_body)%offset
          f = self%drive%evaluate(t)
-         phi(self%drive_row) = dot_product(drive_normal(f(1)), &
-            matmul(euler_rotation(q(k + 4:k + 7)), e_x))
-      end if
-      do b = 1, num_bodies(self)
-         if (self%bodies(b)%euler_row == 0) cycle
-         k = self%bodies(b)%offset
-         phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
-      end do
-   end subroutine drive_and_euler_residuals
-
-   !> Drive row n^T d(A e_x)/dtheta and Euler rows 2 theta^T of Phi_q (other entries untouched).
-   subroutine drive_and_euler_jacobian(self, q, t, Phi_q)
-      type(mechanism_t), intent(inout) :: self
-      real(dp), intent(in) :: q(:)
-      real(dp), intent(in) :: t
-      real(dp), intent(inout) :: Phi_q(:, :)
-      real(dp) :: f(3)
-      integer :: b, k
-      if (self%drive_row > 0) then
-         k = self%bodies(self%drive_body)%offset
-         f = self%drive%evaluate(t)
-         Phi_q(self%drive_row, k + 4:k + 7) = matmul(drive_normal(f(1)), &
+         normal = drive_normal(f(1))
+         phi(self%drive_row) = dot_product(normal, matmul(euler_rotation(q(k + 4:k + 7)), e_x))
+         if (present(Phi_q)) Phi_q(self%drive_row, k + 4:k + 7) = matmul(normal, &
             rotated_vector_jacobian(q(k + 4:k + 7), e_x))
       end if
       do b = 1, num_bodies(self)
          if (self%bodies(b)%euler_row == 0) cycle
          k = self%bodies(b)%offset
-         Phi_q(self%bodies(b)%euler_row, k + 4:k + 7) = 2.0_dp * q(k + 4:k + 7)
+         phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
+         if (present(Phi_q)) Phi_q(self%bodies(b)%euler_row, k + 4:k + 7) = 2.0_dp * &
+            q(k + 4:k + 7)
       end do
-   end subroutine drive_and_euler_jacobian
+   end subroutine drive_and_euler_rows
 
    !> Phi_t: zero except the drive row, f' n_f . A e_x (module header).
    module procedure mechanism_constraint_rate

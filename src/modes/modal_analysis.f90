@@ -97,7 +97,7 @@ contains
    !> are computed: the body gets its mesh, mass properties and interfaces (a rigid body with the
    !> mesh's exact mass, e.g. a rigid reference in a mechanism run).
    subroutine compute_body_modes(body_input, interface_inputs, modes_input, mesh_dir, log, times, &
-         body, error, mass_matrix)
+         body, error, mass_matrix, stiffness_matrix)
       !> Body: mesh, volumes, material
       type(body_input_t), intent(in) :: body_input
       !> All interfaces of the case (those of this body are used)
@@ -115,6 +115,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> The consistent FE mass matrix of the body (for the inertia invariants of FFRF)
       type(csr_t), intent(out), optional :: mass_matrix
+      !> The FE stiffness matrix of the body (for its geometric stiffness: no second assembly)
+      type(csr_t), intent(out), optional :: stiffness_matrix
       type(mesh_t) :: mesh
       type(material_t) :: material
       type(csr_t) :: K, M, K_r, M_r
@@ -152,6 +154,7 @@ contains
       end if
       call body_mass_properties(M, body%mesh%xyz, body%mass, body%center_of_mass, body%inertia)
       if (present(mass_matrix)) mass_matrix = M
+      if (present(stiffness_matrix)) stiffness_matrix = K
       body%num_dofs = 3 * body%mesh%num_nodes
       body%stiffness_nnz = int(K%row_ptr(K%num_rows + 1) - 1, i8)
       call times%add(tag // ': assembly', timer%seconds())

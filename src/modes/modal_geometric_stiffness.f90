@@ -55,7 +55,7 @@ contains
    !> The modal geometric stiffness K_G^(c) (m x m x 6) of `body` (its mesh, interfaces, RC set
    !> and modes from compute_body_modes) with the material of `body_input` (module header).
    subroutine compute_modal_geometric_stiffness(body_input, body, log, times, &
-         geometric_stiffness, error, static_displacement)
+         geometric_stiffness, error, static_displacement, stiffness_matrix, mass_matrix)
       !> The &body input (material)
       type(body_input_t), intent(in) :: body_input
       !> Mesh, interfaces, reference conditions and mass-normalised modes of the body
@@ -70,6 +70,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> The static displacements u^(c) (3 num_nodes, 6) per unit p_c (m s^2)
       real(dp), allocatable, intent(out), optional :: static_displacement(:, :)
+      !> The body's FE stiffness and consistent mass matrices if the caller has them
+      !> (compute_body_modes); else they are assembled here
+      type(csr_t), intent(in), optional :: stiffness_matrix, mass_matrix
       type(material_t) :: material
       type(csr_t) :: K, M
       type(reduction_t) :: red
@@ -94,8 +97,15 @@ contains
       call timer%begin()
       material = material_t(body_input%young, body_input%poisson, body_input%density, tag)
       call check_material(material, error)
-      if (.not. allocated(error)) call assemble_stiffness_mass(body%mesh%xyz, body%mesh%tets, &
-         body%mesh%tet_tags, material, K, M, error)
+      if (.not. allocated(error)) then
+         if (present(stiffness_matrix) .and. present(mass_matrix)) then
+            K = stiffness_matrix
+            M = mass_matrix
+         else
+            call assemble_stiffness_mass(body%mesh%xyz, body%mesh%tets, body%mesh%tet_tags, &
+               material, K, M, error)
+         end if
+      end if
       if (.not. allocated(error)) call build_reduction(body%mesh%num_nodes, body%interfaces, &
          body%formulation, red, error)
       if (.not. allocated(error)) call static_solutions(body, red, K, M, u, error)

@@ -211,7 +211,7 @@ contains
       type(built_body_t), intent(inout) :: built
       type(error_t), allocatable, intent(out) :: error
       type(modes_input_t) :: modes_input
-      type(csr_t) :: mass_matrix
+      type(csr_t) :: mass_matrix, stiffness_matrix
       type(flexible_body_t) :: flexible
       type(flexible_body_adapter_t) :: adapter
       type(rigid_body_t) :: rigid
@@ -228,8 +228,15 @@ contains
             else if (motion%num_modes >= 0) then
                modes_input%num_modes = motion%num_modes
             end if
-            call compute_body_modes(case%bodies(k), case%interfaces, modes_input, mesh_dir, &
-               log, times, built%modes, error, mass_matrix=mass_matrix)
+            if (case%bodies(k)%geometric_stiffness) then
+               ! K too, for the static solutions of the geometric stiffness (no reassembly)
+               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
+                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix, &
+                  stiffness_matrix=stiffness_matrix)
+            else
+               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
+                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix)
+            end if
             if (allocated(error)) return
             built%num_modes = size(built%modes%frequency_hz)
          end if
@@ -259,8 +266,8 @@ contains
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error) .and. case%bodies(k)%geometric_stiffness) then
             if (built%num_modes > 0) then
-               call add_geometric_stiffness(case%bodies(k), built%modes, log, times, flexible, &
-                  error)
+               call add_geometric_stiffness(case%bodies(k), built%modes, stiffness_matrix, &
+                  mass_matrix, log, times, flexible, error)
             else
                call log%note('mechanism', name // ': geometric_stiffness ignored: no modes ' // &
                   '(the body moves rigidly)')
@@ -278,11 +285,13 @@ contains
    end subroutine add_body
 
    !> The modal geometric stiffness of the centrifugal load cases for a flexible body.
-   subroutine add_geometric_stiffness(input, modes, log, times, flexible, error)
+   subroutine add_geometric_stiffness(input, modes, K, M, log, times, flexible, error)
       !> The &body input (material)
       type(body_input_t), intent(in) :: input
       !> Its mesh, interfaces, RC set and modes
       type(body_modes_t), intent(in) :: modes
+      !> Its FE stiffness and consistent mass matrices (compute_body_modes)
+      type(csr_t), intent(in) :: K, M
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
       !> The flexible body, initialised with the same modes
@@ -290,7 +299,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: geometric_stiffness(:, :, :)
       call compute_modal_geometric_stiffness(input, modes, log, times, geometric_stiffness, &
-         error)
+         error, stiffness_matrix=K, mass_matrix=M)
       if (.not. allocated(error)) call flexible%set_geometric_stiffness(geometric_stiffness, &
          error)
    end subroutine add_geometric_stiffness

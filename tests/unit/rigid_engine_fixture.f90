@@ -1,7 +1,8 @@
-!> The rigid reference engine of scene.md as a test fixture (shared by test_mbs_engine_convergence
-!> and test_stability_constraints): ground, crank + flywheel, conrod, piston as rigid bodies with
-!> the mass properties of test_mbs_mechanism, revolutes B1 and B3, crank pin, piston pin,
-!> prismatic cylinder; in-cylinder pressure, starter and load torques; started at rest at TDC.
+!> The rigid slider-crank and reference engine of scene.md as test fixtures (shared by
+!> test_mbs_mechanism, test_mbs_engine_convergence and test_stability_constraints): ground,
+!> crank (+ flywheel), conrod, piston as rigid bodies, one or two main bearings, crank pin,
+!> piston pin, prismatic cylinder (build_slider_crank); the engine adds the in-cylinder pressure,
+!> starter and load torques and starts at rest at TDC (build_engine).
 module ffrf_test_rigid_engine
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t
@@ -14,8 +15,9 @@ module ffrf_test_rigid_engine
    use ffrf_mbs_slider_crank, only: piston_position
    implicit none
    private
-   public :: build_engine, crank_properties, tdc_pose
+   public :: build_engine, build_slider_crank, crank_properties, tdc_pose
    public :: crank_radius, rod_length, load_coefficient, crank_pin, piston_pin
+   public :: rod_mass, rod_com, rod_inertia, piston_mass
 
    !> Crank radius and conrod length (m), scene.md
    real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
@@ -46,48 +48,12 @@ contains
       type(mechanism_t), intent(out) :: mech
       real(dp), intent(out) :: q(21), v(21)
       type(error_t), allocatable, intent(out) :: error
-      type(ground_t) :: ground
-      type(rigid_body_t) :: crank, rod, piston
       type(pressure_force_t) :: gas
       type(starter_torque_t) :: starter
       type(drag_torque_t) :: drag
-      real(dp) :: frames(3, 3, 3), ground_xyz(3, 3), crank_xyz(3, 3), mass, chi(3), J_c(3, 3)
-      real(dp), parameter :: z_bearing = 0.0475_dp
-      integer :: ig, ic, ir, ip_
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, &
-         1.0_dp, 0.0_dp], [3, 3])
-      frames(:, :, 3) = identity3()
-      ground_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-         0.0_dp, z_bearing], [3, 3])
-      crank_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, crank_radius, 0.0_dp, 0.0_dp, &
-         0.0_dp, z_bearing], [3, 3])
-      call ground%init(ground_xyz, frames, error)
-      if (allocated(error)) return
-      call crank_properties(mass, chi, J_c)
-      call crank%init(mass, chi, J_c, crank_xyz, frames(:, :, [1, 1, 1]), error)
-      if (allocated(error)) return
-      call rod%init(rod_mass, [0.0_dp, rod_com, 0.0_dp], diagonal(rod_inertia), &
-         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, rod_length, 0.0_dp], [3, 2]), &
-         frames(:, :, [1, 1]), error)
-      if (allocated(error)) return
-      call piston%init(piston_mass, [0.0_dp, 0.0_dp, 0.0_dp], piston_inertia * identity3(), &
-         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], [3, 2]), frames(:, :, 1:2), &
-         error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
-      if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
-      if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B3', ig, 3, ic, 3, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
-         error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
-         error)
-      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
-         error)
-      if (.not. allocated(error)) call mech%set_crank(ic, error)
+      ! body indices of build_slider_crank: crank 2, piston 4
+      integer, parameter :: ic = 2, ip_ = 4
+      call build_slider_crank(mech, .true., .true., error)
       if (allocated(error)) return
       call gas%model%init(pressure_input_t(), error)
       if (allocated(error)) return
@@ -117,14 +83,74 @@ contains
       call mech%initial_velocities(q, 0.0_dp, v, error, crank_speed=0.0_dp)
    end subroutine build_engine
 
-   !> Crank + flywheel mass properties: total mass, centre of mass, inertia about it.
-   subroutine crank_properties(mass, chi, J_c)
+   !> Slider-crank of scene.md from rigid bodies: ground (1), crank (2), conrod (3), piston (4).
+   !> Joints: main bearing(s) ground-crank revolute about z (one at z = 0, or two at z = -/+0.0475
+   !> like B1 and B3), crank pin revolute, piston pin revolute, piston-ground prismatic along y.
+   !> With `flywheel` the crank carries the flywheel's mass and inertia (welded, rigid).
+   subroutine build_slider_crank(mech, two_bearings, flywheel, error)
+      type(mechanism_t), intent(out) :: mech
+      logical, intent(in) :: two_bearings, flywheel
+      type(error_t), allocatable, intent(out) :: error
+      type(ground_t) :: ground
+      type(rigid_body_t) :: crank, rod, piston
+      real(dp) :: frames(3, 3, 3), ground_xyz(3, 3), crank_xyz(3, 3), mass, chi(3), J_c(3, 3)
+      real(dp) :: z_bearing
+      integer :: ig, ic, ir, ip_
+      z_bearing = 0.0_dp
+      if (two_bearings) z_bearing = 0.0475_dp
+      ! Frame 1, 3: body axes (revolutes about z); frame 2: z along y (prismatic along y)
+      frames(:, :, 1) = identity3()
+      frames(:, :, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, &
+         1.0_dp, 0.0_dp], [3, 3])
+      frames(:, :, 3) = identity3()
+      ground_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, z_bearing], [3, 3])
+      crank_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, crank_radius, 0.0_dp, 0.0_dp, &
+         0.0_dp, z_bearing], [3, 3])
+      call ground%init(ground_xyz, frames, error)
+      if (allocated(error)) return
+      call crank_properties(flywheel, mass, chi, J_c)
+      call crank%init(mass, chi, J_c, crank_xyz, frames(:, :, [1, 1, 1]), error)
+      if (allocated(error)) return
+      call rod%init(rod_mass, [0.0_dp, rod_com, 0.0_dp], diagonal(rod_inertia), &
+         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, rod_length, 0.0_dp], [3, 2]), &
+         frames(:, :, [1, 1]), error)
+      if (allocated(error)) return
+      call piston%init(piston_mass, [0.0_dp, 0.0_dp, 0.0_dp], piston_inertia * identity3(), &
+         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], [3, 2]), frames(:, :, 1:2), &
+         error)
+      if (allocated(error)) return
+      call mech%add_body(ground, 'ground', ig, error)
+      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
+      if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
+      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
+      if (.not. allocated(error) .and. two_bearings) call mech%add_joint('revolute', 'B3', &
+         ig, 3, ic, 3, error)
+      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
+         error)
+      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
+         error)
+      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
+         error)
+      if (.not. allocated(error)) call mech%set_crank(ic, error)
+   end subroutine build_slider_crank
+
+   !> Crank mass properties (module header), with the flywheel if asked: total mass, centre of
+   !> mass and inertia about it, by parallel axes about the crank frame origin.
+   subroutine crank_properties(flywheel, mass, chi, J_c)
+      logical, intent(in) :: flywheel
       real(dp), intent(out) :: mass, chi(3), J_c(3, 3)
       real(dp) :: J_o(3, 3)
-      mass = crank_mass + flywheel_mass
-      chi = (crank_mass * crank_com + flywheel_mass * flywheel_com) / mass
-      J_o = diagonal(crank_inertia) + crank_mass * shift(crank_com) + &
-         diagonal(flywheel_inertia) + flywheel_mass * shift(flywheel_com)
+      mass = crank_mass
+      chi = crank_mass * crank_com
+      J_o = diagonal(crank_inertia) + crank_mass * shift(crank_com)
+      if (flywheel) then
+         mass = mass + flywheel_mass
+         chi = chi + flywheel_mass * flywheel_com
+         J_o = J_o + diagonal(flywheel_inertia) + flywheel_mass * shift(flywheel_com)
+      end if
+      chi = chi / mass
       J_c = J_o - mass * shift(chi)
    end subroutine crank_properties
 

@@ -26,26 +26,15 @@ module test_mbs_mechanism
    use ffrf_mbs_pressure, only: pressure_input_t
    use ffrf_mbs_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
+   use ffrf_test_rigid_engine, only: build_slider_crank, crank_properties, crank_radius, &
+      rod_length, rod_mass, rod_com, rod_inertia, piston_mass
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
    private
    public :: collect_mbs_mechanism
 
-   !> Crank radius and conrod length (m), scene.md
-   real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
    !> Drive speed of the slider-crank tests (rad/s)
    real(dp), parameter :: omega_drive = 100.0_dp
-   !> Crank mass properties (see the module header)
-   real(dp), parameter :: crank_mass = 2.92_dp, crank_com(3) = [0.0_dp, 0.0175_dp, 0.0_dp]
-   real(dp), parameter :: crank_inertia(3) = [4.0e-3_dp, 1.5e-3_dp, 3.5e-3_dp]
-   !> Flywheel (scene.md)
-   real(dp), parameter :: flywheel_mass = 4.0_dp, flywheel_com(3) = [0.0_dp, 0.0_dp, 0.080_dp]
-   real(dp), parameter :: flywheel_inertia(3) = [0.016_dp, 0.016_dp, 0.030_dp]
-   !> Conrod mass properties
-   real(dp), parameter :: rod_mass = 0.865_dp, rod_com = 0.049_dp
-   real(dp), parameter :: rod_inertia(3) = [3.3e-3_dp, 2.0e-4_dp, 3.3e-3_dp]
-   !> Piston (scene.md)
-   real(dp), parameter :: piston_mass = 0.45_dp, piston_inertia = 3.0e-4_dp
    !> Coordinates of the piston pin height: body 4 (ground, crank, rod, piston), R_y
    integer, parameter :: piston_y = 16
 
@@ -62,97 +51,6 @@ contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Builders
-
-   !> Slider-crank of scene.md from rigid bodies: ground (1), crank (2), conrod (3), piston (4).
-   !> Joints: main bearing(s) ground-crank revolute about z (one at z = 0, or two at z = -/+0.0475
-   !> like B1 and B3), crank pin revolute, piston pin revolute, piston-ground prismatic along y.
-   !> With `flywheel` the crank carries the flywheel's mass and inertia (welded, rigid).
-   subroutine build_slider_crank(mech, two_bearings, flywheel, error)
-      type(mechanism_t), intent(out) :: mech
-      logical, intent(in) :: two_bearings, flywheel
-      type(error_t), allocatable, intent(out) :: error
-      type(ground_t) :: ground
-      type(rigid_body_t) :: crank, rod, piston
-      real(dp) :: frames(3, 3, 3), ground_xyz(3, 3), crank_xyz(3, 3), mass, chi(3), J_c(3, 3)
-      real(dp) :: z_bearing
-      integer :: ig, ic, ir, ip_
-      z_bearing = 0.0_dp
-      if (two_bearings) z_bearing = 0.0475_dp
-      ! Frame 1, 3: body axes (revolutes about z); frame 2: z along y (prismatic along y)
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, &
-         1.0_dp, 0.0_dp], [3, 3])
-      frames(:, :, 3) = identity3()
-      ground_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-         0.0_dp, z_bearing], [3, 3])
-      crank_xyz = reshape([0.0_dp, 0.0_dp, -z_bearing, 0.0_dp, crank_radius, 0.0_dp, 0.0_dp, &
-         0.0_dp, z_bearing], [3, 3])
-      call ground%init(ground_xyz, frames, error)
-      if (allocated(error)) return
-      call crank_properties(flywheel, mass, chi, J_c)
-      call crank%init(mass, chi, J_c, crank_xyz, frames(:, :, [1, 1, 1]), error)
-      if (allocated(error)) return
-      call rod%init(rod_mass, [0.0_dp, rod_com, 0.0_dp], diagonal(rod_inertia), &
-         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, rod_length, 0.0_dp], [3, 2]), &
-         frames(:, :, [1, 1]), error)
-      if (allocated(error)) return
-      call piston%init(piston_mass, [0.0_dp, 0.0_dp, 0.0_dp], piston_inertia * identity3(), &
-         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], [3, 2]), frames(:, :, 1:2), &
-         error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
-      if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
-      if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
-      if (.not. allocated(error) .and. two_bearings) call mech%add_joint('revolute', 'B3', &
-         ig, 3, ic, 3, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
-         error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
-         error)
-      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
-         error)
-      if (.not. allocated(error)) call mech%set_crank(ic, error)
-   end subroutine build_slider_crank
-
-   !> Crank mass properties (module header), with the flywheel if asked: total mass, centre of
-   !> mass and inertia about it, by parallel axes about the crank frame origin.
-   subroutine crank_properties(flywheel, mass, chi, J_c)
-      logical, intent(in) :: flywheel
-      real(dp), intent(out) :: mass, chi(3), J_c(3, 3)
-      real(dp) :: J_o(3, 3)
-      mass = crank_mass
-      chi = crank_mass * crank_com
-      J_o = diagonal(crank_inertia) + crank_mass * shift(crank_com)
-      if (flywheel) then
-         mass = mass + flywheel_mass
-         chi = chi + flywheel_mass * flywheel_com
-         J_o = J_o + diagonal(flywheel_inertia) + flywheel_mass * shift(flywheel_com)
-      end if
-      chi = chi / mass
-      J_c = J_o - mass * shift(chi)
-   end subroutine crank_properties
-
-   !> |c|^2 I - c c^T (parallel-axis term per unit mass).
-   pure function shift(c) result(s)
-      real(dp), intent(in) :: c(3)
-      real(dp) :: s(3, 3)
-      integer :: i
-      s = -spread(c, 2, 3) * spread(c, 1, 3)
-      do i = 1, 3
-         s(i, i) = s(i, i) + dot_product(c, c)
-      end do
-   end function shift
-
-   pure function diagonal(d) result(a)
-      real(dp), intent(in) :: d(3)
-      real(dp) :: a(3, 3)
-      a = 0.0_dp
-      a(1, 1) = d(1)
-      a(2, 2) = d(2)
-      a(3, 3) = d(3)
-   end function diagonal
 
    !> Closed-form pose at crank angle `angle` (crank 2, rod 3, piston 4), plus a perturbation of
    !> `size` (m and Euler parameters) to start an assembly from.

@@ -126,20 +126,8 @@ contains
          call check_close(error, 'rho_inf = ' // to_str(rhos(i)) // ': max lambda (N/m)', &
             lambda_max, closed, rtol=1.0e-4_dp)
          if (allocated(error)) return
-         if (i > 1) then
-            call check(error, 'alternating part grows with rho_inf: ' // &
-               to_str(alternating(i), 3) // ' at ' // to_str(rhos(i)) // ' vs ' // &
-               to_str(alternating(i - 1), 3) // ' at ' // to_str(rhos(i - 1)), &
-               alternating(i) > alternating(i - 1))
-            if (allocated(error)) return
-         end if
       end do
-      call check_close(error, 'rho_inf = 0.8: alternating part', alternating(1), 0.0_dp, &
-         atol=1.0e-6_dp)
-      if (allocated(error)) return
-      call check(error, 'rho_inf = 0.99: alternating part ' // to_str(alternating(4), 3) // &
-         ' at least 30 x that of 0.8 (' // to_str(alternating(1), 3) // ')', &
-         alternating(4) >= 30.0_dp * alternating(1))
+      call check_alternation_trend(error, rhos, alternating, 30.0_dp)
    end subroutine test_pendulum_fine
 
    !> The same pendulum with h = 1e-2 s (Omega = 0.03 for its ~3 rad/s swing: well resolved):
@@ -151,7 +139,9 @@ contains
    !>   message that did not name the cause). Now the run stops with FFRF_NUMERIC_ERROR naming
    !>   rho_inf as soon as the alternating part exceeds alternation_limit (0.25) of the largest
    !>   |lambda|. Asserted: the error, its message (alternation, rho_inf), and that the stop comes
-   !>   before the multipliers are garbage: max |lambda| at the stop below 100 x the closed form.
+   !>   before the multipliers are garbage: max |lambda| at the stop below 1.5 x the closed form
+   !>   (measured 1.17 x and 1.16 x: an alternation of 0.25 of |lambda| held for 20 steps adds at
+   !>   most that to the smooth multiplier, so 1.5 x leaves room for its growth over the window).
    subroutine test_pendulum_coarse(error)
       type(error_t), allocatable, intent(out) :: error
       type(error_t), allocatable :: failure
@@ -182,7 +172,7 @@ contains
             index(failure%message, 'alternate') > 0 .and. index(failure%message, 'rho_inf') > 0)
          if (allocated(error)) return
          call check(error, 'stopped before garbage: max lambda ' // to_str(lambda_max, 6) // &
-            ' < 100 x ' // to_str(closed, 6), lambda_max < 100.0_dp * closed)
+            ' < 1.5 x ' // to_str(closed, 6), lambda_max < 1.5_dp * closed)
          if (allocated(error)) return
       end do
    end subroutine test_pendulum_coarse
@@ -297,21 +287,32 @@ contains
          call check_close(error, 'rho_inf = ' // to_str(rhos(i)) // ': alternating part', &
             alternating(i), 0.0_dp, atol=1.0e-4_dp)
          if (allocated(error)) return
-         if (i > 1) then
-            call check(error, 'alternating part grows with rho_inf: ' // &
-               to_str(alternating(i), 3) // ' at ' // to_str(rhos(i)) // ' vs ' // &
-               to_str(alternating(i - 1), 3) // ' at ' // to_str(rhos(i - 1)), &
-               alternating(i) > alternating(i - 1))
-            if (allocated(error)) return
-         end if
       end do
-      call check_close(error, 'rho_inf = 0.8: alternating part', alternating(1), 0.0_dp, &
-         atol=1.0e-6_dp)
-      if (allocated(error)) return
-      call check(error, 'rho_inf = 0.999: alternating part ' // to_str(alternating(4), 3) // &
-         ' at least 10 x that of 0.8 (' // to_str(alternating(1), 3) // ')', &
-         alternating(4) >= 10.0_dp * alternating(1))
+      call check_alternation_trend(error, rhos, alternating, 10.0_dp)
    end subroutine test_engine
+
+   !> The alternating parts of runs at increasing rho_inf (rhos(1) = 0.8): strictly growing, the
+   !> first below 1e-6 (smooth), the last at least `ratio` times the first.
+   subroutine check_alternation_trend(error, rhos, alternating, ratio)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(in) :: rhos(:), alternating(:), ratio
+      integer :: i, last
+      last = size(rhos)
+      do i = 2, last
+         call check(error, 'alternating part grows with rho_inf: ' // &
+            to_str(alternating(i), 3) // ' at ' // to_str(rhos(i)) // ' vs ' // &
+            to_str(alternating(i - 1), 3) // ' at ' // to_str(rhos(i - 1)), &
+            alternating(i) > alternating(i - 1))
+         if (allocated(error)) return
+      end do
+      call check_close(error, 'rho_inf = ' // to_str(rhos(1)) // ': alternating part', &
+         alternating(1), 0.0_dp, atol=1.0e-6_dp)
+      if (allocated(error)) return
+      call check(error, 'rho_inf = ' // to_str(rhos(last)) // ': alternating part ' // &
+         to_str(alternating(last), 3) // ' at least ' // to_str(ratio) // ' x that of ' // &
+         to_str(rhos(1)) // ' (' // to_str(alternating(1), 3) // ')', &
+         alternating(last) >= ratio * alternating(1))
+   end subroutine check_alternation_trend
 
    ! ----------------------------------------------------------------------------------------------
    ! Pendulum
