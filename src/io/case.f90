@@ -53,7 +53,7 @@ contains
          return
       end if
       call check_group_names(unit, [character(len=16) :: 'run', 'body', 'interface', 'modes', &
-         'mechanism', 'marker', 'joint', 'load', 'pressure', 'integrator'], error)
+         'mechanism', 'marker', 'joint', 'load', 'pressure', 'integrator', 'model'], error)
       if (.not. allocated(error)) call read_run_group(unit, case%run, error)
       if (.not. allocated(error)) call read_body_groups(unit, case%bodies, case%motions, error)
       if (.not. allocated(error)) call read_interface_groups(unit, case%interfaces, error)
@@ -154,6 +154,8 @@ contains
       else
          text = text // ', num_modes = ' // to_str(m%num_modes) // ', modal_damping = ' // &
             to_str(m%modal_damping, 6)
+         if (len_trim(m%coarse_meshes(1)) > 0) text = text // ', coarse_meshes =' // &
+            quoted_list(m%coarse_meshes)
       end if
       text = text // ', position = ' // vector_text(m%position)
    end function motion_echo
@@ -214,15 +216,35 @@ contains
             to_str(p%target_peak_pressure, 12) // ', reference_pressure = ' // &
             to_str(p%reference_pressure, 12) // ', table_file = ''' // &
             trim(mech%pressure_table) // ''' /' // nl
-         text = text // '&integrator h = ' // to_str(s%h, 12) // ', t_end = ' // &
-            to_str(s%t_end, 12) // ', rho_inf = ' // to_str(s%rho_inf, 12) // &
+         ! h left out when not given: the model selection or the default chooses it (log)
+         text = text // '&integrator '
+         if (mech%model%h_given) text = text // 'h = ' // to_str(s%h, 12) // ', '
+         text = text // 't_end = ' // to_str(s%t_end, 12) // ', rho_inf = ' // to_str(s%rho_inf, 12) // &
             ', newton_atol = ' // to_str(s%newton_atol, 6) // ', newton_rtol = ' // &
             to_str(s%newton_rtol, 6) // ', max_iterations = ' // to_str(s%max_iterations) // &
             ', min_step = ' // to_str(s%min_step, 6) // ', rank_rtol = ' // &
             to_str(s%rank_rtol, 6) // ', jacobian = ''' // jacobian_name(s%jacobian) // &
             ''', tangent_reuse = ' // to_str(s%tangent_reuse) // ' /' // nl
+         text = text // '&model selection = ''' // trim(mech%model%selection) // &
+            ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
+            ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
+            ', candidate_modes = ' // to_str(mech%model%candidate_modes) // &
+            ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6) // ' /' // nl
       end associate
    end function mechanism_echo
+
+   !> " 'a', 'b'" of the non-blank entries.
+   pure function quoted_list(items) result(text)
+      character(len=*), intent(in) :: items(:)
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(items)
+         if (len_trim(items(k)) == 0) cycle
+         if (len(text) > 0) text = text // ','
+         text = text // ' ''' // trim(items(k)) // ''''
+      end do
+   end function quoted_list
 
    pure function jacobian_name(policy) result(name)
       integer, intent(in) :: policy

@@ -80,6 +80,7 @@ module ffrf_io_engine_results
       procedure :: num_steps => engine_results_num_steps
       procedure :: write_real => engine_results_write_real
       procedure :: write_int => engine_results_write_int
+      procedure :: write_strings => engine_results_write_strings
       procedure :: write_modes => engine_results_write_modes
    end type engine_results_t
 
@@ -349,6 +350,15 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call self%h5%write_int(path, values, error)
    end subroutine engine_results_write_int
+
+   !> Write a list of strings, e.g. /model_selection/<body>/meshes_tried.
+   subroutine engine_results_write_strings(self, path, values, error)
+      class(engine_results_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      character(len=*), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      call self%h5%write_string_list(path, values, error)
+   end subroutine engine_results_write_strings
 
    !> The modal data of flexible body `body_name` (module header): frequencies, virtual-node rows
    !> of the modes, the basis, and the interfaces' names and virtual-node positions.

@@ -4,6 +4,8 @@
 !>   volumes    physical volume name(s) of the body (default: the body name)
 !>   young [Pa], poisson [-], density [kg/m^3]   isotropic linear elastic material
 !>   geometric_stiffness  mechanism runs, flexible bodies: centrifugal stress stiffening (.false.)
+!>   coarse_meshes  mechanism runs, flexible bodies, &model selection = 'auto': up to 4 coarser
+!>                  meshes of the same geometry, coarse to fine, to choose the mesh from
 module ffrf_io_nml_body
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -33,10 +35,11 @@ contains
       real(dp) :: position(3)
       integer :: num_modes
       logical :: geometric_stiffness
+      character(len=256) :: coarse_meshes(4)
       character(len=512) :: msg
       integer :: stat, k
       namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
-         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness
+         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, coarse_meshes
       allocate (bodies(0), motions(0))
       rewind (unit)
       do
@@ -54,17 +57,19 @@ contains
          center_of_mass = motion_defaults%center_of_mass
          inertia = motion_defaults%inertia
          position = motion_defaults%position
+         coarse_meshes = motion_defaults%coarse_meshes
          read (unit, nml=body, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          if (stat /= 0) then
             call namelist_read_error(error, 'body', size(bodies) + 1, msg, &
                'name, mesh_file, volumes, young, poisson, density, type, num_modes, ' // &
-               'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness')
+               'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, ' // &
+               'coarse_meshes')
             return
          end if
          if (len_trim(volumes(1)) == 0) volumes(1) = name
          motion = body_motion_input_t(to_lower(type), num_modes, modal_damping, mass, &
-            center_of_mass, inertia, position)
+            center_of_mass, inertia, position, coarse_meshes)
          bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
             geometric_stiffness)]
          motions = [motions, motion]

@@ -11,6 +11,8 @@
 !>                target_peak_pressure, reference_pressure, table_file    (optional, single)
 !>   &integrator  h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, min_step,
 !>                rank_rtol, jacobian ('adaptive', 'step', 'full')          (optional, single)
+!>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
+!>                candidate_modes, resonance_floor                            (optional, single)
 !> Defaults: ffrf_mbs_mechanism_input, ffrf_mbs_pressure's pressure_input_t (the scene's engine)
 !> and galpha_settings_t. Names are checked against each other by ffrf_io_case.
 module ffrf_io_nml_mechanism
@@ -19,7 +21,7 @@ module ffrf_io_nml_mechanism
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_io_nml_common, only: namelist_read_error
    use ffrf_mbs_mechanism_input, only: mechanism_case_input_t, mechanism_input_t, &
-      marker_input_t, joint_input_t, load_input_t
+      marker_input_t, joint_input_t, load_input_t, model_input_t
    use ffrf_mbs_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
@@ -66,8 +68,59 @@ contains
       if (.not. allocated(error)) call read_load_groups(unit, input%loads, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
-      if (.not. allocated(error)) call read_integrator_group(unit, input%integrator, error)
+      if (.not. allocated(error)) call read_integrator_group(unit, input%integrator, &
+         input%model%h_given, error)
+      if (.not. allocated(error)) call read_model_group(unit, input%model, error)
    end subroutine read_mechanism_groups
+
+   !> &model: automatic model selection and its error targets.
+   subroutine read_model_group(unit, input, error)
+      integer, intent(in) :: unit
+      type(model_input_t), intent(inout) :: input
+      type(error_t), allocatable, intent(out) :: error
+      character(len=16) :: selection
+      real(dp) :: speed_tolerance, force_tolerance, resonance_floor
+      integer :: candidate_modes, stat
+      character(len=512) :: msg
+      namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
+         resonance_floor
+      selection = input%selection
+      speed_tolerance = input%speed_tolerance
+      force_tolerance = input%force_tolerance
+      candidate_modes = input%candidate_modes
+      resonance_floor = input%resonance_floor
+      rewind (unit)
+      read (unit, nml=model, iostat=stat, iomsg=msg)
+      if (is_iostat_end(stat)) return
+      if (stat /= 0) then
+         call namelist_read_error(error, 'model', 0, msg, 'selection, speed_tolerance, ' // &
+            'force_tolerance, candidate_modes, resonance_floor')
+         return
+      end if
+      selection = to_lower(selection)
+      if (all(selection /= [character(len=16) :: 'auto', 'manual'])) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model: selection = ''' // trim(selection) &
+            // ''', must be ''auto'' or ''manual''')
+      else if (.not. (speed_tolerance > 0.0_dp .and. speed_tolerance < 1.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model: speed_tolerance = ' // &
+            to_str(speed_tolerance) // ', must lie in (0, 1) (relative error, e.g. 1e-3)')
+      else if (.not. (force_tolerance > 0.0_dp .and. force_tolerance < 1.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model: force_tolerance = ' // &
+            to_str(force_tolerance) // ', must lie in (0, 1) (relative error, e.g. 1e-2)')
+      else if (.not. (resonance_floor > 0.0_dp .and. resonance_floor <= 1.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model: resonance_floor = ' // &
+            to_str(resonance_floor) // ', must lie in (0, 1]')
+      else if (candidate_modes < 1 .or. candidate_modes > 200) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model: candidate_modes = ' // &
+            to_str(candidate_modes) // ', must lie in 1..200')
+      end if
+      if (allocated(error)) return
+      input%selection = selection
+      input%speed_tolerance = speed_tolerance
+      input%force_tolerance = force_tolerance
+      input%candidate_modes = candidate_modes
+      input%resonance_floor = resonance_floor
+   end subroutine read_model_group
 
    subroutine read_mechanism_group(unit, input, error)
       integer, intent(in) :: unit
@@ -302,9 +355,11 @@ contains
          reference_pressure, input%step_deg)
    end subroutine read_pressure_group
 
-   subroutine read_integrator_group(unit, settings, error)
+   subroutine read_integrator_group(unit, settings, h_given, error)
       integer, intent(in) :: unit
       type(galpha_settings_t), intent(inout) :: settings
+      !> .true. when the group gives h
+      logical, intent(out) :: h_given
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
       integer :: max_iterations, tangent_reuse, stat
@@ -312,7 +367,7 @@ contains
       character(len=512) :: msg
       namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
          min_step, rank_rtol, jacobian, tangent_reuse
-      h = settings%h
+      h = -1.0_dp
       t_end = settings%t_end
       rho_inf = settings%rho_inf
       newton_atol = settings%newton_atol
@@ -339,7 +394,8 @@ contains
             return
          end if
       end if
-      settings%h = h
+      h_given = h /= -1.0_dp
+      if (h_given) settings%h = h
       settings%t_end = t_end
       settings%rho_inf = rho_inf
       settings%newton_atol = newton_atol

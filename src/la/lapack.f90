@@ -4,7 +4,7 @@ module ffrf_la_lapack
    use ffrf_core_kinds, only: dp, ip
    implicit none
    private
-   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm, dgelsy
+   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm, dgelsy, dgeev
 
    interface
       !> Minimum-norm least squares by complete orthogonal factorisation, A P = Q [R11 R12; 0 R22].
@@ -62,6 +62,17 @@ module ffrf_la_lapack
          real(dp), intent(inout) :: a(lda, *), b(ldb, *)
          integer(ip), intent(out) :: info
       end subroutine dposv
+
+      !> Eigenvalues (and optionally eigenvectors) of a general matrix.
+      subroutine dgeev(jobvl, jobvr, n, a, lda, wr, wi, vl, ldvl, vr, ldvr, work, lwork, info)
+         import :: dp, ip
+         implicit none
+         character, intent(in) :: jobvl, jobvr
+         integer(ip), intent(in) :: n, lda, ldvl, ldvr, lwork
+         real(dp), intent(inout) :: a(lda, *)
+         real(dp), intent(out) :: wr(*), wi(*), vl(ldvl, *), vr(ldvr, *), work(*)
+         integer(ip), intent(out) :: info
+      end subroutine dgeev
 
       !> Solve A X = B, A general (LU with partial pivoting).
       subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)

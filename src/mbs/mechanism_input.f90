@@ -8,7 +8,7 @@ module ffrf_mbs_mechanism_input
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t
-   public :: mechanism_input_t, mechanism_case_input_t, GROUND_NAME
+   public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
    character(len=*), parameter :: GROUND_NAME = 'ground'
@@ -31,6 +31,10 @@ module ffrf_mbs_mechanism_input
       !> Global position of the body-frame origin at the start (m); the body axes start parallel
       !> to the global axes
       real(dp) :: position(3) = 0.0_dp
+      !> Flexible bodies under &model selection = 'auto': coarser meshes of the same geometry,
+      !> coarse to fine (mesh_file is the finest); the selection takes the coarsest one whose
+      !> estimated error meets the targets (ffrf_sim_model_selection)
+      character(len=256) :: coarse_meshes(4) = ''
    end type body_motion_input_t
 
    !> A named point of a body without a mesh, or of the ground (&marker).
@@ -88,6 +92,23 @@ module ffrf_mbs_mechanism_input
       integer :: animation_frames = 24
    end type mechanism_input_t
 
+   !> Automatic model selection (&model; ffrf_sim_model_selection).
+   type :: model_input_t
+      !> 'auto': an engine run (a crank, a pressure and a drag load) gets the smallest model whose
+      !> predicted error meets the tolerances for every choice the input leaves open (a flexible
+      !> body's num_modes and mesh among its coarse_meshes, &integrator h); 'manual': no
+      !> selection (open choices take &modes num_modes and h = 1e-3 s)
+      character(len=16) :: selection = 'auto'
+      !> Relative error targets of the regime (mean) crank speed and of the joint forces
+      real(dp) :: speed_tolerance = 1.0e-3_dp, force_tolerance = 1.0e-2_dp
+      !> Modes computed per body to choose from
+      integer :: candidate_modes = 20
+      !> Floor of |1 - r^2| in a mode's forced response (ffrf_sim_model_selection, 2)
+      real(dp) :: resonance_floor = 0.1_dp
+      !> .true. when &integrator gives h (set by the reader, not a namelist key)
+      logical :: h_given = .false.
+   end type model_input_t
+
    !> Everything of a mechanism run besides the modal input of the flexible bodies.
    type :: mechanism_case_input_t
       type(mechanism_input_t) :: mechanism
@@ -99,6 +120,7 @@ module ffrf_mbs_mechanism_input
       type(pressure_input_t) :: pressure
       character(len=256) :: pressure_table = ''
       type(galpha_settings_t) :: integrator
+      type(model_input_t) :: model
    end type mechanism_case_input_t
 
 end module ffrf_mbs_mechanism_input

@@ -38,6 +38,8 @@ module ffrf_sim_mechanism_builder
    use ffrf_mbs_mechanism_loads, only: load_t, pressure_force_t, starter_torque_t, &
       drag_torque_t, constant_load_t, LOAD_FORCE, LOAD_TORQUE
    use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_sim_auto_model, only: model_choice_t, start_model_selection, selects_body, &
+      select_body_model, select_step
    implicit none
    private
    public :: built_body_t, build_mechanism, frame_from_axis
@@ -83,7 +85,7 @@ contains
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
    !> model when a &load of type pressure exists (has_pressure).
    subroutine build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error)
+         has_pressure, error, choice)
       type(case_input_t), intent(in) :: case
       !> Folder of relative mesh files
       character(len=*), intent(in) :: mesh_dir
@@ -95,6 +97,10 @@ contains
       type(pressure_model_t), intent(out) :: pressure
       logical, intent(out) :: has_pressure
       type(error_t), allocatable, intent(out) :: error
+      !> The automatic model (&model selection; ffrf_sim_auto_model): what it chose, with the
+      !> time step when &integrator gives none (choice%h > 0)
+      type(model_choice_t), intent(out), optional :: choice
+      type(model_choice_t) :: model
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
       integer, allocatable :: ends(:, :)
@@ -106,6 +112,11 @@ contains
          allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0))
       end do
       has_pressure = any(case%mechanism%loads%type == 'pressure')
+      if (has_pressure) then
+         call make_pressure_model(case, pressure, error)
+         if (allocated(error)) return
+      end if
+      call start_model_selection(case, pressure, has_pressure, log, model)
 
       do k = 1, nb
          bodies(k)%meshed = len_trim(case%bodies(k)%mesh_file) > 0
@@ -118,12 +129,14 @@ contains
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
       do k = 1, nb
-         call add_body(case, k, mesh_dir, log, times, lists(k), mech, bodies(k), error)
+         call add_body(case, k, mesh_dir, log, times, lists(k), model, mech, bodies(k), error)
          if (allocated(error)) then
             call add_context(error, '&body "' // trim(case%bodies(k)%name) // '"')
             return
          end if
       end do
+      call select_step(case, log, model)
+      if (present(choice)) choice = model
       call add_joints(case, bodies, ground_index, ends, mech, error)
       if (.not. allocated(error)) call add_loads(case, bodies, ends, mech, pressure, error)
       if (allocated(error)) return
@@ -200,13 +213,15 @@ contains
    end subroutine resolve_markers
 
    !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
-   subroutine add_body(case, k, mesh_dir, log, times, list, mech, built, error)
+   subroutine add_body(case, k, mesh_dir, log, times, list, model, mech, built, error)
       type(case_input_t), intent(in) :: case
       integer, intent(in) :: k
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
       type(marker_list_t), intent(in) :: list
+      !> The automatic model: chooses the mesh and modes of a flexible body without num_modes
+      type(model_choice_t), intent(inout) :: model
       type(mechanism_t), intent(inout) :: mech
       type(built_body_t), intent(inout) :: built
       type(error_t), allocatable, intent(out) :: error
@@ -228,7 +243,16 @@ contains
             else if (motion%num_modes >= 0) then
                modes_input%num_modes = motion%num_modes
             end if
-            if (case%bodies(k)%geometric_stiffness) then
+            if (selects_body(case, model, k)) then
+               if (case%bodies(k)%geometric_stiffness) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
+                     'num_modes on the &body (the automatic model does not estimate stress ' // &
+                     'stiffening)')
+                  return
+               end if
+               call select_body_model(case, k, mesh_dir, log, times, model, built%modes, &
+                  mass_matrix, error)
+            else if (case%bodies(k)%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
                call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
                   mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix, &
@@ -384,17 +408,14 @@ contains
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ends(:, :)
       type(mechanism_t), intent(inout) :: mech
-      type(pressure_model_t), intent(inout) :: pressure
+      !> The cylinder pressure model (made by build_mechanism when a pressure load exists)
+      type(pressure_model_t), intent(in) :: pressure
       type(error_t), allocatable, intent(out) :: error
       type(pressure_force_t) :: gas
       type(starter_torque_t) :: starter
       type(drag_torque_t) :: drag
       type(constant_load_t) :: constant
       integer :: l
-      if (any(case%mechanism%loads%type == 'pressure')) then
-         call make_pressure_model(case, pressure, error)
-         if (allocated(error)) return
-      end if
       do l = 1, size(case%mechanism%loads)
          associate (input => case%mechanism%loads(l))
             select case (trim(input%type))

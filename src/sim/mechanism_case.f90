@@ -26,9 +26,10 @@ module ffrf_sim_mechanism_case
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_pressure, only: pressure_model_t
-   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
+   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t, galpha_settings_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
    use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_sim_auto_model, only: model_choice_t, write_model_choice
    implicit none
    private
    public :: run_mechanism_case, case_is_mechanism
@@ -76,6 +77,8 @@ contains
       type(stage_times_t) :: times
       type(stage_timer_t) :: total, timer
       type(history_t) :: history
+      type(model_choice_t) :: model
+      type(galpha_settings_t) :: settings
       type(error_t), allocatable :: run_error, close_error
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: mesh_dir, results_file, echo, status
@@ -93,13 +96,17 @@ contains
 
       ! Bodies (modes of the meshed ones), joints, loads, starting pose
       call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error)
+         has_pressure, error, model)
       if (allocated(error)) then
          call add_context(error, case_file)
          return
       end if
       call timer%begin()
-      call integrator%init(mech, case%mechanism%integrator, q, v, error)
+      settings = case%mechanism%integrator
+      if (model%h > 0.0_dp) settings%h = model%h
+      if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info('model', &
+         'time step h = ' // to_str(settings%h, 3) // ' s (default)')
+      call integrator%init(mech, settings, q, v, error)
       if (allocated(error)) then
          call add_context(error, case_file // ': starting the integration')
          return
@@ -109,6 +116,8 @@ contains
 
       results_file = join_path(options%output_dir, trim(case%run%output))
       call open_results(results, results_file, case, echo, mech, bodies, integrator, error)
+      if (allocated(error)) return
+      call write_model_choice(results, case, model, error)
       if (allocated(error)) return
       call log%info('output', 'results: ' // results_file)
 
