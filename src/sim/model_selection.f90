@@ -43,9 +43,9 @@ module ffrf_sim_model_selection
    use ffrf_mbs_pressure, only: pressure_model_t
    implicit none
    private
-   public :: excitation_t, engine_excitation, set_harmonics, mode_effect_t, mode_effect, galpha_mode
-   public :: effective_frequencies, jointed_mass_share, exact_response, galpha_response
-   public :: mode_errors, body_selection_t, select_modes, mesh_frequency_error
+   public :: excitation_t, engine_excitation, set_harmonics, mode_effect_t, mode_effect
+   public :: galpha_mode, effective_frequencies, jointed_mass_share, exact_response, galpha_response
+   public :: mode_errors, body_selection_t, select_modes, mesh_frequency_error, static_speed_error
    public :: step_errors, select_time_step
    public :: STEP_LADDER, MAX_TURN_PER_STEP, RESONANCE_FLOOR, NUM_HARMONICS
 
@@ -73,8 +73,8 @@ module ffrf_sim_model_selection
       real(dp) :: resonance_floor = RESONANCE_FLOOR
       !> Complex harmonics k = 1..NUM_HARMONICS of F, of its inertia part F_in and of the lever L
       complex(dp), allocatable :: force(:), inertia(:), lever(:)
-      !> Mean of the lever (m), for mean(F L)
-      real(dp) :: mean_lever = 0.0_dp
+      !> Means of F (N) and of the lever (m): mean(F L) = T_i at constant speed
+      real(dp) :: mean_force = 0.0_dp, mean_lever = 0.0_dp
       !> mean(G dF/dtheta) (N^2), G = F - F_in the gas part: the cycle work lost per unit
       !> compliance of the crank pin along the conrod, divided by 4 pi (module header, 2)
       real(dp) :: work_per_compliance = 0.0_dp
@@ -157,6 +157,7 @@ contains
       excitation%force = harmonics(force)
       excitation%inertia = harmonics(inertia)
       excitation%lever = harmonics(lever)
+      excitation%mean_force = sum(force) / real(size(force), dp)
       excitation%mean_lever = sum(lever) / real(size(lever), dp)
       ! mean(G F') = (1/2) sum_k (k/2) Im(G_k conj(F_k)), G_k = F_k - F_in,k
       excitation%work_per_compliance = 0.5_dp * sum([(0.5_dp * real(k, dp) * &

@@ -6,12 +6,16 @@ study_chart.py, study_run.py).
       on made-up data with known answers: the namelist reader against hand-parsed text and its
       round trip; rotation matrices of Euler parameters against rotations by hand; the
       crank-pin deflection of a rigid motion (zero, 1e-15) and of a pin displacement (itself);
-      study_chart.py errors, Pareto front and tables on points whose errors are known
+      study_chart.py errors, Pareto front and tables on points whose errors are known, and the
+      "Automatic model: predicted against observed" table of an automatic-model point whose
+      errors, predictions and targets are known
   check_study.py tiny --postprocess-dir DIR --work DIR --ffrf FFRF --gmsh GMSH --input-dir DIR
       one tiny real study (tests/postprocess/study_tiny.nml: two coarse crank meshes and a
       coarse 0.3 s engine, about 10 s): every point completes, node counts grow as lc falls, the
       chart and tables are written, the crank frequency error falls with refinement, the
-      errors in the tables are |x - x_ref| / |x_ref| of the CSV values
+      errors in the tables are |x - x_ref| / |x_ref| of the CSV values; the automatic-model
+      point has its columns (predicted errors finite and positive, the step, the kept modes, the
+      choice) and its row in the "predicted against observed" table, beside the hand-set base
 """
 import argparse
 import csv
@@ -118,6 +122,15 @@ def synthetic_points(path):
     row("e_c", "engine", 3.0, 5e-2, families="fam2")                   # dominated by e_a, e_b
     row("e_d", "engine", 10.0, 1e-4, families="fam2")                  # 2e-4: front
     row("e_chk", "engine", 50.0, 1e-5, roles="check: finer")           # 2e-5: front
+    # automatic model: errors mean speed 3e-2 (target 1e-1: met), conrod force 1.5e-2 (target
+    # 1e-2: not met), engine 6e-2 at 5 s: dominated by e_b, off the front
+    row("e_auto", "engine", 5.0, 3e-2, families="automatic model")
+    rows[-1].update({"selection": "auto", "speed_tolerance": 1e-1, "force_tolerance": 1e-2,
+                     "predicted_speed": 2.5e-2, "predicted_force": 4.0e-3,
+                     "predicted_step_speed": 1e-6, "predicted_step_force": 1e-3,
+                     "auto_h": 2e-4, "h": 2e-4, "crank_kept_modes": 1, "conrod_kept_modes": 0,
+                     "num_modes": "", "auto_model": "crank: lc 10 mm, 1 mode (1647 Hz) | "
+                     "conrod: lc 8 mm, rigid (no mode) | h 0.0002 s"})
     row("c_ref", "crank", 60.0, 0.0, roles="reference")
     row("c_a", "crank", 1.0, 1e-3, families="fam1", roles="base")      # frequency error 3e-3
     row("c_b", "crank", 0.5, 1e-2, families="fam1")                    # 3e-2, cheapest: front
@@ -170,8 +183,77 @@ def check_chart(args, points, expect_fronts=None):
     for heading in ("Pareto front, engine", "Pareto front, crank alone", "how converged"):
         if heading not in markdown:
             fail(f"{out}.md lacks '{heading}'")
+    check_auto(out, rows, markdown, errors)
     print(f"ok   study_chart.py: errors, fronts {fronts}, chart and tables")
     return rows
+
+
+AUTO_COLUMNS = ["selection", "speed_tolerance", "force_tolerance", "predicted_force",
+                "predicted_speed", "auto_h", "crank_kept_modes", "conrod_kept_modes",
+                "auto_model"]
+AUTO_HEADING = "Automatic model: predicted against observed"
+
+
+def auto_table(markdown):
+    """{first cell: cells} of the rows of the automatic-model table."""
+    section = markdown.split(AUTO_HEADING, 1)[1].split("\n### ", 1)[0]
+    table = {}
+    for line in section.splitlines():
+        if line.startswith("| ") and not line.startswith("| point"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            table[cells[0]] = cells
+    return table
+
+
+def check_auto(out, rows, markdown, errors):
+    """Columns of the automatic-model points, their predictions, their table rows."""
+    autos = [r for r in rows.values() if r.get("selection") == "auto"]
+    if not autos:
+        return
+    some = next(iter(rows.values()))
+    missing = [c for c in AUTO_COLUMNS if c not in some]
+    if missing:
+        fail(f"points CSV lacks the columns {missing}")
+    if AUTO_HEADING not in markdown:
+        fail(f"{out}.md lacks '{AUTO_HEADING}'")
+    table = auto_table(markdown)
+    for r in autos:
+        if r["status"] != "complete":
+            fail(f"{r['id']}: automatic-model point did not complete: {r['status']}")
+        for key in ("predicted_force", "predicted_speed", "auto_h", "speed_tolerance",
+                    "force_tolerance"):
+            value = float(r[key])
+            if not (math.isfinite(value) and value > 0.0):
+                fail(f"{r['id']}: {key} = {r[key]!r}, expected finite and positive")
+        for key in ("crank_kept_modes", "conrod_kept_modes"):
+            if not int(r[key]) >= 0:
+                fail(f"{r['id']}: {key} = {r[key]!r}")
+        if not r["auto_model"] or float(r["h"]) != float(r["auto_h"]):
+            fail(f"{r['id']}: auto_model {r['auto_model']!r}, h {r['h']} / auto_h "
+                 f"{r['auto_h']}")
+        rows_of = [cells for first, cells in table.items() if first.startswith(r["id"] + " ")]
+        if len(rows_of) != 1:
+            fail(f"{out}.md: {len(rows_of)} rows of {r['id']} in '{AUTO_HEADING}'")
+        cells = rows_of[0]
+        e = errors[r["id"]]
+        for observed, predicted, target, column in (
+                ("error_mean_speed", "predicted_speed", "speed_tolerance", 4),
+                ("error_peak_axial_force", "predicted_force", "force_tolerance", 7)):
+            close(f"{r['id']} {predicted} in the table", float(cells[column]),
+                  float(r[predicted]), rtol=6e-3)
+            close(f"{r['id']} observed {observed} in the table", float(cells[column + 1]),
+                  float(e[observed]), rtol=6e-3, atol=1e-300)
+            expected = "yes" if float(e[observed]) <= float(r[target]) else "**no**"
+            if cells[column + 2] != expected:
+                fail(f"{r['id']}: meets target of {observed} is {cells[column + 2]!r}, "
+                     f"expected {expected!r} ({e[observed]} against {r[target]})")
+            if float(e[predicted]) != float(r[predicted]):
+                fail(f"{r['id']}: errors CSV {predicted} {e[predicted]} != {r[predicted]}")
+    bases = [first for first in table if first.endswith("hand-set base")]
+    if len(bases) != 1:
+        fail(f"{out}.md: {len(bases)} hand-set base rows in '{AUTO_HEADING}'")
+    print(f"ok   automatic model: {len(autos)} points, columns, predictions finite and "
+          f"positive, table rows with met targets, hand-set base row")
 
 
 def synthetic(args):
@@ -183,9 +265,18 @@ def synthetic(args):
     os.makedirs(args.work, exist_ok=True)
     points = os.path.join(args.work, "synthetic_points.csv")
     synthetic_points(points)
-    check_chart(args, points, expect_fronts=[("engine", "e_a"), ("engine", "e_b"),
-                                             ("engine", "e_d"), ("engine", "e_chk"),
-                                             ("crank", "c_b"), ("crank", "c_a")])
+    rows = check_chart(args, points, expect_fronts=[("engine", "e_a"), ("engine", "e_b"),
+                                                    ("engine", "e_d"), ("engine", "e_chk"),
+                                                    ("crank", "c_b"), ("crank", "c_a")])
+    with open(os.path.join(args.work, "synthetic_points.md")) as stream:
+        cells = auto_table(stream.read())["e_auto e_auto"]
+    if [cells[6], cells[9]] != ["yes", "**no**"]:
+        fail(f"e_auto meets targets {[cells[6], cells[9]]}, expected ['yes', '**no**']")
+    if "e_a hand-set base" not in auto_table(open(os.path.join(
+            args.work, "synthetic_points.md")).read()):
+        fail("the hand-set base row is not e_a")
+    print(f"ok   automatic model table: mean speed within its target, conrod force not "
+          f"({len(rows)} points)")
 
 
 def tiny(args):
@@ -213,12 +304,23 @@ def tiny(args):
     engine = [r for r in rows.values() if r["sweep"] == "engine"]
     if not any(r["basis"] == "craig_bampton" for r in engine):
         fail("no Craig-Bampton engine point")
+    autos = [r for r in engine if r["selection"] == "auto"]
+    if not autos:
+        fail("no automatic-model engine point")
     for r in engine:
         for key in ("mean_speed", "amplitude", "peak_axial_force", "peak_pin_deflection",
                     "peak_mib", "integration_s"):
+            if key == "peak_pin_deflection" and r["selection"] == "auto" and \
+                    int(r["crank_kept_modes"]) == 0:
+                if float(r[key]) != 0.0:      # a rigid crank does not deflect
+                    fail(f"{r['id']}: rigid crank, {key} = {r[key]}")
+                continue
             if not float(r[key]) > 0.0:
                 fail(f"{r['id']}: {key} = {r[key]}")
-    print("ok   engine points: every output and timing positive")
+        if r["selection"] == "manual" and r["auto_model"]:
+            fail(f"{r['id']}: a hand-set point with auto_model {r['auto_model']!r}")
+    print(f"ok   engine points: every output and timing positive; automatic model: "
+          + "; ".join(r["auto_model"] for r in autos))
 
 
 def main():

@@ -8,6 +8,8 @@
 #    mechanism that has 1, so 8 equations are redundant; the run must complete.
 #  - engine_lc8_rc1: flexible crank (RC set 1) and conrod, 10 modes each: the run completes,
 #    the redundant equations are found and flagged, and the energy balance closes.
+# These runs fix the model by hand (&model selection = 'manual', 10 modes, h = 1e-4 s); the
+# automatic model is tested by regression_engine_auto below.
 set(_out "${PROJECT_BINARY_DIR}/tests/engine")
 file(MAKE_DIRECTORY "${_out}")
 
@@ -18,6 +20,10 @@ function(ffrf_engine_case name source t_end)
   string(REPLACE "'conrod.msh'" "'conrod_lc8.msh'" text "${text}")
   string(REPLACE "t_end = 2.0" "t_end = ${t_end}" text "${text}")
   string(REPLACE "label = '" "animation_frames = 4, label = '" text "${text}")
+  # the hand-set model of these tests: 10 modes per flexible body, h = 1e-4 s
+  string(REPLACE "selection = 'auto'" "selection = 'manual'" text "${text}")
+  string(REPLACE "&integrator t_end" "&integrator h = 1.0e-4, t_end" text "${text}")
+  string(REPLACE "type = 'flexible',\n" "type = 'flexible', num_modes = 10,\n" text "${text}")
   set(_text "${text}" PARENT_SCOPE)
 endfunction()
 
@@ -26,10 +32,10 @@ file(WRITE "${_out}/engine_lc8_rc1.nml" "${_text}")
 
 ffrf_engine_case(engine_lc8_all_rigid engine_rigid 0.3)
 # The conrod rigid too: its interfaces become markers at the bore centres
-string(REPLACE "type = 'flexible', num_modes = 10,\n      position = 0.0, 0.045, 0.0 /"
+string(REPLACE "type = 'flexible', num_modes = 10,\n      coarse_meshes = 'conrod_lc8.msh', position = 0.0, 0.045, 0.0 /"
   "type = 'rigid', position = 0.0, 0.045, 0.0 /\n&marker body = 'conrod', name = 'big_end', position = 0.0, 0.0, 0.0 /\n&marker body = 'conrod', name = 'small_end', position = 0.0, 0.150, 0.0 /"
   _text "${_text}")
-string(REGEX REPLACE "&interface body = 'conrod'[^\n]*\n" "" _text "${_text}")
+string(REGEX REPLACE "&interface body = 'conrod'[^/]*/\n" "" _text "${_text}")
 file(WRITE "${_out}/engine_lc8_all_rigid.nml" "${_text}")
 
 foreach(case engine_lc8_all_rigid engine_lc8_rc1)
@@ -84,3 +90,24 @@ add_test(NAME regression_engine_animation_gmsh
   WORKING_DIRECTORY ${_out})
 set_tests_properties(regression_engine_animation_gmsh PROPERTIES LABELS "regression;engine"
   FIXTURES_REQUIRED engine_lc8_rc1_results PASS_REGULAR_EXPRESSION "views 1 steps 4")
+
+# The automatic model (issue 4, part 3): the real input/engine_rc1.nml (2 s, candidate meshes
+# crank lc 10/8/6 mm, conrod 8/5 mm) against its hand-set model input/engine_rc1_manual.nml
+# (10 modes per body, lc 6/5 mm, h = 1e-4 s): check_auto_model.py. About 6 + 7 s.
+set(_auto "${PROJECT_BINARY_DIR}/tests/engine_auto")
+file(MAKE_DIRECTORY "${_auto}")
+foreach(case engine_rc1 engine_rc1_manual)
+  add_test(NAME regression_auto_${case}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+      ${PROJECT_SOURCE_DIR}/input/${case}.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --output-dir ${_auto} --quiet)
+  set_tests_properties(regression_auto_${case} PROPERTIES LABELS "regression;engine"
+    FIXTURES_REQUIRED "crank_mesh;crank_lc8_mesh;crank_lc10_mesh;conrod_mesh;conrod_lc8_mesh"
+    FIXTURES_SETUP auto_${case}_results)
+endforeach()
+add_test(NAME regression_auto_model_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_auto_model.py
+    ${_auto}/engine_rc1.h5 ${_auto}/engine_rc1_manual.h5)
+set_tests_properties(regression_auto_model_check PROPERTIES
+  LABELS "regression;engine;postprocess"
+  FIXTURES_REQUIRED "auto_engine_rc1_results;auto_engine_rc1_manual_results")
