@@ -149,6 +149,7 @@ contains
       character(len=256), allocatable :: meshes(:)
       real(dp), allocatable :: attached(:), fine_delta(:), coarse_delta(:)
       integer, allocatable :: pair(:)
+      logical, allocatable :: grounded(:)
       real(dp) :: ratio, zeta
       integer :: i, n
 
@@ -169,11 +170,14 @@ contains
             return
          end if
          if (i == 1) then
+            grounded = grounded_interfaces(case, k, current)
             call attached_masses(case, k, current, mesh_dir, log, attached, error)
             if (allocated(error)) return
+            where (grounded) attached = 0.0_dp
          end if
-         call select_modes(choice%excitation, current%frequency_hz, current%virtual_node_shape, &
-            attached, zeta, choice%force_budget, choice%speed_budget, current_selection)
+         call select_modes(choice%excitation, current%frequency_hz, &
+            relative_shape(current%virtual_node_shape, grounded), attached, zeta, &
+            choice%force_budget, choice%speed_budget, current_selection)
          body%meshes_tried = [body%meshes_tried, meshes(i)]
          body%mesh_errors = [body%mesh_errors, -1.0_dp]
          if (i > 1) then
@@ -193,7 +197,8 @@ contains
             call log%info('model', trim(body%name) // ': mesh ' // trim(meshes(i - 1)) // &
                ': estimated mesh error, force ' // to_str(coarse_effect%force, 3) // &
                ', speed ' // to_str(coarse_effect%speed, 3) // ' (largest frequency error ' // &
-               'of its kept modes ' // to_str(maxval(coarse_delta(previous_selection%kept)), 3) &
+               'of its kept modes ' // to_str(maxval([0.0_dp, &
+               coarse_delta(previous_selection%kept)]), 3) &
                // ', against ' // trim(meshes(i)) // &
                ', size ratio ' // to_str(ratio, 3) // ')')
             if (coarse_effect%force <= choice%force_budget .and. coarse_effect%speed <= &
@@ -237,8 +242,9 @@ contains
    end subroutine select_body_model
 
    !> For each mode of the finer mesh, the mode of the coarser one it is: the largest modal
-   !> assurance criterion of the virtual-node motions (the same points on both meshes), or the
-   !> nearest frequency for modes that hardly move the virtual nodes.
+   !> assurance criterion of the virtual-node motions (the same points on both meshes) among the
+   !> modes within 30 % in frequency, or the nearest frequency for modes that hardly move the
+   !> virtual nodes or match none.
    pure function paired_modes(coarse, fine) result(pair)
       type(body_modes_t), intent(in) :: coarse, fine
       integer :: pair(size(fine%frequency_hz))
@@ -252,6 +258,9 @@ contains
                mac(i) = dot_product(coarse%virtual_node_shape(:, i), &
                   fine%virtual_node_shape(:, j))**2 / max(norm2(coarse%virtual_node_shape(:, &
                   i))**2 * norm_fine**2, tiny(1.0_dp))
+               ! a mesh changes a frequency by a few per cent, not by 30 %
+               if (abs(coarse%frequency_hz(i) / fine%frequency_hz(j) - 1.0_dp) > 0.3_dp) &
+                  mac(i) = 0.0_dp
             end do
             pair(j) = maxloc(mac, dim=1)
             if (mac(pair(j)) > 0.8_dp) cycle
@@ -259,6 +268,51 @@ contains
          pair(j) = minloc(abs(coarse%frequency_hz - fine%frequency_hz(j)), dim=1)
       end do
    end function paired_modes
+
+   !> .true. for each interface of body k held to the ground by a joint that fixes its
+   !> translations (revolute, spherical, universal, fixed).
+   function grounded_interfaces(case, k, modes) result(grounded)
+      type(case_input_t), intent(in) :: case
+      integer, intent(in) :: k
+      type(body_modes_t), intent(in) :: modes
+      logical :: grounded(size(modes%interfaces))
+      integer :: i, j
+      grounded = .false.
+      do i = 1, size(modes%interfaces)
+         do j = 1, size(case%mechanism%joints)
+            associate (joint => case%mechanism%joints(j))
+               if (joint%type == 'prismatic') cycle
+               if ((joint%body1 == GROUND_NAME .and. joint%body2 == case%bodies(k)%name .and. &
+                  joint%marker2 == modes%interfaces(i)%name) .or. (joint%body2 == GROUND_NAME &
+                  .and. joint%body1 == case%bodies(k)%name .and. joint%marker1 == &
+                  modes%interfaces(i)%name)) grounded(i) = .true.
+            end associate
+         end do
+      end do
+   end function grounded_interfaces
+
+   !> The virtual-node motions the jointed bodies feel in the assembly: the bearings hold the
+   !> grounded interfaces, so the floating frame follows them and the other interfaces move by
+   !> u_i - mean(u_grounded) (translations; rotations as given); the grounded ones by nothing.
+   !> Without grounded interfaces, u as it is.
+   pure function relative_shape(shape, grounded) result(relative)
+      real(dp), intent(in) :: shape(:, :)
+      logical, intent(in) :: grounded(:)
+      real(dp) :: relative(size(shape, 1), size(shape, 2))
+      real(dp) :: mean(3, size(shape, 2))
+      integer :: i
+      relative = shape
+      if (.not. any(grounded)) return
+      mean = 0.0_dp
+      do i = 1, size(grounded)
+         if (grounded(i)) mean = mean + shape(6 * i - 5:6 * i - 3, :)
+      end do
+      mean = mean / real(count(grounded), dp)
+      do i = 1, size(grounded)
+         relative(6 * i - 5:6 * i - 3, :) = shape(6 * i - 5:6 * i - 3, :) - mean
+         if (grounded(i)) relative(6 * i - 5:6 * i - 3, :) = 0.0_dp
+      end do
+   end function relative_shape
 
    !> Mass jointed at each interface of body k (kg): the mass of the body at the other end of
    !> each joint on that interface (a rigid &body's mass key, or the mass of a meshed body's
