@@ -14,6 +14,13 @@ A point is on the Pareto front of an error when no point of the same sweep is bo
 (wall time) and at least as accurate. The 'check' points (the reference with one parameter
 one level coarser) say how converged the reference is: their differences to it are tabled.
 
+Automatic-model points (selection = 'auto', study_run.py's &auto) are charted as their own
+family (stars, no line), with their predicted errors of the mean speed and the conrod force
+(hollow stars joined to the observed ones); the Markdown's "Automatic model: predicted against
+observed" table gives per point the targets, the model chosen, the wall time, the predicted and
+observed errors of the mean speed and the peak conrod force and whether each observed error
+meets its target, with the hand-set engine base point (&base) for comparison.
+
     study_chart.py points.csv --chart speed_accuracy.png --markdown speed_accuracy.md \\
         --front-csv speed_accuracy_front.csv
 """
@@ -41,8 +48,16 @@ PANELS = [("crank", "frequencies", "crank alone: frequencies f1..f{n}"),
 MARKERS = "osD^v<>ph*X"
 NUMERIC = ["crank_lc", "conrod_lc", "h", "rho_inf", "wall_s", "modes_s", "integration_s",
            "output_s", "ffrf_total_s", "peak_mib", "peak_stage_mib", "mean_speed", "amplitude",
-           "peak_axial_force", "peak_pin_deflection"] + [f"f{i}" for i in range(1, 13)]
-INTEGER = ["order", "num_modes", "rc_set", "crank_nodes", "conrod_nodes", "num_coordinates"]
+           "peak_axial_force", "peak_pin_deflection"] + [f"f{i}" for i in range(1, 13)] + [
+           "speed_tolerance", "force_tolerance", "predicted_force", "predicted_speed",
+           "predicted_step_force", "predicted_step_speed", "auto_h"]
+INTEGER = ["order", "num_modes", "rc_set", "crank_nodes", "conrod_nodes", "num_coordinates",
+           "crank_kept_modes", "conrod_kept_modes"]
+# automatic-model points: their family in the chart and what each prediction is compared with
+AUTO_FAMILY = "automatic model"
+AUTO_STYLE = ("#c0143c", "*")
+PREDICTED = {"mean_speed": ("predicted_speed", "speed_tolerance"),
+             "peak_axial_force": ("predicted_force", "force_tolerance")}
 
 
 class StudyDataError(Exception):
@@ -60,12 +75,33 @@ def read_points(path):
             row[key] = int(float(row[key])) if row.get(key) not in (None, "") else None
         row["families"] = [f for f in row.get("families", "").split(";") if f]
         row["roles"] = [r for r in row.get("roles", "").split(";") if r]
+        row["selection"] = row.get("selection") or ""
+        row["auto_model"] = row.get("auto_model") or ""
     return rows
 
 
+def is_auto(row):
+    """An automatic-model point (ffrf chose mesh, modes and step)."""
+    return row.get("selection") == "auto"
+
+
+def auto_model(row):
+    """The automatic model's choice as text without '|' (Markdown table cells)."""
+    return row["auto_model"].replace(" | ", "; ").replace("|", "/")
+
+
+def targets(row):
+    """'speed 1e-03, force 1e-02' of an automatic-model point."""
+    return f"speed {row['speed_tolerance']:.0e}, force {row['force_tolerance']:.0e}"
+
+
 def configuration(row):
-    """'Tet10 lc 6/5 mm, 10 modes RC normal (RC set 1), h 1e-04 s, rho_inf 0.8'."""
+    """'Tet10 lc 6/5 mm, 10 modes RC normal (RC set 1), h 1e-04 s, rho_inf 0.8'; for an
+    automatic-model point its targets and choice."""
     element = "Tet4" if row["order"] == 1 else "Tet10"
+    if is_auto(row):
+        return (f"automatic model ({targets(row)}): {element}, {auto_model(row)}, "
+                f"rho_inf {row['rho_inf']:g}")
     sizes = f"{row['crank_lc'] * 1000:g}"
     if row.get("conrod_lc"):
         sizes += f"/{row['conrod_lc'] * 1000:.3g}"
@@ -147,7 +183,8 @@ def draw(rows, path, num_frequencies, title):
     colors = [c for c in plt.get_cmap("tab10").colors if c != plt.get_cmap("tab10")(7)[:3]]
     colors += list(plt.get_cmap("Dark2").colors)
     style = {f: (colors[i % len(colors)], MARKERS[i % len(MARKERS)])
-             for i, f in enumerate(families)}
+             for i, f in enumerate(f for f in families if f != AUTO_FAMILY)}
+    style[AUTO_FAMILY] = AUTO_STYLE
     fig, axes = plt.subplots(2, 3, figsize=(15.0, 9.5))
     handles = {}
     for ax, (sweep, key, panel) in zip(axes.flat, PANELS):
@@ -170,10 +207,39 @@ def draw(rows, path, num_frequencies, title):
             if not members:
                 continue
             color, marker = style[family]
+            if family == AUTO_FAMILY:
+                continue
             line, = ax.plot([r["wall_s"] for r in members],
                             [max(r["errors"][key], floor) for r in members], marker=marker,
                             color=color, label=family, markersize=5, linewidth=1.2)
             handles[family] = line
+        autos = sorted((r for r in points if is_auto(r)), key=lambda r: r["wall_s"])
+        if autos:
+            color, marker = AUTO_STYLE
+            xs = [r["wall_s"] for r in autos]
+            observed = [max(r["errors"][key], floor) for r in autos]
+            if key in PREDICTED:
+                predicted = [max(r[PREDICTED[key][0]], floor)
+                             if r.get(PREDICTED[key][0]) is not None else None for r in autos]
+                for x, yo, yp in zip(xs, observed, predicted):
+                    if yp is not None:
+                        ax.plot([x, x], [yo, yp], color=color, linewidth=0.8, linestyle=":")
+                pairs = [(x, y) for x, y in zip(xs, predicted) if y is not None]
+                if pairs:
+                    line, = ax.plot([x for x, _ in pairs], [y for _, y in pairs], marker,
+                                    markerfacecolor="none", markeredgecolor=color,
+                                    markersize=11, linestyle="none",
+                                    label=f"{AUTO_FAMILY}: predicted")
+                    handles[f"{AUTO_FAMILY}: predicted"] = line
+            line, = ax.plot(xs, observed, marker, color=color, markersize=12, linestyle="none",
+                            markeredgecolor="k", markeredgewidth=0.5,
+                            label=f"{AUTO_FAMILY} (targets speed/force)")
+            handles[f"{AUTO_FAMILY} (targets speed/force)"] = line
+            if key in PREDICTED:            # targets by the points, staggered downwards
+                for i, (r, x, y) in enumerate(zip(autos, xs, observed)):
+                    ax.annotate(f"{r['speed_tolerance']:.0e}/{r['force_tolerance']:.0e}",
+                                (x, y), textcoords="offset points", xytext=(7, -10 - 9 * i),
+                                fontsize=7, color=color)
         checks = [r for r in points if any(x.startswith("check") for x in r["roles"])]
         if checks:
             line, = ax.plot([r["wall_s"] for r in checks],
@@ -283,6 +349,8 @@ def write_markdown(stream, rows, references, meta, num_frequencies):
         stream.write(f"| {row['sweep']} | {', '.join(checks)} ({configuration(row)}) | "
                      + " | ".join(cells) + " |\n")
 
+    write_auto_section(stream, rows, references)
+
     complete = [r for r in rows if r["status"] == "complete"]
     failed = [r for r in rows if r["status"] != "complete"]
     stream.write(f"\n{len(rows)} points ({sum(r['sweep'] == 'engine' for r in rows)} engine, "
@@ -297,6 +365,57 @@ def write_markdown(stream, rows, references, meta, num_frequencies):
         stream.write(f"; machine: {machine.get('cores')} cores ({machine.get('cpu', '?')}), "
                      f"{machine.get('memory_gib', '?')} GiB, {meta.get('date', '')}")
     stream.write(".\n")
+
+
+def meets(observed, target):
+    return "n/a" if observed is None or target is None else (
+        "yes" if observed <= target else "**no**")
+
+
+def write_auto_section(stream, rows, references):
+    """The 'Automatic model: predicted against observed' table (nothing without auto points)."""
+    autos = [r for r in rows if r["sweep"] == "engine" and is_auto(r)]
+    if not autos:
+        return
+    ref = references.get("engine")
+    stream.write("\n### Automatic model: predicted against observed\n\n")
+    stream.write("ffrf's automatic model (`&model selection = 'auto'`) chooses each flexible "
+                 "body's mesh among the candidates, the modes it keeps and the time step so that "
+                 "its predicted relative errors of the regime mean speed and of the peak joint "
+                 "(conrod) force meet the targets. Observed: the relative error against the "
+                 "engine reference"
+                 + (f" ({ref['id']})" if ref else "")
+                 + ", as for every point. The engine's hand-set base point (&base: mesh, modes "
+                 "and step given) is the last row, for comparison. The speed oscillation and the "
+                 "crank-pin deflection are not targeted.\n\n")
+    stream.write("| point | targets (speed, force) | model | wall (s) | mean speed: predicted "
+                 "| observed | meets target | conrod force: predicted | observed | meets target "
+                 "| oscillation, pin deflection (observed) |\n")
+    stream.write("|---|---|---|---:|---:|---:|---|---:|---:|---|---:|\n")
+    for row in autos:
+        if row["status"] != "complete":
+            stream.write(f"| {row['id']} {row['label']} | {targets(row)} | failed: "
+                         f"{row['status']} | | | | | | | | |\n")
+            continue
+        e = row["errors"]
+        element = "Tet4" if row["order"] == 1 else "Tet10"
+        stream.write(f"| {row['id']} {row['label']} | {row['speed_tolerance']:.0e}, "
+                     f"{row['force_tolerance']:.0e} | {element}, {auto_model(row)} "
+                     f"| {seconds(row['wall_s'])} "
+                     f"| {fmt(row['predicted_speed'])} | {fmt(e['mean_speed'])} "
+                     f"| {meets(e['mean_speed'], row['speed_tolerance'])} "
+                     f"| {fmt(row['predicted_force'])} | {fmt(e['peak_axial_force'])} "
+                     f"| {meets(e['peak_axial_force'], row['force_tolerance'])} "
+                     f"| {fmt(e['amplitude'])}, {fmt(e['peak_pin_deflection'])} |\n")
+    for row in rows:
+        if row["sweep"] != "engine" or "base" not in row["roles"] or \
+                row["status"] != "complete":
+            continue
+        e = row["errors"]
+        stream.write(f"| {row['id']} hand-set base | none | {configuration(row)} "
+                     f"| {seconds(row['wall_s'])} | n/a | {fmt(e['mean_speed'])} | n/a | n/a "
+                     f"| {fmt(e['peak_axial_force'])} | n/a "
+                     f"| {fmt(e['amplitude'])}, {fmt(e['peak_pin_deflection'])} |\n")
 
 
 def main(argv=None):
@@ -338,14 +457,19 @@ def main(argv=None):
         keys = ["frequencies"] + [k for k, _ in ENGINE_OUTPUTS] + ["engine"]
         with open(args.errors_csv, "w", newline="") as stream:
             writer = csv.writer(stream)
+            predictions = ["predicted_speed", "predicted_force"]
             writer.writerow(["id", "sweep", "configuration", "families", "roles", "wall_s",
-                             "peak_mib", "status"] + [f"error_{k}" for k in keys])
+                             "peak_mib", "status"] + [f"error_{k}" for k in keys]
+                            + ["selection"] + predictions)
             for row in rows:
                 e = row.get("errors", {})
                 writer.writerow([row["id"], row["sweep"], configuration(row),
                                  ";".join(row["families"]), ";".join(row["roles"]),
                                  repr(row["wall_s"]), repr(row["peak_mib"]), row["status"]]
-                                + [repr(e[k]) if k in e else "" for k in keys])
+                                + [repr(e[k]) if k in e else "" for k in keys]
+                                + [row["selection"]]
+                                + [repr(row[k]) if row.get(k) is not None else ""
+                                   for k in predictions])
     if not (args.chart or args.markdown or args.front_csv or args.errors_csv):
         write_markdown(sys.stdout, rows, references, meta, num_frequencies)
     return 0

@@ -23,8 +23,13 @@ Only reading and arithmetic on stored results (no solver logic):
     with 1, 3 the journal virtual nodes on the crank (z) axis, L = z_3 - z_1: a + w x (x - x_mid)
     is the small rigid motion that carries both journal centres and their mean twist, so d is
     zero for any rigid motion of the crank and the same whatever RC set defines the frame.
+    A crank without modes (the automatic model may keep none: the body moves rigidly) has no
+    modal coordinates and no deflection: peak_pin_deflection = 0;
+* `model_selection(path)`: the automatic model's choice and predicted errors (/model_selection
+  of a mechanism run with &model selection = 'auto'), None when the selection did not run.
 """
 import math
+import os
 
 import h5py
 import numpy as np
@@ -33,7 +38,7 @@ import engine_summary
 import ffrf_results
 
 __all__ = ["stage_summary", "crank_frequencies", "engine_outputs", "rotation_matrix",
-           "pin_deflection"]
+           "pin_deflection", "model_selection"]
 
 
 def stage_summary(path):
@@ -61,9 +66,13 @@ def stage_summary(path):
 
 
 def crank_frequencies(path, body, count):
-    """The first `count` frequencies (Hz) of `body` (fewer if the body has fewer modes)."""
+    """The first `count` frequencies (Hz) of `body` (fewer if the body has fewer modes, none
+    when it has no modes: a flexible body the automatic model left rigid)."""
     with ffrf_results.open_results(path) as results:
-        return results.frequencies(results.body(body))[:count]
+        name = results.body(body)
+        if f"bodies/{name}/modes/frequency" not in results.file:
+            return np.zeros(0)
+        return results.frequencies(name)[:count]
 
 
 def rotation_matrix(e):
@@ -122,6 +131,12 @@ def engine_outputs(path, cycles=2, force_joint="piston_pin", force_side=1, force
         outputs["peak_axial_force"] = float(np.max(np.abs(_window(run, axial, cycles))))
 
         root = f"/bodies/{crank_body}"
+        if root not in h5:
+            raise ffrf_results.ResultsError(f"{path}: no body {crank_body}")
+        if f"{root}/modal_coordinates" not in h5 or h5[f"{root}/modal_coordinates"].size == 0:
+            # no modes kept (automatic model): the crank moves rigidly, it does not deflect
+            outputs["peak_pin_deflection"] = 0.0
+            return _finite(path, outputs)
         zeta = dataset(f"{root}/modal_coordinates")[:steps]
         shapes = dataset(f"{root}/modes/virtual_node_shape")      # h5py: (m, 6 n_if)
         order = [ffrf_results.text(s).strip()
@@ -139,7 +154,74 @@ def engine_outputs(path, cycles=2, force_joint="piston_pin", force_side=1, force
         d = pin_deflection(u1, u2, u3, x1, x2, x3)
         outputs["peak_pin_deflection"] = float(np.max(_window(run, np.linalg.norm(d, axis=1),
                                                              cycles)))
+    return _finite(path, outputs)
+
+
+def _finite(path, outputs):
     for key, value in outputs.items():
         if not math.isfinite(value):
             raise ffrf_results.ResultsError(f"{path}: {key} is {value}")
     return outputs
+
+
+def model_selection(path):
+    """The automatic model of a mechanism run, from /model_selection, or None when the
+    selection did not run (no group, or active = 0):
+        {'speed_tolerance', 'force_tolerance': the targets,
+         'regime_speed_estimate': rad/s,
+         'h': the time step chosen (s; 0 when &integrator gave h),
+         'predicted_force', 'predicted_speed': predicted relative error of the peak joint
+             (conrod) force and of the regime mean speed, truncation + mesh + step,
+         'predicted_step_force', 'predicted_step_speed': the time-step part,
+         'bodies': {name: {'kept_modes': 1-based indices of the kept candidates,
+                           'kept_hz': their frequencies (Hz, free), 'mesh_file': the mesh
+                           taken (base name), 'meshes_tried': base names, 'errors':
+                           [truncation force, truncation speed, mesh force, mesh speed]}}}
+    Raises ResultsError when the group is incomplete or a prediction is not finite."""
+    root = "model_selection"
+    with h5py.File(path, "r") as h5:
+        if root not in h5 or "active" not in h5[root]:
+            return None
+        if not float(np.atleast_1d(h5[f"{root}/active"][()])[0]) > 0.5:
+            return None
+
+        def values(name):
+            if name not in h5:
+                raise ffrf_results.ResultsError(f"{path}: no dataset /{name}")
+            return np.atleast_1d(np.asarray(h5[name][()], dtype=float))
+
+        def names(name):
+            if name not in h5:
+                return []
+            return [os.path.basename(ffrf_results.text(v).strip())
+                    for v in np.atleast_1d(h5[name][()])]
+
+        targets = values(f"{root}/targets")
+        predicted = values(f"{root}/predicted_error")
+        if targets.size != 2 or predicted.size != 4:
+            raise ffrf_results.ResultsError(f"{path}: /{root}/targets has {targets.size} values "
+                                            f"(2 expected), predicted_error {predicted.size} (4)")
+        choice = {"speed_tolerance": float(targets[0]), "force_tolerance": float(targets[1]),
+                  "regime_speed_estimate": float(values(f"{root}/regime_speed_estimate")[0]),
+                  "h": float(values(f"{root}/time_step")[0]),
+                  "predicted_force": float(predicted[0]),
+                  "predicted_speed": float(predicted[1]),
+                  "predicted_step_force": float(predicted[2]),
+                  "predicted_step_speed": float(predicted[3]), "bodies": {}}
+        for body, group in h5[root].items():
+            if not isinstance(group, h5py.Group):
+                continue
+            kept = (np.atleast_1d(np.asarray(group["kept_modes"][()], dtype=int))
+                    if "kept_modes" in group else np.zeros(0, dtype=int))
+            hz = values(f"{root}/{body}/candidate_hz") if "candidate_hz" in group else []
+            choice["bodies"][body] = {
+                "kept_modes": [int(k) for k in kept],
+                "kept_hz": [float(hz[k - 1]) for k in kept if 1 <= k <= len(hz)],
+                "mesh_file": (names(f"{root}/{body}/mesh_file") or [""])[0],
+                "meshes_tried": names(f"{root}/{body}/meshes_tried"),
+                "errors": ([float(v) for v in values(f"{root}/{body}/errors")]
+                           if "errors" in group else [])}
+    for key in ("predicted_force", "predicted_speed", "h"):
+        if not math.isfinite(choice[key]):
+            raise ffrf_results.ResultsError(f"{path}: /{root}: {key} is {choice[key]}")
+    return choice

@@ -15,6 +15,16 @@ The study file is a Fortran-style namelist (namelist.py reads it); see input/stu
               one parameter): how converged the reference is
   &family     sweep, name and lists of parameter values (equal lengths, or one value for all):
               one point per position, the other parameters from the base
+  &auto       sweep = 'engine', name, speed_tolerance, force_tolerance: one point with ffrf's
+              automatic model (&model selection = 'auto') for these targets (relative error of
+              the regime mean speed and of the joint forces): ffrf picks each body's mesh among
+              the candidates of &study auto_crank_lc, auto_conrod_lc (m; the finest is the
+              body's mesh_file, the others its coarse_meshes, coarse to fine; order, rc_set and
+              rho_inf of the engine &base, RC normal candidate modes), the modes it keeps and the
+              time step; the point records what it chose and its predicted errors
+              (study_outputs.model_selection), study_chart.py sets them against the errors
+              observed against the reference. Every other engine point gives num_modes and h,
+              and runs with &model selection = 'manual'
   &position   body, interface, xyz: a virtual node put at this point (m, body frame) in every
               case, instead of the area centroid of the face, which moves with the mesh (by up
               to 0.25 um on a 10 mm crank mesh: enough to leave the over-constrained engine's
@@ -29,7 +39,11 @@ Per point: the mesh of each body size and order (gmsh -setnumber lc/order, cache
 WORK/meshes; the node count must change with lc, else gmsh ignored the size), a case file
 written from the base case (WORK/<sweep>/<id>.nml), one ffrf run (OPENBLAS_NUM_THREADS=1) timed
 by the wall clock with the peak resident memory of the process (wait4's ru_maxrss), and the
-stage times of its results file. Identical points of several families run once.
+stage times of its results file. Identical points of several families run once. An &auto point
+meshes all its candidates and runs as the others; its row adds the choice (selection = 'auto',
+the targets, predicted_force, predicted_speed and their time-step parts, auto_h, the kept modes
+per body, auto_model: a short text of the choice) and takes crank_lc, conrod_lc, the node counts
+and h of the mesh and step chosen (num_modes empty: per body in crank/conrod_kept_modes).
 
     study_run.py input/study.nml --ffrf build/release/driver/ffrf --work build/release/study \\
         --csv build/release/study/points.csv
@@ -54,12 +68,19 @@ CRANK_PARAMETERS = ["crank_lc", "order", "num_modes", "basis", "rc_set"]
 SWEEPS = ["crank", "engine"]
 NUM_FREQUENCIES_MAX = 12
 
+AUTO_FAMILY = "automatic model"
+# the automatic model's choice and predictions (empty for the other points; selection is
+# 'manual' for every other engine point)
+AUTO_COLUMNS = ["selection", "speed_tolerance", "force_tolerance", "predicted_force",
+                "predicted_speed", "predicted_step_force", "predicted_step_speed", "auto_h",
+                "crank_kept_modes", "conrod_kept_modes", "auto_model"]
 # CSV columns (study_chart.py reads them by name)
 COLUMNS = (["id", "sweep", "families", "roles", "label"] + PARAMETERS
            + ["crank_nodes", "conrod_nodes", "num_coordinates", "wall_s", "modes_s",
               "integration_s", "output_s", "ffrf_total_s", "peak_mib", "peak_stage_mib",
               "mean_speed", "amplitude", "peak_axial_force", "peak_pin_deflection"]
            + [f"f{i}" for i in range(1, NUM_FREQUENCIES_MAX + 1)]
+           + AUTO_COLUMNS
            + ["status", "case", "results"])
 
 
@@ -100,7 +121,7 @@ class Study:
             groups = namelist.read(path)
         except (OSError, namelist.NamelistError) as exc:
             raise StudyError(f"{path}: {exc}") from exc
-        known = {"study", "base", "reference", "check", "family", "position"}
+        known = {"study", "base", "reference", "check", "family", "auto", "position"}
         for group in groups:
             if group.name not in known:
                 raise StudyError(f"{path}: unknown group &{group.name} (groups: "
@@ -110,6 +131,7 @@ class Study:
             raise StudyError(f"{path}: {len(settings)} &study groups, expected one")
         self.settings = self._settings(settings[0], path)
         self.base, self.reference, self.checks, self.families = {}, {}, {}, {}
+        self.autos = []                     # (name, {speed_tolerance, force_tolerance})
         for sweep in SWEEPS:
             self.checks[sweep] = []
             self.families[sweep] = []
@@ -133,6 +155,9 @@ class Study:
             if group.name == "family":
                 self._add_family(sweep, group.get("name"), group, where)
                 continue
+            if group.name == "auto":
+                self._add_auto(sweep, group, where)
+                continue
             check_parameters(params, sweep, where)
             if group.name == "base":
                 self.base[sweep] = params
@@ -149,8 +174,23 @@ class Study:
                                      f"{', '.join(missing)}")
                 if sweep not in self.reference:
                     raise StudyError(f"{path}: no &reference for sweep = '{sweep}'")
-            elif self.reference.get(sweep) or self.checks[sweep] or self.families[sweep]:
+            elif self.reference.get(sweep) or self.checks[sweep] or self.families[sweep] or \
+                    (sweep == "engine" and self.autos):
                 raise StudyError(f"{path}: groups for sweep = '{sweep}' but no &base for it")
+        if self.autos:
+            for key in ("auto_crank_lc", "auto_conrod_lc"):
+                sizes = self.settings[key]
+                if not 1 <= len(sizes) <= 5:
+                    raise StudyError(f"{path}, &study: {key} = {sizes}: the &auto points need "
+                                     f"1 to 5 candidate sizes (ffrf takes up to 4 coarse_meshes "
+                                     f"and the mesh_file)")
+                for value in sizes:
+                    if not number(value, f"{path}, &study: {key}") > 0:
+                        raise StudyError(f"{path}, &study: {key} = {sizes}: sizes must be "
+                                         f"positive")
+                if len({round(v * 1.0e6) for v in sizes}) != len(sizes):
+                    raise StudyError(f"{path}, &study: {key} = {sizes}: two sizes give the same "
+                                     f"mesh (sizes are named in um)")
 
     @staticmethod
     def _settings(group, path):
@@ -160,7 +200,8 @@ class Study:
                     "cycles": 2, "force_joint": "piston_pin", "force_side": 1,
                     "force_body": "conrod", "crank_body": "crank", "conrod_body": "conrod",
                     "pin_interface": "B2", "journal_interfaces": ["B1", "B3"],
-                    "num_frequencies": 6, "modal_damping": 0.0}
+                    "num_frequencies": 6, "modal_damping": 0.0, "auto_crank_lc": [],
+                    "auto_conrod_lc": []}
         settings = dict(defaults)
         for key in group.keys():
             if key not in defaults:
@@ -196,6 +237,32 @@ class Study:
             points.append(params)
         varied = [k for k, v in lists.items() if len(v) > 1] or list(lists)
         self.families[sweep].append((name, points, varied))
+
+    def _add_auto(self, sweep, group, where):
+        if sweep != "engine":
+            raise StudyError(f"{where}: the automatic model is for the engine sweep only")
+        if not group.get("name"):
+            raise StudyError(f"{where}: an &auto needs a name")
+        targets = {}
+        for key in group.keys():
+            if key in ("sweep", "name"):
+                continue
+            if key not in ("speed_tolerance", "force_tolerance"):
+                raise StudyError(f"{where}: unknown key {key} (keys: sweep, name, "
+                                 f"speed_tolerance, force_tolerance)")
+            value = group.get(key)
+            if not (number(value, f"{where}: {key}") > 0 and value < 1):
+                raise StudyError(f"{where}: {key} = {value}, must lie in (0, 1)")
+            targets[key] = float(value)
+        missing = [k for k in ("speed_tolerance", "force_tolerance") if k not in targets]
+        if missing:
+            raise StudyError(f"{where}: lacks {', '.join(missing)}")
+        self.autos.append((group.get("name"), targets))
+
+    def auto_candidates(self):
+        """Candidate sizes of the automatic model, coarse to fine: (crank lcs, conrod lcs)."""
+        return (sorted(self.settings["auto_crank_lc"], reverse=True),
+                sorted(self.settings["auto_conrod_lc"], reverse=True))
 
     def resolve(self, sweep, overrides, base=None):
         """Full parameters of a point: the base (or `base`) with `overrides`; conrod_lc follows
@@ -266,6 +333,15 @@ def build_points(study):
         add(sweep, reference, role="reference")
         for name, overrides in study.checks[sweep]:
             add(sweep, study.resolve(sweep, overrides, base=reference), role=f"check: {name}")
+        if sweep == "engine":
+            crank_lcs, conrod_lcs = study.auto_candidates() if study.autos else ([], [])
+            base = study.base[sweep]
+            for name, targets in study.autos:
+                params = {"crank_lc": crank_lcs[-1], "conrod_lc": conrod_lcs[-1],
+                          "order": base["order"], "basis": "rc_normal",
+                          "rc_set": base["rc_set"], "rho_inf": base["rho_inf"], **targets}
+                point = add(sweep, params, family=AUTO_FAMILY, label=name)
+                point["auto"] = {"crank_lc": crank_lcs, "conrod_lc": conrod_lcs, **targets}
     ordered = list(points.values())
     for point in ordered:
         if "base" in point["roles"] or "reference" in point["roles"] or \
@@ -284,6 +360,22 @@ def mesh_name(geo, lc, order):
     return f"{stem}_lc{round(lc * 1.0e6)}um_o{order}.msh"
 
 
+def point_meshes(study, point, input_dir):
+    """The (geo, lc, order) meshes a point needs: its crank (and conrod) mesh, or every
+    candidate of an automatic-model point."""
+    s = study.settings
+    p = point["params"]
+    crank_geo = os.path.join(input_dir, s["crank_geo"])
+    conrod_geo = os.path.join(input_dir, s["conrod_geo"])
+    if point.get("auto"):
+        return ([(crank_geo, lc, p["order"]) for lc in point["auto"]["crank_lc"]]
+                + [(conrod_geo, lc, p["order"]) for lc in point["auto"]["conrod_lc"]])
+    needed = [(crank_geo, p["crank_lc"], p["order"])]
+    if point["sweep"] == "engine":
+        needed.append((conrod_geo, p["conrod_lc"], p["order"]))
+    return needed
+
+
 def count_nodes(path):
     """Number of nodes of an MSH 4.1 ASCII file (the $Nodes header's third number)."""
     with open(path) as stream:
@@ -299,8 +391,13 @@ def make_meshes(requests, gmsh, work, log):
     folder = os.path.join(work, "meshes")
     os.makedirs(folder, exist_ok=True)
     meshes = {}
+    made = {}                               # path: (geo, lc, order) that made it
     for geo, lc, order in sorted(requests):
         path = os.path.join(folder, mesh_name(geo, lc, order))
+        if path in made:                    # the same size to the um, another float
+            meshes[(geo, lc, order)] = meshes[made[path]]
+            continue
+        made[path] = (geo, lc, order)
         seconds = 0.0
         if not (os.path.exists(path) and os.path.getmtime(path) > os.path.getmtime(geo)):
             start = time.perf_counter()
@@ -323,8 +420,8 @@ def make_meshes(requests, gmsh, work, log):
         meshes[(geo, lc, order)] = (path, nodes, seconds)
         log(f"mesh {os.path.basename(path)}: {nodes} nodes ({seconds:.1f} s)")
     by_family = {}
-    for (geo, lc, order), (_, nodes, _) in meshes.items():
-        by_family.setdefault((geo, order), []).append((lc, nodes))
+    for path, (geo, lc, order) in made.items():
+        by_family.setdefault((geo, order), []).append((lc, meshes[(geo, lc, order)][1]))
     for (geo, order), sizes in by_family.items():
         sizes.sort(reverse=True)
         for (lc_a, n_a), (lc_b, n_b) in zip(sizes, sizes[1:]):
@@ -349,11 +446,36 @@ def crank_interfaces(study, input_dir, rc_set):
                                                                       body=crank)}
 
 
+def set_auto_model(body, meshes):
+    """Body `body` (a Group) takes the candidate meshes `meshes` (paths, coarse to fine): the
+    finest as mesh_file, the others as coarse_meshes; no num_modes (the selection picks)."""
+    body.set("mesh_file", meshes[-1])
+    if len(meshes) > 1:
+        body.set("coarse_meshes", list(meshes[:-1]))
+    else:
+        body.remove("coarse_meshes")
+    body.remove("num_modes")
+
+
+def model_group(groups):
+    """The case's &model group (added when it has none)."""
+    found = namelist.find_all(groups, "model")
+    if found:
+        return found[0]
+    group = namelist.Group("model")
+    groups.append(group)
+    return group
+
+
 def write_case(study, point, input_dir, meshes, path):
-    """The case file of a point, from the base case of its sweep."""
+    """The case file of a point, from the base case of its sweep. An engine point with given
+    num_modes and h runs with &model selection = 'manual' and no coarse_meshes; an &auto point
+    (point['auto']) with selection = 'auto', its targets and candidate meshes, no num_modes on
+    the bodies or &modes and no h."""
     s = study.settings
     p = point["params"]
     engine = point["sweep"] == "engine"
+    auto = point.get("auto")
     groups = namelist.read(os.path.join(input_dir, s["engine_case" if engine else "crank_case"]))
     run = namelist.find(groups, "run")
     run.set("title", f"study {point['id']}: {point['label']}")
@@ -379,20 +501,40 @@ def write_case(study, point, input_dir, meshes, path):
     if not modes:
         modes = [namelist.Group("modes")]
         groups.append(modes[0])
-    modes[0].set("num_modes", p["num_modes"])
+    if auto:
+        modes[0].remove("num_modes")
+    else:
+        modes[0].set("num_modes", p["num_modes"])
     modes[0].set("basis", p["basis"])
     modes[0].set("rc_label", f"RC set {p['rc_set']}")
     if engine:
-        crank.set("num_modes", p["num_modes"])
         conrod = namelist.find(groups, "body", name=s["conrod_body"])
-        conrod.set("mesh_file", meshes[(os.path.join(input_dir, s["conrod_geo"]),
-                                        p["conrod_lc"], p["order"])][0])
-        conrod.set("num_modes", p["num_modes"])
+        crank_geo = os.path.join(input_dir, s["crank_geo"])
+        conrod_geo = os.path.join(input_dir, s["conrod_geo"])
+        model = model_group(groups)
+        integrator = namelist.find(groups, "integrator")
+        if auto:
+            set_auto_model(crank, [meshes[(crank_geo, lc, p["order"])][0]
+                                   for lc in auto["crank_lc"]])
+            set_auto_model(conrod, [meshes[(conrod_geo, lc, p["order"])][0]
+                                    for lc in auto["conrod_lc"]])
+            model.items = []
+            model.set("selection", "auto")
+            model.set("speed_tolerance", float(auto["speed_tolerance"]))
+            model.set("force_tolerance", float(auto["force_tolerance"]))
+            integrator.remove("h")
+        else:
+            crank.set("num_modes", p["num_modes"])
+            crank.remove("coarse_meshes")
+            conrod.set("mesh_file", meshes[(conrod_geo, p["conrod_lc"], p["order"])][0])
+            conrod.set("num_modes", p["num_modes"])
+            conrod.remove("coarse_meshes")
+            model.items = []
+            model.set("selection", "manual")
+            integrator.set("h", float(p["h"]))
         if s["modal_damping"] > 0.0:
             crank.set("modal_damping", float(s["modal_damping"]))
             conrod.set("modal_damping", float(s["modal_damping"]))
-        integrator = namelist.find(groups, "integrator")
-        integrator.set("h", float(p["h"]))
         integrator.set("t_end", float(s["t_end"]))
         integrator.set("rho_inf", float(p["rho_inf"]))
         mechanism = namelist.find(groups, "mechanism")
@@ -406,16 +548,48 @@ def write_case(study, point, input_dir, meshes, path):
         stream.write(namelist.format_groups(groups))
 
 
+def wait_for_program(ffrf, limit=900.0):
+    """Wait (up to `limit` s) until `ffrf` is an executable file whose size has stayed the same
+    for 5 s: another build that relinks it while the study runs leaves it empty or not
+    executable for a while."""
+    start = time.perf_counter()
+    stable, last = 0, None
+    while time.perf_counter() - start < limit:
+        try:
+            size = os.path.getsize(ffrf) if os.access(ffrf, os.X_OK) else None
+        except OSError:
+            size = None
+        stable = stable + 1 if size and size == last else 0
+        if stable >= 5:
+            return
+        last = size
+        time.sleep(1.0)
+    raise StudyError(f"{ffrf} did not become a stable executable within {limit:.0f} s")
+
+
 def run_ffrf(ffrf, case, output_dir):
-    """(exit code, wall seconds, peak resident memory of the process in MiB)."""
+    """(exit code, wall seconds, peak resident memory of the process in MiB). A program that
+    cannot be started (being relinked) is waited for, then started again."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     log_path = os.path.splitext(case)[0] + ".log"
-    with open(log_path, "w") as log:
-        start = time.perf_counter()
-        process = subprocess.Popen([ffrf, case, "--output-dir", output_dir], stdout=log,
-                                   stderr=subprocess.STDOUT, env=env)
-        _, status, usage = os.wait4(process.pid, 0)
-        wall = time.perf_counter() - start
+    for attempt in range(3):
+        try:
+            with open(log_path, "w") as log:
+                start = time.perf_counter()
+                process = subprocess.Popen([ffrf, case, "--output-dir", output_dir],
+                                           stdout=log, stderr=subprocess.STDOUT, env=env)
+                return finish_ffrf(process, start)
+        except OSError as exc:
+            if attempt == 2:
+                raise StudyError(f"cannot start {ffrf}: {exc}") from exc
+            print(f"study_run.py: cannot start {ffrf} ({exc}); waiting for it", flush=True)
+            wait_for_program(ffrf)
+
+
+def finish_ffrf(process, start):
+    """Wait for a started ffrf: (exit code, wall seconds, peak memory in MiB)."""
+    _, status, usage = os.wait4(process.pid, 0)
+    wall = time.perf_counter() - start
     process.returncode = os.waitstatus_to_exitcode(status)
     return process.returncode, wall, usage.ru_maxrss / 1024.0
 
@@ -434,11 +608,18 @@ def measure(study, point, ffrf, input_dir, work, meshes):
                 "families": ";".join(point["families"]), "roles": ";".join(point["roles"]),
                 "label": point["label"], "case": case, "results": results})
     row.update({k: p.get(k, "") for k in PARAMETERS})
-    row["crank_nodes"] = meshes[(os.path.join(input_dir, s["crank_geo"]), p["crank_lc"],
-                                 p["order"])][1]
-    if point["sweep"] == "engine":
+    auto = point.get("auto")
+    if not auto:
+        row["crank_nodes"] = meshes[(os.path.join(input_dir, s["crank_geo"]), p["crank_lc"],
+                                     p["order"])][1]
+    if point["sweep"] == "engine" and not auto:
         row["conrod_nodes"] = meshes[(os.path.join(input_dir, s["conrod_geo"]), p["conrod_lc"],
                                       p["order"])][1]
+        row["selection"] = "manual"
+    if auto:
+        row.update({"selection": "auto", "speed_tolerance": auto["speed_tolerance"],
+                    "force_tolerance": auto["force_tolerance"], "crank_lc": "",
+                    "conrod_lc": ""})
     code, wall, peak = run_ffrf(ffrf, case, folder)
     row.update({"wall_s": wall, "peak_mib": peak})
     if code != 0:
@@ -458,10 +639,54 @@ def measure(study, point, ffrf, input_dir, work, meshes):
                 journals=tuple(s["journal_interfaces"])))
             with ffrf_results.open_results(results) as r:
                 row["num_coordinates"] = int(r.file["final_state/q"].shape[0])
+        if auto:
+            row.update(auto_columns(study, point, input_dir, meshes, results))
         row["status"] = "complete"
     except (ffrf_results.ResultsError, ValueError, KeyError, OSError) as exc:
         row["status"] = f"outputs: {exc}"
     return row
+
+
+def auto_columns(study, point, input_dir, meshes, results):
+    """The CSV columns of an automatic-model point from its results file: the choice, the
+    predictions, and crank_lc, conrod_lc, node counts, h of the mesh and step taken."""
+    s = study.settings
+    p = point["params"]
+    choice = study_outputs.model_selection(results)
+    if choice is None:
+        raise ValueError("no /model_selection (or active = 0): the automatic model did not "
+                         "run (see the log)")
+    columns = {"predicted_force": choice["predicted_force"],
+               "predicted_speed": choice["predicted_speed"],
+               "predicted_step_force": choice["predicted_step_force"],
+               "predicted_step_speed": choice["predicted_step_speed"],
+               "auto_h": choice["h"], "h": choice["h"]}
+    parts = []
+    for role, body, geo in (("crank", s["crank_body"], s["crank_geo"]),
+                            ("conrod", s["conrod_body"], s["conrod_geo"])):
+        if body not in choice["bodies"]:
+            raise ValueError(f"/model_selection has no body {body} (bodies: "
+                             f"{', '.join(choice['bodies'])})")
+        taken = choice["bodies"][body]
+        by_name = {}
+        for lc in point["auto"][f"{role}_lc"]:
+            path, nodes, _ = meshes[(os.path.join(input_dir, geo), lc, p["order"])]
+            by_name[os.path.basename(path)] = (lc, nodes)
+        if taken["mesh_file"] not in by_name:
+            raise ValueError(f"{body}: mesh {taken['mesh_file']!r} is none of the candidates "
+                             f"{', '.join(by_name)}")
+        lc, nodes = by_name[taken["mesh_file"]]
+        kept = len(taken["kept_modes"])
+        columns.update({f"{role}_lc": lc, f"{role}_nodes": nodes, f"{role}_kept_modes": kept})
+        if kept:
+            hz = ", ".join(f"{f:.0f}" for f in taken["kept_hz"])
+            modes = f"{kept} mode{'s' if kept > 1 else ''} ({hz} Hz)"
+        else:
+            modes = "rigid (no mode)"
+        parts.append(f"{body}: lc {lc * 1000:g} mm, {modes}")
+    parts.append(f"h {choice['h']:.3g} s")
+    columns["auto_model"] = " | ".join(parts)
+    return columns
 
 
 def machine():
@@ -521,12 +746,7 @@ def main(argv=None):
         points = [p for p in build_points(study) if not args.sweep or p["sweep"] in args.sweep]
         requests = set()
         for point in points:
-            p = point["params"]
-            requests.add((os.path.join(input_dir, study.settings["crank_geo"]), p["crank_lc"],
-                          p["order"]))
-            if point["sweep"] == "engine":
-                requests.add((os.path.join(input_dir, study.settings["conrod_geo"]),
-                              p["conrod_lc"], p["order"]))
+            requests.update(point_meshes(study, point, input_dir))
         counts = ", ".join(f"{sum(p['sweep'] == s for p in points)} {s}" for s in SWEEPS)
         log(f"{len(points)} points ({counts}), {len(requests)} meshes")
         for point in points:
@@ -535,7 +755,7 @@ def main(argv=None):
         if args.dry_run:
             return 0
         meshes = make_meshes(requests, args.gmsh, work, log)
-        mesh_seconds = sum(m[2] for m in meshes.values())
+        mesh_seconds = sum(m[2] for m in {m[0]: m for m in meshes.values()}.values())
         rows = []
         for i, point in enumerate(points):
             row = measure(study, point, os.path.abspath(args.ffrf), input_dir, work, meshes)

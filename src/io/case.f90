@@ -15,7 +15,7 @@ module ffrf_io_case
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP
    implicit none
    private
-   public :: case_input_t, read_case, case_echo, body_index
+   public :: case_input_t, read_case, case_echo, body_index, vector_text
 
    !> Everything a modal or mechanism run needs.
    type :: case_input_t
@@ -259,15 +259,18 @@ contains
       end select
    end function jacobian_name
 
-   !> "x, y, z" of a vector, 12 digits each.
-   function vector_text(v) result(text)
+   !> "x, y, z" of a vector, `digits` (12) significant digits each.
+   function vector_text(v, digits) result(text)
       real(dp), intent(in) :: v(:)
+      integer, intent(in), optional :: digits
       character(len=:), allocatable :: text
-      integer :: k
+      integer :: k, n
+      n = 12
+      if (present(digits)) n = digits
       text = ''
       do k = 1, size(v)
          if (k > 1) text = text // ', '
-         text = text // to_str(v(k), 12)
+         text = text // to_str(v(k), n)
       end do
    end function vector_text
 

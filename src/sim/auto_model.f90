@@ -12,7 +12,7 @@ module ffrf_sim_auto_model
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_la_sparse, only: csr_t
-   use ffrf_io_case, only: case_input_t, body_index
+   use ffrf_io_case, only: case_input_t, body_index, vector_text
    use ffrf_io_engine_results, only: engine_results_t
    use ffrf_modes_input, only: modes_input_t, body_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
@@ -351,7 +351,7 @@ contains
          end do
       end do
       call log%info('model', trim(name) // ': masses jointed at the interfaces ' // &
-         vector_text(mass) // ' kg')
+         vector_text(mass, 4) // ' kg')
    end subroutine attached_masses
 
    !> Mass of body k's coarsest mesh (kg), from its consistent mass matrix.
@@ -378,18 +378,6 @@ contains
          error)
       mass = modes%mass
    end subroutine mesh_mass
-
-   !> "a, b, c" with 4 digits.
-   function vector_text(values) result(text)
-      real(dp), intent(in) :: values(:)
-      character(len=:), allocatable :: text
-      integer :: i
-      text = ''
-      do i = 1, size(values)
-         if (i > 1) text = text // ', '
-         text = text // to_str(values(i), 4)
-      end do
-   end function vector_text
 
    !> Keep the modes `kept` (ascending) of a modal result.
    subroutine keep_modes(modes, kept)

@@ -21,7 +21,10 @@
 !>    at least 5 % damping, which caps a resonance at |H| = 10, for the engine's speed that
 !>    varies by about +-6 % over a cycle and whose regime value is an estimate. The mode's force
 !>    error if dropped is e_j = max_theta |dF_j| / max |F|, its regime-speed error (delta omega /
-!>    omega = delta T / (2 T) from T_i = c omega^2) s_j = |mean(dF_j L)| / (2 T_i). Modes are
+!>    omega = delta T / (2 T) from T_i = c omega^2) s_j = |mean(dF_j L)| / (2 T_i) plus what its
+!>    static compliance c_j at the loaded interfaces takes from the cycle work: along the conrod
+!>    it shortens the stroke under the gas load, across the crank arm it turns the pin against
+!>    the frame whose angle drives p(theta). Modes are
 !>    dropped in increasing e_j while the dropped e_j and s_j stay within their budgets; a body
 !>    that keeps none moves rigidly (with its mesh's inertia).
 !> 3. Mesh: a mode's frequency error delta_j (first-order Richardson from two meshes, element
@@ -78,6 +81,9 @@ module ffrf_sim_model_selection
       !> mean(G dF/dtheta) (N^2), G = F - F_in the gas part: the cycle work lost per unit
       !> compliance of the crank pin along the conrod, divided by 4 pi (module header, 2)
       real(dp) :: work_per_compliance = 0.0_dp
+      !> mean(y' T dF_gas/dtheta) / r^2 (N^2): the same for a compliance across the crank arm,
+      !> which turns the pin against the crank frame whose angle drives p(theta) (header, 2)
+      real(dp) :: torsion_per_compliance = 0.0_dp
       !> Cycle angle of the largest |F| (rad) and e^(i k theta_peak / 2), k = 1..NUM_HARMONICS
       real(dp) :: peak_angle = 0.0_dp
       complex(dp), allocatable :: phase(:)
@@ -119,6 +125,7 @@ contains
       type(excitation_t), intent(out) :: excitation
       real(dp) :: theta, r, l, sn, cs, s, y1, y2, omega
       real(dp) :: force(CYCLE_SAMPLES), inertia(CYCLE_SAMPLES), lever(CYCLE_SAMPLES)
+      real(dp) :: piston_speed(CYCLE_SAMPLES), gas(CYCLE_SAMPLES)
       integer :: i
       excitation%mean_torque = pressure%mean_indicated_torque()
       omega = sqrt(max(excitation%mean_torque, 0.0_dp) / drag_coefficient)
@@ -135,10 +142,18 @@ contains
          inertia(i) = reciprocating_mass * y2 * omega**2 * l / s
          force(i) = inertia(i) - pressure%piston_force(theta) * l / s
          lever(i) = -y1 * s / l
+         piston_speed(i) = y1
       end do
       excitation%regime_speed = omega
       excitation%cycle_hz = omega / (4.0_dp * pi)
       call set_harmonics(excitation, force, inertia, lever)
+      ! the pin turns by c T / r^2 against the frame: the piston runs at theta + c T / r^2 under
+      ! p(theta); the cycle work changes by -c / r^2 closed integral of y' T dF_gas
+      gas = -pressure%piston_force([(4.0_dp * pi * real(i - 1, dp) / real(CYCLE_SAMPLES, dp), &
+         i=1, CYCLE_SAMPLES)])
+      excitation%torsion_per_compliance = sum(piston_speed * force * lever * &
+         (cshift(gas, 1) - cshift(gas, -1)) / (8.0_dp * pi / real(CYCLE_SAMPLES, dp))) / &
+         real(CYCLE_SAMPLES, dp) / r**2
    end subroutine engine_excitation
 
    !> Harmonics of the sampled cycle signals (even samples over 720 deg) and the phase table.
@@ -366,13 +381,15 @@ contains
       effect%speed = effect%speed + effect%static_speed
    end function mode_effect
 
-   !> Regime-speed error of a crank-pin compliance c along the conrod (m/N): |c mean(G F')| /
-   !> (2 T_i) (module header, 2).
+   !> Regime-speed error of a crank-pin compliance c (m/N), along the conrod (stroke) and across
+   !> the crank arm (phase of p against the piston), each at its largest: c (|mean(G F')| +
+   !> |mean(y' T F_gas')| / r^2) / (2 T_i) (module header, 2).
    pure function static_speed_error(excitation, compliance) result(error)
       type(excitation_t), intent(in) :: excitation
       real(dp), intent(in) :: compliance
       real(dp) :: error
-      error = abs(compliance * excitation%work_per_compliance) / (2.0_dp * &
+      error = compliance * (abs(excitation%work_per_compliance) + &
+         abs(excitation%torsion_per_compliance)) / (2.0_dp * &
          max(excitation%mean_torque, tiny(1.0_dp)))
    end function static_speed_error
 
