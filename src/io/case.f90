@@ -219,12 +219,13 @@ contains
          ! h left out when not given: the model selection or the default chooses it (log)
          text = text // '&integrator '
          if (mech%model%h_given) text = text // 'h = ' // to_str(s%h, 12) // ', '
-         text = text // 't_end = ' // to_str(s%t_end, 12) // ', rho_inf = ' // to_str(s%rho_inf, 12) // &
-            ', newton_atol = ' // to_str(s%newton_atol, 6) // ', newton_rtol = ' // &
-            to_str(s%newton_rtol, 6) // ', max_iterations = ' // to_str(s%max_iterations) // &
-            ', min_step = ' // to_str(s%min_step, 6) // ', rank_rtol = ' // &
-            to_str(s%rank_rtol, 6) // ', jacobian = ''' // jacobian_name(s%jacobian) // &
-            ''', tangent_reuse = ' // to_str(s%tangent_reuse) // ' /' // nl
+         text = text // 't_end = ' // to_str(s%t_end, 12) // ', rho_inf = ' // &
+            to_str(s%rho_inf, 12) // ', newton_atol = ' // to_str(s%newton_atol, 6) // &
+            ', newton_rtol = ' // to_str(s%newton_rtol, 6) // ', max_iterations = ' // &
+            to_str(s%max_iterations) // ', min_step = ' // to_str(s%min_step, 6) // &
+            ', rank_rtol = ' // to_str(s%rank_rtol, 6) // ', jacobian = ''' // &
+            jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse) // &
+            ' /' // nl
          text = text // '&model selection = ''' // trim(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &

@@ -11,7 +11,8 @@
 !>    harmonics F_k at f_k = k omega_r / (4 pi), k = 1..NUM_HARMONICS (F(theta) = Re sum F_k
 !>    e^(i k theta / 2) + mean).
 !> 2. A mode j of a flexible body, frequency f~_j with the masses m_i jointed at its interfaces
-!>    (Rayleigh quotient with point masses, u_ji the translation of virtual node i):
+!>    (Rayleigh quotient with point masses; u_ji the translation of virtual node i relative to
+!>    the interfaces the bearings hold, ffrf_sim_auto_model):
 !>       f~_j = f_j / sqrt(1 + A_j),  A_j = sum_i m_i |u_ji|^2,  mu_j = A_j / (1 + A_j).
 !>    In a statically determinate chain the quasi-static deflection of the mode does not change
 !>    the joint forces; its dynamic excess does, through the inertia of the jointed masses, a
@@ -20,25 +21,27 @@
 !>       H(r) = 1 / (1 - r^2 + 2 i max(zeta, 0.05) r)     (zeta: the body's modal damping):
 !>    at least 5 % damping, which caps a resonance at |H| = 10, for the engine's speed that
 !>    varies by about +-6 % over a cycle and whose regime value is an estimate. The mode's force
-!>    error if dropped is e_j = max_theta |dF_j| / max |F|, its regime-speed error (delta omega /
-!>    omega = delta T / (2 T) from T_i = c omega^2) s_j = |mean(dF_j L)| / (2 T_i) plus what its
-!>    static compliance c_j at the loaded interfaces takes from the cycle work: along the conrod
-!>    it shortens the stroke under the gas load, across the crank arm it turns the pin against
-!>    the frame whose angle drives p(theta). Modes are
-!>    dropped in increasing e_j while the dropped e_j and s_j stay within their budgets; a body
-!>    that keeps none moves rigidly (with its mesh's inertia).
+!>    error if dropped is e_j = |dF_j(theta_peak)| / max |F| at the angle of the peak force; its
+!>    regime-speed error (delta omega / omega = delta T / (2 T) from T_i = c omega^2) is
+!>    s_j = |mean(dF_j L)| / (2 T_i) plus what its static compliance c_j = sum_i |u_ji|^2 /
+!>    (2 pi f~_j)^2 at the loaded interfaces takes from the cycle work: along the conrod it
+!>    shortens the stroke under the gas load, c |mean(G F')| (G = F - F_in), across the crank arm
+!>    it turns the pin against the frame whose angle drives p(theta), c |mean(y' T F_gas')| / r^2.
+!>    Modes are dropped in increasing e_j while the dropped e_j and s_j stay within their
+!>    budgets; a body that keeps none moves rigidly (with its mesh's inertia).
 !> 3. Mesh: a mode's frequency error delta_j (first-order Richardson from two meshes, element
 !>    size ~ nodes^(-1/3); the rates measured on the crank lie between 1 and 2.5, so order 1
 !>    overestimates) moves dF_j to its value at f~_j (1 - delta_j) (Tet10 frequencies converge
-!>    from above); the change is the mesh error.
-!> 4. Step: generalized-alpha's periodic response to each harmonic, H_h from its recurrence
-!>    (z I - A) S = (z b + c) on x'' + 2 zeta w x' + w^2 x = w^2 e^(i Omega t), z = e^(i Omega h),
-!>    against H: the kept modes' force errors mu_j max|Re sum F_k (H_h - H) ...| plus the rigid
-!>    chain's (w = 0, F_in only: the piston's inertia force through the integrated kinematics).
-!>    The peak force read from the steps adds (1/2) |F''| (omega_r h / 2)^2 / max|F| (the steps
-!>    fall up to half a step from the peak). The largest step of the ladder {1, 1.25, 1.6, 2,
-!>    2.5, 3.2, 4, 5, 6.4, 8} 10^n within the budgets and a crank turn of at most 10 deg per step
-!>    is taken.
+!>    from above) and c_j by 2 delta_j; the change is the mesh error.
+!> 4. Step: the rigid chain's error from generalized-alpha's periodic response of a free mass to
+!>    each harmonic of F_in (the steady state S of its recurrence s_(n+1) = A s_n + b f_(n+1) +
+!>    c f_n, (z I - A) S = z b + c, z = e^(i Omega h)), plus each kept mode's dynamic errors
+!>    (e_j, s_j without the static part) times eps_j = |w~/w - 1| + xi~, the method's relative
+!>    period error plus algorithmic damping ratio at w_j h (from the eigenvalues of its
+!>    amplification matrix). The peak force read from the steps adds (1/2) |F''| (omega_r h /
+!>    2)^2 / max|F| (the steps fall up to half a step from the peak). The largest step of the
+!>    ladder {1, 1.25, 1.6, 2, 2.5, 3.2, 4, 5, 6.4, 8} 10^n within the budgets and a crank turn of
+!>    at most 10 deg per step is taken.
 module ffrf_sim_model_selection
    use ffrf_core_kinds, only: dp, ip, pi
    use ffrf_la_lapack, only: dgeev
@@ -47,7 +50,8 @@ module ffrf_sim_model_selection
    implicit none
    private
    public :: excitation_t, engine_excitation, set_harmonics, mode_effect_t, mode_effect
-   public :: galpha_mode, effective_frequencies, jointed_mass_share, exact_response, galpha_response
+   public :: galpha_mode, effective_frequencies, jointed_mass_share, exact_response
+   public :: galpha_response
    public :: mode_errors, body_selection_t, select_modes, mesh_frequency_error, static_speed_error
    public :: step_errors, select_time_step
    public :: STEP_LADDER, MAX_TURN_PER_STEP, RESONANCE_FLOOR, NUM_HARMONICS

@@ -74,3 +74,9 @@ ffrf_error_case(rigid_geometric_stiffness 2 "geometric_stiffness = .true. needs 
 ffrf_error_case(free_free_geometric_stiffness 2 "geometric stiffness needs reference conditions"
   "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', num_modes = 2, geometric_stiffness = .true. /\n&interface body = 'crank', name = 'B2' /\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&joint name = 'pin', type = 'spherical', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /")
 ffrf_error_case(bad_basis 2 "&modes: basis = \"guyan\"" "${_body}\n${_iface}\n&modes basis = 'guyan' /")
+
+# &model (the automatic model): a bad selection and a target out of range
+ffrf_error_case(model_selection 2 "&model: selection = 'automatic', must be 'auto' or 'manual'"
+  "${_arm}\n${_pivot}\n&model selection = 'automatic' /")
+ffrf_error_case(model_tolerance 2 "&model: force_tolerance = 0, must lie in \\(0, 1\\)"
+  "${_arm}\n${_pivot}\n&model force_tolerance = 0.0 /")
