@@ -209,8 +209,8 @@ contains
             end if
             body%mesh_error = fine_effect
          end if
-         call move_alloc_modes(current, previous)
-         call move_mass(current_mass, previous_mass)
+         previous = current
+         previous_mass = current_mass
          previous_selection = current_selection
       end do
       ! the finest mesh
@@ -233,8 +233,8 @@ contains
          body%candidate_hz = chosen%frequency_hz
          body%selection = selection
          call keep_modes(chosen, selection%kept)
-         call move_alloc_modes(chosen, modes)
-         call move_mass(chosen_mass, mass_matrix)
+         modes = chosen
+         mass_matrix = chosen_mass
          choice%bodies = [choice%bodies, body]
          call log_body(log, body)
       end subroutine take
@@ -388,18 +388,6 @@ contains
       modes%virtual_node_shape = modes%virtual_node_shape(:, kept)
       if (allocated(modes%residual)) modes%residual = modes%residual(kept)
    end subroutine keep_modes
-
-   subroutine move_alloc_modes(from, to)
-      type(body_modes_t), intent(inout) :: from
-      type(body_modes_t), intent(out) :: to
-      to = from
-   end subroutine move_alloc_modes
-
-   subroutine move_mass(from, to)
-      type(csr_t), intent(inout) :: from
-      type(csr_t), intent(out) :: to
-      to = from
-   end subroutine move_mass
 
    !> The step from the harmonics and the kept modes of every selected body (ffrf_sim_model_
    !> selection, 4); h = 0 when &integrator gives it.
