@@ -249,17 +249,16 @@ contains
    pure function galpha_response(w, zeta, omega, h, rho_inf) result(response)
       real(dp), intent(in) :: w, zeta, omega, h, rho_inf
       complex(dp) :: response
-      real(dp) :: alpha_m, alpha_f, gamma, beta, a(3, 3), b(3), c(3), unit(3)
+      real(dp) :: a(3, 3), b(3), c(3), unit(3)
       complex(dp) :: z, m(3, 3), rhs(3)
       integer :: j
-      call chung_hulbert(rho_inf, alpha_m, alpha_f, gamma, beta)
       do j = 1, 3
          unit = 0.0_dp
          unit(j) = 1.0_dp
-         a(:, j) = step(unit, 0.0_dp, 0.0_dp)
+         a(:, j) = galpha_step(unit, 0.0_dp, 0.0_dp, w, zeta, h, rho_inf)
       end do
-      b = step([0.0_dp, 0.0_dp, 0.0_dp], 0.0_dp, 1.0_dp)
-      c = step([0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, 0.0_dp)
+      b = galpha_step([0.0_dp, 0.0_dp, 0.0_dp], 0.0_dp, 1.0_dp, w, zeta, h, rho_inf)
+      c = galpha_step([0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, 0.0_dp, w, zeta, h, rho_inf)
       z = cmplx(cos(omega * h), sin(omega * h), dp)
       m = -a
       do j = 1, 3
@@ -267,32 +266,31 @@ contains
       end do
       rhs = z * b + c
       response = solve3(m, rhs)
-      if (w > 0.0_dp) then
-         response = response  ! static response of the forcing w^2 e^(i Omega t) is 1
-      else
-         response = response / (-1.0_dp / omega**2)
-      end if
-   contains
-      !> One step of (x, v, a) with forces f0 = f(t_n), f1 = f(t_(n+1)); forcing w^2 f (w > 0)
-      !> or f (w = 0).
-      pure function step(s, f0, f1) result(next)
-         real(dp), intent(in) :: s(3), f0, f1
-         real(dp) :: next(3), w2, scale, a1, x_part, v_part
-         w2 = w**2
-         scale = merge(w2, 1.0_dp, w > 0.0_dp)
-         ! (1 - alpha_m) a1 + alpha_m a0 = scale f_(n+1-alpha_f) - w2 x_(n+1-alpha_f)
-         !    - 2 zeta w v_(n+1-alpha_f), x1 = x0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1),
-         ! v1 = v0 + h ((1 - gamma) a0 + gamma a1); solved for a1
-         x_part = s(1) + (1.0_dp - alpha_f) * (h * s(2) + h**2 * (0.5_dp - beta) * s(3))
-         v_part = s(2) + (1.0_dp - alpha_f) * h * (1.0_dp - gamma) * s(3)
-         a1 = (scale * ((1.0_dp - alpha_f) * f1 + alpha_f * f0) - alpha_m * s(3) - w2 * x_part - &
-            2.0_dp * zeta * w * v_part) / (1.0_dp - alpha_m + (1.0_dp - alpha_f) * (w2 * beta * &
-            h**2 + 2.0_dp * zeta * w * gamma * h))
-         next(1) = s(1) + h * s(2) + h**2 * ((0.5_dp - beta) * s(3) + beta * a1)
-         next(2) = s(2) + h * ((1.0_dp - gamma) * s(3) + gamma * a1)
-         next(3) = a1
-      end function step
+      ! w > 0: the static response to w^2 e^(i Omega t) is 1; a free mass: -1/Omega^2
+      if (w <= 0.0_dp) response = response * (-omega**2)
    end function galpha_response
+
+   !> One generalized-alpha step (Chung-Hulbert, rho_inf) of the state (x, v, a) of
+   !> x'' + 2 zeta w x' + w^2 x = g(t) with g = w^2 f (w > 0) or f (w = 0), f0 = f(t_n),
+   !> f1 = f(t_(n+1)):
+   !>    (1 - alpha_m) a1 + alpha_m a0 = g_(n+1-alpha_f) - w^2 x_(n+1-alpha_f)
+   !>       - 2 zeta w v_(n+1-alpha_f),
+   !>    x1 = x0 + h v0 + h^2 ((1/2 - beta) a0 + beta a1),  v1 = v0 + h ((1 - gamma) a0 + gamma a1)
+   pure function galpha_step(s, f0, f1, w, zeta, h, rho_inf) result(next)
+      real(dp), intent(in) :: s(3), f0, f1, w, zeta, h, rho_inf
+      real(dp) :: next(3), alpha_m, alpha_f, gamma, beta, w2, scale, a1, x_part, v_part
+      call chung_hulbert(rho_inf, alpha_m, alpha_f, gamma, beta)
+      w2 = w**2
+      scale = merge(w2, 1.0_dp, w > 0.0_dp)
+      x_part = s(1) + (1.0_dp - alpha_f) * (h * s(2) + h**2 * (0.5_dp - beta) * s(3))
+      v_part = s(2) + (1.0_dp - alpha_f) * h * (1.0_dp - gamma) * s(3)
+      a1 = (scale * ((1.0_dp - alpha_f) * f1 + alpha_f * f0) - alpha_m * s(3) - w2 * x_part - &
+         2.0_dp * zeta * w * v_part) / (1.0_dp - alpha_m + (1.0_dp - alpha_f) * (w2 * beta * &
+         h**2 + 2.0_dp * zeta * w * gamma * h))
+      next(1) = s(1) + h * s(2) + h**2 * ((0.5_dp - beta) * s(3) + beta * a1)
+      next(2) = s(2) + h * ((1.0_dp - gamma) * s(3) + gamma * a1)
+      next(3) = a1
+   end function galpha_step
 
    !> The numerical frequency (as a ratio to the exact one) and the algorithmic damping ratio of
    !> generalized-alpha on x'' + w^2 x = 0 at w h, from the complex eigenvalue pair lambda of
@@ -302,16 +300,18 @@ contains
    subroutine galpha_mode(omega_h, rho_inf, frequency_ratio, damping)
       real(dp), intent(in) :: omega_h, rho_inf
       real(dp), intent(out) :: frequency_ratio, damping
-      real(dp) :: alpha_m, alpha_f, gamma, beta, amplification(3, 3), wr(3), wi(3), work(64)
-      real(dp) :: dummy(1, 1), angle
+      real(dp) :: amplification(3, 3), unit(3), wr(3), wi(3), work(64), dummy(1, 1), angle
       integer(ip) :: info
       integer :: j, k
       frequency_ratio = 1.0_dp
       damping = 0.0_dp
       if (omega_h <= 0.0_dp) return
-      call chung_hulbert(rho_inf, alpha_m, alpha_f, gamma, beta)
+      ! free vibration, h = 1, w = omega_h
       do j = 1, 3
-         amplification(:, j) = free_step(real([(merge(1, 0, k == j), k=1, 3)], dp))
+         unit = 0.0_dp
+         unit(j) = 1.0_dp
+         amplification(:, j) = galpha_step(unit, 0.0_dp, 0.0_dp, omega_h, 0.0_dp, 1.0_dp, &
+            rho_inf)
       end do
       call dgeev('N', 'N', 3_ip, amplification, 3_ip, wr, wi, dummy, 1_ip, dummy, 1_ip, work, &
          64_ip, info)
@@ -324,17 +324,6 @@ contains
       angle = atan2(wi(k), wr(k))
       frequency_ratio = angle / omega_h
       damping = max(-log(hypot(wr(k), wi(k))), 0.0_dp) / angle
-   contains
-      !> One step of (x, v h, a h^2) on x'' + w^2 x = 0 with h = 1, w = omega_h
-      pure function free_step(s) result(next)
-         real(dp), intent(in) :: s(3)
-         real(dp) :: next(3), a1
-         a1 = -(alpha_m * s(3) + omega_h**2 * (s(1) + (1.0_dp - alpha_f) * (s(2) + (0.5_dp - &
-            beta) * s(3)))) / (1.0_dp - alpha_m + omega_h**2 * (1.0_dp - alpha_f) * beta)
-         next(1) = s(1) + s(2) + (0.5_dp - beta) * s(3) + beta * a1
-         next(2) = s(2) + (1.0_dp - gamma) * s(3) + gamma * a1
-         next(3) = a1
-      end function free_step
    end subroutine galpha_mode
 
    !> First component of the solution of a complex 3x3 system (Cramer's rule).
@@ -424,6 +413,7 @@ contains
       type(body_selection_t), intent(out) :: selection
       integer, allocatable :: order(:)
       logical, allocatable :: keep(:)
+      real(dp), allocatable :: forces(:)
       integer :: j, n, i
       n = size(frequency_hz)
       selection%damping = zeta
@@ -438,7 +428,8 @@ contains
       end do
       if (n > 0) selection%tail = mode_effect(excitation, maxval(frequency_hz), 1.0_dp, zeta, &
          selection%compliance(n))
-      order = sort_ascending(selection%effect%force)
+      forces = selection%effect%force
+      order = sort_ascending(forces)
       allocate (keep(n), source=.true.)
       do i = 1, n
          j = order(i)
