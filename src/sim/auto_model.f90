@@ -53,6 +53,9 @@ module ffrf_sim_auto_model
       real(dp) :: h = 0.0_dp
       type(mode_effect_t) :: step_error
       type(body_choice_t), allocatable :: bodies(:)
+      !> Mass of each &body's coarsest mesh once known (kg; -1: not yet), so that a jointed
+      !> body's mesh mass is computed once (attached_masses)
+      real(dp), allocatable :: mesh_mass(:)
    end type model_choice_t
 
 contains
@@ -67,6 +70,7 @@ contains
       integer :: l, piston
       real(dp) :: drag, piston_mass
       allocate (choice%bodies(0))
+      allocate (choice%mesh_mass(size(case%bodies)), source=-1.0_dp)
       choice%reason = ''
       if (case%mechanism%model%selection /= 'auto') then
          choice%reason = '&model selection = ''manual'''
@@ -170,8 +174,9 @@ contains
             return
          end if
          if (i == 1) then
+            choice%mesh_mass(k) = current%mass
             grounded = grounded_interfaces(case, k, current)
-            call attached_masses(case, k, current, mesh_dir, log, attached, error)
+            call attached_masses(case, k, current, mesh_dir, log, choice, attached, error)
             if (allocated(error)) return
             where (grounded) attached = 0.0_dp
          end if
@@ -318,12 +323,14 @@ contains
    !> each joint on that interface (a rigid &body's mass key, or the mass of a meshed body's
    !> coarsest mesh); the ground adds nothing (its joints act where the reference conditions
    !> already hold the virtual node, or they stiffen the mode: leaving them out overestimates).
-   subroutine attached_masses(case, k, modes, mesh_dir, log, mass, error)
+   subroutine attached_masses(case, k, modes, mesh_dir, log, choice, mass, error)
       type(case_input_t), intent(in) :: case
       integer, intent(in) :: k
       type(body_modes_t), intent(in) :: modes
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
+      !> Its mesh_mass cache is read and filled
+      type(model_choice_t), intent(inout) :: choice
       real(dp), allocatable, intent(out) :: mass(:)
       type(error_t), allocatable, intent(out) :: error
       integer :: i, j, other
@@ -341,8 +348,11 @@ contains
                   other = body_index(case, joint%body1)
                if (other <= 0) cycle
                if (len_trim(case%bodies(other)%mesh_file) > 0) then
-                  call mesh_mass(case, other, mesh_dir, log, other_mass, error)
-                  if (allocated(error)) return
+                  if (choice%mesh_mass(other) < 0.0_dp) then
+                     call mesh_mass(case, other, mesh_dir, log, choice%mesh_mass(other), error)
+                     if (allocated(error)) return
+                  end if
+                  other_mass = choice%mesh_mass(other)
                else
                   other_mass = case%motions(other)%mass
                end if

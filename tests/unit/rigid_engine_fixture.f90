@@ -15,9 +15,11 @@ module ffrf_test_rigid_engine
    use ffrf_mbs_slider_crank, only: piston_position
    implicit none
    private
-   public :: build_engine, build_slider_crank, crank_properties, tdc_pose
+   public :: build_engine, build_slider_crank, add_engine_loads, crank_properties, tdc_pose
+   public :: parallel_axis, diagonal
    public :: crank_radius, rod_length, load_coefficient, crank_pin, piston_pin
-   public :: rod_mass, rod_com, rod_inertia, piston_mass
+   public :: rod_mass, rod_com, rod_inertia, piston_mass, piston_inertia
+   public :: flywheel_mass, flywheel_com, flywheel_inertia
 
    !> Crank radius and conrod length (m), scene.md
    real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
@@ -48,40 +50,52 @@ contains
       type(mechanism_t), intent(out) :: mech
       real(dp), intent(out) :: q(21), v(21)
       type(error_t), allocatable, intent(out) :: error
-      type(pressure_force_t) :: gas
-      type(starter_torque_t) :: starter
-      type(drag_torque_t) :: drag
       ! body indices of build_slider_crank: crank 2, piston 4
       integer, parameter :: ic = 2, ip_ = 4
       call build_slider_crank(mech, .true., .true., error)
       if (allocated(error)) return
-      call gas%model%init(pressure_input_t(), error)
-      if (allocated(error)) return
-      gas%kind = LOAD_FORCE
-      gas%body = ip_
-      gas%marker = 1
-      gas%direction = [0.0_dp, 1.0_dp, 0.0_dp]
-      gas%name = 'cylinder pressure'
-      call mech%add_load(gas, error)
-      if (allocated(error)) return
-      starter%kind = LOAD_TORQUE
-      starter%body = ic
-      starter%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      starter%name = 'starter'
-      call mech%add_load(starter, error)
-      if (allocated(error)) return
-      drag%kind = LOAD_TORQUE
-      drag%body = ic
-      drag%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      drag%coefficient = load_coefficient
-      drag%name = 'load'
-      call mech%add_load(drag, error)
+      call add_engine_loads(mech, ic, ip_, 1, error)
       if (allocated(error)) return
       q = tdc_pose()
       call mech%assemble(q, 0.0_dp, error, crank_angle=0.0_dp)
       if (allocated(error)) return
       call mech%initial_velocities(q, 0.0_dp, v, error, crank_speed=0.0_dp)
    end subroutine build_engine
+
+   !> The engine's loads: the cylinder pressure on the piston (body `piston`, marker 1, along y),
+   !> the starter and the load (drag c omega^2, c = load_coefficient) torques about z on the
+   !> crank (body `crank`, at marker `torque_marker`: it matters for a flexible crank).
+   subroutine add_engine_loads(mech, crank, piston, torque_marker, error)
+      type(mechanism_t), intent(inout) :: mech
+      integer, intent(in) :: crank, piston, torque_marker
+      type(error_t), allocatable, intent(out) :: error
+      type(pressure_force_t) :: gas
+      type(starter_torque_t) :: starter
+      type(drag_torque_t) :: drag
+      call gas%model%init(pressure_input_t(), error)
+      if (allocated(error)) return
+      gas%kind = LOAD_FORCE
+      gas%body = piston
+      gas%marker = 1
+      gas%direction = [0.0_dp, 1.0_dp, 0.0_dp]
+      gas%name = 'cylinder pressure'
+      call mech%add_load(gas, error)
+      if (allocated(error)) return
+      starter%kind = LOAD_TORQUE
+      starter%body = crank
+      starter%marker = torque_marker
+      starter%direction = [0.0_dp, 0.0_dp, 1.0_dp]
+      starter%name = 'starter'
+      call mech%add_load(starter, error)
+      if (allocated(error)) return
+      drag%kind = LOAD_TORQUE
+      drag%body = crank
+      drag%marker = torque_marker
+      drag%direction = [0.0_dp, 0.0_dp, 1.0_dp]
+      drag%coefficient = load_coefficient
+      drag%name = 'load'
+      call mech%add_load(drag, error)
+   end subroutine add_engine_loads
 
    !> Slider-crank of scene.md from rigid bodies: ground (1), crank (2), conrod (3), piston (4).
    !> Joints: main bearing(s) ground-crank revolute about z (one at z = 0, or two at z = -/+0.0475
@@ -144,18 +158,18 @@ contains
       real(dp) :: J_o(3, 3)
       mass = crank_mass
       chi = crank_mass * crank_com
-      J_o = diagonal(crank_inertia) + crank_mass * shift(crank_com)
+      J_o = diagonal(crank_inertia) + crank_mass * parallel_axis(crank_com)
       if (flywheel) then
          mass = mass + flywheel_mass
          chi = chi + flywheel_mass * flywheel_com
-         J_o = J_o + diagonal(flywheel_inertia) + flywheel_mass * shift(flywheel_com)
+         J_o = J_o + diagonal(flywheel_inertia) + flywheel_mass * parallel_axis(flywheel_com)
       end if
       chi = chi / mass
-      J_c = J_o - mass * shift(chi)
+      J_c = J_o - mass * parallel_axis(chi)
    end subroutine crank_properties
 
    !> |c|^2 I - c c^T (parallel-axis term per unit mass).
-   pure function shift(c) result(s)
+   pure function parallel_axis(c) result(s)
       real(dp), intent(in) :: c(3)
       real(dp) :: s(3, 3)
       integer :: i
@@ -163,8 +177,9 @@ contains
       do i = 1, 3
          s(i, i) = s(i, i) + dot_product(c, c)
       end do
-   end function shift
+   end function parallel_axis
 
+   !> diag(d)
    pure function diagonal(d) result(a)
       real(dp), intent(in) :: d(3)
       real(dp) :: a(3, 3)

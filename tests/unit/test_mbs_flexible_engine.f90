@@ -53,9 +53,9 @@ module test_mbs_flexible_engine
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: body_t, rigid_body_t, ground_t, flexible_body_adapter_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: pressure_force_t, starter_torque_t, drag_torque_t, &
-      LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_input_t
+   use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, parallel_axis, rod_length, &
+      flywheel_mass, flywheel_com, flywheel_inertia, rod_mass, rod_com, rod_inertia, &
+      piston_mass, piston_inertia
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
    implicit none
@@ -64,15 +64,6 @@ module test_mbs_flexible_engine
 
    !> Steel (scene.md)
    real(dp), parameter :: young = 210.0e9_dp, poisson = 0.3_dp, density = 7850.0_dp
-   !> Conrod length (m), scene.md
-   real(dp), parameter :: rod_length = 0.150_dp
-   !> Flywheel (scene.md)
-   real(dp), parameter :: flywheel_mass = 4.0_dp, flywheel_com(3) = [0.0_dp, 0.0_dp, 0.080_dp]
-   real(dp), parameter :: flywheel_inertia(3) = [0.016_dp, 0.016_dp, 0.030_dp]
-   !> Conrod (test_mbs_mechanism's box-and-ring model) and piston (scene.md)
-   real(dp), parameter :: rod_mass = 0.865_dp, rod_com = 0.049_dp
-   real(dp), parameter :: rod_inertia(3) = [3.3e-3_dp, 2.0e-4_dp, 3.3e-3_dp]
-   real(dp), parameter :: piston_mass = 0.45_dp, piston_inertia = 3.0e-4_dp
    !> Number of crank modes
    integer, parameter :: num_modes = 8
    !> Step (s), time between samples of the crank speed (s), number of samples (0.3 s)
@@ -133,26 +124,6 @@ contains
       crank_ready = .not. allocated(error)
    end subroutine get_crank
 
-   !> |c|^2 I - c c^T (parallel-axis term per unit mass).
-   pure function shift(c) result(s)
-      real(dp), intent(in) :: c(3)
-      real(dp) :: s(3, 3)
-      integer :: i
-      s = -spread(c, 2, 3) * spread(c, 1, 3)
-      do i = 1, 3
-         s(i, i) = s(i, i) + dot_product(c, c)
-      end do
-   end function shift
-
-   pure function diagonal(d) result(a)
-      real(dp), intent(in) :: d(3)
-      real(dp) :: a(3, 3)
-      a = 0.0_dp
-      a(1, 1) = d(1)
-      a(2, 2) = d(2)
-      a(3, 3) = d(3)
-   end function diagonal
-
    !> The engine (module header) with the crank `crank_body` (rigid or flexible), assembled at
    !> crank angle 0 and at rest: q, v out.
    subroutine build_engine(mech, crank_body, q, v, error)
@@ -162,9 +133,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(ground_t) :: ground
       type(rigid_body_t) :: flywheel, rod, piston
-      type(pressure_force_t) :: gas
-      type(starter_torque_t) :: starter
-      type(drag_torque_t) :: drag
       real(dp) :: frames(3, 3, 3), ground_xyz(3, 3), b1(3), b2(3), b3(3)
       integer :: ig, ic, iw, ir, ip_, nc, k
       b1 = crank%virtual_xyz(:, 1)
@@ -208,28 +176,7 @@ contains
          error)
       if (.not. allocated(error)) call mech%set_crank(ic, error)
       if (allocated(error)) return
-      call gas%model%init(pressure_input_t(), error)
-      if (allocated(error)) return
-      gas%kind = LOAD_FORCE
-      gas%body = ip_
-      gas%marker = 1
-      gas%direction = [0.0_dp, 1.0_dp, 0.0_dp]
-      gas%name = 'cylinder pressure'
-      call mech%add_load(gas, error)
-      if (allocated(error)) return
-      starter%kind = LOAD_TORQUE
-      starter%body = ic
-      starter%marker = 3
-      starter%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      starter%name = 'starter'
-      call mech%add_load(starter, error)
-      if (allocated(error)) return
-      drag%kind = LOAD_TORQUE
-      drag%body = ic
-      drag%marker = 3
-      drag%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      drag%name = 'load'
-      call mech%add_load(drag, error)
+      call add_engine_loads(mech, ic, ip_, 3, error)
       if (allocated(error)) return
       ! The exact pose at TDC: every frame at the identity, zeta = 0; pin at B2, piston pin at
       ! B2 + (0, l, 0).
@@ -325,7 +272,7 @@ contains
       ! bearing markers on the axis (a 5e-8 m move, below the mesh's own asymmetry).
       crank%virtual_xyz(1:2, [1, 3]) = 0.0_dp
       ! The rigid crank: the flexible body's rigid properties, markers at its virtual nodes
-      J_c = crank%theta_u - crank%mass * shift(crank%center_of_mass)
+      J_c = crank%theta_u - crank%mass * parallel_axis(crank%center_of_mass)
       frames = spread(identity3(), 3, 3)
       call rigid%init(crank%mass, crank%center_of_mass, J_c, crank%virtual_xyz, frames, error)
       if (allocated(error)) return

@@ -39,9 +39,8 @@ module test_mbs_tangents
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: body_t, rigid_body_t, ground_t, flexible_body_adapter_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: pressure_force_t, starter_torque_t, drag_torque_t, &
-      polynomial_drive_t, LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_input_t
+   use ffrf_mbs_mechanism_loads, only: polynomial_drive_t
+   use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, crank_radius, rod_length
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
       GALPHA_NEWTON_FULL
    use ffrf_testing, only: unittest_t, new_unittest, check, report
@@ -51,8 +50,6 @@ module test_mbs_tangents
 
    !> Relative tolerance of an analytic tangent against the central differences (module header)
    real(dp), parameter :: tangent_rtol = 1.0e-8_dp
-   !> Crank radius and conrod length (m), scene.md
-   real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
 
 contains
 
@@ -78,15 +75,6 @@ contains
          x(i) = 2.0_dp * (x(i) * 43758.5453_dp - floor(x(i) * 43758.5453_dp)) - 1.0_dp
       end do
    end function random_vector
-
-   pure function diagonal(d) result(a)
-      real(dp), intent(in) :: d(3)
-      real(dp) :: a(3, 3)
-      a = 0.0_dp
-      a(1, 1) = d(1)
-      a(2, 2) = d(2)
-      a(3, 3) = d(3)
-   end function diagonal
 
    !> A synthetic reduced crank: 8 point masses (lumped M = diag(m_i) (x) I3), 3 random modes
    !> with eigenvalues (2 pi 2, 3, 5 kHz)^2 and 2 % modal damping, interfaces B1 (0, 0, -0.03),
@@ -123,9 +111,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(ground_t) :: ground
       type(rigid_body_t) :: flywheel, rod, piston
-      type(pressure_force_t) :: gas
-      type(starter_torque_t) :: starter
-      type(drag_torque_t) :: drag
       real(dp) :: frames(3, 3, 3), ground_xyz(3, 3)
       integer :: ig, ic, iw, ir, ip_
       frames(:, :, 1) = identity3()
@@ -163,28 +148,7 @@ contains
          error)
       if (.not. allocated(error)) call mech%set_crank(ic, error)
       if (allocated(error)) return
-      call gas%model%init(pressure_input_t(), error)
-      if (allocated(error)) return
-      gas%kind = LOAD_FORCE
-      gas%body = ip_
-      gas%marker = 1
-      gas%direction = [0.0_dp, 1.0_dp, 0.0_dp]
-      gas%name = 'cylinder pressure'
-      call mech%add_load(gas, error)
-      if (allocated(error)) return
-      starter%kind = LOAD_TORQUE
-      starter%body = ic
-      starter%marker = 3
-      starter%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      starter%name = 'starter'
-      call mech%add_load(starter, error)
-      if (allocated(error)) return
-      drag%kind = LOAD_TORQUE
-      drag%body = ic
-      drag%marker = 3
-      drag%direction = [0.0_dp, 0.0_dp, 1.0_dp]
-      drag%name = 'load'
-      call mech%add_load(drag, error)
+      call add_engine_loads(mech, ic, ip_, 3, error)
    end subroutine build_engine
 
    !> A random state: per body R ~ 0.05 m, theta a unit quaternion times (1 + 1e-3 noise),

@@ -14,12 +14,11 @@ module test_modes_shift_invert
    use ffrf_la_lapack, only: dgesvd, dsygv, dgemm
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
+   use ffrf_test_spring_chain, only: chain, no_constraints, spring, mass
    implicit none
    private
    public :: collect_modes_shift_invert
 
-   real(dp), parameter :: spring = 1.7e4_dp   !< chain spring stiffness k, N/m
-   real(dp), parameter :: mass = 0.3_dp       !< chain point mass m, kg
    real(dp), parameter :: rtol_lambda = 1.0e-10_dp, max_residual = 1.0e-10_dp, &
                           max_orthonormality = 1.0e-12_dp
 
@@ -334,45 +333,6 @@ contains
       call check_close(error, 'M-orthonormality', result%orthonormality_error, 0.0_dp, &
          atol=max_orthonormality)
    end subroutine check_spectrum
-
-   !> Spring-mass chain: n masses m, springs k between neighbours and, if fixed, to the walls.
-   subroutine chain(n, fixed, K, M, error)
-      integer(ip), intent(in) :: n
-      logical, intent(in) :: fixed
-      type(csr_t), intent(out) :: K, M
-      type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: rows(:), cols(:)
-      real(dp), allocatable :: vals(:)
-      integer(ip) :: i
-      allocate (rows(0), cols(0), vals(0))
-      do i = 1, n
-         rows = [rows, i]
-         cols = [cols, i]
-         if (fixed .or. (i > 1 .and. i < n)) then
-            vals = [vals, 2.0_dp * spring]
-         else
-            vals = [vals, spring]
-         end if
-         if (i < n) then
-            rows = [rows, i, i + 1]
-            cols = [cols, i + 1, i]
-            vals = [vals, -spring, -spring]
-         end if
-      end do
-      call csr_from_coo(n, n, rows, cols, vals, K, error)
-      if (allocated(error)) return
-      call csr_from_coo(n, n, [(i, i=1, n)], [(i, i=1, n)], [(mass, i=1, n)], M, error)
-   end subroutine chain
-
-   !> A 0 x n constraint matrix.
-   subroutine no_constraints(n, C)
-      integer(ip), intent(in) :: n
-      type(csr_t), intent(out) :: C
-      C%num_rows = 0
-      C%num_cols = n
-      allocate (C%row_ptr(1), C%col(0), C%val(0))
-      C%row_ptr(1) = 1
-   end subroutine no_constraints
 
    !> Neumann 5-point Laplacian on a 15 x 14 grid (stiffness 1), diagonal mass
    !> m_i = 1 + 0.5 sin(0.3 i), and C with three rows: m^T x = 0 and two LCG rows on every

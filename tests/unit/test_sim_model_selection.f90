@@ -170,9 +170,11 @@ contains
       torque = excitation%mean_force * excitation%mean_lever + 0.5_dp * &
          real(sum(excitation%force * conjg(excitation%lever)), dp)
       call report('regime speed ' // to_str(excitation%regime_speed, 6) // ' rad/s, T_i ' // &
-         to_str(pressure%mean_indicated_torque(), 6) // ' N m, mean(F L) ' // to_str(torque, 6))
+         to_str(pressure%mean_indicated_torque(), 9) // ' N m, mean(F L) ' // to_str(torque, 9))
+      ! 2880 samples of a pressure with a jump at 540 deg (blow-down, where the lever is ~0):
+      ! measured 1.8e-7
       call check_close(error, 'mean(F L)', torque, pressure%mean_indicated_torque(), &
-         rtol=2.0e-3_dp)
+         rtol=1.0e-5_dp)
       if (.not. allocated(error)) call check_close(error, 'regime speed', &
          excitation%regime_speed, sqrt(pressure%mean_indicated_torque() / 3.6e-4_dp), &
          rtol=1.0e-14_dp)
