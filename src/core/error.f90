@@ -5,7 +5,7 @@ module ffrf_core_error
    implicit none
    private
    public :: error_t, fatal_error, add_context
-   public :: FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
+   public :: FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED
 
    !> Bad user input: namelist, mesh content, inconsistent model description. The three codes
    !> double as the exit status of the ffrf driver.
@@ -14,10 +14,13 @@ module ffrf_core_error
    integer, parameter :: FFRF_IO_ERROR = 3
    !> A numerical method failed (singular matrix, no convergence, NaN)
    integer, parameter :: FFRF_NUMERIC_ERROR = 4
+   !> The run was stopped by a signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) after a clean
+   !> end of its current step: results and restart state written, a job script may requeue it
+   integer, parameter :: FFRF_INTERRUPTED = 5
 
    !> What went wrong, where, and how to fix it.
    type :: error_t
-      !> One of FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
+      !> One of FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED
       integer :: code = FFRF_INPUT_ERROR
       !> One line: what, where, the offending value, the fix
       character(len=:), allocatable :: message

@@ -1,0 +1,242 @@
+!> Typed Fortran access to the POSIX services of posix.c: file kinds and sizes (a case, mesh or
+!> table file must be a regular file of bounded size, never a FIFO, device or folder), atomic
+!> rename and durable writes for results files, advisory locks that keep two runs off one
+!> output, and the signals that end a run cleanly. Errors come back as error_t objects.
+module ffrf_core_posix
+   use, intrinsic :: iso_c_binding, only: c_int, c_long_long, c_char, c_null_char
+   use ffrf_core_kinds, only: i8
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_IO_ERROR
+   use ffrf_core_strings, only: to_str
+   implicit none
+   private
+   public :: FILE_MISSING, FILE_REGULAR, FILE_DIRECTORY, FILE_FIFO, FILE_DEVICE, FILE_OTHER
+   public :: file_kind, file_kind_name, check_input_file, rename_file, remove_file, sync_file
+   public :: lock_file, unlock_file, errno_text
+   public :: install_signal_handlers, pending_signal, clear_pending_signal, signal_name
+   public :: ERRNO_WOULD_BLOCK
+
+   !> File kinds (posix.c)
+   integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
+      FILE_DEVICE = 4, FILE_OTHER = 5
+   !> EWOULDBLOCK (= EAGAIN) on Linux: a lock another process holds
+   integer, parameter :: ERRNO_WOULD_BLOCK = 11
+
+   interface
+      integer(c_int) function c_file_kind(path, kind, size) bind(c, name='ffrf_file_kind')
+         import :: c_int, c_char, c_long_long
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int), intent(out) :: kind
+         integer(c_long_long), intent(out) :: size
+      end function c_file_kind
+      integer(c_int) function c_rename(from, to) bind(c, name='ffrf_rename')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: from(*), to(*)
+      end function c_rename
+      integer(c_int) function c_unlink(path) bind(c, name='ffrf_unlink')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+      end function c_unlink
+      integer(c_int) function c_fsync_path(path) bind(c, name='ffrf_fsync_path')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+      end function c_fsync_path
+      integer(c_int) function c_lock_file(path, fd) bind(c, name='ffrf_lock_file')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int), intent(out) :: fd
+      end function c_lock_file
+      integer(c_int) function c_unlock_file(path, fd) bind(c, name='ffrf_unlock_file')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int), value :: fd
+      end function c_unlock_file
+      subroutine c_errno_text(code, buffer, length) bind(c, name='ffrf_errno_text')
+         import :: c_int, c_char
+         integer(c_int), value :: code, length
+         character(kind=c_char), intent(out) :: buffer(*)
+      end subroutine c_errno_text
+      integer(c_int) function c_signals_install() bind(c, name='ffrf_signals_install')
+         import :: c_int
+      end function c_signals_install
+      integer(c_int) function c_signal_pending() bind(c, name='ffrf_signal_pending')
+         import :: c_int
+      end function c_signal_pending
+      subroutine c_signal_clear() bind(c, name='ffrf_signal_clear')
+      end subroutine c_signal_clear
+      subroutine c_signal_name(number, buffer, length) bind(c, name='ffrf_signal_name')
+         import :: c_int, c_char
+         integer(c_int), value :: number, length
+         character(kind=c_char), intent(out) :: buffer(*)
+      end subroutine c_signal_name
+   end interface
+
+contains
+
+   !> Kind (FILE_*) and size in bytes of what `path` names; an error only when it cannot be
+   !> inspected (permissions), not when it is missing.
+   subroutine file_kind(path, kind, size_bytes, error)
+      character(len=*), intent(in) :: path
+      integer, intent(out) :: kind
+      integer(i8), intent(out) :: size_bytes
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status, c_kind
+      integer(c_long_long) :: c_size
+      status = c_file_kind(c_string(path), c_kind, c_size)
+      kind = int(c_kind)
+      size_bytes = int(c_size, i8)
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot inspect "' // path // &
+         '": ' // errno_text(int(status)))
+   end subroutine file_kind
+
+   !> "a regular file", "a folder", "a FIFO (named pipe)", ...
+   pure function file_kind_name(kind) result(name)
+      integer, intent(in) :: kind
+      character(len=:), allocatable :: name
+      select case (kind)
+      case (FILE_MISSING)
+         name = 'missing'
+      case (FILE_REGULAR)
+         name = 'a regular file'
+      case (FILE_DIRECTORY)
+         name = 'a folder'
+      case (FILE_FIFO)
+         name = 'a FIFO (named pipe)'
+      case (FILE_DEVICE)
+         name = 'a device'
+      case default
+         name = 'not a regular file (a socket or another special file)'
+      end select
+   end function file_kind_name
+
+   !> An input file (`what`: "case file", "mesh file", ...) must exist, be a regular file and
+   !> hold at most max_bytes: a FIFO or device would block or never end, a folder cannot be
+   !> read. FFRF_IO_ERROR naming the file and what it is otherwise.
+   subroutine check_input_file(path, what, max_bytes, error)
+      character(len=*), intent(in) :: path, what
+      integer(i8), intent(in) :: max_bytes
+      type(error_t), allocatable, intent(out) :: error
+      integer :: kind
+      integer(i8) :: size_bytes
+      call file_kind(path, kind, size_bytes, error)
+      if (allocated(error)) return
+      if (kind == FILE_MISSING) then
+         call fatal_error(error, FFRF_IO_ERROR, what // ' "' // path // '" does not exist')
+      else if (kind /= FILE_REGULAR) then
+         call fatal_error(error, FFRF_IO_ERROR, what // ' "' // path // '" is ' // &
+            file_kind_name(kind) // '; give a regular file')
+      else if (size_bytes > max_bytes) then
+         call fatal_error(error, FFRF_IO_ERROR, what // ' "' // path // '" has ' // &
+            to_str(size_bytes) // ' bytes, more than the ' // to_str(max_bytes) // &
+            ' allowed for it')
+      end if
+   end subroutine check_input_file
+
+   !> Rename `from` to `to`, replacing `to` atomically (same file system).
+   subroutine rename_file(from, to, error)
+      character(len=*), intent(in) :: from, to
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_rename(c_string(from), c_string(to))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot rename "' // from // &
+         '" to "' // to // '": ' // errno_text(int(status)))
+   end subroutine rename_file
+
+   !> Remove a file; a missing one is not an error.
+   subroutine remove_file(path, error)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_unlink(c_string(path))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot remove "' // path // &
+         '": ' // errno_text(int(status)))
+   end subroutine remove_file
+
+   !> Force a closed file's data to the device; reports a full disk the page cache hid.
+   subroutine sync_file(path, error)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_fsync_path(c_string(path))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write "' // path // &
+         '" to disk: ' // errno_text(int(status)))
+   end subroutine sync_file
+
+   !> Take the exclusive lock `path` (created if missing); fd holds it. status 0: taken;
+   !> ERRNO_WOULD_BLOCK: another process holds it; else the errno of the failure.
+   subroutine lock_file(path, fd, status)
+      character(len=*), intent(in) :: path
+      integer, intent(out) :: fd, status
+      integer(c_int) :: c_fd
+      status = int(c_lock_file(c_string(path), c_fd))
+      fd = int(c_fd)
+   end subroutine lock_file
+
+   !> Remove the lock file `path` and release the lock fd holds (fd < 0: nothing held).
+   subroutine unlock_file(path, fd)
+      character(len=*), intent(in) :: path
+      integer, intent(inout) :: fd
+      integer(c_int) :: status
+      status = c_unlock_file(c_string(path), int(fd, c_int))
+      fd = -1
+   end subroutine unlock_file
+
+   !> The system's words for an errno value ("No space left on device").
+   function errno_text(code) result(text)
+      integer, intent(in) :: code
+      character(len=:), allocatable :: text
+      character(kind=c_char) :: buffer(200)
+      call c_errno_text(int(code, c_int), buffer, int(size(buffer), c_int))
+      text = from_c_buffer(buffer)
+   end function errno_text
+
+   !> Record SIGTERM, SIGINT, SIGHUP, SIGUSR1 and SIGXCPU instead of dying on them; a run polls
+   !> pending_signal() between steps and ends cleanly.
+   subroutine install_signal_handlers(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_signals_install()
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot install the signal ' // &
+         'handlers: ' // errno_text(int(status)))
+   end subroutine install_signal_handlers
+
+   !> The first signal received since install_signal_handlers (0: none).
+   integer function pending_signal()
+      pending_signal = int(c_signal_pending())
+   end function pending_signal
+
+   !> Forget a received signal.
+   subroutine clear_pending_signal()
+      call c_signal_clear()
+   end subroutine clear_pending_signal
+
+   !> "SIGTERM", "SIGUSR1", ... ("signal N" for others).
+   function signal_name(number) result(name)
+      integer, intent(in) :: number
+      character(len=:), allocatable :: name
+      character(kind=c_char) :: buffer(32)
+      call c_signal_name(int(number, c_int), buffer, int(size(buffer), c_int))
+      name = from_c_buffer(buffer)
+   end function signal_name
+
+   pure function c_string(text) result(c_text)
+      character(len=*), intent(in) :: text
+      character(kind=c_char, len=len(text) + 1) :: c_text
+      c_text = text // c_null_char
+   end function c_string
+
+   pure function from_c_buffer(buffer) result(text)
+      character(kind=c_char), intent(in) :: buffer(:)
+      character(len=:), allocatable :: text
+      integer :: n, k
+      n = 0
+      do while (n < size(buffer))
+         if (buffer(n + 1) == c_null_char) exit
+         n = n + 1
+      end do
+      allocate (character(len=n) :: text)
+      do k = 1, n
+         text(k:k) = buffer(k)
+      end do
+   end function from_c_buffer
+
+end module ffrf_core_posix
