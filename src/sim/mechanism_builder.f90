@@ -42,7 +42,7 @@ module ffrf_sim_mechanism_builder
       select_body_model, select_step
    implicit none
    private
-   public :: built_body_t, build_mechanism, frame_from_axis
+   public :: built_body_t, build_mechanism, frame_from_axis, make_pressure_model
 
    !> What the run keeps of each &body.
    type :: built_body_t
