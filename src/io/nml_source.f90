@@ -567,8 +567,12 @@ contains
    contains
       subroutine add_raw(piece)
          character(len=*), intent(in) :: piece
-         if (len(raw) > 0 .and. piece /= ',') raw = raw // ' '
-         raw = raw // piece
+         if (piece == ',') then
+            raw = raw // ','
+         else
+            if (len(raw) > 0) raw = raw // ', '
+            raw = raw // piece
+         end if
       end subroutine add_raw
    end subroutine parse_items
 
@@ -621,44 +625,44 @@ contains
       do k = 1, size(values)
          what = ''
          if (size(values) > 1) what = 'value ' // to_str(k) // ' (' // quote(values(k)%text) // &
-            ') '
+            '): '
          select case (key%kind)
          case (KEY_REAL)
             if (values(k)%quoted) then
-               problem = what // 'is a string where a number is expected; give ' // allowed(key)
+               problem = what // 'a string where a number is expected; give ' // allowed(key)
                return
             end if
             if (is_non_finite_text(values(k)%text)) then
-               problem = what // 'is not a finite number; give ' // allowed(key)
+               problem = what // 'not a finite number; give ' // allowed(key)
                return
             end if
             if (.not. is_real_text(values(k)%text)) then
-               problem = what // 'is not a number; give ' // allowed(key)
+               problem = what // 'not a number; give ' // allowed(key)
                return
             end if
             read (values(k)%text, *, iostat=stat) x
             if (stat /= 0 .or. .not. abs(x) <= huge(x)) then
-               problem = what // 'is not a finite number (beyond the range of a double); give ' &
+               problem = what // 'not a finite number (beyond the range of a double); give ' &
                   // allowed(key)
                return
             end if
             if (.not. in_range(key, x)) then
-               problem = what // 'is out of range; give ' // allowed(key)
+               problem = what // 'out of range; give ' // allowed(key)
                return
             end if
             piece = values(k)%text
          case (KEY_INTEGER)
             if (values(k)%quoted .or. .not. is_integer_text(values(k)%text)) then
-               problem = what // 'is not an integer; give ' // allowed(key)
+               problem = what // 'not an integer; give ' // allowed(key)
                return
             end if
             if (len(digits_of(values(k)%text)) > 18) then
-               problem = what // 'is out of range; give ' // allowed(key)
+               problem = what // 'out of range; give ' // allowed(key)
                return
             end if
             read (values(k)%text, *, iostat=stat) n
             if (stat /= 0 .or. n < key%int_lower .or. n > key%int_upper) then
-               problem = what // 'is out of range; give ' // allowed(key)
+               problem = what // 'out of range; give ' // allowed(key)
                return
             end if
             piece = values(k)%text
@@ -673,12 +677,12 @@ contains
                end select
             end if
             if (len(piece) == 0) then
-               problem = what // 'is not a logical; give .true. or .false.'
+               problem = what // 'not a logical; give .true. or .false.'
                return
             end if
          case default
             if (.not. values(k)%quoted) then
-               problem = what // 'is not a quoted string; write ' // trim(key%name) // &
+               problem = what // 'not a quoted string; write ' // trim(key%name) // &
                   ' = ''text'''
                if (len_trim(key%choices) > 0) problem = problem // ', one of ' // &
                   trim(key%choices)
@@ -692,7 +696,7 @@ contains
             end if
             if (len_trim(key%choices) > 0) then
                if (.not. is_choice(key%choices, values(k)%text)) then
-                  problem = what // 'is not allowed; ' // trim(key%name) // ' is one of ' // &
+                  problem = what // 'not allowed; ' // trim(key%name) // ' is one of ' // &
                      trim(key%choices)
                   return
                end if
