@@ -1,11 +1,12 @@
-!> ffrf batch driver: `ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] [--quiet|--debug]`.
+!> ffrf batch driver: `ffrf CASE.nml|- [--check] [--mesh-dir DIR] [--output-dir DIR]
+!> [--quiet|--debug]`.
 !> Reads the arguments, runs the case, prints an error and exits non-zero on failure:
 !> 2 bad input, 3 file input/output, 4 numerical failure, 1 bad command line.
 program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
-   use ffrf, only: error_t, logger_t, run_options_t, run_modal_case, run_mechanism_case, &
-      case_is_mechanism, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
+   use ffrf, only: error_t, logger_t, run_options_t, run_modal, run_mechanism, check_case, &
+      case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
       LOG_DEBUG
    implicit none
    interface
@@ -19,12 +20,15 @@ program ffrf_driver
    type(error_t), allocatable :: error
    type(run_options_t) :: options
    type(logger_t) :: log
+   type(case_input_t) :: case
    character(len=:), allocatable :: case_file, arg
+   logical :: check_only
    integer :: i
 
    options%mesh_dir = ''
    options%output_dir = ''
    case_file = ''
+   check_only = .false.
    i = 0
    do while (i < command_argument_count())
       i = i + 1
@@ -42,8 +46,10 @@ program ffrf_driver
          options%log_level = LOG_QUIET
       case ('--debug')
          options%log_level = LOG_DEBUG
+      case ('--check')
+         check_only = .true.
       case default
-         if (arg(1:1) == '-') call bad_usage('unknown option ' // arg)
+         if (arg(1:1) == '-' .and. arg /= '-') call bad_usage('unknown option ' // arg)
          if (len(case_file) > 0) call bad_usage('one case file only (got ' // case_file // &
             ' and ' // arg // ')')
          case_file = arg
@@ -52,10 +58,15 @@ program ffrf_driver
    if (len(case_file) == 0) call bad_usage('no case file given')
 
    log%unit = output_unit
-   if (case_is_mechanism(case_file)) then
-      call run_mechanism_case(case_file, options, log, error)
-   else
-      call run_modal_case(case_file, options, log, error)
+   call read_case(case_file, case, error)
+   if (.not. allocated(error)) then
+      if (check_only) then
+         call check_case(case, options, log, error)
+      else if (case%is_mechanism) then
+         call run_mechanism(case, options, log, error)
+      else
+         call run_modal(case, options, log, error)
+      end if
    end if
    if (allocated(error)) then
       write (error_unit, '(a)') 'ffrf: error: ' // error%message
@@ -82,8 +93,8 @@ contains
 
    subroutine usage(unit)
       integer, intent(in) :: unit
-      write (unit, '(a)') 'usage: ffrf CASE.nml [--mesh-dir DIR] [--output-dir DIR] ' // &
-         '[--quiet|--debug]'
+      write (unit, '(a)') 'usage: ffrf CASE.nml|- [--check] [--mesh-dir DIR] ' // &
+         '[--output-dir DIR] [--quiet|--debug]'
       write (unit, '(a)') '  A modal case computes the constrained normal modes of the bodies of CASE.nml'
       write (unit, '(a)') '  and writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
       write (unit, '(a)') '  A mechanism case (one with &joint groups) also integrates the motion'
@@ -92,6 +103,10 @@ contains
       write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files ' // &
          '(default: the case folder)'
       write (unit, '(a)') '  --output-dir DIR  folder of the results (default: current folder)'
+      write (unit, '(a)') '  --check           read and check the case and its meshes, then ' // &
+         'stop (exit 0: no error found); nothing is computed or written'
+      write (unit, '(a)') '  -                 as CASE: read the case from standard input ' // &
+         '(named "stdin"; relative meshes from the current folder)'
    end subroutine usage
 
    subroutine bad_usage(message)

@@ -1,21 +1,29 @@
 !> A case file: the namelist groups of one run, read, checked against each other, and echoed.
+!> The case text is read once into memory (ffrf_io_nml_source: a regular file of at most 16 MiB,
+!> or standard input for the case name '-', then named "stdin" with relative meshes taken from
+!> the current folder), checked strictly (groups, keys, types, ranges), then read by the group
+!> readers of src/io/nml_*.f90. Checked here across groups: interface and mechanism names, the
+!> output paths of &run (relative, no '..': outputs stay inside --output-dir) and the number of
+!> integration steps (t_end - t_start)/h against &integrator max_steps.
 module ffrf_io_case
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_io_nml_common, only: check_group_names
-   use ffrf_io_nml_run, only: run_input_t, read_run_group
-   use ffrf_io_nml_body, only: read_body_groups
-   use ffrf_io_nml_interface, only: read_interface_groups
-   use ffrf_io_nml_modes, only: read_modes_group
-   use ffrf_io_nml_mechanism, only: read_mechanism_groups, has_group
+   use ffrf_io_nml_source, only: nml_source_t, group_spec_t, read_case_text
+   use ffrf_io_nml_run, only: run_input_t, read_run_group, run_keys
+   use ffrf_io_nml_body, only: read_body_groups, body_keys
+   use ffrf_io_nml_interface, only: read_interface_groups, interface_keys
+   use ffrf_io_nml_modes, only: read_modes_group, modes_keys
+   use ffrf_io_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
+      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
    use ffrf_mbs_mechanism_input, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP
    implicit none
    private
-   public :: case_input_t, read_case, case_echo, body_index, vector_text
+   public :: case_input_t, read_case, case_echo, body_index, vector_text, case_groups
+   public :: check_output_path
 
    !> Everything a modal or mechanism run needs.
    type :: case_input_t
@@ -37,58 +45,96 @@ module ffrf_io_case
 
 contains
 
-   !> Read and check the case file `file_name`.
+   !> The namelist groups of a case and their keys (the reader modules' *_keys).
+   function case_groups() result(groups)
+      type(group_spec_t), allocatable :: groups(:)
+      groups = [group_spec_t('run', .false., run_keys()), &
+         group_spec_t('body', .true., body_keys()), &
+         group_spec_t('interface', .true., interface_keys()), &
+         group_spec_t('modes', .false., modes_keys()), &
+         group_spec_t('mechanism', .false., mechanism_keys()), &
+         group_spec_t('marker', .true., marker_keys()), &
+         group_spec_t('joint', .true., joint_keys()), &
+         group_spec_t('load', .true., load_keys()), &
+         group_spec_t('pressure', .false., pressure_keys()), &
+         group_spec_t('integrator', .false., integrator_keys()), &
+         group_spec_t('model', .false., model_keys())]
+   end function case_groups
+
+   !> Read and check the case file `file_name` ('-': standard input, the case is then named
+   !> "stdin"). The file is read once; nothing else opens it.
    subroutine read_case(file_name, case, error)
       character(len=*), intent(in) :: file_name
       type(case_input_t), intent(out) :: case
       type(error_t), allocatable, intent(out) :: error
+      type(nml_source_t) :: src
+      character(len=:), allocatable :: text
       integer :: unit, stat, k
       character(len=512) :: msg
-      case%file_name = file_name
-      case%name = case_name_of(file_name)
-      open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
+      if (file_name == '-') then
+         case%file_name = 'stdin'
+         case%name = 'stdin'
+      else
+         case%file_name = file_name
+         case%name = case_name_of(file_name)
+      end if
+      call read_case_text(file_name, text, error)
+      if (allocated(error)) return
+      call src%parse(case%file_name, text, case_groups(), error)
+      if (allocated(error)) return
+      deallocate (text)
+      ! The checked groups go to the namelist reads through a scratch file, in canonical form
+      open (newunit=unit, status='scratch', action='readwrite', form='formatted', iostat=stat, &
+         iomsg=msg)
       if (stat /= 0) then
-         call fatal_error(error, FFRF_IO_ERROR, 'cannot open case file "' // file_name // &
-            '": ' // trim(msg))
+         call fatal_error(error, FFRF_IO_ERROR, case%file_name // ': cannot open a scratch ' // &
+            'file to read the case (TMPDIR): ' // trim(msg))
          return
       end if
-      call check_group_names(unit, [character(len=16) :: 'run', 'body', 'interface', 'modes', &
-         'mechanism', 'marker', 'joint', 'load', 'pressure', 'integrator', 'model'], error)
+      call src%write_namelist(unit, error)
       if (.not. allocated(error)) call read_run_group(unit, case%run, error)
-      if (.not. allocated(error)) call read_body_groups(unit, case%bodies, case%motions, error)
-      if (.not. allocated(error)) call read_interface_groups(unit, case%interfaces, error)
-      if (.not. allocated(error)) call read_modes_group(unit, case%modes, error)
+      if (.not. allocated(error)) call read_body_groups(unit, src, case%bodies, case%motions, &
+         error)
+      if (.not. allocated(error)) call read_interface_groups(unit, src, case%interfaces, error)
+      if (.not. allocated(error)) call read_modes_group(unit, src, case%modes, error)
       if (.not. allocated(error)) then
-         case%is_mechanism = has_group(unit, 'joint')
-         if (case%is_mechanism) call read_mechanism_groups(unit, case%mechanism, error)
+         case%is_mechanism = src%count('joint') > 0
+         if (case%is_mechanism) call read_mechanism_groups(unit, src, case%mechanism, error)
       end if
       close (unit)
       if (allocated(error)) then
-         call add_context(error, file_name)
+         if (index(error%message, case%file_name // ':') /= 1) call add_context(error, &
+            case%file_name)
          return
       end if
       do k = 1, size(case%interfaces)
          if (.not. any(case%bodies%name == case%interfaces(k)%body)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, file_name // ': &interface #' // &
-               to_str(k) // ' "' // trim(case%interfaces(k)%name) // '": body "' // &
-               trim(case%interfaces(k)%body) // '" is not a &body of this case')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, 'body') // &
+               ': body "' // trim(case%interfaces(k)%body) // '" is not a &body of this ' // &
+               'case (bodies: ' // body_list(case) // ')')
             return
          end if
          if (any(case%interfaces(:k - 1)%body == case%interfaces(k)%body .and. &
                case%interfaces(:k - 1)%name == case%interfaces(k)%name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, file_name // ': &interface #' // &
-               to_str(k) // ' "' // trim(case%interfaces(k)%name) // '" of body "' // &
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, 'name') // &
+               ': interface "' // trim(case%interfaces(k)%name) // '" of body "' // &
                trim(case%interfaces(k)%body) // '" is given twice')
             return
          end if
       end do
       if (case%is_mechanism) then
          call check_mechanism_names(case, error)
+         if (.not. allocated(error)) call check_step_count(src, case, error)
          if (allocated(error)) then
-            call add_context(error, file_name)
+            if (index(error%message, case%file_name // ':') /= 1) call add_context(error, &
+               case%file_name)
             return
          end if
       end if
+      call check_output_path(src%where('run', 1, 'output'), case%run%output, error)
+      if (.not. allocated(error)) call check_output_path(src%where('run', 1, &
+         'mode_shapes_msh'), case%run%mode_shapes_msh, error)
+      if (allocated(error)) return
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
       if (len_trim(case%run%mode_shapes_msh) == 0) then
          case%run%mode_shapes_msh = case%name // '_modes.msh'
@@ -96,6 +142,63 @@ contains
          case%run%mode_shapes_msh = ''
       end if
    end subroutine read_case
+
+   !> An output named in a case stays inside the output directory: a relative path without a
+   !> '..' component ('' is the default name). `where` starts the message (FILE:LINE: &run key).
+   subroutine check_output_path(where, path, error)
+      character(len=*), intent(in) :: where, path
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: rest, part
+      integer :: slash
+      if (len_trim(path) == 0) return
+      if (path(1:1) == '/') then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': an absolute path; outputs stay ' &
+            // 'inside the output folder (--output-dir): give a path relative to it')
+         return
+      end if
+      rest = trim(path)
+      do while (len(rest) > 0)
+         slash = index(rest, '/')
+         if (slash == 0) then
+            part = rest
+            rest = ''
+         else
+            part = rest(:slash - 1)
+            rest = rest(slash + 1:)
+         end if
+         if (part == '..') then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': a ''..'' component leaves ' &
+               // 'the output folder (--output-dir); give a path inside it')
+            return
+         end if
+      end do
+   end subroutine check_output_path
+
+   !> The run's steps (t_end - t_start)/h stay within &integrator max_steps, and a given h fits
+   !> in the run: checked before anything is computed (h = 1e-9 with t_end = 2 would otherwise
+   !> run for days). Without a given h, the default h (or the automatic model's) is checked
+   !> when the integration starts.
+   subroutine check_step_count(src, case, error)
+      type(nml_source_t), intent(in) :: src
+      type(case_input_t), intent(in) :: case
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: steps
+      associate (s => case%mechanism%integrator, max_steps => case%mechanism%max_steps)
+         if (case%mechanism%model%h_given .and. s%h > s%t_end - s%t_start) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'h') // &
+               ': longer than the run, t_end - t_start = ' // to_str(s%t_end - s%t_start) // &
+               ' s; give h < t_end')
+            return
+         end if
+         steps = (s%t_end - s%t_start) / s%h
+         if (steps > real(max_steps, dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 't_end') // &
+               ': (t_end - t_start)/h = ' // to_str(steps, 4) // ' steps of h = ' // &
+               to_str(s%h) // ' s, more than max_steps = ' // to_str(max_steps) // &
+               '; shorten the run, enlarge h, or raise &integrator max_steps on purpose')
+         end if
+      end associate
+   end subroutine check_step_count
 
    !> The resolved input as namelist text (defaults filled in), for the log and /input.
    function case_echo(case) result(text)
@@ -224,8 +327,10 @@ contains
             ', newton_rtol = ' // to_str(s%newton_rtol, 6) // ', max_iterations = ' // &
             to_str(s%max_iterations) // ', min_step = ' // to_str(s%min_step, 6) // &
             ', rank_rtol = ' // to_str(s%rank_rtol, 6) // ', jacobian = ''' // &
-            jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse) // &
-            ' /' // nl
+            jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse)
+         if (mech%max_steps /= mechanism_case_input_t_max_steps()) text = text // &
+            ', max_steps = ' // to_str(mech%max_steps)
+         text = text // ' /' // nl
          text = text // '&model selection = ''' // trim(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
@@ -233,6 +338,12 @@ contains
             ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6) // ' /' // nl
       end associate
    end function mechanism_echo
+
+   !> The default of &integrator max_steps (echoed only when another is given).
+   pure integer(i8) function mechanism_case_input_t_max_steps() result(n)
+      type(mechanism_case_input_t) :: defaults
+      n = defaults%max_steps
+   end function mechanism_case_input_t_max_steps
 
    !> " 'a', 'b'" of the non-blank entries.
    pure function quoted_list(items) result(text)

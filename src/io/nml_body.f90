@@ -1,27 +1,61 @@
 !> Namelist group &body (required, repeatable): a flexible body meshed in Gmsh.
-!>   name       body name (unique), used by &interface
-!>   mesh_file  Gmsh MSH 4.1/2.2 file; relative to the mesh directory (ffrf --mesh-dir)
-!>   volumes    physical volume name(s) of the body (default: the body name)
-!>   young [Pa], poisson [-], density [kg/m^3]   isotropic linear elastic material
+!>   name       body name (unique, not 'ground'), used by &interface; <= 64 characters
+!>   mesh_file  Gmsh MSH 4.1/2.2 file; relative to the mesh directory (ffrf --mesh-dir), or
+!>              absolute; <= 256 characters
+!>   volumes    physical volume name(s) of the body (default: the body name); 1 to 16 names
+!>   young [Pa]        Young's modulus, in (0, 1e13] Pa
+!>   poisson [-]       Poisson's ratio, in (-1, 0.5)
+!>   density [kg/m^3]  in (0, 1e5] kg/m^3
 !>   geometric_stiffness  mechanism runs, flexible bodies: centrifugal stress stiffening (.false.)
 !>   coarse_meshes  mechanism runs, flexible bodies, &model selection = 'auto': up to 4 coarser
 !>                  meshes of the same geometry, coarse to fine, to choose the mesh from
+!> Mechanism keys (ffrf_mbs_mechanism_input's body_motion_input_t):
+!>   type           'flexible' (default) or 'rigid'
+!>   num_modes      flexible bodies: modes kept, integer in 0..10000 (default: &modes num_modes)
+!>   modal_damping  damping ratio of every mode, in [0, 1)
+!>   mass [kg]      rigid bodies without a mesh: in [0, 1e9] kg, > 0 when it is used
+!>   center_of_mass [m]    3 finite reals in [-1e4, 1e4] m
+!>   inertia [kg m^2]      Jxx Jyy Jzz Jxy Jyz Jxz, 6 finite reals in [-1e12, 1e12], positive
+!>                         definite when it is used
+!>   position [m]   start position of the body frame, 3 finite reals in [-1e4, 1e4] m
+!> Types, counts and ranges are checked by ffrf_io_nml_source from body_keys.
 module ffrf_io_nml_body
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: body_input_t, MAX_VOLUMES
    use ffrf_mbs_mechanism_input, only: body_motion_input_t
    use ffrf_io_nml_common, only: namelist_read_error
+   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &
+      choice_key, nml_source_t
    implicit none
    private
-   public :: read_body_groups, inertia_tensor
+   public :: read_body_groups, inertia_tensor, body_keys
 
 contains
 
+   !> Keys of &body, their types and ranges (module header).
+   function body_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('mesh_file', 256), &
+         string_key('volumes', 64, MAX_VOLUMES), &
+         real_key('young', 0.0_dp, 1.0e13_dp, 'Pa', lower_open=.true.), &
+         real_key('poisson', -1.0_dp, 0.5_dp, '', lower_open=.true., upper_open=.true.), &
+         real_key('density', 0.0_dp, 1.0e5_dp, 'kg/m^3', lower_open=.true.), &
+         choice_key('type', 16, 'flexible, rigid'), integer_key('num_modes', 0_i8, 10000_i8), &
+         real_key('modal_damping', 0.0_dp, 1.0_dp, '', upper_open=.true.), &
+         real_key('mass', 0.0_dp, 1.0e9_dp, 'kg'), &
+         real_key('center_of_mass', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
+         real_key('inertia', -1.0e12_dp, 1.0e12_dp, 'kg m^2', count=6), &
+         real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
+         logical_key('geometric_stiffness'), string_key('coarse_meshes', 256, 4)]
+   end function body_keys
+
    !> Read every &body group; at least one is required. motions(k) holds body k's mechanism keys.
-   subroutine read_body_groups(unit, bodies, motions, error)
+   subroutine read_body_groups(unit, src, bodies, motions, error)
       integer, intent(in) :: unit
+      !> The checked case text (FILE:LINE of the keys)
+      type(nml_source_t), intent(in) :: src
       type(body_input_t), allocatable, intent(out) :: bodies(:)
       type(body_motion_input_t), allocatable, intent(out) :: motions(:)
       type(error_t), allocatable, intent(out) :: error
@@ -73,7 +107,7 @@ contains
          bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
             geometric_stiffness)]
          motions = [motions, motion]
-         call check_body(bodies(size(bodies)), motion, size(bodies), error)
+         call check_body(src, bodies(size(bodies)), motion, size(bodies), error)
          if (allocated(error)) return
       end do
       if (size(bodies) == 0) then
@@ -83,76 +117,63 @@ contains
       end if
       do k = 2, size(bodies)
          if (any(bodies(:k - 1)%name == bodies(k)%name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&body #' // to_str(k) // ': name "' // &
-               trim(bodies(k)%name) // '" is used twice; body names must be unique')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', k, 'name') // &
+               ': the name is used twice; body names must be unique')
             return
          end if
       end do
    end subroutine read_body_groups
 
-   subroutine check_body(body, motion, occurrence, error)
+   !> Cross-key checks of one &body (single keys are checked by ffrf_io_nml_source).
+   subroutine check_body(src, body, motion, occurrence, error)
+      type(nml_source_t), intent(in) :: src
       type(body_input_t), intent(in) :: body
       type(body_motion_input_t), intent(in) :: motion
       integer, intent(in) :: occurrence
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: where
-      where = '&body #' // to_str(occurrence)
       if (len_trim(body%name) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': name is missing')
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, '') // &
+            ': name is missing; give every body a unique name')
       else if (to_lower(trim(body%name)) == 'ground') then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': the name "ground" is reserved ' &
-            // 'for the fixed frame (it needs no &body group)')
-      else if (motion%type /= 'flexible' .and. motion%type /= 'rigid') then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": type = ''' // trim(motion%type) // ''', must be ''flexible'' or ''rigid''')
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, 'name') // &
+            ': the name "ground" is reserved for the fixed frame (it needs no &body group)')
       else if (motion%type == 'rigid' .and. body%geometric_stiffness) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": geometric_stiffness = .true. needs a flexible body (type = ''flexible''); a ' // &
-            'rigid body does not deform')
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
+            'geometric_stiffness') // ': "' // trim(body%name) // '": geometric_stiffness ' // &
+            '= .true. needs a flexible body (type = ''flexible''); a rigid body does not deform')
       else if (motion%type == 'rigid') then
-         call check_rigid_body(body, motion, where, error)
-      else if (motion%num_modes < -1) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": num_modes = ' // to_str(motion%num_modes) // ', must be >= 0 (0: rigid ' // &
-            'with the mass of its mesh; default: &modes num_modes)')
-      else if (.not. (motion%modal_damping >= 0.0_dp .and. motion%modal_damping < 1.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": modal_damping = ' // to_str(motion%modal_damping) // ', must lie in [0, 1)')
+         call check_rigid_body(src, body, motion, occurrence, error)
       else if (len_trim(body%mesh_file) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": mesh_file is missing')
-      else if (.not. (body%young > 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": young = ' // to_str(body%young) // ' Pa, must be > 0')
-      else if (.not. (body%poisson > -1.0_dp .and. body%poisson < 0.5_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": poisson = ' // to_str(body%poisson) // ', must lie in (-1, 0.5)')
-      else if (.not. (body%density > 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": density = ' // to_str(body%density) // ' kg/m^3, must be > 0')
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
+            'mesh_file') // ': "' // trim(body%name) // '": mesh_file is missing; a ' // &
+            'flexible body needs its Gmsh mesh')
       end if
    end subroutine check_body
 
    !> A rigid body needs a positive mass and a positive-definite inertia (checked by Cholesky
    !> of the symmetric 3 x 3 tensor); a mesh is not used for it.
-   subroutine check_rigid_body(body, motion, where, error)
+   subroutine check_rigid_body(src, body, motion, occurrence, error)
+      type(nml_source_t), intent(in) :: src
       type(body_input_t), intent(in) :: body
       type(body_motion_input_t), intent(in) :: motion
-      character(len=*), intent(in) :: where
+      integer, intent(in) :: occurrence
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: J(3, 3)
       if (len_trim(body%mesh_file) > 0) then
          if (motion%mass /= 0.0_dp .or. any(motion%inertia /= 0.0_dp) .or. &
             any(motion%center_of_mass /= 0.0_dp)) call fatal_error(error, FFRF_INPUT_ERROR, &
-            where // ' "' // trim(body%name) // '": a rigid body takes its mass from ' // &
-            'mesh_file or from mass, center_of_mass and inertia, not both')
+            src%where('body', occurrence, 'mesh_file') // ': "' // trim(body%name) // &
+            '": a rigid body takes its mass from mesh_file or from mass, center_of_mass and ' // &
+            'inertia, not both')
       else if (.not. (motion%mass > 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' "' // trim(body%name) // &
-            '": rigid body mass = ' // to_str(motion%mass) // ' kg, must be > 0')
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, 'mass') // &
+            ': "' // trim(body%name) // '": rigid body mass = ' // to_str(motion%mass) // &
+            ' kg, must be > 0 (or give a mesh_file)')
       else
          J = inertia_tensor(motion%inertia)
-         if (.not. positive_definite(J)) call fatal_error(error, FFRF_INPUT_ERROR, where // &
-            ' "' // trim(body%name) // '": the inertia (Jxx Jyy Jzz Jxy Jyz Jxz) = ' // &
+         if (.not. positive_definite(J)) call fatal_error(error, FFRF_INPUT_ERROR, &
+            src%where('body', occurrence, 'inertia') // ': "' // trim(body%name) // &
+            '": the inertia (Jxx Jyy Jzz Jxy Jyz Jxz) = ' // &
             to_str(motion%inertia(1)) // ' ' // to_str(motion%inertia(2)) // ' ' // &
             to_str(motion%inertia(3)) // ' ' // to_str(motion%inertia(4)) // ' ' // &
             to_str(motion%inertia(5)) // ' ' // to_str(motion%inertia(6)) // &

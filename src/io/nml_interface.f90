@@ -1,27 +1,40 @@
 !> Namelist group &interface (repeatable): a physical surface of a body reduced to a virtual node.
-!>   body          body name (&body name)
-!>   name          physical surface name in the body's mesh
-!>   mpc           'RBE3' (default, interpolation) or 'RBE2' (rigid)
+!>   body          body name (&body name), required, <= 64 characters
+!>   name          physical surface name in the body's mesh, required, <= 64 characters
+!>   mpc           'RBE3' (default, interpolation) or 'RBE2' (rigid), any case
 !>   weighting     RBE3 node weights: 'uniform' (default, as Nastran) or 'area'
 !>   virtual_node  'centroid' (default: area centroid of the face) or 'position'
-!>   position      virtual node position [m] when virtual_node = 'position'
+!>   position      virtual node position [m] when virtual_node = 'position': 3 finite reals in
+!>                 [-1e4, 1e4] m
 !>   rc            reference conditions: forbidden virtual-node dofs, 'Tx Ty Tz Rx Ry Rz'
-!>                 or Nastran component digits '123456'
+!>                 or Nastran component digits '123456'; each dof at most once
 module ffrf_io_nml_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_mpc_interface, only: interface_input_t, parse_dofs
    use ffrf_io_nml_common, only: namelist_read_error
+   use ffrf_io_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
    implicit none
    private
-   public :: read_interface_groups
+   public :: read_interface_groups, interface_keys
 
 contains
 
+   !> Keys of &interface, their types and ranges (module header).
+   function interface_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('body', 64), string_key('name', 64), choice_key('mpc', 8, 'RBE2, RBE3'), &
+         choice_key('weighting', 16, 'uniform, area'), &
+         choice_key('virtual_node', 16, 'centroid, position'), &
+         real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), string_key('rc', 64)]
+   end function interface_keys
+
    !> Read every &interface group and check each choice.
-   subroutine read_interface_groups(unit, interfaces, error)
+   subroutine read_interface_groups(unit, src, interfaces, error)
       integer, intent(in) :: unit
+      !> The checked case text (FILE:LINE of the keys)
+      type(nml_source_t), intent(in) :: src
       type(interface_input_t), allocatable, intent(out) :: interfaces(:)
       type(error_t), allocatable, intent(out) :: error
       type(interface_input_t) :: defaults
@@ -52,7 +65,7 @@ contains
             return
          end if
          if (len_trim(body) == 0 .or. len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // &
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, '') // &
                ': body and name (the physical surface) are required')
             return
          end if
@@ -74,7 +87,7 @@ contains
          end if
          call parse_dofs(rc, dofs, error)
          if (allocated(error)) then
-            call add_context(error, '&interface #' // to_str(k) // ' "' // trim(name) // '"')
+            call add_context(error, src%where('interface', k, 'rc'))
             return
          end if
          interfaces = [interfaces, interface_input_t(body, name, mpc, weighting, virtual_node, &

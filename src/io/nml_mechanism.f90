@@ -15,11 +15,39 @@
 !>                candidate_modes, resonance_floor                            (optional, single)
 !> Defaults: ffrf_mbs_mechanism_input, ffrf_mbs_pressure's pressure_input_t (the scene's engine)
 !> and galpha_settings_t. Names are checked against each other by ffrf_io_case.
+!> Types, counts and ranges (checked by ffrf_io_nml_source from the *_keys functions below; every
+!> real must be finite; names and labels <= 64 characters, file names <= 256):
+!>   &mechanism  crank_angle_deg in [-720, 720] deg; crank_speed in [-1e4, 1e4] rad/s; gravity:
+!>               3 reals in [-1e4, 1e4] m/s^2; progress_interval in (0, 1e6] s;
+!>               animation_frames integer in 0..1000 (each frame holds a displacement field)
+!>   &marker     position: 3 reals in [-1e4, 1e4] m
+!>   &joint      type: revolute, prismatic, spherical, universal or fixed; axis: 3 reals in
+!>               [-1e6, 1e6], not all zero
+!>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
+!>               N m; stall_torque in [0, 1e9] N m; free_speed in (0, 1e5] rad/s; switch_off in
+!>               [0, 1e6] s; coefficient in [0, 1e9] N m s^2
+!>   &pressure   bore, stroke in (0, 10] m; conrod_length in (0, 100] m (> stroke/2);
+!>               compression_ratio in (1, 1000]; intake_pressure, exhaust_pressure in (0, 1e9] Pa;
+!>               polytropic_exponent in (1, 3]; wiebe_a in (0, 100]; wiebe_m in [0, 100];
+!>               combustion_start_deg in [180, 540) deg; combustion_duration_deg in (0, 360] deg
+!>               (start + duration <= 540); heat_per_cycle in [-1e9, 1e9] J (negative: tuned to
+!>               target_peak_pressure); target_peak_pressure in (0, 1e10] Pa; reference_pressure
+!>               in [0, 1e9] Pa; table_file: a regular file of at most 16 MiB
+!>   &integrator h in (0, 10] s; t_end in (0, 1e6] s; rho_inf in [0, 1]; newton_atol in (0, 1];
+!>               newton_rtol in (0, 1); max_iterations in 1..1000; min_step in (0, 10] s (<= h);
+!>               rank_rtol in (0, 1); tangent_reuse in 0..1000000; max_steps (integer, default
+!>               10 000 000): the largest number of steps (t_end - t_start)/h a run may take,
+!>               raise it on purpose for a longer run; checkpoint_steps integer >= 0,
+!>               checkpoint_seconds in [0, 1e9] s (the checkpoint work)
+!>   &model      speed_tolerance, force_tolerance in (0, 1); candidate_modes in 1..200;
+!>               resonance_floor in (0, 1]
 module ffrf_io_nml_mechanism
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_io_nml_common, only: namelist_read_error
+   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
+      nml_source_t
    use ffrf_mbs_mechanism_input, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t
    use ffrf_mbs_pressure, only: pressure_input_t
@@ -28,49 +56,119 @@ module ffrf_io_nml_mechanism
    use ffrf_mbs_joints, only: joint_kinds
    implicit none
    private
-   public :: read_mechanism_groups, has_group
+   public :: read_mechanism_groups
+   public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
+      model_keys
 
    !> Load types &load accepts
    character(len=*), parameter :: load_types = 'pressure, starter, drag, force, torque'
 
 contains
 
-   !> .true. when the open case file has a line starting with &<group> (any case).
-   function has_group(unit, group) result(found)
-      integer, intent(in) :: unit
-      character(len=*), intent(in) :: group
-      logical :: found
-      character(len=512) :: line
-      integer :: stat, n
-      found = .false.
-      n = len(group) + 1
-      rewind (unit)
-      do
-         read (unit, '(a)', iostat=stat) line
-         if (stat /= 0) exit
-         line = adjustl(line)
-         if (to_lower(line(1:n)) == '&' // group .and. scan(line(n + 1:n + 1), ' /,') == 1) then
-            found = .true.
-            exit
-         end if
-      end do
-      rewind (unit)
-   end function has_group
+   !> Keys of &mechanism (module header).
+   function mechanism_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('crank', 64), real_key('crank_angle_deg', -720.0_dp, 720.0_dp, 'deg'), &
+         real_key('crank_speed', -1.0e4_dp, 1.0e4_dp, 'rad/s'), &
+         real_key('gravity', -1.0e4_dp, 1.0e4_dp, 'm/s^2', count=3), string_key('label', 64), &
+         real_key('progress_interval', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.), &
+         integer_key('animation_frames', 0_i8, 1000_i8)]
+   end function mechanism_keys
+
+   !> Keys of &marker (module header).
+   function marker_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('body', 64), string_key('name', 64), &
+         real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3)]
+   end function marker_keys
+
+   !> Keys of &joint (module header).
+   function joint_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), choice_key('type', 16, joint_kinds), &
+         string_key('body1', 64), string_key('marker1', 64), string_key('body2', 64), &
+         string_key('marker2', 64), real_key('axis', -1.0e6_dp, 1.0e6_dp, '', count=3)]
+   end function joint_keys
+
+   !> Keys of &load (module header).
+   function load_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), choice_key('type', 16, load_types), &
+         string_key('body', 64), string_key('marker', 64), &
+         real_key('direction', -1.0e6_dp, 1.0e6_dp, '', count=3), &
+         real_key('value', -1.0e12_dp, 1.0e12_dp, 'N or N m'), &
+         real_key('stall_torque', 0.0_dp, 1.0e9_dp, 'N m'), &
+         real_key('free_speed', 0.0_dp, 1.0e5_dp, 'rad/s', lower_open=.true.), &
+         real_key('switch_off', 0.0_dp, 1.0e6_dp, 's'), &
+         real_key('coefficient', 0.0_dp, 1.0e9_dp, 'N m s^2')]
+   end function load_keys
+
+   !> Keys of &pressure (module header).
+   function pressure_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [real_key('bore', 0.0_dp, 10.0_dp, 'm', lower_open=.true.), &
+         real_key('stroke', 0.0_dp, 10.0_dp, 'm', lower_open=.true.), &
+         real_key('conrod_length', 0.0_dp, 100.0_dp, 'm', lower_open=.true.), &
+         real_key('compression_ratio', 1.0_dp, 1000.0_dp, '', lower_open=.true.), &
+         real_key('intake_pressure', 0.0_dp, 1.0e9_dp, 'Pa', lower_open=.true.), &
+         real_key('exhaust_pressure', 0.0_dp, 1.0e9_dp, 'Pa', lower_open=.true.), &
+         real_key('polytropic_exponent', 1.0_dp, 3.0_dp, '', lower_open=.true.), &
+         real_key('wiebe_a', 0.0_dp, 100.0_dp, '', lower_open=.true.), &
+         real_key('wiebe_m', 0.0_dp, 100.0_dp, ''), &
+         real_key('combustion_start_deg', 180.0_dp, 540.0_dp, 'deg', upper_open=.true.), &
+         real_key('combustion_duration_deg', 0.0_dp, 360.0_dp, 'deg', lower_open=.true.), &
+         real_key('heat_per_cycle', -1.0e9_dp, 1.0e9_dp, 'J'), &
+         real_key('target_peak_pressure', 0.0_dp, 1.0e10_dp, 'Pa', lower_open=.true.), &
+         real_key('reference_pressure', 0.0_dp, 1.0e9_dp, 'Pa'), string_key('table_file', 256)]
+   end function pressure_keys
+
+   !> Keys of &integrator (module header). max_steps is read from the source by ffrf_io_case
+   !> (not a namelist key); checkpoint_steps and checkpoint_seconds belong to the checkpoint work.
+   function integrator_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [real_key('h', 0.0_dp, 10.0_dp, 's', lower_open=.true.), &
+         real_key('t_end', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.), &
+         real_key('rho_inf', 0.0_dp, 1.0_dp, ''), &
+         real_key('newton_atol', 0.0_dp, 1.0_dp, '', lower_open=.true.), &
+         real_key('newton_rtol', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
+         integer_key('max_iterations', 1_i8, 1000_i8), &
+         real_key('min_step', 0.0_dp, 10.0_dp, 's', lower_open=.true.), &
+         real_key('rank_rtol', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
+         choice_key('jacobian', 16, 'adaptive, step, full'), &
+         integer_key('tangent_reuse', 0_i8, 1000000_i8), &
+         integer_key('max_steps', 1_i8, 1000000000000_i8, in_namelist=.false.), &
+         integer_key('checkpoint_steps', 0_i8, int(huge(1), i8)), &
+         real_key('checkpoint_seconds', 0.0_dp, 1.0e9_dp, 's')]
+   end function integrator_keys
+
+   !> Keys of &model (module header).
+   function model_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [choice_key('selection', 16, 'auto, manual'), &
+         real_key('speed_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
+         real_key('force_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
+         integer_key('candidate_modes', 1_i8, 200_i8), &
+         real_key('resonance_floor', 0.0_dp, 1.0_dp, '', lower_open=.true.)]
+   end function model_keys
 
    !> Read every mechanism group of the open case file.
-   subroutine read_mechanism_groups(unit, input, error)
+   subroutine read_mechanism_groups(unit, src, input, error)
       integer, intent(in) :: unit
+      !> The checked case text (FILE:LINE of the keys)
+      type(nml_source_t), intent(in) :: src
       type(mechanism_case_input_t), intent(out) :: input
       type(error_t), allocatable, intent(out) :: error
       call read_mechanism_group(unit, input%mechanism, error)
-      if (.not. allocated(error)) call read_marker_groups(unit, input%markers, error)
-      if (.not. allocated(error)) call read_joint_groups(unit, input%joints, error)
-      if (.not. allocated(error)) call read_load_groups(unit, input%loads, error)
+      if (.not. allocated(error)) call read_marker_groups(unit, src, input%markers, error)
+      if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
+      if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
-      if (.not. allocated(error)) call read_integrator_group(unit, input%integrator, &
+      if (.not. allocated(error)) call read_integrator_group(unit, src, input%integrator, &
          input%model%h_given, error)
       if (.not. allocated(error)) call read_model_group(unit, input%model, error)
+      if (.not. allocated(error)) input%max_steps = src%integer_value('integrator', 1, &
+         'max_steps', input%max_steps)
    end subroutine read_mechanism_groups
 
    !> &model: automatic model selection and its error targets.
@@ -158,8 +256,9 @@ contains
          progress_interval, animation_frames)
    end subroutine read_mechanism_group
 
-   subroutine read_marker_groups(unit, markers, error)
+   subroutine read_marker_groups(unit, src, markers, error)
       integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
       type(marker_input_t), allocatable, intent(out) :: markers(:)
       type(error_t), allocatable, intent(out) :: error
       type(marker_input_t) :: defaults
@@ -183,21 +282,22 @@ contains
          end if
          k = size(markers) + 1
          if (len_trim(body) == 0 .or. len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&marker #' // to_str(k) // &
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, '') // &
                ': body and name are required')
             return
          end if
          if (any(markers%body == body .and. markers%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&marker #' // to_str(k) // ' "' // &
-               trim(name) // '" of body "' // trim(body) // '" is given twice')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'name') // &
+               ': marker "' // trim(name) // '" of body "' // trim(body) // '" is given twice')
             return
          end if
          markers = [markers, marker_input_t(body, name, position)]
       end do
    end subroutine read_marker_groups
 
-   subroutine read_joint_groups(unit, joints, error)
+   subroutine read_joint_groups(unit, src, joints, error)
       integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
       type(joint_input_t), allocatable, intent(out) :: joints(:)
       type(error_t), allocatable, intent(out) :: error
       type(joint_input_t) :: defaults
@@ -226,13 +326,14 @@ contains
                'name, type, body1, marker1, body2, marker2, axis')
             return
          end if
-         where = '&joint #' // to_str(k) // ' "' // trim(name) // '"'
+         where = src%where('joint', k, '') // ' "' // trim(name) // '"'
          type = to_lower(type)
          if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&joint #' // to_str(k) // &
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, '') // &
                ': name is missing')
          else if (any(joints%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': the name is used twice')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'name') // &
+               ': the name is used twice; joint names must be unique')
          else if (index(joint_kinds, trim(type)) == 0 .or. len_trim(type) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type = ''' // trim(type) // &
                ''', must be one of ' // joint_kinds)
@@ -244,7 +345,8 @@ contains
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1 and body2 are both "' // &
                trim(body1) // '"; a joint connects two different bodies')
          else if (.not. (norm2(axis) > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': axis is zero')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'axis') // &
+               ': the axis is zero; give a direction')
          end if
          if (allocated(error)) return
          joints = [joints, joint_input_t(name, type, body1, marker1, body2, marker2, &
@@ -252,8 +354,9 @@ contains
       end do
    end subroutine read_joint_groups
 
-   subroutine read_load_groups(unit, loads, error)
+   subroutine read_load_groups(unit, src, loads, error)
       integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
       type(load_input_t), allocatable, intent(out) :: loads(:)
       type(error_t), allocatable, intent(out) :: error
       type(load_input_t) :: defaults
@@ -288,7 +391,7 @@ contains
          end if
          type = to_lower(type)
          if (len_trim(name) == 0) name = type
-         where = '&load #' // to_str(k) // ' "' // trim(name) // '"'
+         where = src%where('load', k, '') // ' "' // trim(name) // '"'
          if (all(type /= [character(len=16) :: 'pressure', 'starter', 'drag', 'force', &
             'torque'])) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type = ''' // trim(type) // &
@@ -296,7 +399,8 @@ contains
          else if (len_trim(body) == 0 .or. len_trim(marker) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body and marker are required')
          else if (.not. (norm2(direction) > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': direction is zero')
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('load', k, 'direction') // &
+               ': the direction is zero; give a direction')
          else if (type == 'starter' .and. .not. (free_speed > 0.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': free_speed = ' // &
                to_str(free_speed) // ' rad/s, must be > 0')
@@ -355,8 +459,9 @@ contains
          reference_pressure, input%step_deg)
    end subroutine read_pressure_group
 
-   subroutine read_integrator_group(unit, settings, h_given, error)
+   subroutine read_integrator_group(unit, src, settings, h_given, error)
       integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
       type(galpha_settings_t), intent(inout) :: settings
       !> .true. when the group gives h
       logical, intent(out) :: h_given
@@ -394,7 +499,7 @@ contains
             return
          end if
       end if
-      h_given = h /= -1.0_dp
+      h_given = src%has_key('integrator', 1, 'h')
       if (h_given) settings%h = h
       settings%t_end = t_end
       settings%rho_inf = rho_inf
@@ -416,8 +521,14 @@ contains
             trim(jacobian) // ''', must be ''adaptive'', ''step'' or ''full''')
          return
       end select
+      if (.not. (settings%min_step <= settings%h)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'min_step') // &
+            ': must not exceed h = ' // to_str(settings%h) // ' s')
+         return
+      end if
       call check_galpha_settings(settings, error)
-      if (allocated(error)) error%message = '&integrator: ' // error%message
+      if (allocated(error)) error%message = src%where('integrator', 1, '') // ': ' // &
+         error%message
    end subroutine read_integrator_group
 
 end module ffrf_io_nml_mechanism

@@ -1,29 +1,46 @@
-!> Namelist group &modes (optional): the constrained normal modes of every flexible body.
-!>   num_modes    flexible modes per body (default 12)
+!> Namelist group &modes (optional, single): the constrained normal modes of every flexible body.
+!>   num_modes    flexible modes per body (default 12), integer in 1..10000
 !>   shift_hz     shift of the shift-invert Lanczos as a frequency [Hz]; negative: sigma < 0;
-!>                0 (default): automatic, 1 % of the body's wave frequency sqrt(E/rho)/L, negative
+!>                0 (default): automatic, 1 % of the body's wave frequency sqrt(E/rho)/L, negative;
+!>                a finite real in [-1e9, 1e9] Hz
 !>   formulation  'multipliers' (default, scalable) or 'null_space' (explicit LAPACK null spaces)
-!>   rc_label     label of the RC set for tables and plots (e.g. 'RC set 1')
-!>   tolerance    ARPACK relative tolerance (default 1e-9; 0: machine precision)
-!>   lanczos_vectors  Lanczos basis size, ARPACK's ncv (default 0: max(2 num_modes + 1, 20))
+!>   rc_label     label of the RC set for tables and plots (e.g. 'RC set 1'), <= 64 characters
+!>   tolerance    ARPACK relative tolerance (default 1e-9; 0: machine precision), in [0, 1e-2)
+!>   lanczos_vectors  Lanczos basis size, ARPACK's ncv (default 0: max(2 num_modes + 1, 20)),
+!>                integer in 0..100000, > num_modes unless 0
 !>   basis        'rc_normal' (default: constrained normal modes of the RC set) or
 !>                'craig_bampton' (static constraint modes of the non-RC virtual-node dofs +
 !>                num_modes fixed-interface modes, orthonormalised; Heirman & Desmet 2010)
 module ffrf_io_nml_modes
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: modes_input_t
    use ffrf_io_nml_common, only: namelist_read_error
+   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
+      nml_source_t
    implicit none
    private
-   public :: read_modes_group
+   public :: read_modes_group, modes_keys
 
 contains
 
+   !> Keys of &modes, their types and ranges (module header).
+   function modes_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [integer_key('num_modes', 1_i8, 10000_i8), &
+         real_key('shift_hz', -1.0e9_dp, 1.0e9_dp, 'Hz'), &
+         choice_key('formulation', 16, 'multipliers, null_space'), string_key('rc_label', 64), &
+         real_key('tolerance', 0.0_dp, 1.0e-2_dp, '', upper_open=.true.), &
+         integer_key('lanczos_vectors', 0_i8, 100000_i8), &
+         choice_key('basis', 16, 'rc_normal, craig_bampton')]
+   end function modes_keys
+
    !> Read &modes (optional group; defaults from modes_input_t).
-   subroutine read_modes_group(unit, input, error)
+   subroutine read_modes_group(unit, src, input, error)
       integer, intent(in) :: unit
+      !> The checked case text (FILE:LINE of the keys)
+      type(nml_source_t), intent(in) :: src
       type(modes_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
       integer :: num_modes, lanczos_vectors
@@ -63,8 +80,8 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: basis = "' // trim(basis) // &
             '"; use "rc_normal" (constrained normal modes) or "craig_bampton"')
       else if (lanczos_vectors /= 0 .and. lanczos_vectors <= num_modes) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: lanczos_vectors = ' // &
-            to_str(lanczos_vectors) // ' must exceed num_modes = ' // to_str(num_modes) // &
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'lanczos_vectors') // &
+            ': must exceed num_modes = ' // to_str(num_modes) // &
             ' (about twice num_modes; 0 = automatic)')
       else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &

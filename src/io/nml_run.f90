@@ -1,15 +1,21 @@
-!> Namelist group &run (optional): what the run is called and where its results go.
-!>   title            free text, echoed in the results and the log
-!>   output           results file (HDF5), relative to the output directory; default <case>.h5
-!>   mode_shapes_msh  Gmsh file to animate the modes (default <case>_modes.msh; 'none': no file)
+!> Namelist group &run (optional, single): what the run is called and where its results go.
+!>   title            free text, echoed in the results and the log (at most 256 characters)
+!>   output           results file (HDF5), relative to the output directory; default <case>.h5.
+!>                    At most 256 characters; a relative path without '..' (outputs stay inside
+!>                    --output-dir)
+!>   mode_shapes_msh  Gmsh file to animate the modes (default <case>_modes.msh; 'none': no file);
+!>                    same rules as output
 !>   log_level        'quiet', 'info' (default) or 'debug'
+!> Types, lengths and choices are checked by ffrf_io_nml_source from run_keys; the output
+!> paths by ffrf_io_case.
 module ffrf_io_nml_run
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
    use ffrf_io_nml_common, only: namelist_read_error
+   use ffrf_io_nml_source, only: key_spec_t, string_key, choice_key
    implicit none
    private
-   public :: run_input_t, read_run_group
+   public :: run_input_t, read_run_group, run_keys
 
    !> Resolved &run input.
    type :: run_input_t
@@ -20,6 +26,13 @@ module ffrf_io_nml_run
    end type run_input_t
 
 contains
+
+   !> Keys of &run, their types and what is allowed (module header).
+   function run_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('title', 256), string_key('output', 256), &
+         string_key('mode_shapes_msh', 256), choice_key('log_level', 16, 'quiet, info, debug')]
+   end function run_keys
 
    !> Read &run from an open case file (optional group; defaults kept when absent).
    subroutine read_run_group(unit, input, error)

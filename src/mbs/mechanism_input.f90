@@ -2,7 +2,7 @@
 !> keys, &marker, &joint, &load, &pressure, &integrator, &mechanism; readers in
 !> src/io/nml_mechanism.f90 and src/io/nml_body.f90). SI units; angles in degrees where named so.
 module ffrf_mbs_mechanism_input
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_mbs_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    implicit none
@@ -120,6 +120,9 @@ module ffrf_mbs_mechanism_input
       type(pressure_input_t) :: pressure
       character(len=256) :: pressure_table = ''
       type(galpha_settings_t) :: integrator
+      !> Largest number of integration steps (t_end - t_start)/h a run may take (&integrator
+      !> max_steps): a guard against a slip such as t_end = 1e5; raise it on purpose
+      integer(i8) :: max_steps = 10000000_i8
       type(model_input_t) :: model
    end type mechanism_case_input_t
 

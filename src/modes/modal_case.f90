@@ -15,7 +15,7 @@ module ffrf_modes_modal_case
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    implicit none
    private
-   public :: run_options_t, run_modal_case, set_log_level
+   public :: run_options_t, run_modal_case, run_modal, set_log_level
 
    !> Where inputs come from and results go, and how much to log.
    type :: run_options_t
@@ -29,7 +29,7 @@ module ffrf_modes_modal_case
 
 contains
 
-   !> Run the modal case `case_file`; progress goes to `log`'s unit.
+   !> Run the modal case `case_file` ('-': standard input): read_case, then run_modal.
    subroutine run_modal_case(case_file, options, log, error)
       !> Namelist case file
       character(len=*), intent(in) :: case_file
@@ -38,8 +38,22 @@ contains
       !> Logger (its level is set from the case unless the options fix it)
       type(logger_t), intent(inout) :: log
       type(error_t), allocatable, intent(out) :: error
-      type(error_t), allocatable :: close_error
       type(case_input_t) :: case
+      call read_case(case_file, case, error)
+      if (.not. allocated(error)) call run_modal(case, options, log, error)
+   end subroutine run_modal_case
+
+   !> Run a modal case read by read_case; progress goes to `log`'s unit.
+   subroutine run_modal(case, options, log, error)
+      !> The case, read and checked
+      type(case_input_t), intent(in) :: case
+      !> Folders and log level
+      type(run_options_t), intent(in) :: options
+      !> Logger (its level is set from the case unless the options fix it)
+      type(logger_t), intent(inout) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: close_error
+      character(len=:), allocatable :: case_file
       type(h5_file_t) :: h5
       type(stage_times_t) :: times
       type(stage_timer_t) :: total, output_timer
@@ -48,8 +62,7 @@ contains
       integer :: k
 
       call total%begin()
-      call read_case(case_file, case, error)
-      if (allocated(error)) return
+      case_file = case%file_name
       call set_log_level(log, options, case%run%log_level)
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
@@ -99,7 +112,7 @@ contains
       end if
       call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
          'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
-   end subroutine run_modal_case
+   end subroutine run_modal
 
    !> The log level of the command line options, else that of the case ('quiet', 'info',
    !> 'debug').

@@ -94,7 +94,10 @@ contains
          return
       end select
       call parse_dofs(input%rc, iface%rc, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         call add_context(error, 'rc = "' // trim(input%rc) // '"')
+         return
+      end if
 
       call body%group_triangles(iface%name, triangles, error)
       if (allocated(error)) return
@@ -152,7 +155,8 @@ contains
    end subroutine build_interface
 
    !> Parse forbidden dofs: names Tx Ty Tz Rx Ry Rz (any case, separated by blanks or commas) or
-   !> Nastran component digits ('123456'); '', 'none' or '-' mean no reference condition.
+   !> Nastran component digits ('123456'); '', 'none' or '-' mean no reference condition. A dof
+   !> named twice ('Tx Tx', '113') is an error: it is a slip, not a stronger condition.
    subroutine parse_dofs(text, dofs, error)
       !> Text to parse
       character(len=*), intent(in) :: text
@@ -184,14 +188,26 @@ contains
             if (token == to_lower(DOF_NAMES(i))) d = i
          end do
          if (d > 0) then
+            if (dofs(d)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'dof ' // DOF_NAMES(d) // &
+                  ' is given twice; name each dof once (Tx Ty Tz Rx Ry Rz or digits 1-6)')
+               return
+            end if
             dofs(d) = .true.
          else if (verify(token, '123456') == 0) then
             do i = 1, len(token)
-               dofs(iachar(token(i:i)) - iachar('0')) = .true.
+               d = iachar(token(i:i)) - iachar('0')
+               if (dofs(d)) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'dof ' // DOF_NAMES(d) // ' (' // &
+                     token(i:i) // ') is given twice; name each dof once (Tx Ty Tz Rx Ry Rz ' // &
+                     'or digits 1-6)')
+                  return
+               end if
+               dofs(d) = .true.
             end do
          else
-            call fatal_error(error, FFRF_INPUT_ERROR, 'rc = "' // trim(text) // &
-               '": unknown dof "' // token // '"; use Tx Ty Tz Rx Ry Rz or Nastran digits 1-6')
+            call fatal_error(error, FFRF_INPUT_ERROR, 'unknown dof "' // token // &
+               '"; use Tx Ty Tz Rx Ry Rz or Nastran digits 1-6')
             return
          end if
       end do

@@ -20,9 +20,10 @@
 !> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
 !> (its marker axes are the body axes): this is checked.
 module ffrf_sim_mechanism_builder
-   use ffrf_core_kinds, only: dp, pi
+   use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_posix, only: check_input_file
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
    use ffrf_io_case, only: case_input_t, body_index
@@ -42,7 +43,7 @@ module ffrf_sim_mechanism_builder
       select_body_model, select_step
    implicit none
    private
-   public :: built_body_t, build_mechanism, frame_from_axis
+   public :: built_body_t, build_mechanism, frame_from_axis, make_pressure_model
 
    !> What the run keeps of each &body.
    type :: built_body_t
@@ -463,50 +464,76 @@ contains
    end subroutine add_loads
 
    !> The single-zone model of &pressure, or the user's table (angle in deg, absolute pressure
-   !> in Pa, one pair per line, '#' comments).
+   !> in Pa, one pair per line, '#' comments). The table must be a regular file of at most
+   !> MAX_TABLE_BYTES (a FIFO or device would never end); its rows are counted before the
+   !> arrays are allocated, and every number must be finite.
    subroutine make_pressure_model(case, pressure, error)
       type(case_input_t), intent(in) :: case
       type(pressure_model_t), intent(out) :: pressure
       type(error_t), allocatable, intent(out) :: error
+      !> Largest pressure table read (bytes): 16 MiB, ~500 000 rows (0.1 deg needs 7200)
+      integer(i8), parameter :: MAX_TABLE_BYTES = 16_i8 * 1024_i8**2
       real(dp), allocatable :: angles(:), values(:)
       real(dp) :: pair(2)
       character(len=512) :: line, msg
-      character(len=:), allocatable :: file_name
-      integer :: unit, stat, line_number
+      character(len=:), allocatable :: file_name, where
+      integer :: unit, stat, line_number, rows, pass, n
       if (len_trim(case%mechanism%pressure_table) == 0) then
          call pressure%init(case%mechanism%pressure, error)
          if (allocated(error)) call add_context(error, '&pressure')
          return
       end if
       file_name = trim(case%mechanism%pressure_table)
+      where = '&pressure table_file "' // file_name // '"'
+      call check_input_file(file_name, '&pressure table_file', MAX_TABLE_BYTES, error)
+      if (allocated(error)) return
       open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
       if (stat /= 0) then
-         call fatal_error(error, FFRF_IO_ERROR, '&pressure table_file "' // file_name // &
-            '": ' // trim(msg))
+         call fatal_error(error, FFRF_IO_ERROR, where // ': ' // trim(msg))
          return
       end if
-      allocate (angles(0), values(0))
-      line_number = 0
-      do
-         read (unit, '(a)', iostat=stat) line
-         if (stat /= 0) exit
-         line_number = line_number + 1
-         line = adjustl(line)
-         if (len_trim(line) == 0 .or. line(1:1) == '#') cycle
-         read (line, *, iostat=stat) pair
-         if (stat /= 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&pressure table_file "' // file_name // &
-               '", line ' // to_str(line_number) // ': expected two numbers, angle (deg) ' // &
-               'and absolute pressure (Pa)')
-            close (unit)
-            return
-         end if
-         angles = [angles, pair(1)]
-         values = [values, pair(2)]
+      ! pass 1 counts the rows and checks them, pass 2 stores them
+      rows = 0
+      do pass = 1, 2
+         if (pass == 2) allocate (angles(rows), values(rows))
+         rewind (unit)
+         line_number = 0
+         rows = 0
+         do
+            read (unit, '(a)', advance='no', iostat=stat, size=n) line
+            if (is_iostat_end(stat)) exit
+            line_number = line_number + 1
+            if (stat == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ', line ' // &
+                  to_str(line_number) // ': longer than ' // to_str(len(line)) // &
+                  ' characters; one angle and one pressure per line')
+               exit
+            else if (.not. is_iostat_eor(stat)) then
+               call fatal_error(error, FFRF_IO_ERROR, where // ', line ' // &
+                  to_str(line_number) // ': cannot read it')
+               exit
+            end if
+            line = adjustl(line(:n))
+            if (len_trim(line) == 0 .or. line(1:1) == '#') cycle
+            read (line, *, iostat=stat) pair
+            if (stat /= 0 .or. .not. all(abs(pair) <= huge(1.0_dp))) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ', line ' // &
+                  to_str(line_number) // ': expected two numbers, angle (deg) ' // &
+                  'and absolute pressure (Pa), both finite')
+               exit
+            end if
+            rows = rows + 1
+            if (pass == 2) then
+               angles(rows) = pair(1)
+               values(rows) = pair(2)
+            end if
+         end do
+         if (allocated(error)) exit
       end do
       close (unit)
+      if (allocated(error)) return
       call pressure%init_from_table(case%mechanism%pressure, angles, values, error)
-      if (allocated(error)) call add_context(error, '&pressure table_file "' // file_name // '"')
+      if (allocated(error)) call add_context(error, where)
    end subroutine make_pressure_model
 
    !> Starting pose: every body at its &body position with identity Euler parameters and zero

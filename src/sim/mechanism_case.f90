@@ -19,7 +19,6 @@ module ffrf_sim_mechanism_case
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
    use ffrf_io_case, only: case_input_t, read_case, case_echo
-   use ffrf_io_nml_mechanism, only: has_group
    use ffrf_io_engine_results, only: engine_results_t
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_modes_modal_case, only: run_options_t, set_log_level
@@ -32,7 +31,7 @@ module ffrf_sim_mechanism_case
    use ffrf_sim_auto_model, only: model_choice_t, write_model_choice
    implicit none
    private
-   public :: run_mechanism_case, case_is_mechanism
+   public :: run_mechanism_case, run_mechanism
 
    !> Rows of a joint reaction record: force and moment on body 1, then on body 2
    integer, parameter :: REACTION_ROWS = 12
@@ -47,19 +46,7 @@ module ffrf_sim_mechanism_case
 
 contains
 
-   !> .true. when the case file has a &joint group (a mechanism run, not a modal one).
-   function case_is_mechanism(case_file) result(is_mechanism)
-      character(len=*), intent(in) :: case_file
-      logical :: is_mechanism
-      integer :: unit, stat
-      is_mechanism = .false.
-      open (newunit=unit, file=case_file, status='old', action='read', iostat=stat)
-      if (stat /= 0) return
-      is_mechanism = has_group(unit, 'joint')
-      close (unit)
-   end function case_is_mechanism
-
-   !> Run the mechanism case `case_file`; progress goes to `log`'s unit.
+   !> Run the mechanism case `case_file` ('-': standard input): read_case, then run_mechanism.
    subroutine run_mechanism_case(case_file, options, log, error)
       !> Namelist case file
       character(len=*), intent(in) :: case_file
@@ -69,6 +56,20 @@ contains
       type(logger_t), intent(inout) :: log
       type(error_t), allocatable, intent(out) :: error
       type(case_input_t) :: case
+      call read_case(case_file, case, error)
+      if (.not. allocated(error)) call run_mechanism(case, options, log, error)
+   end subroutine run_mechanism_case
+
+   !> Run a mechanism case read by read_case; progress goes to `log`'s unit.
+   subroutine run_mechanism(case, options, log, error)
+      !> The case, read and checked (a case with &joint groups)
+      type(case_input_t), intent(in) :: case
+      !> Folders and log level
+      type(run_options_t), intent(in) :: options
+      !> Logger (its level is set from the case unless the options fix it)
+      type(logger_t), intent(inout) :: log
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: case_file
       type(mechanism_t) :: mech
       type(built_body_t), allocatable :: bodies(:)
       type(pressure_model_t) :: pressure
@@ -85,8 +86,7 @@ contains
       logical :: has_pressure
 
       call total%begin()
-      call read_case(case_file, case, error)
-      if (allocated(error)) return
+      case_file = case%file_name
       call set_log_level(log, options, case%run%log_level)
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
@@ -153,7 +153,7 @@ contains
       end if
       call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
          'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
-   end subroutine run_mechanism_case
+   end subroutine run_mechanism
 
    !> Sizes and the redundant constraint equations found at the start.
    subroutine log_mechanism(log, mech, integrator)

@@ -1,0 +1,111 @@
+!> `ffrf --check`: everything of a case that can be checked without computing modes or
+!> integrating: the case text (ffrf_io_case), every flexible body's mesh and coarse meshes (read,
+!> the body's volumes extracted, its interfaces built: nodes, weights, virtual node, reference
+!> conditions parsed), the meshes of rigid bodies that take their mass from a mesh, and the
+!> pressure model or table of an engine. Meant for quick validation, e.g. by a fuzzer: no
+!> results file is written and no matrix is assembled.
+module ffrf_sim_check_case
+   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_paths, only: folder_of, join_path
+   use ffrf_core_log, only: logger_t
+   use ffrf_io_case, only: case_input_t
+   use ffrf_mesh_mesh, only: mesh_t, extract_body
+   use ffrf_mesh_gmsh, only: read_gmsh
+   use ffrf_mpc_interface, only: interface_t, build_interface
+   use ffrf_modes_modal_case, only: run_options_t, set_log_level
+   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_sim_mechanism_builder, only: make_pressure_model
+   implicit none
+   private
+   public :: check_case
+
+contains
+
+   !> Check `case` (read by read_case) and its meshes; no error: the case can be run.
+   subroutine check_case(case, options, log, error)
+      !> The case, read and checked
+      type(case_input_t), intent(in) :: case
+      !> Folders (the mesh folder) and log level
+      type(run_options_t), intent(in) :: options
+      !> Logger: one line per mesh checked
+      type(logger_t), intent(inout) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(pressure_model_t) :: pressure
+      character(len=:), allocatable :: mesh_dir
+      character(len=256), allocatable :: files(:)
+      logical :: flexible
+      integer :: k, f
+
+      call set_log_level(log, options, case%run%log_level)
+      mesh_dir = options%mesh_dir
+      if (len(mesh_dir) == 0) mesh_dir = folder_of(case%file_name)
+      do k = 1, size(case%bodies)
+         associate (body => case%bodies(k))
+            flexible = .true.
+            if (case%is_mechanism) flexible = case%motions(k)%type /= 'rigid'
+            if (.not. flexible .and. len_trim(body%mesh_file) == 0) cycle
+            files = [body%mesh_file]
+            if (case%is_mechanism .and. flexible) files = [pack(case%motions(k)%coarse_meshes, &
+               len_trim(case%motions(k)%coarse_meshes) > 0), files]
+            do f = 1, size(files)
+               call check_body_mesh(case, k, join_path(mesh_dir, trim(files(f))), flexible, &
+                  log, error)
+               if (allocated(error)) then
+                  call add_context(error, case%file_name // ': &body "' // trim(body%name) // &
+                     '"')
+                  return
+               end if
+            end do
+         end associate
+      end do
+      if (case%is_mechanism) then
+         if (any(case%mechanism%loads%type == 'pressure')) then
+            call make_pressure_model(case, pressure, error)
+            if (allocated(error)) then
+               call add_context(error, case%file_name)
+               return
+            end if
+         end if
+      end if
+      call log%info('check', case%file_name // ': checked, ' // to_str(size(case%bodies)) // &
+         ' bodies, ' // to_str(size(case%interfaces)) // ' interfaces: no errors')
+   end subroutine check_case
+
+   !> Read one mesh of body k, extract its volumes and (flexible) build its interfaces.
+   subroutine check_body_mesh(case, k, mesh_file, flexible, log, error)
+      type(case_input_t), intent(in) :: case
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: mesh_file
+      logical, intent(in) :: flexible
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(mesh_t) :: mesh, body_mesh
+      type(interface_t) :: iface
+      integer :: i
+      associate (body => case%bodies(k))
+         call read_gmsh(mesh_file, mesh, error)
+         if (allocated(error)) return
+         call extract_body(mesh, pack(body%volumes, len_trim(body%volumes) > 0), body_mesh, &
+            error)
+         if (allocated(error)) then
+            call add_context(error, 'mesh "' // mesh_file // '"')
+            return
+         end if
+         if (flexible) then
+            do i = 1, size(case%interfaces)
+               if (case%interfaces(i)%body /= body%name) cycle
+               call build_interface(body_mesh, case%interfaces(i), iface, error)
+               if (allocated(error)) then
+                  call add_context(error, 'mesh "' // mesh_file // '"')
+                  return
+               end if
+            end do
+         end if
+         call log%info('check', trim(body%name) // ': ' // mesh_file // ', ' // &
+            to_str(body_mesh%num_nodes) // ' nodes, ' // to_str(body_mesh%num_tets()) // &
+            ' tetrahedra')
+      end associate
+   end subroutine check_body_mesh
+
+end module ffrf_sim_check_case

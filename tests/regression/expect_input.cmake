@@ -1,0 +1,40 @@
+# Run ffrf on one input and check how it ends:
+#   cmake -DCOMMAND="prog;arg;..." -DEXIT_CODE=N [-DMESSAGE=regex] [-DINPUT_FILE=file]
+#         [-DMAX_SECONDS=s] -P expect_input.cmake
+# EXIT_CODE 0: stderr must be empty. Otherwise stderr must be ONE line "ffrf: error: ..." matching
+# MESSAGE, with no compiler runtime words ("At line", "Fortran runtime", "Backtrace"). INPUT_FILE
+# becomes the standard input. MAX_SECONDS bounds the wall time (default 10 s).
+if(NOT DEFINED MAX_SECONDS)
+  set(MAX_SECONDS 10)
+endif()
+set(input_args "")
+if(DEFINED INPUT_FILE)
+  set(input_args INPUT_FILE "${INPUT_FILE}")
+endif()
+string(TIMESTAMP start "%s")
+execute_process(COMMAND ${COMMAND} ${input_args} RESULT_VARIABLE code OUTPUT_VARIABLE out
+  ERROR_VARIABLE err TIMEOUT ${MAX_SECONDS})
+string(TIMESTAMP finish "%s")
+math(EXPR seconds "${finish} - ${start}")
+if(NOT code STREQUAL "${EXIT_CODE}")
+  message(FATAL_ERROR "exit code ${code}, expected ${EXIT_CODE}\nstdout:\n${out}\nstderr:\n${err}")
+endif()
+if(EXIT_CODE STREQUAL "0")
+  if(NOT err STREQUAL "")
+    message(FATAL_ERROR "exit 0 but stderr is not empty:\n${err}")
+  endif()
+  message(STATUS "exit 0 in ${seconds} s: ${out}")
+  return()
+endif()
+if(err MATCHES "At line|Fortran runtime|Backtrace|Cannot match namelist|Invalid string input")
+  message(FATAL_ERROR "the compiler runtime's words reach the user:\n${err}")
+endif()
+if(NOT err MATCHES "^ffrf: error: [^\n]*${MESSAGE}")
+  message(FATAL_ERROR "stderr does not match 'ffrf: error: ...${MESSAGE}':\n${err}")
+endif()
+string(REGEX MATCHALL "\n" lines "${err}")
+list(LENGTH lines num_lines)
+if(num_lines GREATER 1)
+  message(FATAL_ERROR "the error takes ${num_lines} lines, expected one:\n${err}")
+endif()
+message(STATUS "exit ${code} in ${seconds} s: ${err}")
