@@ -2,9 +2,12 @@
 !> (Gmsh reference manual, section "MSH file format"). The format is detected from $MeshFormat.
 !>
 !> Read: $MeshFormat, $PhysicalNames, $Entities (4.1: the physical tags of every entity),
-!> $Nodes, $Elements. Kept element types: 4 Tet4, 11 Tet10, 2 Tri3, 9 Tri6; other types (15
-!> points, 1 and 8 lines, quads, hexahedra ...) are skipped, and so are unknown sections
-!> ($NodeData, $Periodic, $Comments ...). In MSH 2.2 the physical groups come from the
+!> $Nodes, $Elements. Kept element types: 4 Tet4, 11 Tet10, 2 Tri3, 9 Tri6; other known types
+!> (15 points, 1 and 8 lines, quads, ...) are skipped, and so are unknown sections ($NodeData,
+!> $Periodic, $Comments ...). Volume elements that are not Tet4/Tet10 (hexahedra, prisms,
+!> pyramids, higher-order tetrahedra) are counted per entity in `mesh_t%other_volume_elements`:
+!> `extract_body` refuses a body whose volumes hold any. An element type number the reader does
+!> not know is an error (its node count is unknown). In MSH 2.2 the physical groups come from the
 !> (physical, elementary) tags of each element; an element Gmsh wrote once per physical group
 !> is kept once. Node tags may have gaps: they map to indices 1..num_nodes (file order) through
 !> a direct table when dense, else sorted tags and a binary search.
@@ -34,6 +37,14 @@
 !>
 !> (CalculiX/Abaqus C3D10 swap nodes 9 and 10 against this: toolchain pitfall 12.)
 !> Every message names the file, the section and the line (ASCII) or byte offset (binary).
+!>
+!> File-level checks (each an FFRF_INPUT_ERROR naming the file and the tag or line): the file is a
+!> regular file of at most MAX_MESH_BYTES (else FFRF_IO_ERROR, before it is opened: a FIFO would
+!> block); every count is checked against the bytes left in the file before anything is
+!> allocated for it; header counts and tag ranges must match the data; node and element tags
+!> are >= 1; coordinates are finite; ASCII coordinates and element nodes stay on their line (a
+!> missing value is reported where it is missing); a physical name appears once per dimension;
+!> an element block's type matches its entity's dimension.
 module ffrf_mesh_gmsh
    use ffrf_core_error, only: error_t
    use ffrf_mesh_mesh, only: mesh_t
@@ -60,10 +71,15 @@ end module ffrf_mesh_gmsh
 submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_parse
    use, intrinsic :: iso_fortran_env, only: int32
    use ffrf_core_kinds, only: dp, ip, i8
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
-   use ffrf_core_strings, only: to_str
-   use ffrf_mesh_mesh, only: physical_group_t, dimension_word
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_posix, only: file_kind, check_input_file, FILE_MISSING
+   use ffrf_mesh_mesh, only: physical_group_t, dimension_word, element_type_name
    implicit none
+
+   !> Largest mesh file read, bytes (4 GiB: a lc = 2 mm Tet10 crank is ~0.3 GB)
+   integer(i8), parameter :: MAX_MESH_BYTES = 4_i8 * 1024_i8**3
 
    !> Exact powers of ten for the fast real parser (10**22 < 2**53 * 2**22 is still exact).
    real(dp), parameter :: powers_of_ten(0:22) = [1.0e0_dp, 1.0e1_dp, 1.0e2_dp, 1.0e3_dp, &
@@ -146,6 +162,12 @@ submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_parse
       type(element_list_t) :: tets, tris
       !> Elements of the skipped types
       integer(i8) :: num_skipped = 0
+      !> Skipped volume elements: (entity, type, count, first element tag) per run of a block
+      integer(i8), allocatable :: other_volume(:, :)
+      !> Columns stored in `other_volume`
+      integer(ip) :: num_other_volume = 0
+      !> Smallest and largest element tag seen (MSH 4.1 header check)
+      integer(i8) :: min_element_tag = 0, max_element_tag = 0
    end type reader_t
 
 contains
@@ -286,10 +308,13 @@ contains
    subroutine read_physical_names(r, error)
       type(reader_t), intent(inout) :: r
       type(error_t), allocatable, intent(out) :: error
-      integer(ip) :: num, i
+      integer(ip) :: num, i, j
       integer(i8) :: value, closing
 
       call read_count(r%c, 'number of physical names', num, error)
+      if (allocated(error)) return
+      ! dim, blank, tag, blank, two quotes, line end: 7 bytes at least
+      call check_count_fits(r%c, 'number of physical names', int(num, i8), 7_i8, error)
       if (allocated(error)) return
       allocate (r%names(num))
       do i = 1, num
@@ -310,9 +335,37 @@ contains
             return
          end if
          r%names(i)%name = r%c%text(r%c%pos + 1:r%c%pos + closing - 1)
+         if (scan(r%names(i)%name, achar(10) // achar(13) // achar(9)) > 0) then
+            call location_error(r%c, 'the name of physical group ' // to_str(r%names(i)%tag) // &
+               ' holds a line break or tab; write it on one line', error)
+            return
+         end if
          r%c%pos = r%c%pos + closing + 1
       end do
       call expect_end(r%c, error)
+      if (allocated(error)) return
+      ! One name per (dimension, tag) and one tag per (dimension, name): of two groups with one
+      ! name, the first one found would be used silently wherever the name is given.
+      do i = 2, num
+         do j = 1, i - 1
+            if (r%names(i)%dim /= r%names(j)%dim) cycle
+            if (r%names(i)%name == r%names(j)%name .and. &
+               len(r%names(i)%name) == len(r%names(j)%name)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // r%c%file_name // &
+                  ''': $PhysicalNames: two physical ' // dimension_word(r%names(i)%dim) // &
+                  's are named ''' // r%names(i)%name // ''' (tags ' // &
+                  to_str(r%names(j)%tag) // ' and ' // to_str(r%names(i)%tag) // &
+                  '); give each physical group its own name in the .geo')
+               return
+            else if (r%names(i)%tag == r%names(j)%tag) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // r%c%file_name // &
+                  ''': $PhysicalNames: physical ' // dimension_word(r%names(i)%dim) // ' ' // &
+                  to_str(r%names(i)%tag) // ' has two names, ''' // r%names(j)%name // &
+                  ''' and ''' // r%names(i)%name // '''')
+               return
+            end if
+         end do
+      end do
    end subroutine read_physical_names
 
    !> $Entities (4.1): points, curves, surfaces, volumes, each with its physical tags.
@@ -362,22 +415,29 @@ contains
    end subroutine read_entities
 
    !> $Nodes (4.1): blocks of (entityDim, entityTag, parametric, count), tags, coordinates.
+   !> The header's node count and tag range must match the blocks.
    subroutine read_nodes_41(r, error)
       type(reader_t), intent(inout) :: r
       type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: num_blocks, num_nodes, block, dim, entity, parametric, n, first, k, i, j
-      integer(i8) :: values_per_node
+      integer(i8) :: num_blocks, num_nodes, block, dim, entity, parametric, n, first, k, i
+      integer(i8) :: values_per_node, min_tag, max_tag
       real(dp), allocatable :: values(:)
-      logical :: binary, ok
-      real(dp) :: ignored
+      logical :: binary
 
       binary = r%binary_file
       if (binary) call start_binary(r%c, error)
       if (allocated(error)) return
       call read_size(r%c, binary, 'number of node blocks', num_blocks, error)
       if (.not. allocated(error)) call read_size(r%c, binary, 'number of nodes', num_nodes, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest node tag', k, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'largest node tag', k, error)
+      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest node tag', min_tag, error)
+      if (.not. allocated(error)) call read_size(r%c, binary, 'largest node tag', max_tag, error)
+      if (allocated(error)) return
+      ! A node takes a tag and three coordinates: 4 tokens of 2 bytes at least (ASCII), 8 + 3 * 8
+      ! bytes (binary); a block header 4 tokens (ASCII), 3 ints and a size_t (binary).
+      call check_count_fits(r%c, 'number of nodes', num_nodes, merge(32_i8, 8_i8, binary), error)
+      if (allocated(error)) return
+      call check_count_fits(r%c, 'number of node blocks', num_blocks, merge(20_i8, 8_i8, binary), &
+         error)
       if (allocated(error)) return
       call allocate_nodes(r, num_nodes, error)
       if (allocated(error)) return
@@ -391,7 +451,7 @@ contains
          if (allocated(error)) return
          if (first + n > num_nodes) then
             call location_error(r%c, 'node blocks hold more nodes than the ' // &
-               to_str(num_nodes) // ' announced', error)
+               to_str(num_nodes) // ' announced in the section header', error)
             return
          end if
          values_per_node = 3
@@ -401,6 +461,13 @@ contains
             if (allocated(error)) return
             if (n > 0) r%node_tags(first + 1:first + n) = transfer(r%c%text(k:k + 8 * n - 1), &
                0_i8, int(n))
+            do i = first + 1, first + n
+               if (r%node_tags(i) < 1) then
+                  r%c%pos = k + 8 * (i - first - 1)
+                  call node_tag_error(r%c, r%node_tags(i), error)
+                  return
+               end if
+            end do
             call binary_take(r%c, 8 * n * values_per_node, 'node coordinates', k, error)
             if (allocated(error)) return
             if (n > 0) then
@@ -412,27 +479,8 @@ contains
                end do
             end if
          else
-            do i = first + 1, first + n
-               call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
-               if (.not. ok) then
-                  call syntax_error(r%c, 'expected a node tag', error)
-                  return
-               end if
-            end do
-            do i = first + 1, first + n
-               do j = 1, 3
-                  call scan_real(r%c%text, r%c%pos, r%c%line, r%xyz(j, i), ok)
-                  if (.not. ok) exit
-               end do
-               do j = 4, values_per_node
-                  if (ok) call scan_real(r%c%text, r%c%pos, r%c%line, ignored, ok)
-               end do
-               if (.not. ok) then
-                  call syntax_error(r%c, 'expected a coordinate of node ' // &
-                     to_str(r%node_tags(i)), error)
-                  return
-               end if
-            end do
+            call read_node_block_ascii(r, first, n, values_per_node, error)
+            if (allocated(error)) return
          end if
          first = first + n
       end do
@@ -442,38 +490,117 @@ contains
          return
       end if
       r%c%binary = .false.
+      call check_coordinates(r, error)
+      if (allocated(error)) return
       call build_tag_map(r, error)
       if (allocated(error)) return
+      if (num_nodes > 0 .and. (r%map%min_tag /= min_tag .or. r%map%max_tag /= max_tag)) then
+         call location_error(r%c, 'the header gives node tags ' // to_str(min_tag) // '..' // &
+            to_str(max_tag) // ', the nodes have tags ' // to_str(r%map%min_tag) // '..' // &
+            to_str(r%map%max_tag), error)
+         return
+      end if
       r%have_nodes = .true.
       call expect_end(r%c, error)
    end subroutine read_nodes_41
+
+   !> Nodes first+1 .. first+n of an ASCII 4.1 block: n tags, then n lines of coordinates
+   !> (x y z and, for parametric nodes, the parametric coordinates). A value missing from a
+   !> line is reported on that line, not where the shifted values run out.
+   subroutine read_node_block_ascii(r, first, n, values_per_node, error)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: first, n, values_per_node
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: i, j, line
+      real(dp) :: value
+      logical :: ok
+      do i = first + 1, first + n
+         call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
+         if (.not. ok) then
+            call missing_item_error(r%c, 'a node tag', 'a node block announces ' // to_str(n) // &
+               ' nodes, the section ends after ' // to_str(i - first - 1), error)
+            return
+         end if
+         if (r%node_tags(i) < 1) then
+            call node_tag_error(r%c, r%node_tags(i), error)
+            return
+         end if
+      end do
+      do i = first + 1, first + n
+         line = -1
+         do j = 1, values_per_node
+            call scan_real(r%c%text, r%c%pos, r%c%line, value, ok)
+            if (j == 1) then
+               line = r%c%line
+            else if (r%c%line /= line) then
+               call line_error(r%c, line, 'node ' // to_str(r%node_tags(i)) // ': the line ' // &
+                  'holds ' // to_str(j - 1) // ' of the node''s ' // to_str(values_per_node) // &
+                  ' coordinates; one is missing', error)
+               return
+            end if
+            if (.not. ok) then
+               call coordinate_error(r%c, r%node_tags(i), error)
+               return
+            end if
+            if (j <= 3) r%xyz(j, i) = value
+         end do
+         call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
+         if (.not. ok) then
+            call syntax_error(r%c, 'expected the end of the line after the ' // &
+               to_str(values_per_node) // ' coordinates of node ' // to_str(r%node_tags(i)), error)
+            return
+         end if
+      end do
+   end subroutine read_node_block_ascii
 
    !> $Nodes (2.2): count, then "tag x y z" lines.
    subroutine read_nodes_22(r, error)
       type(reader_t), intent(inout) :: r
       type(error_t), allocatable, intent(out) :: error
       integer(ip) :: num_nodes, i, j
+      integer(i8) :: line
       logical :: ok
 
       call read_count(r%c, 'number of nodes', num_nodes, error)
+      if (allocated(error)) return
+      call check_count_fits(r%c, 'number of nodes', int(num_nodes, i8), 8_i8, error)
       if (allocated(error)) return
       call allocate_nodes(r, int(num_nodes, i8), error)
       if (allocated(error)) return
       do i = 1, num_nodes
          call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
          if (.not. ok) then
-            call syntax_error(r%c, 'expected a node tag', error)
+            call missing_item_error(r%c, 'a node tag', '$Nodes announces ' // &
+               to_str(num_nodes) // ' nodes, the section ends after ' // to_str(i - 1), error)
             return
          end if
+         if (r%node_tags(i) < 1) then
+            call node_tag_error(r%c, r%node_tags(i), error)
+            return
+         end if
+         line = r%c%line
          do j = 1, 3
             call scan_real(r%c%text, r%c%pos, r%c%line, r%xyz(j, i), ok)
+            if (r%c%line /= line) then
+               call line_error(r%c, line, 'node ' // to_str(r%node_tags(i)) // ': the line ' // &
+                  'holds ' // to_str(j - 1) // ' of the node''s 3 coordinates; one is missing', &
+                  error)
+               return
+            end if
             if (.not. ok) then
-               call syntax_error(r%c, 'expected a coordinate of node ' // &
-                  to_str(r%node_tags(i)), error)
+               call coordinate_error(r%c, r%node_tags(i), error)
                return
             end if
          end do
+         call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
+         if (.not. ok) then
+            call syntax_error(r%c, 'expected the end of the line after the coordinates of ' // &
+               'node ' // to_str(r%node_tags(i)), error)
+            return
+         end if
       end do
+      call check_coordinates(r, error)
+      if (allocated(error)) return
       call build_tag_map(r, error)
       if (allocated(error)) return
       r%have_nodes = .true.
@@ -481,13 +608,14 @@ contains
    end subroutine read_nodes_22
 
    !> $Elements (4.1): blocks of (entityDim, entityTag, type, count), then per element its tag
-   !> and node tags (one line each in ASCII).
+   !> and node tags (one line each in ASCII). The header's element count and tag range must
+   !> match the blocks, every type must be known and of its entity's dimension.
    subroutine read_elements_41(r, error)
       type(reader_t), intent(inout) :: r
       type(error_t), allocatable, intent(out) :: error
       integer(i8) :: num_blocks, num_elements, block, dim, entity, element_type, n, k, e, j
       integer(i8), allocatable :: values(:)
-      integer(i8) :: node_tag
+      integer(i8) :: node_tag, min_tag, max_tag, total, tag, first_tag, data_start
       integer(ip) :: nodes_per_element, index
       logical :: binary, ok
 
@@ -497,9 +625,20 @@ contains
       call read_size(r%c, binary, 'number of element blocks', num_blocks, error)
       if (.not. allocated(error)) call read_size(r%c, binary, 'number of elements', &
          num_elements, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest element tag', k, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'largest element tag', k, error)
+      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest element tag', min_tag, &
+         error)
+      if (.not. allocated(error)) call read_size(r%c, binary, 'largest element tag', max_tag, &
+         error)
       if (allocated(error)) return
+      call check_count_fits(r%c, 'number of elements', num_elements, merge(16_i8, 4_i8, binary), &
+         error)
+      if (allocated(error)) return
+      call check_count_fits(r%c, 'number of element blocks', num_blocks, &
+         merge(20_i8, 8_i8, binary), error)
+      if (allocated(error)) return
+      total = 0
+      r%min_element_tag = huge(0_i8)
+      r%max_element_tag = -huge(0_i8)
       do block = 1, num_blocks
          call read_tag(r%c, binary, 'entity dimension of an element block', dim, error)
          if (.not. allocated(error)) call read_tag(r%c, binary, 'entity tag', entity, error)
@@ -512,7 +651,33 @@ contains
                '32-bit indices hold', error)
             return
          end if
-         nodes_per_element = nodes_of_type(int(element_type, ip))
+         if (element_type < 1 .or. element_type > huge(0_ip)) then
+            nodes_per_element = -1
+         else
+            nodes_per_element = nodes_of_type(int(element_type, ip))
+         end if
+         if (nodes_per_element < 0) then
+            call unknown_type_error(r%c, element_type, 'the element block of ' // &
+               dimension_word(int(max(0_i8, min(3_i8, dim)), ip)) // ' entity ' // &
+               to_str(entity), error)
+            return
+         end if
+         if (dim_of_type(int(element_type, ip)) /= dim) then
+            call location_error(r%c, 'an element block of entity dimension ' // to_str(dim) // &
+               ' (entity ' // to_str(entity) // ') holds ' // type_name(element_type) // &
+               ' elements, which have dimension ' // &
+               to_str(dim_of_type(int(element_type, ip))), error)
+            return
+         end if
+         call check_count_fits(r%c, 'elements in block', n, &
+            merge(8_i8, 2_i8, binary) * (nodes_per_element + 1), error)
+         if (allocated(error)) return
+         total = total + n
+         if (total > num_elements) then
+            call location_error(r%c, 'element blocks hold more elements than the ' // &
+               to_str(num_elements) // ' announced in the section header', error)
+            return
+         end if
          if (.not. binary) then
             call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
             if (.not. ok) then
@@ -529,6 +694,7 @@ contains
                if (n == 0) cycle
                values = transfer(r%c%text(k:k + 8 * n * (nodes_per_element + 1) - 1), 0_i8, &
                   int(n * (nodes_per_element + 1)))
+               data_start = k
             end if
             do e = 1, n
                if (element_type == 4 .or. element_type == 11) then
@@ -539,6 +705,11 @@ contains
                if (allocated(error)) return
                if (binary) then
                   k = (e - 1) * (nodes_per_element + 1)
+                  if (values(k + 1) < 1) then
+                     r%c%pos = data_start + 8 * k
+                     call element_tag_error(r%c, values(k + 1), error)
+                     return
+                  end if
                   do j = 1, nodes_per_element
                      node_tag = values(k + 1 + j)
                      index = node_index(r%map, node_tag)
@@ -557,22 +728,48 @@ contains
             end do
          case default
             r%num_skipped = r%num_skipped + n
+            first_tag = 0
             if (binary) then
-               if (nodes_per_element < 0) then
-                  call location_error(r%c, 'element type ' // to_str(element_type) // &
-                     ' is unknown to ffrf, so a binary block of it cannot be skipped; ' // &
-                     'save the mesh as ASCII', error)
-                  return
-               end if
                call binary_take(r%c, 8 * n * (nodes_per_element + 1), 'element data', k, error)
                if (allocated(error)) return
-            else
-               do e = 1, n
-                  call skip_line(r%c)
-               end do
             end if
+            do e = 1, n
+               if (binary) then
+                  j = k + 8 * (e - 1) * (nodes_per_element + 1)
+                  tag = transfer(r%c%text(j:j + 7), 0_i8)
+                  if (tag < 1) r%c%pos = j
+               else
+                  call scan_int(r%c%text, r%c%pos, r%c%line, tag, ok)
+                  if (.not. ok) then
+                     call missing_item_error(r%c, 'an element tag', 'the block announces ' // &
+                        to_str(n) // ' elements, the section ends after ' // to_str(e - 1), &
+                        error)
+                     return
+                  end if
+                  call skip_line(r%c)
+               end if
+               if (tag < 1) then
+                  call element_tag_error(r%c, tag, error)
+                  return
+               end if
+               if (e == 1) first_tag = tag
+               r%min_element_tag = min(r%min_element_tag, tag)
+               r%max_element_tag = max(r%max_element_tag, tag)
+            end do
+            if (dim == 3 .and. n > 0) call add_other_volume(r, entity, element_type, n, first_tag)
          end select
       end do
+      if (total /= num_elements) then
+         call location_error(r%c, 'element blocks hold ' // to_str(total) // ' elements, the ' // &
+            'header announced ' // to_str(num_elements), error)
+         return
+      end if
+      if (total > 0 .and. (r%min_element_tag /= min_tag .or. r%max_element_tag /= max_tag)) then
+         call location_error(r%c, 'the header gives element tags ' // to_str(min_tag) // '..' // &
+            to_str(max_tag) // ', the elements have tags ' // to_str(r%min_element_tag) // &
+            '..' // to_str(r%max_element_tag), error)
+         return
+      end if
       r%c%binary = .false.
       r%have_elements = .true.
       call expect_end(r%c, error)
@@ -589,11 +786,23 @@ contains
 
       call read_count(r%c, 'number of elements', num_elements, error)
       if (allocated(error)) return
+      call check_count_fits(r%c, 'number of elements', int(num_elements, i8), 8_i8, error)
+      if (allocated(error)) return
       do e = 1, num_elements
+         call skip_space(r%c%text, r%c%pos, r%c%line)
+         if (at_section_end(r%c)) then
+            call location_error(r%c, '$Elements announces ' // to_str(num_elements) // &
+               ' elements, the section ends after ' // to_str(e - 1), error)
+            return
+         end if
          call read_int(r%c, 'element tag', tag, error)
          if (.not. allocated(error)) call read_int(r%c, 'element type', element_type, error)
          if (.not. allocated(error)) call read_int(r%c, 'number of tags', num_tags, error)
          if (allocated(error)) return
+         if (tag < 1) then
+            call element_tag_error(r%c, tag, error)
+            return
+         end if
          physical = 0
          elementary = 0
          do j = 1, num_tags
@@ -605,10 +814,17 @@ contains
             if (j == 1) physical = value
             if (j == 2) elementary = value
          end do
-         nodes_per_element = nodes_of_type(int(element_type, ip))
+         if (element_type < 1 .or. element_type > huge(0_ip)) then
+            nodes_per_element = -1
+         else
+            nodes_per_element = nodes_of_type(int(element_type, ip))
+         end if
+         if (nodes_per_element < 0) then
+            call unknown_type_error(r%c, element_type, 'element ' // to_str(tag), error)
+            return
+         end if
          dim = dim_of_type(int(element_type, ip))
-         if (physical /= 0 .and. dim >= 0) call add_link(r, dim, int(physical, ip), &
-            int(elementary, ip))
+         if (physical /= 0) call add_link(r, dim, int(physical, ip), int(elementary, ip))
          select case (element_type)
          case (4, 11, 2, 9)
             if (element_type == 4 .or. element_type == 11) then
@@ -622,6 +838,7 @@ contains
             if (allocated(error)) return
          case default
             r%num_skipped = r%num_skipped + 1
+            if (dim == 3) call add_other_volume(r, elementary, element_type, 1_i8, tag)
             call skip_line(r%c)
          end select
       end do
@@ -807,6 +1024,8 @@ contains
       type(reader_t), intent(inout) :: r
       integer(i8), intent(in) :: element_type, tag
       integer(ip), intent(in) :: entity
+      r%min_element_tag = min(r%min_element_tag, tag)
+      r%max_element_tag = max(r%max_element_tag, tag)
       if (element_type == 4 .or. element_type == 11) then
          r%tets%count = r%tets%count + 1
          r%tets%tags(r%tets%count) = tag
@@ -827,7 +1046,7 @@ contains
       !> Element tag already read (2.2), or -1 to read it here (4.1)
       integer(i8), intent(in) :: tag
       type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: element_tag, node_tag
+      integer(i8) :: element_tag, node_tag, line
       integer(ip) :: j, index
       logical :: ok
 
@@ -835,18 +1054,37 @@ contains
       if (tag < 0) then
          call scan_int(r%c%text, r%c%pos, r%c%line, element_tag, ok)
          if (.not. ok) then
-            call syntax_error(r%c, 'expected an element tag', error)
+            call missing_item_error(r%c, 'an element tag', 'the element block holds fewer ' // &
+               'elements than its header announces', error)
+            return
+         end if
+         if (element_tag < 1) then
+            call element_tag_error(r%c, element_tag, error)
             return
          end if
       end if
+      line = r%c%line
       do j = 1, nodes_per_element
          call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
+         if (r%c%line /= line) then
+            call line_error(r%c, line, 'element ' // to_str(element_tag) // ' (' // &
+               type_name(element_type) // ') lists ' // to_str(j - 1) // ' of its ' // &
+               to_str(nodes_per_element) // ' nodes; a node is missing', error)
+            return
+         end if
          if (.not. ok) then
             call syntax_error(r%c, 'expected node ' // to_str(j) // ' of element ' // &
                to_str(element_tag) // ' (' // type_name(element_type) // ')', error)
             return
          end if
-         index = node_index(r%map, node_tag)
+         ! The direct table inline (this loop reads every node of every element)
+         index = 0
+         if (r%map%dense) then
+            if (node_tag >= r%map%min_tag .and. node_tag <= r%map%max_tag) &
+               index = r%map%direct(node_tag - r%map%min_tag + 1)
+         else
+            index = node_index(r%map, node_tag)
+         end if
          if (index == 0) then
             call missing_node_error(r%c, element_tag, element_type, node_tag, error)
             return
@@ -935,7 +1173,53 @@ contains
          allocate (mesh%tris(0, 0), mesh%tri_tags(0), mesh%tri_entity(0))
       end if
       call build_groups(r, links, mesh%groups)
+      if (r%num_other_volume > 0) then
+         mesh%other_volume_elements = r%other_volume(:, :r%num_other_volume)
+      else
+         allocate (mesh%other_volume_elements(4, 0))
+      end if
    end subroutine build_mesh
+
+   !> Record `count` skipped volume elements of `element_type` in `entity` (a run continues the
+   !> previous column when entity and type are the same).
+   subroutine add_other_volume(r, entity, element_type, count, first_tag)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: entity, element_type, count, first_tag
+      integer(i8), allocatable :: grown(:, :)
+      integer(ip) :: n
+      n = r%num_other_volume
+      if (n > 0) then
+         if (r%other_volume(1, n) == entity .and. r%other_volume(2, n) == element_type) then
+            r%other_volume(3, n) = r%other_volume(3, n) + count
+            return
+         end if
+      end if
+      if (.not. allocated(r%other_volume)) allocate (r%other_volume(4, 16))
+      if (n == size(r%other_volume, 2)) then
+         allocate (grown(4, 2 * n))
+         grown(:, :n) = r%other_volume
+         call move_alloc(grown, r%other_volume)
+      end if
+      r%num_other_volume = n + 1
+      r%other_volume(:, n + 1) = [entity, element_type, count, first_tag]
+   end subroutine add_other_volume
+
+   !> Every coordinate finite: a NaN or Inf would surface later as a degenerate element or a
+   !> failed factorisation far from its cause.
+   subroutine check_coordinates(r, error)
+      type(reader_t), intent(in) :: r
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: i
+      do i = 1, r%num_nodes
+         if (ieee_is_finite(r%xyz(1, i)) .and. ieee_is_finite(r%xyz(2, i)) .and. &
+            ieee_is_finite(r%xyz(3, i))) cycle
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // r%c%file_name // ''': ' // &
+            r%c%section // ': node ' // to_str(r%node_tags(i)) // ' has a non-finite ' // &
+            'coordinate, (x, y, z) = (' // to_str(r%xyz(1, i)) // ', ' // to_str(r%xyz(2, i)) // &
+            ', ' // to_str(r%xyz(3, i)) // '); every coordinate must be a finite number')
+         return
+      end do
+   end subroutine check_coordinates
 
    !> Keep the first of elements with the same entity and the same nodes in the same order.
    subroutine drop_repeated(list)
@@ -1034,18 +1318,7 @@ contains
    function type_name(element_type) result(name)
       integer(i8), intent(in) :: element_type
       character(len=:), allocatable :: name
-      select case (element_type)
-      case (4)
-         name = 'Tet4'
-      case (11)
-         name = 'Tet10'
-      case (2)
-         name = 'Tri3'
-      case (9)
-         name = 'Tri6'
-      case default
-         name = 'type ' // to_str(element_type)
-      end select
+      name = element_type_name(element_type)
    end function type_name
 
    ! ------------------------------------------------------------------------------------------
@@ -1168,9 +1441,20 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=512) :: message
       integer(i8) :: file_size
-      integer :: unit, stat
+      integer :: unit, stat, kind
       c%file_name = file_name
       c%section = 'start of file'
+      ! A FIFO or device would block or never end, a folder cannot be read: only a regular file
+      ! of bounded size is opened (a missing one gets the open error below, with its hint).
+      call file_kind(file_name, kind, file_size, error)
+      if (allocated(error)) then
+         error%message = 'mesh ''' // file_name // ''': ' // error%message
+         return
+      end if
+      if (kind /= FILE_MISSING) then
+         call check_input_file(file_name, 'mesh file', MAX_MESH_BYTES, error)
+         if (allocated(error)) return
+      end if
       open (newunit=unit, file=file_name, access='stream', form='unformatted', status='old', &
          action='read', iostat=stat, iomsg=message)
       if (stat /= 0) then
@@ -1645,5 +1929,107 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call location_error(c, 'node tag ' // to_str(tag) // ' appears twice', error)
    end subroutine duplicate_tag_error
+
+   subroutine node_tag_error(c, tag, error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: tag
+      type(error_t), allocatable, intent(out) :: error
+      call location_error(c, 'node tag ' // to_str(tag) // ' is not allowed: Gmsh node ' // &
+         'tags are 1 or more', error)
+   end subroutine node_tag_error
+
+   subroutine element_tag_error(c, tag, error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: tag
+      type(error_t), allocatable, intent(out) :: error
+      call location_error(c, 'element tag ' // to_str(tag) // ' is not allowed: Gmsh ' // &
+         'element tags are 1 or more', error)
+   end subroutine element_tag_error
+
+   !> An element type the reader does not know: its node count, and so the file layout, is
+   !> unknown, wherever the element lies.
+   subroutine unknown_type_error(c, element_type, where, error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: element_type
+      character(len=*), intent(in) :: where
+      type(error_t), allocatable, intent(out) :: error
+      call location_error(c, where // ' has element type ' // to_str(element_type) // &
+         ', which ffrf does not know (it knows Gmsh types 1-31, 92 and 93 and uses Tet4 and ' // &
+         'Tet10 volumes with Tri3 and Tri6 surfaces); re-mesh with gmsh -3 and ' // &
+         'Mesh.ElementOrder 1 or 2', error)
+   end subroutine unknown_type_error
+
+   !> A coordinate could not be read: a NaN or Inf token is named as such.
+   subroutine coordinate_error(c, tag, error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: tag
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: token
+      integer(i8) :: last, n
+      n = len(c%text, kind=i8)
+      last = c%pos - 1
+      do while (last < n .and. last < c%pos + 39)
+         if (is_separator(c%text(last + 1:last + 1))) exit
+         last = last + 1
+      end do
+      token = to_lower(c%text(c%pos:last))
+      if (len(token) > 0) then
+         if (token(1:1) == '+' .or. token(1:1) == '-') token = token(2:)
+      end if
+      if (index(token, 'nan') == 1 .or. index(token, 'inf') == 1) then
+         call location_error(c, 'node ' // to_str(tag) // ' has the coordinate ''' // &
+            c%text(c%pos:last) // ''', which is not a finite number', error)
+      else
+         call syntax_error(c, 'expected a coordinate of node ' // to_str(tag), error)
+      end if
+   end subroutine coordinate_error
+
+   !> Whether the cursor stands at a "$End..." line.
+   pure function at_section_end(c) result(yes)
+      type(cursor_t), intent(in) :: c
+      logical :: yes
+      yes = .false.
+      if (c%pos + 3 <= len(c%text, kind=i8)) yes = c%text(c%pos:c%pos + 3) == '$End'
+   end function at_section_end
+
+   !> `what` was expected: where the section ends instead, its counts announced more items than
+   !> it holds (`announced` says which); else a syntax error quoting what is there.
+   subroutine missing_item_error(c, what, announced, error)
+      type(cursor_t), intent(in) :: c
+      character(len=*), intent(in) :: what, announced
+      type(error_t), allocatable, intent(out) :: error
+      if (at_section_end(c)) then
+         call location_error(c, announced, error)
+      else
+         call syntax_error(c, 'expected ' // what, error)
+      end if
+   end subroutine missing_item_error
+
+   !> Error on ASCII line `line` of the current section (a value missing from that line).
+   subroutine line_error(c, line, message, error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: line
+      character(len=*), intent(in) :: message
+      type(error_t), allocatable, intent(out) :: error
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // c%file_name // ''': ' // &
+         c%section // ', line ' // to_str(line) // ': ' // message)
+   end subroutine line_error
+
+   !> A count read from the file must fit the bytes left in it, each item taking `min_bytes` at
+   !> least; checked before anything is allocated for the items, so a corrupt count cannot make
+   !> the reader allocate more than a small multiple of the file size.
+   subroutine check_count_fits(c, what, count, min_bytes, error)
+      type(cursor_t), intent(in) :: c
+      character(len=*), intent(in) :: what
+      integer(i8), intent(in) :: count, min_bytes
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: left
+      left = max(0_i8, len(c%text, kind=i8) - c%pos + 1)
+      if (count > left / min_bytes) then
+         call location_error(c, what // ' = ' // to_str(count) // ' cannot be right: the ' // &
+            to_str(left) // ' bytes left in the file hold at most ' // to_str(left / min_bytes) // &
+            ' (truncated or corrupt file?)', error)
+      end if
+   end subroutine check_count_fits
 
 end submodule ffrf_mesh_gmsh_parse

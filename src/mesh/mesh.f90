@@ -11,7 +11,16 @@ module ffrf_mesh_mesh
    use ffrf_core_strings, only: to_str
    implicit none
    private
-   public :: physical_group_t, mesh_t, extract_body, dimension_word
+   public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
+
+   !> Tet10 edge k (node 4 + k) joins corners tet_edges(1, k) and tet_edges(2, k) (Gmsh order)
+   integer(ip), parameter :: tet_edges(2, 6) = reshape([1, 2, 2, 3, 1, 3, 1, 4, 3, 4, 2, 4], &
+      [2, 6])
+   !> Face k of a tetrahedron: the corners other than corner k
+   integer(ip), parameter :: tet_faces(3, 4) = reshape([2, 3, 4, 1, 3, 4, 1, 2, 4, 1, 2, 3], &
+      [3, 4])
+   !> Tri6 edge k (node 3 + k) joins corners tri_edges(1, k) and tri_edges(2, k)
+   integer(ip), parameter :: tri_edges(2, 3) = reshape([1, 2, 2, 3, 1, 3], [2, 3])
 
    !> A Gmsh physical group: a named set of geometric entities of one dimension.
    type :: physical_group_t
@@ -53,6 +62,11 @@ module ffrf_mesh_mesh
       type(physical_group_t), allocatable :: groups(:)
       !> File the mesh was read from (for messages)
       character(len=:), allocatable :: file_name
+      !> Volume elements the reader skipped (not Tet4/Tet10), one column per run of one entity
+      !> and type: volume entity tag, Gmsh element type, count, first element tag
+      integer(i8), allocatable :: other_volume_elements(:, :)
+      !> For a body cut by extract_body: its physical volumes, "'crank'" (for messages)
+      character(len=:), allocatable :: volumes
    contains
       procedure :: num_tets => mesh_num_tets
       procedure :: num_tris => mesh_num_tris
@@ -121,7 +135,8 @@ contains
       indices = pack_indices(in_entities(self%tet_entity, self%groups(k)%entities))
    end subroutine mesh_group_tets
 
-   !> Indices of the triangles in the physical surface `name`, ascending.
+   !> Indices of the triangles in the physical surface `name`, ascending; none is an error
+   !> naming the file (an interface needs triangles).
    subroutine mesh_group_triangles(self, name, indices, error)
       class(mesh_t), intent(in) :: self
       !> Physical surface name
@@ -136,6 +151,19 @@ contains
          return
       end if
       indices = pack_indices(in_entities(self%tri_entity, self%groups(k)%entities))
+      if (size(indices) == 0) then
+         if (allocated(self%volumes)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
+               ''': physical surface ''' // trim(name) // ''' has no triangles in the body ' // &
+               'of physical volume(s) ' // self%volumes // ': it is not on the boundary of ' // &
+               'those volumes; name a surface of the body (surfaces: ' // &
+               self%group_names(2_ip) // ')')
+         else
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
+               ''': physical surface ''' // trim(name) // ''' has no triangles; is the ' // &
+               'surface meshed (gmsh -3)?')
+         end if
+      end if
    end subroutine mesh_group_triangles
 
    !> Sorted unique node indices of the elements (tetrahedra for dim 3, triangles for dim 2) of
@@ -211,7 +239,17 @@ contains
 
    !> A new mesh holding one body: the tetrahedra of the physical volumes `volume_names`, only the
    !> nodes they use (renumbered 1..n in increasing order of the old index, `node_tags` kept),
-   !> the triangles all of whose nodes are in the body (renumbered) and all physical groups.
+   !> the triangles all of whose nodes are in the body and which are faces of its tetrahedra
+   !> (renumbered) and all physical groups.
+   !>
+   !> The body is checked once here (FFRF_INPUT_ERROR naming the file and the element, node or
+   !> group): its volumes hold no other volume elements than tetrahedra; no two tetrahedra have
+   !> the same corners; in a Tet10 mesh every edge has one mid-side node and every mid-side node
+   !> one edge (a crack otherwise); the tetrahedra form one piece (node-connected); every
+   !> triangle all of whose nodes are in the body is a face of a tetrahedron of the mesh and, if
+   !> a Tri6, has that face's mid-side nodes. Each check is O(n) with hashing or arrays indexed by
+   !> node. Inverted and degenerate tetrahedra are refused where the elements are integrated
+   !> (`tet_check_jacobian`, ffrf_fe_tet), with the element tag.
    subroutine extract_body(mesh, volume_names, body, error)
       !> Whole mesh
       type(mesh_t), intent(in) :: mesh
@@ -252,6 +290,8 @@ contains
          end if
          keep_tet = keep_tet .or. in_entities(mesh%tet_entity, mesh%groups(k)%entities)
       end do
+      call check_other_volume_elements(mesh, volume_names, error)
+      if (allocated(error)) return
       if (.not. any(keep_tet)) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
             ''': physical volumes ' // quoted_list(volume_names) // ' hold no tetrahedra; ' // &
@@ -272,6 +312,15 @@ contains
             new_index(i) = 0
          end if
       end do
+
+      ! Triangles: those all of whose nodes are in the body, if faces of its tetrahedra.
+      allocate (keep_tri(mesh%num_tris()))
+      do i = 1, mesh%num_tris()
+         keep_tri(i) = all(used(mesh%tris(:, i)))
+      end do
+      call check_triangle_faces(mesh, keep_tet, keep_tri, error)
+      if (allocated(error)) return
+
       selected = pack_indices(used)
       body%num_nodes = n
       body%xyz = mesh%xyz(:, selected)
@@ -283,10 +332,6 @@ contains
       body%tet_tags = mesh%tet_tags(selected)
       body%tet_entity = mesh%tet_entity(selected)
 
-      allocate (keep_tri(mesh%num_tris()))
-      do i = 1, mesh%num_tris()
-         keep_tri(i) = all(used(mesh%tris(:, i)))
-      end do
       selected = pack_indices(keep_tri)
       body%nodes_per_tri = mesh%nodes_per_tri
       if (size(selected) == 0) body%nodes_per_tri = 0
@@ -303,8 +348,533 @@ contains
       else
          allocate (body%groups(0))
       end if
+      allocate (body%other_volume_elements(4, 0))
       body%file_name = file_of(mesh)
+      body%volumes = quoted_list(volume_names)
+
+      call check_duplicate_tets(body, error)
+      if (allocated(error)) return
+      if (body%nodes_per_tet == 10) then
+         call check_tet10_edges(body, error)
+         if (allocated(error)) return
+      end if
+      call check_connected(body, error)
    end subroutine extract_body
+
+   !> The body's volumes must hold tetrahedra only: a hexahedron, prism or pyramid the reader
+   !> skipped would be missing from mass and stiffness.
+   subroutine check_other_volume_elements(mesh, volume_names, error)
+      type(mesh_t), intent(in) :: mesh
+      character(len=*), intent(in) :: volume_names(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: counts(0:100), first_tag(0:100), entity(0:100), group(0:100)
+      character(len=:), allocatable :: found
+      integer(ip) :: i, k, g, t
+      logical :: higher_order
+      if (.not. allocated(mesh%other_volume_elements)) return
+      if (size(mesh%other_volume_elements, 2) == 0) return
+      counts = 0
+      do i = 1, size(mesh%other_volume_elements, 2, kind=ip)
+         do g = 1, size(volume_names, kind=ip)
+            k = mesh%find_group(3_ip, trim(volume_names(g)))
+            if (k == 0) cycle
+            if (.not. any(mesh%groups(k)%entities == mesh%other_volume_elements(1, i))) cycle
+            t = int(min(100_i8, max(0_i8, mesh%other_volume_elements(2, i))), ip)
+            if (counts(t) == 0) then
+               first_tag(t) = mesh%other_volume_elements(4, i)
+               entity(t) = mesh%other_volume_elements(1, i)
+               group(t) = g
+            end if
+            counts(t) = counts(t) + mesh%other_volume_elements(3, i)
+            exit
+         end do
+      end do
+      if (all(counts == 0)) return
+      found = ''
+      higher_order = .false.
+      do t = 0, 100
+         if (counts(t) == 0) cycle
+         if (len(found) > 0) found = found // ', '
+         found = found // to_str(counts(t)) // ' ' // element_type_name(int(t, i8)) // &
+            ' (Gmsh type ' // to_str(t) // ', first element ' // to_str(first_tag(t)) // &
+            ', physical volume ''' // trim(volume_names(group(t))) // ''', volume entity ' // &
+            to_str(entity(t)) // ')'
+         if (t == 29 .or. t == 30 .or. t == 31) higher_order = .true.
+      end do
+      found = 'mesh ''' // file_of(mesh) // ''': the body''s volumes hold ' // found // &
+         ' besides tetrahedra; ffrf uses only Tet4 and Tet10 volume elements, so mass and ' // &
+         'stiffness would be wrong: mesh the volumes with tetrahedra only'
+      if (higher_order) then
+         call fatal_error(error, FFRF_INPUT_ERROR, found // ' of order 1 or 2 ' // &
+            '(-setnumber order 1 or 2, Mesh.ElementOrder <= 2)')
+      else
+         call fatal_error(error, FFRF_INPUT_ERROR, found // ' (no Recombine or ' // &
+            'Mesh.Recombine3DAll, Mesh.SubdivisionAlgorithm = 0, a tetrahedral ' // &
+            'Mesh.Algorithm3D such as 1 Delaunay or 10 HXT, no transfinite volumes)')
+      end if
+   end subroutine check_other_volume_elements
+
+   !> Every candidate triangle (keep_tri) must be a face of a tetrahedron of the mesh: of the
+   !> body's (kept, with a Tri6's mid-side nodes those of the face) or, only, of another body's
+   !> (dropped: it lies on that body). Only tetrahedra with three corners on candidate triangles
+   !> are looked at; the triangles are found through a hash table of their sorted corners.
+   subroutine check_triangle_faces(mesh, keep_tet, keep_tri, error)
+      type(mesh_t), intent(in) :: mesh
+      logical, intent(in) :: keep_tet(:)
+      logical, intent(inout) :: keep_tri(:)
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: on_triangle(:), in_body(:), anywhere(:)
+      integer(ip), allocatable :: table(:), keys(:, :)
+      integer(ip) :: t, e, f, slot, mask, num_slots, key(3), hits, j
+      if (mesh%num_tris() == 0 .or. .not. any(keep_tri)) return
+      allocate (on_triangle(mesh%num_nodes), keys(3, mesh%num_tris()))
+      on_triangle = .false.
+      num_slots = 64
+      do while (num_slots < 2 * count(keep_tri))
+         num_slots = 2 * num_slots
+      end do
+      mask = num_slots - 1
+      allocate (table(0:mask))
+      table = 0
+      do t = 1, mesh%num_tris()
+         if (.not. keep_tri(t)) cycle
+         keys(:, t) = sorted3(mesh%tris(1:3, t))
+         on_triangle(keys(:, t)) = .true.
+         slot = hash_slot(keys(:, t), mask)
+         do while (table(slot) /= 0)
+            slot = iand(slot + 1, mask)
+         end do
+         table(slot) = t
+      end do
+      allocate (in_body(mesh%num_tris()), anywhere(mesh%num_tris()))
+      in_body = .false.
+      anywhere = .false.
+      do e = 1, mesh%num_tets()
+         hits = 0
+         do j = 1, 4
+            if (on_triangle(mesh%tets(j, e))) hits = hits + 1
+         end do
+         if (hits < 3) cycle
+         do f = 1, 4
+            if (.not. all(on_triangle(mesh%tets(tet_faces(:, f), e)))) cycle
+            key = sorted3(mesh%tets(tet_faces(:, f), e))
+            slot = hash_slot(key, mask)
+            do while (table(slot) /= 0)
+               t = table(slot)
+               if (all(keys(:, t) == key)) then
+                  anywhere(t) = .true.
+                  if (keep_tet(e) .and. .not. in_body(t)) then
+                     in_body(t) = .true.
+                     if (mesh%nodes_per_tri == 6 .and. mesh%nodes_per_tet == 10) then
+                        call check_tri6_edges(mesh, t, e, error)
+                        if (allocated(error)) return
+                     end if
+                  end if
+               end if
+               slot = iand(slot + 1, mask)
+            end do
+         end do
+      end do
+      do t = 1, mesh%num_tris()
+         if (.not. keep_tri(t)) cycle
+         if (.not. anywhere(t)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+               ''': triangle ' // to_str(mesh%tri_tags(t)) // ' of ' // &
+               entity_groups(mesh, 2_ip, mesh%tri_entity(t)) // ' (surface entity ' // &
+               to_str(mesh%tri_entity(t)) // '; nodes ' // tag_list(mesh, mesh%tris(1:3, t)) // &
+               ') is not a face of any tetrahedron, so its area and centroid are not those ' // &
+               'of the body''s surface; mesh surfaces and volumes together (gmsh -3) and ' // &
+               'do not edit the elements')
+            return
+         end if
+         keep_tri(t) = in_body(t)
+      end do
+   end subroutine check_triangle_faces
+
+   !> The mid-side nodes of Tri6 `t` are those of the same edges of Tet10 `e`, of which it is a
+   !> face.
+   subroutine check_tri6_edges(mesh, t, e, error)
+      type(mesh_t), intent(in) :: mesh
+      integer(ip), intent(in) :: t, e
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: k, m, a, b
+      do k = 1, 3
+         a = mesh%tris(tri_edges(1, k), t)
+         b = mesh%tris(tri_edges(2, k), t)
+         do m = 1, 6
+            associate (p => mesh%tets(tet_edges(1, m), e), q => mesh%tets(tet_edges(2, m), e))
+               if (.not. ((p == a .and. q == b) .or. (p == b .and. q == a))) cycle
+               if (mesh%tets(4 + m, e) /= mesh%tris(3 + k, t)) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+                     ''': triangle ' // to_str(mesh%tri_tags(t)) // ' of ' // &
+                     entity_groups(mesh, 2_ip, mesh%tri_entity(t)) // ' has mid-side node ' // &
+                     to_str(mesh%node_tags(mesh%tris(3 + k, t))) // ' on its edge ' // &
+                     tag_list(mesh, [a, b]) // ', tetrahedron ' // to_str(mesh%tet_tags(e)) // &
+                     ' has node ' // to_str(mesh%node_tags(mesh%tets(4 + m, e))) // &
+                     ' there; the surface mesh does not conform to the volume mesh')
+                  return
+               end if
+            end associate
+         end do
+      end do
+   end subroutine check_tri6_edges
+
+   !> No two tetrahedra with the same corners (a duplicate doubles mass and stiffness there):
+   !> open-addressing hash table of the sorted corners.
+   subroutine check_duplicate_tets(body, error)
+      type(mesh_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: table(:), keys(:, :)
+      integer(ip) :: e, slot, mask, num_slots, other
+      num_slots = 64
+      do while (num_slots < 2 * body%num_tets())
+         num_slots = 2 * num_slots
+      end do
+      mask = num_slots - 1
+      allocate (table(0:mask), keys(4, body%num_tets()))
+      table = 0
+      do e = 1, body%num_tets()
+         keys(:, e) = sorted4(body%tets(1:4, e))
+         slot = hash_slot(keys(:, e), mask)
+         do while (table(slot) /= 0)
+            other = table(slot)
+            if (all(keys(:, other) == keys(:, e))) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                  ''': tetrahedra ' // to_str(body%tet_tags(other)) // ' and ' // &
+                  to_str(body%tet_tags(e)) // ' of physical volume(s) ' // body%volumes // &
+                  ' have the same corner nodes ' // tag_list(body, keys(:, e)) // '; a ' // &
+                  'duplicate element doubles mass and stiffness: remove it (or re-mesh)')
+               return
+            end if
+            slot = iand(slot + 1, mask)
+         end do
+         table(slot) = e
+      end do
+   end subroutine check_duplicate_tets
+
+   !> Tet10 conformity: every mid-side node sits on one edge (pair of corners) only and is no
+   !> corner, and every edge has one mid-side node. Two mid-side nodes on one edge are a crack:
+   !> the neighbours are not connected along it. Node-indexed arrays: O(n).
+   subroutine check_tet10_edges(body, error)
+      type(mesh_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      !> edge(:, m) = (low, high) corners of the edge of mid-side node m; (-1, 0) for a corner
+      integer(ip), allocatable :: edge(:, :), first(:), next(:), seen(:)
+      integer(ip) :: e, k, a, b, low, high, m, other
+      allocate (edge(2, body%num_nodes))
+      edge = 0
+      do e = 1, body%num_tets()
+         do k = 1, 4
+            edge(1, body%tets(k, e)) = -1
+         end do
+      end do
+      do e = 1, body%num_tets()
+         do k = 1, 6
+            a = body%tets(tet_edges(1, k), e)
+            b = body%tets(tet_edges(2, k), e)
+            m = body%tets(4 + k, e)
+            low = min(a, b)
+            high = max(a, b)
+            if (edge(1, m) == 0) then
+               edge(1, m) = low
+               edge(2, m) = high
+            else if (edge(1, m) /= low .or. edge(2, m) /= high) then
+               call shared_midside_error(body, m, edge(:, m), [low, high], e, error)
+               return
+            end if
+         end do
+      end do
+      ! Mid-side nodes grouped by the lower corner of their edge (linked lists); within a
+      ! group, seen(high) holds the mid-side node met first for edge (low, high).
+      allocate (first(body%num_nodes), next(body%num_nodes), seen(body%num_nodes))
+      first = 0
+      seen = 0
+      do m = 1, body%num_nodes
+         if (edge(1, m) <= 0) cycle
+         next(m) = first(edge(1, m))
+         first(edge(1, m)) = m
+      end do
+      do low = 1, body%num_nodes
+         m = first(low)
+         do while (m /= 0)
+            other = seen(edge(2, m))
+            if (other /= 0) then
+               call two_midside_error(body, other, m, edge(:, m), error)
+               return
+            end if
+            seen(edge(2, m)) = m
+            m = next(m)
+         end do
+         m = first(low)
+         do while (m /= 0)
+            seen(edge(2, m)) = 0
+            m = next(m)
+         end do
+      end do
+   end subroutine check_tet10_edges
+
+   !> Mid-side node m of edge `new_edge` of tetrahedron e is a corner or sits on `old_edge` too.
+   subroutine shared_midside_error(body, m, old_edge, new_edge, e, error)
+      type(mesh_t), intent(in) :: body
+      integer(ip), intent(in) :: m, old_edge(2), new_edge(2), e
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: text
+      text = 'mesh ''' // file_of(body) // ''': node ' // to_str(body%node_tags(m)) // &
+         ' is the mid-side node of edge ' // tag_list(body, new_edge) // ' of tetrahedron ' // &
+         to_str(body%tet_tags(e))
+      if (old_edge(1) < 0) then
+         text = text // ' and a corner of another tetrahedron'
+      else
+         text = text // ' and of edge ' // tag_list(body, old_edge)
+      end if
+      call fatal_error(error, FFRF_INPUT_ERROR, text // '; the Tet10 mesh is not ' // &
+         'conforming: re-mesh (gmsh -3 with order 2)')
+   end subroutine shared_midside_error
+
+   !> Edge `edge` has the mid-side nodes m1 and m2: name them and a tetrahedron of each.
+   subroutine two_midside_error(body, m1, m2, edge, error)
+      type(mesh_t), intent(in) :: body
+      integer(ip), intent(in) :: m1, m2, edge(2)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: t1, t2, f, j
+      t1 = 1
+      t2 = 1
+      do f = body%num_tets(), 1, -1
+         do j = 5, 10
+            if (body%tets(j, f) == m1) t1 = f
+            if (body%tets(j, f) == m2) t2 = f
+         end do
+      end do
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // ''': edge ' // &
+         tag_list(body, edge) // ' has two mid-side nodes, ' // to_str(body%node_tags(m1)) // &
+         ' (tetrahedron ' // to_str(body%tet_tags(t1)) // ') and ' // &
+         to_str(body%node_tags(m2)) // ' (tetrahedron ' // to_str(body%tet_tags(t2)) // &
+         '): the neighbours are not connected along it (a crack); the Tet10 mesh is not ' // &
+         'conforming: re-mesh (gmsh -3 with order 2)')
+   end subroutine two_midside_error
+
+   !> The body's tetrahedra form one piece: union-find over their corners (after
+   !> check_tet10_edges a mid-side node joins nothing its edge's corners do not). Each further
+   !> piece would add six rigid-body modes the modal reduction takes for flexible ones.
+   subroutine check_connected(body, error)
+      type(mesh_t), intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: parent(:)
+      logical, allocatable :: corner(:)
+      integer(ip) :: e, k, root, other, num_corners, num_pieces
+      allocate (parent(body%num_nodes), corner(body%num_nodes))
+      corner = .false.
+      do k = 1, body%num_nodes
+         parent(k) = k
+      end do
+      num_pieces = 0
+      do e = 1, body%num_tets()
+         root = find_root(parent, body%tets(1, e))
+         do k = 2, 4
+            other = find_root(parent, body%tets(k, e))
+            if (other /= root) then
+               ! Attach the larger index under the smaller: roots are the smallest nodes
+               if (other < root) then
+                  parent(root) = other
+                  root = other
+               else
+                  parent(other) = root
+               end if
+               num_pieces = num_pieces - 1
+            end if
+         end do
+         corner(body%tets(1:4, e)) = .true.
+      end do
+      num_corners = count(corner)
+      num_pieces = num_pieces + num_corners
+      if (num_pieces > 1) call pieces_error(body, parent, num_pieces, error)
+   end subroutine check_connected
+
+   !> The body is in `num_pieces` pieces: name them (nodes, tetrahedra, first tetrahedron,
+   !> bounding box), the largest first, five at most.
+   subroutine pieces_error(body, parent, num_pieces, error)
+      type(mesh_t), intent(in) :: body
+      integer(ip), intent(inout) :: parent(:)
+      integer(ip), intent(in) :: num_pieces
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: piece_of_root(:), num_tets(:), num_nodes(:), first_tet(:)
+      integer(ip), allocatable :: piece_of_node(:)
+      real(dp), allocatable :: low(:, :), high(:, :)
+      character(len=:), allocatable :: text
+      integer(ip) :: e, k, p, root, shown, best
+      logical, allocatable :: listed(:)
+      allocate (piece_of_root(body%num_nodes), piece_of_node(body%num_nodes))
+      allocate (num_tets(num_pieces), num_nodes(num_pieces), first_tet(num_pieces))
+      allocate (low(3, num_pieces), high(3, num_pieces), listed(num_pieces))
+      piece_of_root = 0
+      piece_of_node = 0
+      num_tets = 0
+      num_nodes = 0
+      low = huge(1.0_dp)
+      high = -huge(1.0_dp)
+      p = 0
+      do e = 1, body%num_tets()
+         root = find_root(parent, body%tets(1, e))
+         if (piece_of_root(root) == 0) then
+            p = p + 1
+            piece_of_root(root) = p
+            first_tet(p) = e
+         end if
+         num_tets(piece_of_root(root)) = num_tets(piece_of_root(root)) + 1
+         do k = 1, size(body%tets, 1, kind=ip)
+            if (piece_of_node(body%tets(k, e)) /= 0) cycle
+            piece_of_node(body%tets(k, e)) = piece_of_root(root)
+            num_nodes(piece_of_root(root)) = num_nodes(piece_of_root(root)) + 1
+            low(:, piece_of_root(root)) = min(low(:, piece_of_root(root)), &
+               body%xyz(:, body%tets(k, e)))
+            high(:, piece_of_root(root)) = max(high(:, piece_of_root(root)), &
+               body%xyz(:, body%tets(k, e)))
+         end do
+      end do
+      text = 'mesh ''' // file_of(body) // ''': the body of physical volume(s) ' // &
+         body%volumes // ' is in ' // to_str(num_pieces) // ' pieces that share no node'
+      listed = .false.
+      do shown = 1, min(5_ip, num_pieces)
+         best = 0
+         do p = 1, num_pieces
+            if (listed(p)) cycle
+            if (best == 0) then
+               best = p
+            else if (num_tets(p) > num_tets(best)) then
+               best = p
+            end if
+         end do
+         listed(best) = .true.
+         text = text // merge(': ', '; ', shown == 1) // 'piece ' // to_str(shown) // ' has ' // &
+            to_str(num_nodes(best)) // ' nodes and ' // to_str(num_tets(best)) // &
+            ' tetrahedra (first ' // to_str(body%tet_tags(first_tet(best))) // '), box (' // &
+            to_str(low(1, best)) // ', ' // to_str(low(2, best)) // ', ' // &
+            to_str(low(3, best)) // ') .. (' // to_str(high(1, best)) // ', ' // &
+            to_str(high(2, best)) // ', ' // to_str(high(3, best)) // ')'
+      end do
+      if (num_pieces > 5) text = text // '; ...'
+      call fatal_error(error, FFRF_INPUT_ERROR, text // '; each piece would move freely: ' // &
+         'join the volumes so they share nodes (BooleanFragments or Coherence before meshing) ' // &
+         'or make each piece a body of its own')
+   end subroutine pieces_error
+
+   !> Root of node `i` in the union-find forest, halving the path.
+   function find_root(parent, i) result(root)
+      integer(ip), intent(inout) :: parent(:)
+      integer(ip), intent(in) :: i
+      integer(ip) :: root
+      root = i
+      do while (parent(root) /= root)
+         parent(root) = parent(parent(root))
+         root = parent(root)
+      end do
+   end function find_root
+
+   !> Slot in a table of mask + 1 (a power of 2) slots for a key of node indices (< 2**31; the
+   !> products stay below 2**62).
+   pure function hash_slot(key, mask) result(slot)
+      integer(ip), intent(in) :: key(:), mask
+      integer(ip) :: slot
+      integer(i8), parameter :: multipliers(4) = [73856093_i8, 19349663_i8, 83492791_i8, &
+         2147483629_i8]
+      integer(i8) :: h
+      integer :: k
+      h = 0
+      do k = 1, size(key)
+         h = ieor(h, int(key(k), i8) * multipliers(k))
+      end do
+      h = ieor(h, ishft(h, -29))
+      slot = int(iand(h, int(mask, i8)), ip)
+   end function hash_slot
+
+   !> The three values ascending.
+   pure function sorted3(x) result(y)
+      integer(ip), intent(in) :: x(3)
+      integer(ip) :: y(3)
+      y = x
+      if (y(1) > y(2)) y(1:2) = y([2, 1])
+      if (y(2) > y(3)) y(2:3) = y([3, 2])
+      if (y(1) > y(2)) y(1:2) = y([2, 1])
+   end function sorted3
+
+   !> The four values ascending.
+   pure function sorted4(x) result(y)
+      integer(ip), intent(in) :: x(4)
+      integer(ip) :: y(4)
+      y = x
+      if (y(1) > y(2)) y(1:2) = y([2, 1])
+      if (y(3) > y(4)) y(3:4) = y([4, 3])
+      if (y(1) > y(3)) y([1, 3]) = y([3, 1])
+      if (y(2) > y(4)) y([2, 4]) = y([4, 2])
+      if (y(2) > y(3)) y(2:3) = y([3, 2])
+   end function sorted4
+
+   !> "(tags 3, 7, 9)" of node indices, for messages.
+   function tag_list(mesh, nodes) result(text)
+      type(mesh_t), intent(in) :: mesh
+      integer(ip), intent(in) :: nodes(:)
+      character(len=:), allocatable :: text
+      integer :: k
+      text = '('
+      do k = 1, size(nodes)
+         if (k > 1) text = text // ', '
+         text = text // to_str(mesh%node_tags(nodes(k)))
+      end do
+      text = text // ')'
+   end function tag_list
+
+   !> "physical surface 'B2'" (or "physical surfaces 'a', 'b'", or "no physical surface") of the
+   !> groups of dimension `dim` holding `entity`.
+   function entity_groups(mesh, dim, entity) result(text)
+      type(mesh_t), intent(in) :: mesh
+      integer(ip), intent(in) :: dim, entity
+      character(len=:), allocatable :: text
+      integer(ip) :: k, found
+      text = ''
+      found = 0
+      if (allocated(mesh%groups)) then
+         do k = 1, size(mesh%groups, kind=ip)
+            if (mesh%groups(k)%dim /= dim) cycle
+            if (.not. any(mesh%groups(k)%entities == entity)) cycle
+            found = found + 1
+            if (found > 1) text = text // ', '
+            if (len(mesh%groups(k)%name) > 0) then
+               text = text // '''' // mesh%groups(k)%name // ''''
+            else
+               text = text // '(tag ' // to_str(mesh%groups(k)%tag) // ')'
+            end if
+         end do
+      end if
+      if (found == 0) then
+         text = 'no physical ' // dimension_word(dim)
+      else if (found == 1) then
+         text = 'physical ' // dimension_word(dim) // ' ' // text
+      else
+         text = 'physical ' // dimension_word(dim) // 's ' // text
+      end if
+   end function entity_groups
+
+   !> "Tet10", "Hex8", "Prism6" ... of a Gmsh element type, for messages.
+   pure function element_type_name(element_type) result(name)
+      !> Gmsh element type number
+      integer(i8), intent(in) :: element_type
+      character(len=:), allocatable :: name
+      character(len=9), parameter :: names(31) = [character(len=9) :: 'Line2', 'Tri3', &
+         'Quad4', 'Tet4', 'Hex8', 'Prism6', 'Pyramid5', 'Line3', 'Tri6', 'Quad9', 'Tet10', &
+         'Hex27', 'Prism18', 'Pyramid14', 'Point', 'Quad8', 'Hex20', 'Prism15', 'Pyramid13', &
+         'Tri9', 'Tri10', 'Tri12', 'Tri15', 'Tri15i', 'Tri21', 'Line4', 'Line5', 'Line6', &
+         'Tet20', 'Tet35', 'Tet56']
+      select case (element_type)
+      case (1:31)
+         name = trim(names(element_type))
+      case (92)
+         name = 'Hex64'
+      case (93)
+         name = 'Hex125'
+      case default
+         name = 'type ' // to_str(element_type)
+      end select
+   end function element_type_name
 
    !> "point", "curve", "surface" or "volume" for dimension 0..3.
    pure function dimension_word(dim) result(word)
