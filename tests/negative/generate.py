@@ -155,6 +155,25 @@ def mesh_mutations(fmt, order):
     add('node_tag_2pow64_minus_1', [2], node_tag(2**64 - 1), binary)
     add('node_tag_huge_1e30', [2], node_tag(10**30), ascii_)
 
+    def node_tag_unfixed(value):
+        def f(m, r):                 # tag and references changed, header min/max left as they were
+            rename_node(m, interior_tet(m, r)[3][0], value)
+            return m
+        return f
+    add('node_tag_2pow63_header_unchanged', [2], node_tag_unfixed(2**63 + 235), binary)
+    add('node_tag_2pow63_header_unchanged', [2], node_tag_unfixed(2**63 + 235), ascii_)
+    add('node_tag_2pow62_header_unchanged', [2], node_tag_unfixed(2**62 + 235))
+
+    def tags_span_2pow63(m, r):
+        # node tags (elements unchanged) whose difference overflows a signed 64-bit integer, as
+        # a random overwrite of binary tags made them: SIGSEGV in the reader's tag map, 2026-11-25
+        values = [13598769707938218218, 7031476716390354924, 415506398899]
+        b = max(m.node_blocks, key=lambda blk: len(blk.tags))
+        k = r.randrange(len(b.tags) - 3)
+        b.tags[k:k + 3] = values
+        return m
+    add('node_tags_span_over_2pow63', [2], tags_span_2pow63, binary)
+
     def node_tag_text(m, r):
         tag = interior_tet(m, r)[3][0]
         for b in m.node_blocks:
@@ -362,7 +381,8 @@ def mesh_mutations(fmt, order):
             return m
         return f
     add('reordered_Elements_before_Nodes', [0, 2], swap_sections('Nodes', 'Elements'))
-    add('reordered_PhysicalNames_last', [0, 2], swap_sections('PhysicalNames', 'Elements'))
+    add('reordered_PhysicalNames_last', [0, 2],
+        lambda m, r: (m.sections.append(m.sections.pop(m.section_index('PhysicalNames'))), m)[1])
 
     def edit_bytes(func):
         return lambda m, r: func(m.serialize())
@@ -672,7 +692,7 @@ def namelist_mutations(text, base):
     g = groups[len(groups) // 2]
     out.append(('text_after_slash_' + g.name, [2], [],
                 splice(text, g.end, g.end + 1, '/ num_modes = 4')))
-    out.append(('second_group_on_closing_line_' + g.name, [0, 2], [],
+    out.append(('second_group_on_closing_line_' + g.name, [2], [],
                 splice(text, g.end, g.end + 1, '/ &modez /')))
 
     # dofs, paths, sizes

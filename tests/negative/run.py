@@ -142,6 +142,8 @@ def main():
     parser.add_argument('--json', help='write every result to this file')
     args = parser.parse_args()
     args.driver = os.path.abspath(args.driver)
+    if not os.access(args.driver, os.X_OK):
+        sys.exit('run.py: the driver %s is not an executable file' % args.driver)
     if args.mesh_dir:
         args.mesh_dir = os.path.abspath(args.mesh_dir)
     case_dir = os.path.dirname(os.path.abspath(args.manifest))
@@ -160,7 +162,8 @@ def main():
     if own_work and not args.keep:
         shutil.rmtree(args.work_dir, ignore_errors=True)
 
-    failed = [r for r in results if r['kind']]
+    order = ['crash', 'hang', 'banner', 'memory', 'bad message', 'wrong code']
+    failed = sorted((r for r in results if r['kind']), key=lambda r: order.index(r['kind']))
     count = lambda kind: sum(1 for r in failed if r['kind'] == kind)
     name = os.path.basename(case_dir)
     slowest = max(results, key=lambda r: r['elapsed']) if results else None
