@@ -41,6 +41,7 @@ import json
 import os
 import random
 import re
+import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -786,6 +787,30 @@ def generate_namelists(input_dir, out_dir, per_case_random):
             entries.append(dict(id='n_%s_%03d' % (stem, index), case=case, target=case,
                                 mutation='%s/%s' % (base, name), expected=expected, names=names,
                                 mesh_dir=True))
+    entries += special_files(input_dir, out_dir)
+    return entries
+
+
+def special_files(input_dir, out_dir):
+    """Case and mesh files that are not regular files: a FIFO (opening it blocks for ever) and a
+    folder as the case, a FIFO as the mesh. Exit 3, naming the file."""
+    entries = []
+    os.mkfifo(os.path.join(out_dir, 'n_special_case_fifo.nml'))
+    os.mkdir(os.path.join(out_dir, 'n_special_case_folder.nml'))
+    fifo_mesh = os.path.join(os.path.abspath(out_dir), 'n_special_mesh_fifo.msh')
+    os.mkfifo(fifo_mesh)
+    with open(os.path.join(input_dir, 'crank_rc1.nml')) as f:
+        text = f.read().replace("'crank.msh'", "'%s'" % fifo_mesh)
+    with open(os.path.join(out_dir, 'n_special_mesh_is_fifo.nml'), 'w') as f:
+        f.write(text)
+    for name, case, target in (('case_is_fifo', 'n_special_case_fifo.nml', None),
+                               ('case_is_folder', 'n_special_case_folder.nml', None),
+                               ('mesh_is_fifo', 'n_special_mesh_is_fifo.nml',
+                                'n_special_mesh_fifo.msh')):
+        target = target or case
+        entries.append(dict(id='n_special_' + name, case=case, target=target,
+                            mutation='special/' + name, expected=[3], names=[target],
+                            mesh_dir=True))
     return entries
 
 
@@ -804,7 +829,11 @@ def main():
         out_dir = os.path.join(args.out, cls)
         os.makedirs(out_dir, exist_ok=True)
         for f in os.listdir(out_dir):
-            os.remove(os.path.join(out_dir, f))
+            path = os.path.join(out_dir, f)
+            if os.path.isdir(path) and not os.path.islink(path):
+                shutil.rmtree(path)
+            else:
+                os.remove(path)
         if cls == 'namelist':
             entries = generate_namelists(args.input_dir, out_dir, args.random_per_case)
         else:

@@ -12,7 +12,7 @@ a fresh folder (the case's folder is the generated one) and must:
   * print no runtime banner ("Fortran runtime error", "Backtrace", "ERROR STOP",
     "Program received signal", ...) on stdout or stderr;
   * end within --timeout seconds wall (then it is killed: a hang) and peak at most --memory-mb
-    resident (ru_maxrss from os.wait4; RLIMIT_AS caps it at 4x that as a safety net).
+    resident (ru_maxrss from os.wait4; RLIMIT_AS caps it at 2x that as a safety net).
 Prints a summary (tried, passed, crashes, hangs, wrong codes, bad messages, too much memory, max
 time, max memory) and the first failures with the command that reproduces each; exit status 1 if
 anything failed. --only ID (repeatable) runs the named inputs; --keep leaves the output folders.
@@ -38,7 +38,7 @@ BANNERS = ('Fortran runtime error', 'Backtrace', 'ERROR STOP', 'Program received
 
 def limits(memory_bytes):
     def apply():
-        resource.setrlimit(resource.RLIMIT_AS, (4 * memory_bytes, 4 * memory_bytes))
+        resource.setrlimit(resource.RLIMIT_AS, (2 * memory_bytes, 2 * memory_bytes))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
         resource.setrlimit(resource.RLIMIT_FSIZE, (512 * 2**20, 512 * 2**20))
     return apply
@@ -187,6 +187,8 @@ def main():
             print('  stderr: ' + r['stderr'].replace('\n', '\n          ')[:400])
         print('  reproduce: ' + ' '.join(
             '/tmp/out' if c.startswith(args.work_dir) else shlex.quote(c) for c in r['command']))
+    if args.check_flag and results and all(r['code'] == 1 for r in results):
+        print('note: every run exited 1: does this driver know %s?' % ' '.join(args.check_flag))
     if len(failed) > args.list_failures:
         print('... and %d more failures' % (len(failed) - args.list_failures))
     if args.json:
