@@ -22,12 +22,15 @@ VERDICT RULES (exit codes of the driver: 0 ok, 2 bad input, 3 file, 4 numerical 
     real, 1.5 for an integer, .maybe. for a logical), non-finite reals, out-of-range values named
     by the issue, repeated keys, a repeated single group, an unclosed group, text after '/', an
     unknown key or group, no &body, a repeated dof, outputs leaving --output-dir).
-    Exit 3 where a named file cannot be read as a regular file (/dev/zero, a folder, a path
-    that does not exist because it was not cut short).
+    Exit 3 where a named file is not a regular file (/dev/zero, a folder, a FIFO as case, mesh or
+    table file). The values issue 10 lists (h = Inf or 1e300, t_end = Inf, gravity = NaN,
+    stall_torque = NaN, crank_angle_deg = 1e300, young/density = Inf, a NaN position) -> 2 naming
+    the group and key.
   * Plausible but undecided -> a set: huge finite coordinates (+-1e308) {2, 4} (refused as input or
     overflowing in the element matrices); huge finite values of keys without a documented bound,
     missing optional groups {0, 2, 4}; reordered sections, trailing garbage after the last section,
-    very long lines or names, element tag 0 or repeated element tags {0, 2}.
+    very long lines or names, element tag 0 or repeated element tags {0, 2}; a mesh path whose
+    first 256 characters name an existing mesh {2, 3} (too long, or not found: never read cut).
   * Random mutations (truncation, bit flips, byte overwrites, line deletion/duplication, swapped
     lines) that may or may not stay valid -> {0, 2, 3, 4}: never 1, never a signal.
   * Positive controls (unchanged copy, sparse huge node tags, reversed node blocks, reordered
@@ -517,6 +520,12 @@ for _group, _keys in {
     for _item in _keys.split():
         _type, _key = _item.split(':')
         KEY_TYPES[(_group, _key)] = _type
+#: (group, key, value) that issue 10 lists as slipping through; every case gets those of its groups
+ISSUE_VALUES = [('integrator', 'h', 'Inf'), ('integrator', 'h', '1e300'),
+                ('integrator', 't_end', 'Inf'), ('mechanism', 'gravity', 'NaN, 0, 0'),
+                ('mechanism', 'crank_angle_deg', '1e300'), ('load', 'stall_torque', 'NaN'),
+                ('body', 'young', 'Inf'), ('body', 'density', 'Inf'),
+                ('interface', 'position', '0, NaN, 0')]
 #: mutations that do not depend on the case they start from
 WHOLE_FILE = ('empty_file', 'binary_garbage_file')
 SINGLE_GROUPS = ('run', 'modes', 'model', 'mechanism', 'pressure', 'integrator')
@@ -748,6 +757,19 @@ def namelist_mutations(text, base):
                     [x.name for x in groups] else text.replace('&pressure ',
                                                                "&pressure table_file = "
                                                                "'/dev/zero', ", 1)))
+    # values issue 10 names: each replaces the key's value, or is added to the group
+    for group, key, value in ISSUE_VALUES:
+        gs = [g for g in groups if g.name == group and
+              (group != 'load' or 'stall_torque' in [k[0] for k in g.keys])]
+        if not gs:
+            continue
+        g = gs[0]
+        keys = [k for k in g.keys if k[0] == key]
+        new = (splice(text, keys[0][2], keys[0][3], ' ' + value) if keys else
+               splice(text, g.end, g.end, ', %s = %s ' % (key, value)))
+        out.append(('issue_%s_%s_%s' % (group, key, re.sub(r'\W', '_', value)), [2],
+                    ['&' + group, key], new))
+
     # whole file
     out.append(('empty_file', [2], [], ''))
     out.append(('binary_garbage_file', [2], [],
@@ -770,7 +792,8 @@ def generate_namelists(input_dir, out_dir, per_case_random):
         # Half of the deterministic mutations per case (alternating between cases), the
         # unchanged copy in every case, the whole-file ones in the first two cases only.
         plan = [(n, e, x, t) for i, (n, e, x, t) in enumerate(namelist_mutations(text, base))
-                if n == 'unchanged' or (n not in WHOLE_FILE and (i + case_index) % 2 == 0)
+                if n == 'unchanged' or n.startswith('issue_')
+                or (n not in WHOLE_FILE and (i + case_index) % 2 == 0)
                 or (n in WHOLE_FILE and case_index < 2)]
         case_index += 1
         for r in range(per_case_random):
