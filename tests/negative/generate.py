@@ -127,8 +127,6 @@ def mesh_mutations(fmt, order):
     add('unchanged', [0], lambda m, r: m)
 
     def sparse_tags(m, r):
-        for _, _, t, _ in list(m.nodes()):
-            pass
         mapping = {t: t * 1000003 + 10**12 for _, _, t, _ in m.nodes()}
         for b in m.node_blocks:
             b.tags = [mapping[t] for t in b.tags]
@@ -164,8 +162,7 @@ def mesh_mutations(fmt, order):
             rename_node(m, interior_tet(m, r)[3][0], value)
             return m
         return f
-    add('node_tag_2pow63_header_unchanged', [2], node_tag_unfixed(2**63 + 235), binary)
-    add('node_tag_2pow63_header_unchanged', [2], node_tag_unfixed(2**63 + 235), ascii_)
+    add('node_tag_2pow63_header_unchanged', [2], node_tag_unfixed(2**63 + 235))
     add('node_tag_2pow62_header_unchanged', [2], node_tag_unfixed(2**62 + 235))
 
     def tags_span_2pow63(m, r):
@@ -250,9 +247,6 @@ def mesh_mutations(fmt, order):
     add('hexahedron_in_volume', [2], add_volume_element(5, 8))
     add('prism_in_volume', [2], add_volume_element(6, 6))
     add('pyramid_in_volume', [2], add_volume_element(7, 5))
-    add('tet4_in_tet10_mesh' if tet10 else 'tet10_in_tet4_mesh', [2],
-        add_volume_element(4, 4) if tet10 else lambda m, r: m)
-
     def tet10_in_tet4(m, r):
         nodes = list(interior_tet(m, r)[3][:4])
         xyz = m.coordinates()
@@ -260,8 +254,10 @@ def mesh_mutations(fmt, order):
         mids = [[(xyz[nodes[a]][k] + xyz[nodes[b]][k]) / 2 for k in range(3)] for a, b in edges]
         m.add_element(11, nodes + m.add_nodes(mids))
         return m
-    if not tet10:
-        out[-1] = ('tet10_in_tet4_mesh', [2], tet10_in_tet4)
+    if tet10:
+        add('tet4_in_tet10_mesh', [2], add_volume_element(4, 4))
+    else:
+        add('tet10_in_tet4_mesh', [2], tet10_in_tet4)
 
     def duplicate_tet(m, r):
         _, _, t, nodes = interior_tet(m, r)
