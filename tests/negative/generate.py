@@ -10,7 +10,8 @@ random.Random('<class>:<index>') and the base files, so OUT is the same on every
 
 OUT/<class>/manifest.json lists, per generated input: id, case (the case file to run), target (the
 mutated file, whose base name the error line must carry), mutation, expected (the allowed exit
-codes), names (strings the one error line must contain) and mesh_dir (true: run with --mesh-dir).
+codes), names (strings the one error line must contain), key_names (group and key it must also
+contain when the exit code is 2, an input error) and mesh_dir (true: run with --mesh-dir).
 
 VERDICT RULES (exit codes of the driver: 0 ok, 2 bad input, 3 file, 4 numerical failure):
   * Invalid by construction -> one exact code, 2: every content error of a mesh or a case (node tag
@@ -36,8 +37,8 @@ VERDICT RULES (exit codes of the driver: 0 ok, 2 bad input, 3 file, 4 numerical 
   * Positive controls (unchanged copy, sparse huge node tags, reversed node blocks, reordered
     groups, a comment after '/') -> {0}.
 Every non-zero exit must print exactly one stderr line 'ffrf: error: ...' containing the mutated
-file's base name (mesh mutations: the .msh; case mutations: the .nml, plus the group or key where
-the mutation has one; a mutated path value: that path's base name instead).
+file's base name (mesh mutations: the .msh; case mutations: the .nml, plus, for exit 2, the group
+and key where the mutation has one; a mutated path value: that path's base name instead).
 """
 import argparse
 import json
@@ -802,10 +803,10 @@ def generate_namelists(input_dir, out_dir, per_case_random):
             with open(os.path.join(out_dir, case), 'wb') as f:
                 f.write(data if isinstance(data, bytes) else data.encode('latin-1'))
             path_value = [x for x in extra if x.endswith('.missing') or x in ('zero', '..')]
-            names = path_value if path_value else [case] + extra
+            names, key_names = (path_value, []) if path_value else ([case], extra)
             entries.append(dict(id='n_%s_%03d' % (stem, index), case=case, target=case,
                                 mutation='%s/%s' % (base, name), expected=expected, names=names,
-                                mesh_dir=True))
+                                key_names=key_names, mesh_dir=True))
     entries += special_files(input_dir, out_dir)
     return entries
 

@@ -8,7 +8,8 @@ Per input, the driver runs as `DRIVER CASE [--mesh-dir DIR] --output-dir TMP [CH
 a fresh folder (the case's folder is the generated one) and must:
   * exit with one of the codes the manifest expects (a signal, or a code >= 128, is a crash);
   * if it fails, print exactly ONE line on stderr, starting 'ffrf: error: ' and containing every
-    string of the manifest's `names` (the mutated file's base name, key or group);
+    string of the manifest's `names` (the mutated file's base name) and, for exit 2, of its
+    `key_names` (the group and key of a case-file mutation);
   * print no runtime banner ("Fortran runtime error", "Backtrace", "ERROR STOP",
     "Program received signal", ...) on stdout or stderr;
   * end within --timeout seconds wall (then it is killed: a hang) and peak at most --memory-mb
@@ -111,7 +112,11 @@ def run_one(entry, args, case_dir):
             bad.append('%d stderr lines' % len(lines))
         if not lines or not lines[0].startswith('ffrf: error: '):
             bad.append("stderr does not start 'ffrf: error: '")
-        missing = [n for n in entry['names'] if not lines or n not in lines[0]]
+        line = lines[0] if lines else ''
+        missing = [n for n in entry['names'] if n not in line]
+        if code == 2:                 # the key outside the file name (which may spell it too)
+            bare = line.replace(entry['case'], '').replace(entry['target'], '')
+            missing += [n for n in entry.get('key_names', []) if n not in bare]
         if missing:
             bad.append('message does not name %s' % ', '.join(repr(n) for n in missing))
         if bad:
