@@ -717,7 +717,7 @@ def namelist_mutations(text, base):
                 name = text[k[2]:k[3]].strip().strip('\'"')
                 fill = 256 - len(name)          # the first 256 characters name `name`
                 long = './' * (fill // 2) + '/' * (fill % 2) + name + '.missing'
-                out.append(('mesh_path_cut_at_256', [2, 3], [name + '.missing'],
+                out.append(('mesh_path_cut_at_256', [2, 3], ['mesh_file'],
                             splice(text, k[2], k[3], "'%s'" % long)))
                 out.append(('mesh_file_dev_zero', [3], ['zero'],
                             splice(text, k[2], k[3], "'/dev/zero'")))
