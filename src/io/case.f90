@@ -225,7 +225,8 @@ contains
             to_str(s%max_iterations) // ', min_step = ' // to_str(s%min_step, 6) // &
             ', rank_rtol = ' // to_str(s%rank_rtol, 6) // ', jacobian = ''' // &
             jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse) // &
-            ' /' // nl
+            ', checkpoint_seconds = ' // to_str(s%checkpoint_seconds, 6) // &
+            ', checkpoint_steps = ' // to_str(s%checkpoint_steps) // ' /' // nl
          text = text // '&model selection = ''' // trim(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
