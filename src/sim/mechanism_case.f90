@@ -15,7 +15,7 @@
 module ffrf_sim_mechanism_case
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
-      FFRF_INTERRUPTED
+      FFRF_IO_ERROR, FFRF_INTERRUPTED
    use ffrf_core_posix, only: pending_signal, signal_name, copy_file, rename_file, remove_file
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
@@ -197,12 +197,16 @@ contains
          ! Whatever happened: the counters, the last converged state, the animation
          call timer%begin()
          call write_run_information(results, mech, integrator, error)
-         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0) &
-            call write_animations(case, options, bodies, history, log, error)
+         ! (not after a signal: the job must end soon; the continued run writes them)
+         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
+            .not. interrupted(run_error)) call write_animations(case, options, bodies, &
+            history, log, error)
          call times%add('output', timer%seconds())
          call times%add('total', total%seconds())
          if (allocated(run_error)) then
             if (run_error%code /= FFRF_INTERRUPTED) then
+               if (run_error%code == FFRF_IO_ERROR) call add_context(run_error, &
+                  'results file "' // results_file // '"')
                call add_context(run_error, case_file)
                status = 'error: ' // run_error%message
             else
@@ -245,6 +249,13 @@ contains
       end subroutine run_locked
 
    end subroutine run_mechanism_case
+
+   !> True when `error` is the end of a run by a signal.
+   pure logical function interrupted(error)
+      type(error_t), allocatable, intent(in) :: error
+      interrupted = .false.
+      if (allocated(error)) interrupted = error%code == FFRF_INTERRUPTED
+   end function interrupted
 
    !> Sizes and the redundant constraint equations found at the start.
    subroutine log_mechanism(log, mech, integrator)
