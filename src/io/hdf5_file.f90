@@ -1201,8 +1201,24 @@ contains
             if (hdferr < 0) call fail(self, error, path, 'cannot set its units attribute')
          end if
       end block steps
+      call close_written(self, path, dset, error)
       call release(dset=dset, space=space)
    end subroutine write_dataset
+
+   !> Close a dataset that was written to, reporting a failure (closing writes the data HDF5
+   !> still holds in its chunk cache: a full disk shows here) unless an error is already set.
+   subroutine close_written(self, path, dset, error)
+      class(h5_file_t), intent(in) :: self
+      character(len=*), intent(in) :: path
+      integer(hid_t), intent(inout) :: dset
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: hdferr
+      if (dset < 0) return
+      call h5dclose_f(dset, hdferr)
+      dset = -1
+      if (hdferr < 0 .and. .not. allocated(error)) call fail(self, error, path, &
+         'cannot write the values (disk full, quota or file size limit?)')
+   end subroutine close_written
 
    !> Open dataset `path`, check it has `rank` dimensions, return its Fortran dims. On error the
    !> dataset is closed.
@@ -1410,6 +1426,7 @@ contains
          if (hdferr < 0) call fail(self, error, path, 'cannot write the appended steps ' // &
             '(disk full, quota or file size limit?)')
       end block steps
+      call close_written(self, path, dset, error)
       call release(dset=dset, space=file_space, mem_space=mem_space)
    end subroutine append_steps
 
