@@ -47,8 +47,8 @@ module ffrf_sim_mechanism_case
       !> Integrator state (galpha_export_state)
       real(dp), allocatable :: reals(:)
       integer(i8), allocatable :: ints(:)
-      !> Energy balance accumulators
-      real(dp), allocatable :: balance(:)
+      !> Energy balance accumulators, crank-angle unwrapping reference (1)
+      real(dp), allocatable :: balance(:), crank_reference(:)
       !> Recorded steps that belong to the state, coordinates of the system
       integer :: num_steps = 0, num_coordinates = 0
       !> Names and modes of the bodies of the results
@@ -408,7 +408,7 @@ contains
       type(galpha_integrator_t) :: before_last
       type(energy_balance_t) :: balance_before_last
       type(error_t), allocatable :: state_error
-      real(dp) :: next_progress, start, last_checkpoint
+      real(dp) :: next_progress, start, last_checkpoint, reference_before_last
       real(dp), allocatable :: coordinates(:), reactions(:, :)
       integer :: num_modes_total, rows_before_last, signal
       integer(i8) :: steps_at_checkpoint
@@ -431,6 +431,7 @@ contains
       steps_at_checkpoint = integrator%stats%steps
       have_before_last = .false.
       rows_before_last = 0
+      reference_before_last = 0.0_dp
       ! t accumulates h with round-off (~1e-12 s over 2e4 steps): stop within 1e-6 h of t_end
       ! rather than take a last step of a few 1e-13 s.
       do while (integrator%t < integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h)
@@ -439,6 +440,7 @@ contains
             then
             before_last = integrator
             balance_before_last = balance
+            reference_before_last = mech%crank_reference
             rows_before_last = results%num_steps()
             have_before_last = .true.
          end if
@@ -466,8 +468,8 @@ contains
          if (integrator%t >= integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h) &
             exit
          if (checkpoint_due()) then
-            call write_restart_state(results, integrator, balance, results%num_steps(), mech, &
-               bodies, error)
+            call write_restart_state(results, integrator, balance, results%num_steps(), &
+               mech%crank_reference, mech, bodies, error)
             if (.not. allocated(error)) call write_checkpoint_file(results_file, error)
             if (allocated(error)) exit
             last_checkpoint = wall_time()
@@ -477,10 +479,10 @@ contains
       ! The restart state of the results file
       if (have_before_last .and. integrator%t == integrator%settings%t_end) then
          call write_restart_state(results, before_last, balance_before_last, rows_before_last, &
-            mech, bodies, state_error)
+            reference_before_last, mech, bodies, state_error)
       else
-         call write_restart_state(results, integrator, balance, results%num_steps(), mech, &
-            bodies, state_error)
+         call write_restart_state(results, integrator, balance, results%num_steps(), &
+            mech%crank_reference, mech, bodies, state_error)
       end if
       if (.not. allocated(error) .and. allocated(state_error)) call move_alloc(state_error, error)
 
@@ -685,15 +687,19 @@ contains
    end subroutine remove_checkpoint
 
    !> The restart state in the results file being written (/checkpoint): the integrator's
-   !> whole state (galpha_export_state), the energy balance, the number of recorded steps
-   !> that belong to it and what identifies the system (coordinates, bodies, modes); then the
-   !> file is flushed, so that it is consistent on disk.
-   subroutine write_restart_state(results, integrator, balance, num_steps, mech, bodies, error)
+   !> whole state (galpha_export_state), the energy balance, the mechanism's crank-angle
+   !> unwrapping reference (the pressure cycle follows the unwrapped angle), the number of
+   !> recorded steps that belong to it and what identifies the system (coordinates, bodies,
+   !> modes); then the file is flushed, so that it is consistent on disk.
+   subroutine write_restart_state(results, integrator, balance, num_steps, crank_reference, &
+         mech, bodies, error)
       type(engine_results_t), intent(inout) :: results
       type(galpha_integrator_t), intent(in) :: integrator
       type(energy_balance_t), intent(in) :: balance
       !> Recorded steps (rows of the series) up to this state
       integer, intent(in) :: num_steps
+      !> mechanism_t%crank_reference at this state (rad)
+      real(dp), intent(in) :: crank_reference
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(error_t), allocatable, intent(out) :: error
@@ -713,6 +719,8 @@ contains
          error)
       if (.not. allocated(error)) call results%write_real('/checkpoint/energy_balance', &
          balance%export_state(), '1', error)
+      if (.not. allocated(error)) call results%write_real('/checkpoint/crank_reference', &
+         [crank_reference], 'rad', error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_steps', &
          [int(num_steps, i8)], error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_coordinates', &
@@ -764,6 +772,8 @@ contains
          restart%ints, error)
       if (.not. allocated(error)) call source%read_real('/checkpoint/energy_balance', &
          restart%balance, error)
+      if (.not. allocated(error)) call source%read_real('/checkpoint/crank_reference', &
+         restart%crank_reference, error)
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_steps', counts, error)
       if (.not. allocated(error)) restart%num_steps = int(counts(1))
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_coordinates', counts, &
@@ -784,7 +794,7 @@ contains
    subroutine apply_restart(file_name, restart, mech, bodies, integrator, balance, error)
       character(len=*), intent(in) :: file_name
       type(restart_state_t), intent(in) :: restart
-      type(mechanism_t), intent(in) :: mech
+      type(mechanism_t), intent(inout) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(galpha_integrator_t), intent(inout) :: integrator
       type(energy_balance_t), intent(inout) :: balance
@@ -817,9 +827,12 @@ contains
          return
       end if
       call balance%import_state(restart%balance, ok)
-      if (.not. ok) call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // &
-         '": its energy balance state has ' // to_str(size(restart%balance)) // &
-         ' values, expected 11')
+      if (.not. ok .or. size(restart%crank_reference) /= 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // &
+            '": its energy balance or crank reference state has the wrong size')
+         return
+      end if
+      mech%crank_reference = restart%crank_reference(1)
    end subroutine apply_restart
 
    !> The animation history (time, crank angle, modal coordinates) of the first num_steps
