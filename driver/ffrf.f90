@@ -10,7 +10,8 @@ program ffrf_driver
       case_is_mechanism, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
       LOG_DEBUG
    use ffrf_core_error, only: FFRF_INTERRUPTED
-   use ffrf_core_posix, only: install_signal_handlers, ignore_file_size_signal
+   use ffrf_core_posix, only: install_signal_handlers, signals_restart_calls, &
+      ignore_file_size_signal
    implicit none
    interface
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
@@ -64,6 +65,7 @@ program ffrf_driver
 
    ! SIGTERM & co. end a run cleanly after its current step; a file size limit makes writes fail
    call install_signal_handlers(error)
+   if (.not. allocated(error)) call signals_restart_calls(error)
    if (.not. allocated(error)) call ignore_file_size_signal()
    log%unit = output_unit
    if (allocated(error)) then

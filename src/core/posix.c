@@ -223,3 +223,18 @@ int ffrf_fsync_folder_of(const char *path)
     close(fd);
     return status;
 }
+
+/* Make the signals of ffrf_signals_install restart interrupted system calls (SA_RESTART): a
+ * signal that arrives while a mesh or case file is read must not fail that read with EINTR;
+ * the run ends at its next check of ffrf_signal_pending instead. */
+int ffrf_signals_restart_calls(void)
+{
+    const int signals[] = {SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU};
+    for (size_t k = 0; k < sizeof signals / sizeof signals[0]; ++k) {
+        struct sigaction action;
+        if (sigaction(signals[k], NULL, &action) != 0) return errno;
+        action.sa_flags |= SA_RESTART;
+        if (sigaction(signals[k], &action, NULL) != 0) return errno;
+    }
+    return 0;
+}

@@ -15,6 +15,7 @@ module ffrf_core_posix
    public :: install_signal_handlers, pending_signal, clear_pending_signal, signal_name
    public :: ERRNO_WOULD_BLOCK
    public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of
+   public :: signals_restart_calls
 
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
@@ -85,6 +86,10 @@ module ffrf_core_posix
          import :: c_int, c_char
          character(kind=c_char), intent(in) :: from(*), to(*)
       end function c_copy_file
+      integer(c_int) function c_signals_restart_calls() &
+            bind(c, name='ffrf_signals_restart_calls')
+         import :: c_int
+      end function c_signals_restart_calls
       integer(c_int) function c_fsync_folder_of(path) bind(c, name='ffrf_fsync_folder_of')
          import :: c_int, c_char
          character(kind=c_char), intent(in) :: path(*)
@@ -298,5 +303,15 @@ contains
       if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write the folder of "' &
          // path // '" to disk: ' // errno_text(int(status)))
    end subroutine sync_folder_of
+
+   !> After install_signal_handlers: system calls a signal interrupts are restarted (a file
+   !> being read when SIGTERM arrives is read on; the run stops at its next check).
+   subroutine signals_restart_calls(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_signals_restart_calls()
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot set the signal ' // &
+         'handlers to restart system calls: ' // errno_text(int(status)))
+   end subroutine signals_restart_calls
 
 end module ffrf_core_posix

@@ -382,8 +382,9 @@ contains
 
    !> Step to t_end, recording every step; progress every progress_interval simulated seconds.
    !> After every step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the
-   !> run with FFRF_INTERRUPTED, and every checkpoint_seconds of wall time (or checkpoint_steps
-   !> steps) the restart checkpoint is written (write_checkpoint_file). At the end, whatever
+   !> run with FFRF_INTERRUPTED, and every checkpoint_seconds of wall time (at least 20 times
+   !> the cost of the last checkpoint) or checkpoint_steps steps the restart checkpoint is
+   !> written (write_checkpoint_file). At the end, whatever
    !> happened, the restart state goes into the results file: the state before the last,
    !> shortened step when the run reached t_end (a restart to a later t_end then takes the
    !> same steps as a run straight to it), else the last converged state.
@@ -409,6 +410,8 @@ contains
       type(energy_balance_t) :: balance_before_last
       type(error_t), allocatable :: state_error
       real(dp) :: next_progress, start, last_checkpoint, reference_before_last
+      real(dp) :: checkpoint_seconds, checkpoint_start, last_cost
+      integer :: num_checkpoints
       real(dp), allocatable :: coordinates(:), reactions(:, :)
       integer :: num_modes_total, rows_before_last, signal
       integer(i8) :: steps_at_checkpoint
@@ -432,6 +435,9 @@ contains
       have_before_last = .false.
       rows_before_last = 0
       reference_before_last = 0.0_dp
+      checkpoint_seconds = 0.0_dp
+      last_cost = 0.0_dp
+      num_checkpoints = 0
       ! t accumulates h with round-off (~1e-12 s over 2e4 steps): stop within 1e-6 h of t_end
       ! rather than take a last step of a few 1e-13 s.
       do while (integrator%t < integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h)
@@ -468,12 +474,16 @@ contains
          if (integrator%t >= integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h) &
             exit
          if (checkpoint_due()) then
+            checkpoint_start = wall_time()
             call write_restart_state(results, integrator, balance, results%num_steps(), &
                mech%crank_reference, mech, bodies, error)
             if (.not. allocated(error)) call write_checkpoint_file(results_file, error)
             if (allocated(error)) exit
             last_checkpoint = wall_time()
             steps_at_checkpoint = integrator%stats%steps
+            num_checkpoints = num_checkpoints + 1
+            last_cost = last_checkpoint - checkpoint_start
+            checkpoint_seconds = checkpoint_seconds + last_cost
          end if
       end do
       ! The restart state of the results file
@@ -485,6 +495,10 @@ contains
             mech%crank_reference, mech, bodies, state_error)
       end if
       if (.not. allocated(error) .and. allocated(state_error)) call move_alloc(state_error, error)
+      if (num_checkpoints > 0) call log%info('run', to_str(num_checkpoints) // ' restart ' // &
+         'checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &
+         to_str(checkpoint_seconds, 3) // ' s (' // to_str(100.0_dp * checkpoint_seconds / &
+         max(wall_time() - start, 1.0e-9_dp), 2) // ' % of the integration)')
 
    contains
 
@@ -494,8 +508,11 @@ contains
             checkpoint_due = .false.
             if (s%checkpoint_steps > 0) checkpoint_due = integrator%stats%steps - &
                steps_at_checkpoint >= s%checkpoint_steps
+            ! a checkpoint copies the whole file: for a large file the interval grows to
+            ! 20 times its cost, so checkpoints never take more than 5 % of the run
             if (s%checkpoint_seconds > 0.0_dp) checkpoint_due = checkpoint_due .or. &
-               wall_time() - last_checkpoint >= s%checkpoint_seconds
+               wall_time() - last_checkpoint >= max(s%checkpoint_seconds, 20.0_dp * &
+               last_cost)
          end associate
       end function checkpoint_due
 
