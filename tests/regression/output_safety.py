@@ -250,7 +250,37 @@ def interrupted_file(path, name, signal_name):
         return t[-1]
 
 
+def two_crank_case(path):
+    """A modal case of two bodies (the lc = 8 mm crank twice)."""
+    with open(path, 'w') as f:
+        f.write("&run title = 'two cranks' /\n&modes num_modes = 12 /\n")
+        for body in ('crank_a', 'crank_b'):
+            f.write(f"&body name = '{body}', mesh_file = 'crank_lc8.msh', volumes = 'crank',\n"
+                    "      young = 210.0e9, poisson = 0.3, density = 7850.0 /\n"
+                    f"&interface body = '{body}', name = 'B1', mpc = 'RBE3', rc = 'Tx Ty Tz' /\n"
+                    f"&interface body = '{body}', name = 'B2', mpc = 'RBE3', rc = '' /\n"
+                    f"&interface body = '{body}', name = 'B3', mpc = 'RBE3', rc = 'Tx Ty Tz Rz' /\n")
+    return path
+
+
 def test_signals(ffrf, mesh_dir, case_dir, work):
+    # A modal run stops between bodies
+    modal = two_crank_case(os.path.join(work, 'two_cranks.nml'))
+    out = os.path.join(work, 'modal_out')
+    os.makedirs(out, exist_ok=True)
+    results = os.path.join(out, 'two_cranks.h5')
+    run = Run(ffrf_args(ffrf, modal, mesh_dir, out), work, 'modal_signal')
+    check(run.wait_for(r'\[modes\]'), 'modal run: computing the first body')
+    run.process.send_signal(signal.SIGTERM)
+    code = run.wait()
+    check(code == 5, f'modal run, SIGTERM during the first body: exit 5 (got {code})')
+    check(one_error_line(run.stderr, ['interrupted by SIGTERM', 'crank_a', results]),
+          f'modal run: one stderr line: {run.stderr.strip()}')
+    check(status_of(results) == 'interrupted: SIGTERM', 'modal run: status interrupted: SIGTERM')
+    with h5py.File(results, 'r') as f:
+        check('/bodies/crank_a/modes/frequency' in f and '/bodies/crank_b' not in f,
+              'modal run: the file holds the first body, not the second')
+
     rigid = make_case(os.path.join(case_dir, 'engine_lc8_all_rigid.nml'), os.path.join(work, 'rigid.nml'),
                       [('t_end = 0.3', 't_end = 2.0'), ('label =', 'progress_interval = 0.01, label =')])
     flexible = make_case(os.path.join(case_dir, 'engine_lc8_rc1.nml'), os.path.join(work, 'flexible.nml'),
