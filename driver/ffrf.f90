@@ -1,13 +1,17 @@
 !> ffrf batch driver: `ffrf CASE.nml|- [--check] [--mesh-dir DIR] [--output-dir DIR]
-!> [--quiet|--debug]`.
+!> [--quiet|--debug] [--no-overwrite] [--restart RESULTS]`.
 !> Reads the arguments, runs the case, prints an error and exits non-zero on failure:
-!> 2 bad input, 3 file input/output, 4 numerical failure, 1 bad command line.
+!> 2 bad input, 3 file input/output, 4 numerical failure, 5 interrupted by a signal,
+!> 1 bad command line.
 program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
    use ffrf, only: error_t, logger_t, run_options_t, run_modal, run_mechanism, check_case, &
       case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
       LOG_DEBUG
+   use ffrf_core_error, only: FFRF_INTERRUPTED
+   use ffrf_core_posix, only: install_signal_handlers, signals_restart_calls, &
+      ignore_file_size_signal
    implicit none
    interface
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
@@ -27,6 +31,7 @@ program ffrf_driver
 
    options%mesh_dir = ''
    options%output_dir = ''
+   options%restart_file = ''
    case_file = ''
    check_only = .false.
    i = 0
@@ -42,6 +47,12 @@ program ffrf_driver
          i = i + 1
          if (arg == '--mesh-dir') options%mesh_dir = argument(i)
          if (arg == '--output-dir') options%output_dir = argument(i)
+      case ('--restart')
+         if (i == command_argument_count()) call bad_usage(arg // ' needs a results file')
+         i = i + 1
+         options%restart_file = argument(i)
+      case ('--no-overwrite')
+         options%overwrite = .false.
       case ('--quiet')
          options%log_level = LOG_QUIET
       case ('--debug')
@@ -49,7 +60,7 @@ program ffrf_driver
       case ('--check')
          check_only = .true.
       case default
-         if (arg(1:1) == '-' .and. arg /= '-') call bad_usage('unknown option ' // arg)
+         if (index(arg, '-') == 1 .and. arg /= '-') call bad_usage('unknown option ' // arg)
          if (len(case_file) > 0) call bad_usage('one case file only (got ' // case_file // &
             ' and ' // arg // ')')
          case_file = arg
@@ -57,8 +68,12 @@ program ffrf_driver
    end do
    if (len(case_file) == 0) call bad_usage('no case file given')
 
+   ! SIGTERM & co. end a run cleanly after its current step; a file size limit makes writes fail
+   call install_signal_handlers(error)
+   if (.not. allocated(error)) call signals_restart_calls(error)
+   if (.not. allocated(error)) call ignore_file_size_signal()
    log%unit = output_unit
-   call read_case(case_file, case, error)
+   if (.not. allocated(error)) call read_case(case_file, case, error)
    if (.not. allocated(error)) then
       if (check_only) then
          call check_case(case, options, log, error)
@@ -73,7 +88,7 @@ program ffrf_driver
       flush (output_unit)
       flush (error_unit)
       select case (error%code)
-      case (FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR)
+      case (FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED)
          call c_exit(int(error%code, c_int))
       case default
          call c_exit(1_c_int)
@@ -107,6 +122,13 @@ contains
          'stop (exit 0: no error found); nothing is computed or written'
       write (unit, '(a)') '  -                 as CASE: read the case from standard input ' // &
          '(named "stdin"; relative meshes from the current folder)'
+      write (unit, '(a)') '  --no-overwrite    refuse to start when the results file exists ' // &
+         '(default: replace it when the run has finished)'
+      write (unit, '(a)') '  --restart FILE    continue the mechanism run whose results (or ' // &
+         '.checkpoint) file is FILE to the case''s t_end'
+      write (unit, '(a)') '  Exit codes: 0 done, 1 bad command line, 2 bad input, 3 file ' // &
+         'input/output (disk full, output locked by another run), 4 numerical failure, ' // &
+         '5 interrupted by a signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU)'
    end subroutine usage
 
    subroutine bad_usage(message)

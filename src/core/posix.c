@@ -134,3 +134,107 @@ void ffrf_signal_name(int signal_number, char *buffer, int length)
     if (name) snprintf(buffer, (size_t)length, "%s", name);
     else snprintf(buffer, (size_t)length, "signal %d", signal_number);
 }
+
+/* ---- results files (issue 10, part 1): output locks, durable copies, full-disk signals ---- */
+
+/* The lock of ffrf_lock_file, made safe against the removal of the lock file by the run that
+ * held it: after taking the lock, the path must still name the locked file (same device and
+ * inode), else another run removed it in between and the lock is taken again on the new file.
+ * EWOULDBLOCK: another process holds it. */
+int ffrf_lock_output(const char *path, int *fd)
+{
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        struct stat held, named;
+        int status = ffrf_lock_file(path, fd);
+        if (status != 0) return status;
+        if (fstat(*fd, &held) == 0 && stat(path, &named) == 0 && held.st_dev == named.st_dev
+            && held.st_ino == named.st_ino)
+            return 0;
+        flock(*fd, LOCK_UN);
+        close(*fd);
+        *fd = -1;
+    }
+    return EWOULDBLOCK;
+}
+
+/* A process limited by RLIMIT_FSIZE (ulimit -f) is killed by SIGXFSZ when a write passes the
+ * limit; ignored, the write fails with EFBIG and the run reports it like a full disk. */
+int ffrf_ignore_file_size_signal(void)
+{
+    struct sigaction action;
+    memset(&action, 0, sizeof action);
+    action.sa_handler = SIG_IGN;
+    sigemptyset(&action.sa_mask);
+    return sigaction(SIGXFSZ, &action, NULL) == 0 ? 0 : errno;
+}
+
+/* Copy the file `from` to `to` (created or truncated, mode 0644) and fsync `to`: the bytes are
+ * on the device when this returns 0. Errno of the first failure otherwise (`to` is then
+ * incomplete: the caller removes it). */
+int ffrf_copy_file(const char *from, const char *to)
+{
+    char buffer[1 << 16];
+    int in = open(from, O_RDONLY | O_CLOEXEC), out, status = 0;
+    if (in < 0) return errno;
+    out = open(to, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (out < 0) {
+        status = errno;
+        close(in);
+        return status;
+    }
+    for (;;) {
+        ssize_t got = read(in, buffer, sizeof buffer), done = 0;
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            status = errno;
+            break;
+        }
+        if (got == 0) break;
+        while (done < got) {
+            ssize_t put = write(out, buffer + done, (size_t)(got - done));
+            if (put < 0) {
+                if (errno == EINTR) continue;
+                status = errno;
+                break;
+            }
+            done += put;
+        }
+        if (status != 0) break;
+    }
+    if (status == 0 && fsync(out) != 0 && errno != EINVAL && errno != EROFS) status = errno;
+    if (close(out) != 0 && status == 0) status = errno;
+    close(in);
+    return status;
+}
+
+/* fsync the folder that holds `path`, so that a rename into it survives a power cut. Errors of
+ * file systems that cannot sync a folder are ignored. */
+int ffrf_fsync_folder_of(const char *path)
+{
+    char folder[4096];
+    const char *slash = strrchr(path, '/');
+    int fd, status = 0;
+    if (slash == NULL) snprintf(folder, sizeof folder, ".");
+    else if (slash == path) snprintf(folder, sizeof folder, "/");
+    else snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
+    fd = open(folder, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    if (fsync(fd) != 0 && errno != EINVAL && errno != EROFS && errno != EBADF) status = errno;
+    close(fd);
+    return status;
+}
+
+/* Make the signals of ffrf_signals_install restart interrupted system calls (SA_RESTART): a
+ * signal that arrives while a mesh or case file is read must not fail that read with EINTR;
+ * the run ends at its next check of ffrf_signal_pending instead. */
+int ffrf_signals_restart_calls(void)
+{
+    const int signals[] = {SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU};
+    for (size_t k = 0; k < sizeof signals / sizeof signals[0]; ++k) {
+        struct sigaction action;
+        if (sigaction(signals[k], NULL, &action) != 0) return errno;
+        action.sa_flags |= SA_RESTART;
+        if (sigaction(signals[k], &action, NULL) != 0) return errno;
+    }
+    return 0;
+}

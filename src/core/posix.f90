@@ -14,6 +14,8 @@ module ffrf_core_posix
    public :: lock_file, unlock_file, errno_text
    public :: install_signal_handlers, pending_signal, clear_pending_signal, signal_name
    public :: ERRNO_WOULD_BLOCK
+   public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of
+   public :: signals_restart_calls
 
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
@@ -68,6 +70,30 @@ module ffrf_core_posix
          integer(c_int), value :: number, length
          character(kind=c_char), intent(out) :: buffer(*)
       end subroutine c_signal_name
+   end interface
+
+   interface
+      integer(c_int) function c_lock_output(path, fd) bind(c, name='ffrf_lock_output')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int), intent(out) :: fd
+      end function c_lock_output
+      integer(c_int) function c_ignore_file_size_signal() &
+            bind(c, name='ffrf_ignore_file_size_signal')
+         import :: c_int
+      end function c_ignore_file_size_signal
+      integer(c_int) function c_copy_file(from, to) bind(c, name='ffrf_copy_file')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: from(*), to(*)
+      end function c_copy_file
+      integer(c_int) function c_signals_restart_calls() &
+            bind(c, name='ffrf_signals_restart_calls')
+         import :: c_int
+      end function c_signals_restart_calls
+      integer(c_int) function c_fsync_folder_of(path) bind(c, name='ffrf_fsync_folder_of')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+      end function c_fsync_folder_of
    end interface
 
 contains
@@ -238,5 +264,54 @@ contains
          text(k:k) = buffer(k)
       end do
    end function from_c_buffer
+
+   ! ---- results files (issue 10, part 1)
+
+   !> lock_file, safe against the lock file being removed by the run that held it (posix.c).
+   !> status 0: taken; ERRNO_WOULD_BLOCK: another process holds it; else the errno.
+   subroutine lock_output(path, fd, status)
+      character(len=*), intent(in) :: path
+      integer, intent(out) :: fd, status
+      integer(c_int) :: c_fd
+      status = int(c_lock_output(c_string(path), c_fd))
+      fd = int(c_fd)
+   end subroutine lock_output
+
+   !> Make writes past RLIMIT_FSIZE fail with EFBIG instead of killing the run with SIGXFSZ.
+   subroutine ignore_file_size_signal()
+      integer(c_int) :: status
+      status = c_ignore_file_size_signal()
+   end subroutine ignore_file_size_signal
+
+   !> Copy `from` to `to` and force `to` to the device (a checkpoint that kill -9 cannot break
+   !> once renamed into place). FFRF_IO_ERROR naming `to` on failure (`to` is then incomplete).
+   subroutine copy_file(from, to, error)
+      character(len=*), intent(in) :: from, to
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_copy_file(c_string(from), c_string(to))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot copy "' // from // &
+         '" to "' // to // '": ' // errno_text(int(status)))
+   end subroutine copy_file
+
+   !> Force the folder entry of `path` (after a rename into it) to the device.
+   subroutine sync_folder_of(path, error)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_fsync_folder_of(c_string(path))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write the folder of "' &
+         // path // '" to disk: ' // errno_text(int(status)))
+   end subroutine sync_folder_of
+
+   !> After install_signal_handlers: system calls a signal interrupts are restarted (a file
+   !> being read when SIGTERM arrives is read on; the run stops at its next check).
+   subroutine signals_restart_calls(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_signals_restart_calls()
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot set the signal ' // &
+         'handlers to restart system calls: ' // errno_text(int(status)))
+   end subroutine signals_restart_calls
 
 end module ffrf_core_posix

@@ -19,7 +19,7 @@ module ffrf_io_case
    use ffrf_io_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
    use ffrf_mbs_mechanism_input, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
-   use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP
+   use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
    implicit none
    private
    public :: case_input_t, read_case, case_echo, body_index, vector_text, case_groups
@@ -268,6 +268,7 @@ contains
       type(mechanism_case_input_t), intent(in) :: mech
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
+      type(galpha_settings_t) :: default_settings
       integer :: k
       associate (m => mech%mechanism, p => mech%pressure, s => mech%integrator)
          text = '&mechanism crank = ''' // trim(m%crank) // ''', crank_angle_deg = ' // &
@@ -330,6 +331,11 @@ contains
             jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse)
          if (mech%max_steps /= mechanism_case_input_t_max_steps()) text = text // &
             ', max_steps = ' // to_str(mech%max_steps)
+         ! Checkpoint keys only when set: they do not change the results
+         if (s%checkpoint_seconds /= default_settings%checkpoint_seconds) text = text // &
+            ', checkpoint_seconds = ' // to_str(s%checkpoint_seconds, 6)
+         if (s%checkpoint_steps /= default_settings%checkpoint_steps) text = text // &
+            ', checkpoint_steps = ' // to_str(s%checkpoint_steps)
          text = text // ' /' // nl
          text = text // '&model selection = ''' // trim(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &

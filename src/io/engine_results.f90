@@ -21,7 +21,7 @@
 !> default) and by `finish`: HDF5 is touched once per chunk, not once per step.
 module ffrf_io_engine_results
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
@@ -82,6 +82,8 @@ module ffrf_io_engine_results
       procedure :: write_int => engine_results_write_int
       procedure :: write_strings => engine_results_write_strings
       procedure :: write_modes => engine_results_write_modes
+      procedure :: write_long => engine_results_write_long
+      procedure :: append_from => engine_results_append_from
    end type engine_results_t
 
 contains
@@ -282,9 +284,10 @@ contains
    end subroutine engine_results_flush
 
    !> Flush the buffer, write the stage timings, set the status ('complete' or the error
-   !> message) and close. If the flush fails, the status becomes that failure's message.
+   !> message) and close, whatever fails. If a write fails, the status becomes that failure's
+   !> message; `closed` tells whether the file was closed cleanly (then it is readable).
    subroutine engine_results_finish(self, status, stage_names, stage_seconds, error, &
-         stage_peak_mib)
+         stage_peak_mib, closed)
       class(engine_results_t), intent(inout) :: self
       !> 'complete' or the error message of the run
       character(len=*), intent(in) :: status
@@ -295,7 +298,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> Peak resident memory of the process at the end of each stage (MiB, VmHWM)
       real(dp), intent(in), optional :: stage_peak_mib(:)
-      type(error_t), allocatable :: ignored
+      !> True when the file was closed without error
+      logical, intent(out), optional :: closed
+      type(error_t), allocatable :: ignored, close_error
 
       if (size(stage_names) /= size(stage_seconds)) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
@@ -316,13 +321,11 @@ contains
          if (.not. allocated(error) .and. present(stage_peak_mib)) call self%h5%write_real( &
             '/timings/peak_memory_mib', stage_peak_mib, 'MiB', error)
       end if
-      if (allocated(error)) then
-         call self%h5%set_status(error%message, ignored)
-         call self%h5%close(ignored)
-         return
-      end if
-      call self%h5%set_status(status, error)
-      if (.not. allocated(error)) call self%h5%close(error)
+      if (.not. allocated(error)) call self%h5%set_status(status, error)
+      if (allocated(error)) call self%h5%set_status('error: ' // error%message, ignored)
+      call self%h5%close(close_error)
+      if (present(closed)) closed = .not. allocated(close_error)
+      if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
    end subroutine engine_results_finish
 
    !> Steps recorded so far (written or buffered).
@@ -409,6 +412,80 @@ contains
       end do
       if (allocated(error)) call add_context(error, 'engine results "' // self%file_name // '"')
    end subroutine engine_results_write_modes
+
+   !> Write 64-bit integer run information (the restart state).
+   subroutine engine_results_write_long(self, path, values, error)
+      class(engine_results_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      integer(i8), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      call self%h5%write_int(path, values, error)
+   end subroutine engine_results_write_long
+
+   !> Append the first `num_steps` steps of every series of `source` (the results file of an
+   !> earlier run of the same case, open for reading) to this file, before any `record`: a
+   !> restarted run holds the whole history. The series of `source` must have the rows of the
+   !> bodies and joints added here.
+   subroutine engine_results_append_from(self, source, num_steps, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Earlier results file
+      type(h5_file_t), intent(in) :: source
+      !> Steps to copy
+      integer, intent(in) :: num_steps
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      call check_not_started(self, 'append_from', error)
+      if (allocated(error)) return
+      do k = 1, NUM_SCALARS
+         call copy_series(trim(SCALAR_PATHS(k)), .true.)
+         if (allocated(error)) return
+      end do
+      do k = 1, size(self%body_paths)
+         call copy_series(trim(self%body_paths(k)) // '/position', .false.)
+         if (.not. allocated(error)) call copy_series(trim(self%body_paths(k)) // &
+            '/euler_parameters', .false.)
+         if (.not. allocated(error) .and. self%num_modes(k) > 0) call copy_series( &
+            trim(self%body_paths(k)) // '/modal_coordinates', .false.)
+         if (allocated(error)) return
+      end do
+      do k = 1, size(self%joint_paths)
+         call copy_series(trim(self%joint_paths(k)), .false.)
+         if (allocated(error)) return
+      end do
+      self%num_recorded = num_steps
+      call self%h5%flush(error)
+
+   contains
+
+      subroutine copy_series(path, scalar)
+         character(len=*), intent(in) :: path
+         logical, intent(in) :: scalar
+         real(dp), allocatable :: x(:), xx(:, :)
+         if (scalar) then
+            call source%read_real(path, x, error)
+            if (.not. allocated(error)) then
+               if (size(x) < num_steps) call short(size(x))
+            end if
+            if (.not. allocated(error) .and. num_steps > 0) call self%h5%append(path, &
+               x(1:num_steps), error)
+         else
+            call source%read_real(path, xx, error)
+            if (.not. allocated(error)) then
+               if (size(xx, 2) < num_steps) call short(size(xx, 2))
+            end if
+            if (.not. allocated(error) .and. num_steps > 0) call self%h5%append(path, &
+               xx(:, 1:num_steps), error)
+         end if
+      end subroutine copy_series
+
+      subroutine short(length)
+         integer, intent(in) :: length
+         call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+            '": the earlier run''s series hold ' // to_str(length) // ' steps, fewer than ' // &
+            'the ' // to_str(num_steps) // ' of its restart state')
+      end subroutine short
+
+   end subroutine engine_results_append_from
 
    !> Error unless the file is open and no step has been recorded.
    subroutine check_not_started(self, what, error)

@@ -20,9 +20,14 @@
 !> displacement factor for all frames and Gmsh's play button animates them; frame values are
 !> written with 7 significant digits (for viewing, not for reading back).
 !> Numbers are written with 17 significant digits, so they read back as the same doubles.
+!> Both files are written under `<file>.part`, checked to be whole on disk (the Fortran runtime
+!> does not report a full disk: the size on disk is compared with the size written), forced to
+!> the device and renamed over their final names (an existing file is replaced only by a
+!> complete one); on failure the `.part` files are removed and FFRF_IO_ERROR names the file.
 module ffrf_io_gmsh_writer
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
+   use ffrf_core_posix, only: file_kind, sync_file, rename_file, remove_file
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
@@ -95,8 +100,8 @@ contains
       num_nodes = size(xyz, 2)
       num_modes = size(shapes, 2)
 
-      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat, &
-         iomsg=msg)
+      open (newunit=unit, file=file_name // '.part', status='replace', action='write', &
+         iostat=stat, iomsg=msg)
       if (stat /= 0) then
          call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh file "' // file_name // &
             '": ' // trim(msg) // '; check that its folder exists and is writable')
@@ -139,19 +144,71 @@ contains
          if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '$EndNodeData'
       end do
       if (stat /= 0) then
-         close (unit)
+         close (unit, status='delete')
          call fatal_error(error, FFRF_IO_ERROR, 'writing Gmsh file "' // file_name // &
             '" failed: ' // trim(msg))
          return
       end if
-      close (unit, iostat=stat, iomsg=msg)
+      call close_whole(unit, file_name // '.part', 'Gmsh file "' // file_name // '"', error)
+      if (allocated(error)) return
+      call write_options(file_name // '.opt', xyz, shapes, frames, error)
+      if (.not. allocated(error)) call commit(file_name // '.part', file_name, 'Gmsh file', &
+         error)
+      if (.not. allocated(error)) call commit(file_name // '.opt.part', file_name // '.opt', &
+         'Gmsh option file', error)
+      if (allocated(error)) then
+         call remove_quietly(file_name // '.part')
+         call remove_quietly(file_name // '.opt.part')
+      end if
+   end subroutine write_views
+
+   !> Close `unit` (the file `path`) and check that all it was written reached the file: the
+   !> size on disk must equal the size the runtime wrote (a full disk or a file size limit
+   !> truncates it silently). The file is removed on failure.
+   subroutine close_whole(unit, path, what, error)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: path, what
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: written, on_disk
+      integer :: stat, kind
+      character(len=512) :: msg
+      written = -1
+      inquire (unit=unit, size=written)
+      flush (unit, iostat=stat, iomsg=msg)
+      if (stat == 0) close (unit, iostat=stat, iomsg=msg)
       if (stat /= 0) then
-         call fatal_error(error, FFRF_IO_ERROR, 'closing Gmsh file "' // file_name // &
+         close (unit, iostat=stat)
+         call remove_quietly(path)
+         call fatal_error(error, FFRF_IO_ERROR, what // ' not written: closing "' // path // &
             '" failed: ' // trim(msg))
          return
       end if
-      call write_options(file_name // '.opt', xyz, shapes, frames, error)
-   end subroutine write_views
+      call file_kind(path, kind, on_disk, error)
+      if (allocated(error)) return
+      if (on_disk /= written .or. written < 0) then
+         call remove_quietly(path)
+         call fatal_error(error, FFRF_IO_ERROR, what // ' not written: only ' // &
+            to_str(on_disk) // ' of its ' // to_str(written) // ' bytes reached "' // path // &
+            '" (disk full, quota or file size limit?)')
+      end if
+   end subroutine close_whole
+
+   !> Force `temp` to the device and rename it over `final`.
+   subroutine commit(temp, final, what, error)
+      character(len=*), intent(in) :: temp, final, what
+      type(error_t), allocatable, intent(out) :: error
+      call sync_file(temp, error)
+      if (.not. allocated(error)) call rename_file(temp, final, error)
+      if (allocated(error)) error%message = what // ' "' // final // '" not written: ' // &
+         error%message
+   end subroutine commit
+
+   !> Remove a file, ignoring errors (a missing file is fine).
+   subroutine remove_quietly(path)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable :: ignored
+      call remove_file(path, ignored)
+   end subroutine remove_quietly
 
    !> Sizes, node numbers and finiteness of the input.
    subroutine check_input(file_name, xyz, tets, shapes, frequencies_hz, element_type, error)
@@ -230,8 +287,8 @@ contains
       integer :: unit, stat, mode, i
       diagonal = 0.0_dp
       if (size(xyz) > 0) diagonal = norm2(maxval(xyz, dim=2) - minval(xyz, dim=2))
-      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat, &
-         iomsg=msg)
+      open (newunit=unit, file=file_name // '.part', status='replace', action='write', &
+         iostat=stat, iomsg=msg)
       if (stat /= 0) then
          call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh option file "' // &
             file_name // '": ' // trim(msg))
@@ -269,14 +326,13 @@ contains
             view // '.Visible = ' // trim(merge('1', '0', mode == 1)) // ';'
       end do
       if (stat /= 0) then
-         close (unit)
+         close (unit, status='delete')
          call fatal_error(error, FFRF_IO_ERROR, 'writing Gmsh option file "' // file_name // &
             '" failed: ' // trim(msg))
          return
       end if
-      close (unit, iostat=stat, iomsg=msg)
-      if (stat /= 0) call fatal_error(error, FFRF_IO_ERROR, 'closing Gmsh option file "' // &
-         file_name // '" failed: ' // trim(msg))
+      call close_whole(unit, file_name // '.part', 'Gmsh option file "' // file_name // '"', &
+         error)
    end subroutine write_options
 
 end module ffrf_io_gmsh_writer

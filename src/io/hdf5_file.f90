@@ -511,7 +511,7 @@ submodule (ffrf_io_hdf5) ffrf_io_hdf5_impl
    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_associated, c_char
    use ffrf_core_error, only: fatal_error, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
-   use hdf5, only: hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, &
+   use hdf5, only: hsize_t, size_t, h5open_f, h5dont_atexit_f, h5eset_auto_f, h5kind_to_type, &
       H5_INTEGER_KIND, h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, &
       H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, h5gcreate_f, h5gclose_f, &
       h5lexists_f, h5ldelete_f, h5oopen_f, h5oclose_f, h5iget_type_f, H5I_DATASET_F, &
@@ -578,7 +578,7 @@ contains
       call h5fclose_f(self%id, hdferr)
       self%id = -1
       if (hdferr < 0) call fatal_error(error, FFRF_IO_ERROR, 'HDF5 file "' // self%name // &
-         '": closing failed (disk full or file removed?)')
+         '": closing failed (disk full, quota or file size limit?)')
    end procedure h5_file_close
 
    module procedure h5_file_flush
@@ -586,7 +586,8 @@ contains
       call require_open(self, '/', error)
       if (allocated(error)) return
       call h5fflush_f(self%id, H5F_SCOPE_GLOBAL_F, hdferr)
-      if (hdferr < 0) call fail(self, error, '/', 'flush failed (disk full?)')
+      if (hdferr < 0) call fail(self, error, '/', 'flush failed (disk full, quota or file ' // &
+         'size limit?)')
    end procedure h5_file_flush
 
    module procedure h5_file_is_open
@@ -1014,12 +1015,17 @@ contains
 
    ! ------------------------------------------------------------------ internals
 
-   !> Initialise the HDF5 library once and switch off its automatic error printing.
+   !> Initialise the HDF5 library once and switch off its automatic error printing. HDF5's own
+   !> clean-up at exit is switched off first (h5dont_atexit_f): after a close that failed on a
+   !> full disk, HDF5 1.10 keeps the file's identifier with a half-destroyed file structure,
+   !> and its exit handler (H5_term_library -> H5F_term_package -> H5F__close_cb) then ends
+   !> the process with SIGSEGV. ffrf closes every file it opens itself.
    subroutine ensure_library(ok)
       logical, intent(out) :: ok
       integer :: hdferr
       ok = library_ready
       if (library_ready) return
+      call h5dont_atexit_f(hdferr)
       call h5open_f(hdferr)
       if (hdferr < 0) return
       call h5eset_auto_f(0, hdferr)
@@ -1185,7 +1191,8 @@ contains
          if (c_associated(buffer)) then
             call h5dwrite_f(dset, type_id, buffer, hdferr)
             if (hdferr < 0) then
-               call fail(self, error, path, 'cannot write ' // shape_text(dims) // ' values')
+               call fail(self, error, path, 'cannot write ' // shape_text(dims) // &
+                  ' values (disk full, quota or file size limit?)')
                exit steps
             end if
          end if
@@ -1194,8 +1201,24 @@ contains
             if (hdferr < 0) call fail(self, error, path, 'cannot set its units attribute')
          end if
       end block steps
+      call close_written(self, path, dset, error)
       call release(dset=dset, space=space)
    end subroutine write_dataset
+
+   !> Close a dataset that was written to, reporting a failure (closing writes the data HDF5
+   !> still holds in its chunk cache: a full disk shows here) unless an error is already set.
+   subroutine close_written(self, path, dset, error)
+      class(h5_file_t), intent(in) :: self
+      character(len=*), intent(in) :: path
+      integer(hid_t), intent(inout) :: dset
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: hdferr
+      if (dset < 0) return
+      call h5dclose_f(dset, hdferr)
+      dset = -1
+      if (hdferr < 0 .and. .not. allocated(error)) call fail(self, error, path, &
+         'cannot write the values (disk full, quota or file size limit?)')
+   end subroutine close_written
 
    !> Open dataset `path`, check it has `rank` dimensions, return its Fortran dims. On error the
    !> dataset is closed.
@@ -1400,8 +1423,10 @@ contains
          if (hdferr >= 0) call h5screate_simple_f(rank, count(1:rank), mem_space, hdferr)
          if (hdferr >= 0) call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, buffer, hdferr, mem_space, &
             file_space)
-         if (hdferr < 0) call fail(self, error, path, 'cannot write the appended steps')
+         if (hdferr < 0) call fail(self, error, path, 'cannot write the appended steps ' // &
+            '(disk full, quota or file size limit?)')
       end block steps
+      call close_written(self, path, dset, error)
       call release(dset=dset, space=file_space, mem_space=mem_space)
    end subroutine append_steps
 

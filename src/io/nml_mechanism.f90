@@ -10,7 +10,8 @@
 !>                combustion_start_deg, combustion_duration_deg, heat_per_cycle,
 !>                target_peak_pressure, reference_pressure, table_file    (optional, single)
 !>   &integrator  h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, min_step,
-!>                rank_rtol, jacobian ('adaptive', 'step', 'full')          (optional, single)
+!>                rank_rtol, jacobian ('adaptive', 'step', 'full'), tangent_reuse,
+!>                checkpoint_seconds, checkpoint_steps                       (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
 !> Defaults: ffrf_mbs_mechanism_input, ffrf_mbs_pressure's pressure_input_t (the scene's engine)
@@ -467,12 +468,15 @@ contains
       logical, intent(out) :: h_given
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
-      integer :: max_iterations, tangent_reuse, stat
+      real(dp) :: checkpoint_seconds
+      integer :: max_iterations, tangent_reuse, checkpoint_steps, stat
       character(len=16) :: jacobian
       character(len=512) :: msg
       namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
-         min_step, rank_rtol, jacobian, tangent_reuse
+         min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps
       h = -1.0_dp
+      checkpoint_seconds = settings%checkpoint_seconds
+      checkpoint_steps = settings%checkpoint_steps
       t_end = settings%t_end
       rho_inf = settings%rho_inf
       newton_atol = settings%newton_atol
@@ -495,7 +499,7 @@ contains
          if (stat /= 0) then
             call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
                'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
-               'tangent_reuse')
+               'tangent_reuse, checkpoint_seconds, checkpoint_steps')
             return
          end if
       end if
@@ -509,6 +513,8 @@ contains
       settings%min_step = min_step
       settings%rank_rtol = rank_rtol
       settings%tangent_reuse = tangent_reuse
+      settings%checkpoint_seconds = checkpoint_seconds
+      settings%checkpoint_steps = checkpoint_steps
       select case (to_lower(jacobian))
       case ('adaptive')
          settings%jacobian = GALPHA_NEWTON_ADAPTIVE

@@ -1,9 +1,21 @@
 !> The results file of a modal run (HDF5; schema in README.md, "Results file"). It is created
 !> first with status 'running' and the input echo, filled body by body, and closed with status
 !> 'complete' or the error message, so a failed run keeps what it computed.
+!>
+!> Results files are never damaged (issue 10, part 1; README "Results files"):
+!> - One run per output: `output_lock_t` holds `<results file>.lock` (flock, released by the
+!>   kernel when the run ends, even by kill -9); a second run on the same output stops at once
+!>   (FFRF_IO_ERROR) and touches nothing of the first.
+!> - Every results file is written under `partial_name(file)` = `<file>.part` in the same folder,
+!>   closed, forced to the device and renamed over its final name by `commit_file`: an existing
+!>   file is replaced only once the new one is completely written. A run that fails after its
+!>   file was created commits it with status `error: ...` when the file could still be closed
+!>   cleanly; otherwise it removes its `.part` file and the previous file stays as it was.
 module ffrf_io_results
    use ffrf_core_kinds, only: dp, ip, i8
-   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_IO_ERROR
+   use ffrf_core_posix, only: lock_output, unlock_file, ERRNO_WOULD_BLOCK, errno_text, &
+      sync_file, rename_file, remove_file, sync_folder_of, file_kind, FILE_MISSING
    use ffrf_core_log, only: stage_times_t
    use ffrf_core_build_info, only: FFRF_VERSION, build_versions
    use ffrf_io_hdf5, only: h5_file_t
@@ -12,8 +24,91 @@ module ffrf_io_results
    implicit none
    private
    public :: results_create, results_write_body, results_finish
+   public :: output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
+
+   !> The lock that keeps two runs off one output (module notes).
+   type :: output_lock_t
+      !> Lock file, `<results file>.lock`
+      character(len=:), allocatable :: path
+      !> Descriptor that holds the lock (-1: none)
+      integer :: fd = -1
+   contains
+      procedure :: acquire => output_lock_acquire
+      procedure :: release => output_lock_release
+   end type output_lock_t
 
 contains
+
+   !> Take the lock of `results_file` (its `.lock` file); FFRF_IO_ERROR naming the file when
+   !> another run holds it or the lock file cannot be made.
+   subroutine output_lock_acquire(self, results_file, error)
+      class(output_lock_t), intent(inout) :: self
+      !> Final name of the results file
+      character(len=*), intent(in) :: results_file
+      type(error_t), allocatable, intent(out) :: error
+      integer :: status
+      self%path = results_file // '.lock'
+      call lock_output(self%path, self%fd, status)
+      if (status == ERRNO_WOULD_BLOCK) then
+         call fatal_error(error, FFRF_IO_ERROR, 'results file "' // results_file // '" is ' // &
+            'being written by another ffrf run (it holds the lock "' // self%path // '"); ' // &
+            'wait until that run ends or give this one another output')
+      else if (status /= 0) then
+         call fatal_error(error, FFRF_IO_ERROR, 'results file "' // results_file // &
+            '": cannot create its lock file "' // self%path // '": ' // errno_text(status) // &
+            '; check that the output folder exists and is writable')
+      end if
+   end subroutine output_lock_acquire
+
+   !> Release the lock and remove the lock file (nothing when not held).
+   subroutine output_lock_release(self)
+      class(output_lock_t), intent(inout) :: self
+      if (self%fd < 0) return
+      call unlock_file(self%path, self%fd)
+   end subroutine output_lock_release
+
+   !> The temporary name a results file is written under: `<file>.part`, same folder.
+   pure function partial_name(file_name) result(name)
+      character(len=*), intent(in) :: file_name
+      character(len=:), allocatable :: name
+      name = file_name // '.part'
+   end function partial_name
+
+   !> FFRF_IO_ERROR when `file_name` exists and must not be overwritten (--no-overwrite).
+   subroutine check_no_overwrite(file_name, error)
+      character(len=*), intent(in) :: file_name
+      type(error_t), allocatable, intent(out) :: error
+      integer :: kind
+      integer(i8) :: size_bytes
+      call file_kind(file_name, kind, size_bytes, error)
+      if (allocated(error)) return
+      if (kind /= FILE_MISSING) call fatal_error(error, FFRF_IO_ERROR, 'results file "' // &
+         file_name // '" exists and --no-overwrite was given; remove or rename it, or run ' // &
+         'without --no-overwrite to replace it when this run has finished')
+   end subroutine check_no_overwrite
+
+   !> Force the closed file `temp` to the device and rename it over `final` (module notes). On
+   !> failure `temp` is removed and `final` is left as it was.
+   subroutine commit_file(temp, final, error)
+      character(len=*), intent(in) :: temp, final
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: ignored
+      call sync_file(temp, error)
+      if (.not. allocated(error)) call rename_file(temp, final, error)
+      if (allocated(error)) then
+         call remove_file(temp, ignored)
+         error%message = 'results file "' // final // '" not written: ' // error%message
+         return
+      end if
+      call sync_folder_of(final, ignored)
+   end subroutine commit_file
+
+   !> Remove the temporary file of a run that could not finish it (errors ignored).
+   subroutine abandon_file(temp)
+      character(len=*), intent(in) :: temp
+      type(error_t), allocatable :: ignored
+      call remove_file(temp, ignored)
+   end subroutine abandon_file
 
    !> Create the results file: status 'running', case name, input echo, build versions.
    subroutine results_create(file_name, case_name, title, echo, h5, error)
@@ -161,14 +256,19 @@ contains
       end do
    end function mpc_summary
 
-   !> Stage timings, then the final status ('complete' or the error message); closes the file.
-   subroutine results_finish(h5, times, status, error)
+   !> Stage timings, then the final status ('complete' or the error message); closes the file
+   !> whatever happens. When a write fails the status becomes `error: <that failure>`;
+   !> `closed` tells whether the file was closed cleanly (then it is readable).
+   subroutine results_finish(h5, times, status, error, closed)
       type(h5_file_t), intent(inout) :: h5
       !> Stage wall times and peak memory
       type(stage_times_t), intent(in) :: times
       !> 'complete' or the error message
       character(len=*), intent(in) :: status
       type(error_t), allocatable, intent(out) :: error
+      !> True when the file was closed without error
+      logical, intent(out), optional :: closed
+      type(error_t), allocatable :: close_error, ignored
       if (allocated(times%names)) then
          if (size(times%names) > 0) then
             call h5%write_string_list('/timings/stage', times%names, error)
@@ -176,12 +276,13 @@ contains
                's', error)
             if (.not. allocated(error)) call h5%write_real('/timings/peak_memory_mib', &
                times%peak_mib, 'MiB', error)
-            if (allocated(error)) return
          end if
       end if
-      call h5%set_status(status, error)
-      if (allocated(error)) return
-      call h5%close(error)
+      if (.not. allocated(error)) call h5%set_status(status, error)
+      if (allocated(error)) call h5%set_status('error: ' // error%message, ignored)
+      call h5%close(close_error)
+      if (present(closed)) closed = .not. allocated(close_error)
+      if (.not. allocated(error) .and. allocated(close_error)) call move_alloc(close_error, error)
    end subroutine results_finish
 
 end module ffrf_io_results

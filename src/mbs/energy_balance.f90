@@ -77,6 +77,10 @@ module ffrf_mbs_energy_balance
       procedure :: update => energy_balance_update
       !> Total mechanical energy T + U (J)
       procedure :: total => energy_balance_total
+      !> The accumulators as a flat array (checkpoint)
+      procedure :: export_state => energy_balance_export_state
+      !> Restore them (restart)
+      procedure :: import_state => energy_balance_import_state
    end type energy_balance_t
 
 contains
@@ -217,5 +221,35 @@ contains
             ' W or P_d = ' // to_str(damping_power) // ' W at t = ' // to_str(t, 12) // ' s')
       end if
    end subroutine evaluate
+
+   !> Every accumulator of the balance (checkpoint): t, T, U, T_0, U_0, W, D_p, D, P, P_d and
+   !> the number of updates.
+   pure function energy_balance_export_state(self) result(state)
+      class(energy_balance_t), intent(in) :: self
+      real(dp) :: state(11)
+      state = [self%t, self%kinetic, self%strain, self%kinetic_start, self%strain_start, &
+         self%work, self%physical_dissipation, self%numerical_dissipation, self%power, &
+         self%damping_power, real(self%steps, dp)]
+   end function energy_balance_export_state
+
+   !> Restore the accumulators of export_state; .false. when `state` has the wrong size.
+   subroutine energy_balance_import_state(self, state, ok)
+      class(energy_balance_t), intent(inout) :: self
+      real(dp), intent(in) :: state(:)
+      logical, intent(out) :: ok
+      ok = size(state) == 11
+      if (.not. ok) return
+      self%t = state(1)
+      self%kinetic = state(2)
+      self%strain = state(3)
+      self%kinetic_start = state(4)
+      self%strain_start = state(5)
+      self%work = state(6)
+      self%physical_dissipation = state(7)
+      self%numerical_dissipation = state(8)
+      self%power = state(9)
+      self%damping_power = state(10)
+      self%steps = nint(state(11))
+   end subroutine energy_balance_import_state
 
 end module ffrf_mbs_energy_balance

@@ -3,14 +3,17 @@
 !> The batch driver and the C API call `run_modal_case`; nothing here stops or prints errors.
 module ffrf_modes_modal_case
    use ffrf_core_kinds, only: dp
-   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INTERRUPTED, &
+      FFRF_INPUT_ERROR
+   use ffrf_core_posix, only: pending_signal, signal_name
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, &
       LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_io_case, only: case_input_t, read_case, case_echo
    use ffrf_io_hdf5, only: h5_file_t
-   use ffrf_io_results, only: results_create, results_write_body, results_finish
+   use ffrf_io_results, only: results_create, results_write_body, results_finish, &
+      output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    implicit none
@@ -25,6 +28,12 @@ module ffrf_modes_modal_case
       character(len=:), allocatable :: output_dir
       !> Log level from the command line (-1: take &run log_level)
       integer :: log_level = -1
+      !> Replace an existing results file when the run has finished (--no-overwrite: refuse
+      !> to start when it exists)
+      logical :: overwrite = .true.
+      !> Results (or checkpoint) file of an earlier run of the case to continue from
+      !> (--restart FILE; '' = start from t_start)
+      character(len=:), allocatable :: restart_file
    end type run_options_t
 
 contains
@@ -59,6 +68,7 @@ contains
       type(stage_timer_t) :: total, output_timer
       type(body_modes_t), allocatable :: bodies(:)
       character(len=:), allocatable :: mesh_dir, results_file, msh_file, echo
+      type(output_lock_t) :: lock
       integer :: k
 
       call total%begin()
@@ -71,47 +81,108 @@ contains
       call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
 
       results_file = join_path(options%output_dir, trim(case%run%output))
-      call results_create(results_file, case%name, trim(case%run%title), echo, h5, error)
+      call lock%acquire(results_file, error)
       if (allocated(error)) return
-      call log%info('output', 'results: ' // results_file)
+      call compute_and_write(error)
+      call lock%release()
 
-      allocate (bodies(size(case%bodies)))
-      do k = 1, size(case%bodies)
-         if (case%motions(k)%type == 'rigid') then
-            call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
-            cycle
-         end if
-         call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
-            times, bodies(k), error)
-         call output_timer%begin()
-         if (.not. allocated(error)) call results_write_body(h5, bodies(k), &
-            trim(case%modes%rc_label), error)
-         if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0) then
-            msh_file = join_path(options%output_dir, trim(case%run%mode_shapes_msh))
-            if (size(case%bodies) > 1) msh_file = insert_suffix(msh_file, '_' // bodies(k)%name)
-            call write_mode_shapes_msh(msh_file, bodies(k)%mesh%xyz, bodies(k)%mesh%tets, &
-               bodies(k)%shape, bodies(k)%frequency_hz, error)
-            if (.not. allocated(error)) call log%info('output', 'mode shapes for gmsh: ' // &
-               msh_file)
-         end if
-         if (allocated(error)) exit
-         call times%add(bodies(k)%name // ': output', output_timer%seconds())
-         call log_frequency_table(log, bodies(k), trim(case%modes%rc_label))
-      end do
-      call times%add('total', total%seconds())
+   contains
 
-      if (allocated(error)) then
-         call add_context(error, case_file)
-         call results_finish(h5, times, 'error: ' // error%message, close_error)
-         return
-      end if
-      call results_finish(h5, times, 'complete', error)
-      if (allocated(error)) then
-         call add_context(error, results_file)
-         return
-      end if
-      call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
-         'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+      !> The run proper, under the output lock: results written under a temporary name,
+      !> renamed over results_file at the end (ffrf_io_results).
+      subroutine compute_and_write(error)
+         type(error_t), allocatable, intent(out) :: error
+         character(len=:), allocatable :: temp_file
+         integer :: signal
+         logical :: closed
+
+         if (allocated(options%restart_file)) then
+            if (len(options%restart_file) > 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': --restart ' // &
+                  options%restart_file // ': a modal case has nothing to continue; ' // &
+                  '--restart applies to mechanism cases (with &joint groups)')
+               return
+            end if
+         end if
+         if (.not. options%overwrite) then
+            call check_no_overwrite(results_file, error)
+            if (allocated(error)) return
+         end if
+         temp_file = partial_name(results_file)
+         call results_create(temp_file, case%name, trim(case%run%title), echo, h5, error)
+         if (allocated(error)) then
+            call h5%close(close_error)
+            call abandon_file(temp_file)
+            call add_context(error, 'results file "' // results_file // '"')
+            return
+         end if
+         call log%info('output', 'results (written when complete): ' // results_file)
+
+         signal = 0
+         allocate (bodies(size(case%bodies)))
+         do k = 1, size(case%bodies)
+            if (case%motions(k)%type == 'rigid') then
+               call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
+               cycle
+            end if
+            call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
+               times, bodies(k), error)
+            call output_timer%begin()
+            if (.not. allocated(error)) call results_write_body(h5, bodies(k), &
+               trim(case%modes%rc_label), error)
+            if (allocated(error)) call add_context(error, 'results file "' // results_file // &
+               '"')
+            if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0) then
+               msh_file = join_path(options%output_dir, trim(case%run%mode_shapes_msh))
+               if (size(case%bodies) > 1) msh_file = insert_suffix(msh_file, '_' // &
+                  bodies(k)%name)
+               call write_mode_shapes_msh(msh_file, bodies(k)%mesh%xyz, bodies(k)%mesh%tets, &
+                  bodies(k)%shape, bodies(k)%frequency_hz, error)
+               if (.not. allocated(error)) call log%info('output', 'mode shapes for gmsh ' // &
+                  'written: ' // msh_file)
+            end if
+            if (allocated(error)) exit
+            call times%add(bodies(k)%name // ': output', output_timer%seconds())
+            call log_frequency_table(log, bodies(k), trim(case%modes%rc_label))
+            ! A signal (SIGTERM, ...) ends the run between bodies, with what is done
+            signal = pending_signal()
+            if (signal /= 0 .and. k < size(case%bodies)) then
+               call fatal_error(error, FFRF_INTERRUPTED, case_file // ': interrupted by ' // &
+                  signal_name(signal) // ' after body "' // bodies(k)%name // '"; results ' // &
+                  'file "' // results_file // '" holds the bodies done, status "interrupted: ' &
+                  // signal_name(signal) // '"')
+               exit
+            end if
+         end do
+         call times%add('total', total%seconds())
+
+         if (allocated(error)) then
+            if (error%code /= FFRF_INTERRUPTED) call add_context(error, case_file)
+            if (error%code == FFRF_INTERRUPTED) then
+               call results_finish(h5, times, 'interrupted: ' // signal_name(signal), &
+                  close_error, closed)
+            else
+               call results_finish(h5, times, 'error: ' // error%message, close_error, closed)
+            end if
+            if (closed) then
+               call commit_file(temp_file, results_file, close_error)
+            else
+               call abandon_file(temp_file)
+            end if
+            return
+         end if
+         call results_finish(h5, times, 'complete', error, closed)
+         if (.not. allocated(error)) call commit_file(temp_file, results_file, error)
+         if (allocated(error)) then
+            call abandon_file(temp_file)
+            call add_context(error, 'results file "' // results_file // '"')
+            return
+         end if
+         call log%info('output', 'results written: ' // results_file)
+         call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' &
+            // 'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+      end subroutine compute_and_write
+
    end subroutine run_modal
 
    !> The log level of the command line options, else that of the case ('quiet', 'info',

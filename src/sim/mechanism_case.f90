@@ -14,12 +14,17 @@
 !> quadrature adds O(h^2)).
 module ffrf_sim_mechanism_case
    use ffrf_core_kinds, only: dp, i8, pi
-   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
+      FFRF_IO_ERROR, FFRF_INTERRUPTED
+   use ffrf_core_posix, only: pending_signal, signal_name, copy_file, rename_file, remove_file
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
    use ffrf_io_case, only: case_input_t, read_case, case_echo
    use ffrf_io_engine_results, only: engine_results_t
+   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_results, only: output_lock_t, partial_name, commit_file, abandon_file, &
+      check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_modes_modal_case, only: run_options_t, set_log_level
    use ffrf_modes_modal_analysis, only: body_modes_t
@@ -36,6 +41,20 @@ module ffrf_sim_mechanism_case
    !> Rows of a joint reaction record: force and moment on body 1, then on body 2
    integer, parameter :: REACTION_ROWS = 12
 
+   !> The restart state read from an earlier run's results (--restart).
+   type :: restart_state_t
+      !> Integrator state (galpha_export_state)
+      real(dp), allocatable :: reals(:)
+      integer(i8), allocatable :: ints(:)
+      !> Energy balance accumulators, crank-angle unwrapping reference (1)
+      real(dp), allocatable :: balance(:), crank_reference(:)
+      !> Recorded steps that belong to the state, coordinates of the system
+      integer :: num_steps = 0, num_coordinates = 0
+      !> Names and modes of the bodies of the results
+      character(len=:), allocatable :: bodies(:)
+      integer(i8), allocatable :: body_modes(:)
+   end type restart_state_t
+
    !> Crank angle and modal coordinates of every step, kept for the animation.
    type :: history_t
       integer :: num_steps = 0
@@ -50,7 +69,7 @@ contains
    subroutine run_mechanism_case(case_file, options, log, error)
       !> Namelist case file
       character(len=*), intent(in) :: case_file
-      !> Folders and log level
+      !> Folders, log level, overwrite rule, restart file
       type(run_options_t), intent(in) :: options
       !> Logger (its level is set from the case unless the options fix it)
       type(logger_t), intent(inout) :: log
@@ -81,9 +100,13 @@ contains
       type(model_choice_t) :: model
       type(galpha_settings_t) :: settings
       type(error_t), allocatable :: run_error, close_error
+      type(output_lock_t) :: lock
+      type(restart_state_t) :: restart
+      type(h5_file_t) :: source
+      type(energy_balance_t) :: balance
       real(dp), allocatable :: q(:), v(:)
-      character(len=:), allocatable :: mesh_dir, results_file, echo, status
-      logical :: has_pressure
+      character(len=:), allocatable :: mesh_dir, results_file, temp_file, echo, status
+      logical :: has_pressure, restarting, closed
 
       call total%begin()
       case_file = case%file_name
@@ -94,66 +117,145 @@ contains
       call log%info('input', case_file // ': ' // trim(case%run%title))
       call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
 
-      ! Bodies (modes of the meshed ones), joints, loads, starting pose
-      call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error, model)
-      if (allocated(error)) then
-         call add_context(error, case_file)
-         return
-      end if
-      call timer%begin()
-      settings = case%mechanism%integrator
-      if (model%h > 0.0_dp) settings%h = model%h
-      if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info('model', &
-         'time step h = ' // to_str(settings%h, 3) // ' s (default)')
-      call integrator%init(mech, settings, q, v, error)
-      if (allocated(error)) then
-         call add_context(error, case_file // ': starting the integration')
-         return
-      end if
-      call times%add('start of the integration', timer%seconds())
-      call log_mechanism(log, mech, integrator)
-
+      ! One run per output, checked before anything is computed (ffrf_io_results)
       results_file = join_path(options%output_dir, trim(case%run%output))
-      call open_results(results, results_file, case, echo, mech, bodies, integrator, error)
+      call lock%acquire(results_file, error)
       if (allocated(error)) return
-      call write_model_choice(results, case, model, error)
-      if (allocated(error)) return
-      call log%info('output', 'results: ' // results_file)
+      call run_locked(error)
+      call source%close(close_error)
+      call lock%release()
 
-      call timer%begin()
-      call integrate(case, mech, bodies, pressure, has_pressure, integrator, results, log, &
-         history, run_error)
-      call times%add('integration', timer%seconds())
-      call log_statistics(log, integrator, mech)
+   contains
 
-      ! Whatever happened: the counters, the last converged state, the animation
-      call timer%begin()
-      call write_run_information(results, mech, integrator, error)
-      if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0) &
-         call write_animations(case, options, bodies, history, log, error)
-      call times%add('output', timer%seconds())
-      call times%add('total', total%seconds())
-      if (allocated(run_error)) then
-         call add_context(run_error, case_file)
-         status = 'error: ' // run_error%message
-         call results%finish(status, times%names, times%seconds, close_error, times%peak_mib)
-         call move_alloc(run_error, error)
-         return
-      end if
-      if (allocated(error)) then
-         call results%finish('error: ' // error%message, times%names, times%seconds, &
-            close_error, times%peak_mib)
-         return
-      end if
-      call results%finish('complete', times%names, times%seconds, error, times%peak_mib)
-      if (allocated(error)) then
-         call add_context(error, results_file)
-         return
-      end if
-      call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' // &
-         'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+      !> The run proper, under the output lock.
+      subroutine run_locked(error)
+         type(error_t), allocatable, intent(out) :: error
+         if (.not. options%overwrite) then
+            call check_no_overwrite(results_file, error)
+            if (allocated(error)) return
+         end if
+         restarting = .false.
+         if (allocated(options%restart_file)) restarting = len(options%restart_file) > 0
+         if (restarting) then
+            call read_restart(options%restart_file, source, restart, error)
+            if (allocated(error)) return
+         end if
+
+         ! Bodies (modes of the meshed ones), joints, loads, starting pose
+         call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
+            has_pressure, error, model)
+         if (allocated(error)) then
+            call add_context(error, case_file)
+            return
+         end if
+         call timer%begin()
+         settings = case%mechanism%integrator
+         if (model%h > 0.0_dp) settings%h = model%h
+         if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info( &
+            'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
+         call integrator%init(mech, settings, q, v, error)
+         if (allocated(error)) then
+            call add_context(error, case_file // ': starting the integration')
+            return
+         end if
+         if (restarting) then
+            call apply_restart(options%restart_file, restart, mech, bodies, integrator, &
+               balance, error)
+            if (allocated(error)) return
+            call log%info('restart', options%restart_file // ': continuing from t = ' // &
+               to_str(integrator%t, 8) // ' s, step ' // to_str(integrator%stats%steps) // &
+               ', to t_end = ' // to_str(integrator%settings%t_end, 8) // ' s')
+         end if
+         call times%add('start of the integration', timer%seconds())
+         call log_mechanism(log, mech, integrator)
+
+         temp_file = partial_name(results_file)
+         call open_results(results, temp_file, case, echo, mech, bodies, integrator, error)
+         if (.not. allocated(error)) call write_model_choice(results, case, model, error)
+         if (.not. allocated(error) .and. restarting) then
+            call results%append_from(source, restart%num_steps, error)
+            if (.not. allocated(error)) call history_from(source, restart%num_steps, bodies, &
+               mech, history, error)
+            if (.not. allocated(error)) call source%close(error)
+         end if
+         if (allocated(error)) then
+            call results%finish('error: ' // error%message, [character(len=1) ::], &
+               [real(dp) ::], close_error)
+            call abandon_file(temp_file)
+            call add_context(error, 'results file "' // results_file // '"')
+            return
+         end if
+         call log%info('output', 'results (written when complete, checkpoints in ' // &
+            checkpoint_name(results_file) // '): ' // results_file)
+
+         call timer%begin()
+         call integrate(case, mech, bodies, pressure, has_pressure, integrator, balance, &
+            results, log, history, restarting, results_file, run_error)
+         call times%add('integration', timer%seconds())
+         call log_statistics(log, integrator, mech)
+
+         ! Whatever happened: the counters, the last converged state, the animation
+         call timer%begin()
+         call write_run_information(results, mech, integrator, error)
+         ! (not after a signal: the job must end soon; the continued run writes them)
+         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
+            .not. interrupted(run_error)) call write_animations(case, options, bodies, &
+            history, log, error)
+         call times%add('output', timer%seconds())
+         call times%add('total', total%seconds())
+         if (allocated(run_error)) then
+            if (run_error%code /= FFRF_INTERRUPTED) then
+               if (run_error%code == FFRF_IO_ERROR) call add_context(run_error, &
+                  'results file "' // results_file // '"')
+               call add_context(run_error, case_file)
+               status = 'error: ' // run_error%message
+            else
+               status = 'interrupted: ' // signal_name(pending_signal())
+            end if
+            if (allocated(error)) status = 'error: ' // error%message
+            call results%finish(status, times%names, times%seconds, close_error, &
+               times%peak_mib, closed)
+            if (closed) then
+               call commit_file(temp_file, results_file, close_error)
+            else
+               call abandon_file(temp_file)
+            end if
+            if (.not. allocated(close_error)) call remove_checkpoint(results_file)
+            call move_alloc(run_error, error)
+            return
+         end if
+         if (allocated(error)) then
+            call results%finish('error: ' // error%message, times%names, times%seconds, &
+               close_error, times%peak_mib, closed)
+            if (closed) then
+               call commit_file(temp_file, results_file, close_error)
+            else
+               call abandon_file(temp_file)
+            end if
+            if (.not. allocated(close_error)) call remove_checkpoint(results_file)
+            return
+         end if
+         call results%finish('complete', times%names, times%seconds, error, times%peak_mib)
+         if (.not. allocated(error)) call commit_file(temp_file, results_file, error)
+         if (allocated(error)) then
+            call abandon_file(temp_file)
+            call add_context(error, 'results file "' // results_file // '"')
+            return
+         end if
+         call remove_checkpoint(results_file)
+         call log%info('output', 'results written: ' // results_file)
+         call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, ' // &
+            'peak memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+      end subroutine run_locked
+
    end subroutine run_mechanism
+
+   !> True when `error` is the end of a run by a signal.
+   pure logical function interrupted(error)
+      type(error_t), allocatable, intent(in) :: error
+      interrupted = .false.
+      if (allocated(error)) interrupted = error%code == FFRF_INTERRUPTED
+   end function interrupted
 
    !> Sizes and the redundant constraint equations found at the start.
    subroutine log_mechanism(log, mech, integrator)
@@ -279,41 +381,80 @@ contains
    end function crank_mpc
 
    !> Step to t_end, recording every step; progress every progress_interval simulated seconds.
-   subroutine integrate(case, mech, bodies, pressure, has_pressure, integrator, results, log, &
-         history, error)
+   !> After every step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the
+   !> run with FFRF_INTERRUPTED, and every checkpoint_seconds of wall time (at least 20 times
+   !> the cost of the last checkpoint) or checkpoint_steps steps the restart checkpoint is
+   !> written (write_checkpoint_file). At the end, whatever
+   !> happened, the restart state goes into the results file: the state before the last,
+   !> shortened step when the run reached t_end (a restart to a later t_end then takes the
+   !> same steps as a run straight to it), else the last converged state.
+   subroutine integrate(case, mech, bodies, pressure, has_pressure, integrator, balance, &
+         results, log, history, restarting, results_file, error)
       type(case_input_t), intent(in) :: case
       type(mechanism_t), intent(inout) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(pressure_model_t), intent(in) :: pressure
       logical, intent(in) :: has_pressure
       type(galpha_integrator_t), intent(inout) :: integrator
+      !> Energy balance (restored when restarting, else started here)
+      type(energy_balance_t), intent(inout) :: balance
       type(engine_results_t), intent(inout) :: results
       type(logger_t), intent(in) :: log
       type(history_t), intent(inout) :: history
+      !> Continuing a restored state: the results already hold its steps
+      logical, intent(in) :: restarting
+      !> Final name of the results file (messages, checkpoint file name)
+      character(len=*), intent(in) :: results_file
       type(error_t), allocatable, intent(out) :: error
-      type(energy_balance_t) :: balance
-      real(dp) :: next_progress, start
+      type(galpha_integrator_t) :: before_last
+      type(energy_balance_t) :: balance_before_last
+      type(error_t), allocatable :: state_error
+      real(dp) :: next_progress, start, last_checkpoint, reference_before_last
+      real(dp) :: checkpoint_seconds, checkpoint_start, last_cost
+      integer :: num_checkpoints
       real(dp), allocatable :: coordinates(:), reactions(:, :)
-      integer :: num_modes_total
+      integer :: num_modes_total, rows_before_last, signal
+      integer(i8) :: steps_at_checkpoint
+      logical :: have_before_last
 
       start = wall_time()
       num_modes_total = sum(bodies%num_modes)
-      allocate (history%t(1024), history%angle(1024), history%zeta(num_modes_total, 1024))
+      if (.not. allocated(history%t)) allocate (history%t(1024), history%angle(1024), &
+         history%zeta(num_modes_total, 1024))
       allocate (reactions(REACTION_ROWS, size(mech%joints)))
-      call balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
-         lambda=integrator%lambda)
-      if (allocated(error)) return
       next_progress = integrator%t + case%mechanism%mechanism%progress_interval
-      call record_step(error)
-      if (allocated(error)) return
+      if (.not. restarting) then
+         call balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
+            lambda=integrator%lambda)
+         if (allocated(error)) return
+         call record_step(error)
+         if (allocated(error)) return
+      end if
+      last_checkpoint = wall_time()
+      steps_at_checkpoint = integrator%stats%steps
+      have_before_last = .false.
+      rows_before_last = 0
+      reference_before_last = 0.0_dp
+      checkpoint_seconds = 0.0_dp
+      last_cost = 0.0_dp
+      num_checkpoints = 0
       ! t accumulates h with round-off (~1e-12 s over 2e4 steps): stop within 1e-6 h of t_end
       ! rather than take a last step of a few 1e-13 s.
       do while (integrator%t < integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h)
+         ! The step galpha_step will shorten to end on t_end: keep the state before it
+         if (integrator%settings%t_end - integrator%t <= integrator%h * (1.0_dp + 1.0e-6_dp)) &
+            then
+            before_last = integrator
+            balance_before_last = balance
+            reference_before_last = mech%crank_reference
+            rows_before_last = results%num_steps()
+            have_before_last = .true.
+         end if
          call integrator%step(mech, error)
          if (.not. allocated(error)) call balance%update(mech, integrator%t, integrator%q, &
             integrator%v, error, lambda=integrator%lambda)
          if (.not. allocated(error)) call record_step(error)
-         if (allocated(error)) return
+         if (allocated(error)) exit
          if (integrator%t >= next_progress - 1.0e-3_dp * integrator%settings%h .or. &
             integrator%t >= integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h) then
             call log_progress()
@@ -321,9 +462,59 @@ contains
                next_progress = next_progress + case%mechanism%mechanism%progress_interval
             end do
          end if
+         signal = pending_signal()
+         if (signal /= 0) then
+            call fatal_error(error, FFRF_INTERRUPTED, 'interrupted by ' // &
+               signal_name(signal) // ' at t = ' // to_str(integrator%t, 8) // ' s (step ' // &
+               to_str(integrator%stats%steps) // '): results file "' // results_file // &
+               '" holds every step so far and /final_state, status "interrupted: ' // &
+               signal_name(signal) // '"; continue with --restart ' // results_file)
+            exit
+         end if
+         if (integrator%t >= integrator%settings%t_end - 1.0e-6_dp * integrator%settings%h) &
+            exit
+         if (checkpoint_due()) then
+            checkpoint_start = wall_time()
+            call write_restart_state(results, integrator, balance, results%num_steps(), &
+               mech%crank_reference, mech, bodies, error)
+            if (.not. allocated(error)) call write_checkpoint_file(results_file, error)
+            if (allocated(error)) exit
+            last_checkpoint = wall_time()
+            steps_at_checkpoint = integrator%stats%steps
+            num_checkpoints = num_checkpoints + 1
+            last_cost = last_checkpoint - checkpoint_start
+            checkpoint_seconds = checkpoint_seconds + last_cost
+         end if
       end do
+      ! The restart state of the results file
+      if (have_before_last .and. integrator%t == integrator%settings%t_end) then
+         call write_restart_state(results, before_last, balance_before_last, rows_before_last, &
+            reference_before_last, mech, bodies, state_error)
+      else
+         call write_restart_state(results, integrator, balance, results%num_steps(), &
+            mech%crank_reference, mech, bodies, state_error)
+      end if
+      if (.not. allocated(error) .and. allocated(state_error)) call move_alloc(state_error, error)
+      if (num_checkpoints > 0) call log%info('run', to_str(num_checkpoints) // ' restart ' // &
+         'checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &
+         to_str(checkpoint_seconds, 3) // ' s (' // to_str(100.0_dp * checkpoint_seconds / &
+         max(wall_time() - start, 1.0e-9_dp), 2) // ' % of the integration)')
 
    contains
+
+      !> A checkpoint is due after checkpoint_steps steps or checkpoint_seconds of wall time.
+      logical function checkpoint_due()
+         associate (s => integrator%settings)
+            checkpoint_due = .false.
+            if (s%checkpoint_steps > 0) checkpoint_due = integrator%stats%steps - &
+               steps_at_checkpoint >= s%checkpoint_steps
+            ! a checkpoint copies the whole file: for a large file the interval grows to
+            ! 20 times its cost, so checkpoints never take more than 5 % of the run
+            if (s%checkpoint_seconds > 0.0_dp) checkpoint_due = checkpoint_due .or. &
+               wall_time() - last_checkpoint >= max(s%checkpoint_seconds, 20.0_dp * &
+               last_cost)
+         end associate
+      end function checkpoint_due
 
       !> Record the current state (results file and animation history).
       subroutine record_step(error)
@@ -495,5 +686,201 @@ contains
          end associate
       end do
    end subroutine write_animations
+
+   ! ------------------------------------------------------------------ restart
+
+   !> `<results file>.checkpoint`: the copy of the results file at the last checkpoint.
+   pure function checkpoint_name(results_file) result(name)
+      character(len=*), intent(in) :: results_file
+      character(len=:), allocatable :: name
+      name = results_file // '.checkpoint'
+   end function checkpoint_name
+
+   !> Remove the checkpoint of a run whose results file is in place (it holds the same state).
+   subroutine remove_checkpoint(results_file)
+      character(len=*), intent(in) :: results_file
+      type(error_t), allocatable :: ignored
+      call remove_file(checkpoint_name(results_file), ignored)
+   end subroutine remove_checkpoint
+
+   !> The restart state in the results file being written (/checkpoint): the integrator's
+   !> whole state (galpha_export_state), the energy balance, the mechanism's crank-angle
+   !> unwrapping reference (the pressure cycle follows the unwrapped angle), the number of
+   !> recorded steps that belong to it and what identifies the system (coordinates, bodies,
+   !> modes); then the file is flushed, so that it is consistent on disk.
+   subroutine write_restart_state(results, integrator, balance, num_steps, crank_reference, &
+         mech, bodies, error)
+      type(engine_results_t), intent(inout) :: results
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(energy_balance_t), intent(in) :: balance
+      !> Recorded steps (rows of the series) up to this state
+      integer, intent(in) :: num_steps
+      !> mechanism_t%crank_reference at this state (rad)
+      real(dp), intent(in) :: crank_reference
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: reals(:)
+      integer(i8), allocatable :: ints(:)
+      character(len=64), allocatable :: names(:)
+      integer :: k
+      call results%flush(error)
+      if (allocated(error)) return
+      call integrator%export_state(reals, ints)
+      allocate (names(size(bodies)))
+      do k = 1, size(bodies)
+         names(k) = mech%bodies(bodies(k)%index)%name
+      end do
+      call results%write_real('/checkpoint/integrator_reals', reals, '1', error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/integrator_ints', ints, &
+         error)
+      if (.not. allocated(error)) call results%write_real('/checkpoint/energy_balance', &
+         balance%export_state(), '1', error)
+      if (.not. allocated(error)) call results%write_real('/checkpoint/crank_reference', &
+         [crank_reference], 'rad', error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/num_steps', &
+         [int(num_steps, i8)], error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/num_coordinates', &
+         [int(mech%num_coordinates(), i8)], error)
+      if (.not. allocated(error)) call results%write_strings('/checkpoint/bodies', names, error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/body_modes', &
+         int(bodies%num_modes, i8), error)
+      if (.not. allocated(error)) call results%flush(error)
+   end subroutine write_restart_state
+
+   !> Copy the results file being written (consistent after write_restart_state) to
+   !> `<results file>.checkpoint`: through a temporary name, forced to the device, renamed, so
+   !> that a kill -9 at any moment leaves the previous or the new checkpoint, whole.
+   subroutine write_checkpoint_file(results_file, error)
+      character(len=*), intent(in) :: results_file
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: ignored
+      character(len=:), allocatable :: checkpoint
+      checkpoint = checkpoint_name(results_file)
+      call copy_file(partial_name(results_file), partial_name(checkpoint), error)
+      if (.not. allocated(error)) call rename_file(partial_name(checkpoint), checkpoint, error)
+      if (allocated(error)) then
+         call remove_file(partial_name(checkpoint), ignored)
+         call add_context(error, 'checkpoint "' // checkpoint // '"')
+      end if
+   end subroutine write_checkpoint_file
+
+   !> Open the results or checkpoint file of an earlier run (--restart) and read its restart
+   !> state: FFRF_IO_ERROR when it cannot be read, FFRF_INPUT_ERROR when it holds none.
+   subroutine read_restart(file_name, source, restart, error)
+      character(len=*), intent(in) :: file_name
+      type(h5_file_t), intent(inout) :: source
+      type(restart_state_t), intent(out) :: restart
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8), allocatable :: counts(:)
+      call source%open(file_name, 'r', error)
+      if (allocated(error)) then
+         call add_context(error, '--restart')
+         return
+      end if
+      if (.not. source%exists('/checkpoint/integrator_ints')) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": no ' // &
+            'restart state (/checkpoint) in it; give the results file (.h5) or the ' // &
+            '.checkpoint file of an earlier run of this mechanism case')
+         return
+      end if
+      call source%read_real('/checkpoint/integrator_reals', restart%reals, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/integrator_ints', &
+         restart%ints, error)
+      if (.not. allocated(error)) call source%read_real('/checkpoint/energy_balance', &
+         restart%balance, error)
+      if (.not. allocated(error)) call source%read_real('/checkpoint/crank_reference', &
+         restart%crank_reference, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/num_steps', counts, error)
+      if (.not. allocated(error)) restart%num_steps = int(counts(1))
+      if (.not. allocated(error)) call source%read_int('/checkpoint/num_coordinates', counts, &
+         error)
+      if (.not. allocated(error)) restart%num_coordinates = int(counts(1))
+      if (.not. allocated(error)) call source%read_string_list('/checkpoint/bodies', &
+         restart%bodies, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/body_modes', &
+         restart%body_modes, error)
+      if (allocated(error)) then
+         error%code = FFRF_INPUT_ERROR
+         call add_context(error, '--restart "' // file_name // '": unreadable restart state')
+      end if
+   end subroutine read_restart
+
+   !> Check that the restart state belongs to this case (coordinates, bodies, modes) and
+   !> restore it into the integrator and the energy balance; FFRF_INPUT_ERROR otherwise.
+   subroutine apply_restart(file_name, restart, mech, bodies, integrator, balance, error)
+      character(len=*), intent(in) :: file_name
+      type(restart_state_t), intent(in) :: restart
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(inout) :: integrator
+      type(energy_balance_t), intent(inout) :: balance
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: here, there
+      logical :: ok
+      integer :: k
+      here = ''
+      do k = 1, size(bodies)
+         here = here // ' ' // mech%bodies(bodies(k)%index)%name // '(' // &
+            to_str(bodies(k)%num_modes) // ' modes)'
+      end do
+      there = ''
+      do k = 1, size(restart%bodies)
+         there = there // ' ' // trim(restart%bodies(k))
+         if (k <= size(restart%body_modes)) there = there // '(' // &
+            to_str(int(restart%body_modes(k))) // ' modes)'
+      end do
+      if (restart%num_coordinates /= mech%num_coordinates() .or. here /= there) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": its ' // &
+            'run had ' // to_str(restart%num_coordinates) // ' coordinates and bodies' // &
+            there // '; this case has ' // to_str(mech%num_coordinates()) // &
+            ' coordinates and bodies' // here // '; restart only from a run of the same ' // &
+            'case (t_end may differ)')
+         return
+      end if
+      call integrator%import_state(restart%reals, restart%ints, error)
+      if (allocated(error)) then
+         call add_context(error, '--restart "' // file_name // '"')
+         return
+      end if
+      call balance%import_state(restart%balance, ok)
+      if (.not. ok .or. size(restart%crank_reference) /= 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // &
+            '": its energy balance or crank reference state has the wrong size')
+         return
+      end if
+      mech%crank_reference = restart%crank_reference(1)
+   end subroutine apply_restart
+
+   !> The animation history (time, crank angle, modal coordinates) of the first num_steps
+   !> steps of an earlier run's results.
+   subroutine history_from(source, num_steps, bodies, mech, history, error)
+      type(h5_file_t), intent(in) :: source
+      integer, intent(in) :: num_steps
+      type(built_body_t), intent(in) :: bodies(:)
+      type(mechanism_t), intent(in) :: mech
+      type(history_t), intent(inout) :: history
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: t(:), angle(:), zeta(:, :)
+      integer :: k, first, capacity
+      capacity = max(1024, 2 * num_steps)
+      allocate (history%t(capacity), history%angle(capacity), &
+         history%zeta(sum(bodies%num_modes), capacity))
+      call source%read_real('/time/t', t, error)
+      if (.not. allocated(error)) call source%read_real('/time/crank_angle', angle, error)
+      if (allocated(error)) return
+      history%t(:num_steps) = t(:num_steps)
+      history%angle(:num_steps) = angle(:num_steps)
+      first = 0
+      do k = 1, size(bodies)
+         if (bodies(k)%num_modes == 0) cycle
+         call source%read_real('/bodies/' // mech%bodies(bodies(k)%index)%name // &
+            '/modal_coordinates', zeta, error)
+         if (allocated(error)) return
+         history%zeta(first + 1:first + bodies(k)%num_modes, :num_steps) = zeta(:, :num_steps)
+         first = first + bodies(k)%num_modes
+      end do
+      history%num_steps = num_steps
+   end subroutine history_from
 
 end module ffrf_sim_mechanism_case
