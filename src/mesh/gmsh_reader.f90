@@ -1046,8 +1046,9 @@ contains
       !> Element tag already read (2.2), or -1 to read it here (4.1)
       integer(i8), intent(in) :: tag
       type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: element_tag, node_tag, line
+      integer(i8) :: element_tag, node_tag, line, n, p
       integer(ip) :: j, index
+      integer :: digit, digits
       logical :: ok
 
       element_tag = tag
@@ -1064,8 +1065,31 @@ contains
          end if
       end if
       line = r%c%line
+      n = len(r%c%text, kind=i8)
       do j = 1, nodes_per_element
-         call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
+         ! Fast path for the common "blanks, digits, separator" on this line; anything else
+         ! (signs, tabs, line ends, errors) goes through scan_int
+         p = r%c%pos
+         do while (p <= n)
+            if (r%c%text(p:p) /= ' ') exit
+            p = p + 1
+         end do
+         node_tag = 0
+         digits = 0
+         do while (p <= n .and. digits < 18)
+            digit = iachar(r%c%text(p:p)) - 48
+            if (digit < 0 .or. digit > 9) exit
+            node_tag = 10 * node_tag + digit
+            digits = digits + 1
+            p = p + 1
+         end do
+         ok = digits > 0 .and. digits < 18
+         if (ok .and. p <= n) ok = is_separator(r%c%text(p:p))
+         if (ok) then
+            r%c%pos = p
+         else
+            call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
+         end if
          if (r%c%line /= line) then
             call line_error(r%c, line, 'element ' // to_str(element_tag) // ' (' // &
                type_name(element_type) // ') lists ' // to_str(j - 1) // ' of its ' // &

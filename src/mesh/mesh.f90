@@ -321,16 +321,32 @@ contains
       call check_triangle_faces(mesh, keep_tet, keep_tri, error)
       if (allocated(error)) return
 
-      selected = pack_indices(used)
+      ! A body of every node (one body per file, the usual case) keeps the node indices.
       body%num_nodes = n
-      body%xyz = mesh%xyz(:, selected)
-      body%node_tags = mesh%node_tags(selected)
+      if (n == mesh%num_nodes) then
+         body%xyz = mesh%xyz
+         body%node_tags = mesh%node_tags
+      else
+         selected = pack_indices(used)
+         body%xyz = mesh%xyz(:, selected)
+         body%node_tags = mesh%node_tags(selected)
+      end if
 
-      selected = pack_indices(keep_tet)
       body%nodes_per_tet = mesh%nodes_per_tet
-      body%tets = renumbered(mesh%tets, selected, new_index)
-      body%tet_tags = mesh%tet_tags(selected)
-      body%tet_entity = mesh%tet_entity(selected)
+      if (all(keep_tet)) then
+         if (n == mesh%num_nodes) then
+            body%tets = mesh%tets
+         else
+            body%tets = renumbered(mesh%tets, pack_indices(keep_tet), new_index)
+         end if
+         body%tet_tags = mesh%tet_tags
+         body%tet_entity = mesh%tet_entity
+      else
+         selected = pack_indices(keep_tet)
+         body%tets = renumbered(mesh%tets, selected, new_index)
+         body%tet_tags = mesh%tet_tags(selected)
+         body%tet_entity = mesh%tet_entity(selected)
+      end if
 
       selected = pack_indices(keep_tri)
       body%nodes_per_tri = mesh%nodes_per_tri
@@ -520,35 +536,39 @@ contains
    end subroutine check_tri6_edges
 
    !> No two tetrahedra with the same corners (a duplicate doubles mass and stiffness there):
-   !> open-addressing hash table of the sorted corners.
+   !> open-addressing hash table holding the sorted corners themselves (one cache line a probe).
    subroutine check_duplicate_tets(body, error)
       type(mesh_t), intent(in) :: body
       type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: table(:), keys(:, :)
-      integer(ip) :: e, slot, mask, num_slots, other
+      !> Sorted corners of the tetrahedron in each slot; table(1, slot) = 0: empty
+      integer(ip), allocatable :: table(:, :)
+      integer(ip) :: e, f, slot, mask, num_slots, key(4)
       num_slots = 64
       do while (num_slots < 2 * body%num_tets())
          num_slots = 2 * num_slots
       end do
       mask = num_slots - 1
-      allocate (table(0:mask), keys(4, body%num_tets()))
-      table = 0
+      allocate (table(4, 0:mask))
+      table(1, :) = 0
       do e = 1, body%num_tets()
-         keys(:, e) = sorted4(body%tets(1:4, e))
-         slot = hash_slot(keys(:, e), mask)
-         do while (table(slot) /= 0)
-            other = table(slot)
-            if (all(keys(:, other) == keys(:, e))) then
+         key = sorted4(body%tets(1:4, e))
+         slot = hash_slot(key, mask)
+         do while (table(1, slot) /= 0)
+            if (table(1, slot) == key(1) .and. table(2, slot) == key(2) .and. &
+               table(3, slot) == key(3) .and. table(4, slot) == key(4)) then
+               do f = 1, e - 1
+                  if (all(sorted4(body%tets(1:4, f)) == key)) exit
+               end do
                call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
-                  ''': tetrahedra ' // to_str(body%tet_tags(other)) // ' and ' // &
+                  ''': tetrahedra ' // to_str(body%tet_tags(f)) // ' and ' // &
                   to_str(body%tet_tags(e)) // ' of physical volume(s) ' // body%volumes // &
-                  ' have the same corner nodes ' // tag_list(body, keys(:, e)) // '; a ' // &
+                  ' have the same corner nodes ' // tag_list(body, key) // '; a ' // &
                   'duplicate element doubles mass and stiffness: remove it (or re-mesh)')
                return
             end if
             slot = iand(slot + 1, mask)
          end do
-         table(slot) = e
+         table(:, slot) = key
       end do
    end subroutine check_duplicate_tets
 
@@ -770,21 +790,21 @@ contains
       end do
    end function find_root
 
-   !> Slot in a table of mask + 1 (a power of 2) slots for a key of node indices (< 2**31; the
-   !> products stay below 2**62).
+   !> Slot in a table of mask + 1 (a power of 2, at most 2**31) slots for a key of node
+   !> indices (< 2**31): a polynomial hash modulo 2**31 (each product < 2**51), then Fibonacci
+   !> hashing (the upper bits of the product with 2**32 / golden ratio, < 2**63).
    pure function hash_slot(key, mask) result(slot)
       integer(ip), intent(in) :: key(:), mask
       integer(ip) :: slot
-      integer(i8), parameter :: multipliers(4) = [73856093_i8, 19349663_i8, 83492791_i8, &
-         2147483629_i8]
+      integer(i8), parameter :: low31 = 2147483647_i8
       integer(i8) :: h
       integer :: k
       h = 0
       do k = 1, size(key)
-         h = ieor(h, int(key(k), i8) * multipliers(k))
+         h = iand(h * 1000003_i8 + key(k), low31)
       end do
-      h = ieor(h, ishft(h, -29))
-      slot = int(iand(h, int(mask, i8)), ip)
+      h = h * 2654435761_i8
+      slot = int(iand(ishft(h, -28), int(mask, i8)), ip)
    end function hash_slot
 
    !> The three values ascending.
@@ -797,16 +817,25 @@ contains
       if (y(1) > y(2)) y(1:2) = y([2, 1])
    end function sorted3
 
-   !> The four values ascending.
+   !> The four values ascending (a sorting network of five compare-exchanges).
    pure function sorted4(x) result(y)
       integer(ip), intent(in) :: x(4)
       integer(ip) :: y(4)
-      y = x
-      if (y(1) > y(2)) y(1:2) = y([2, 1])
-      if (y(3) > y(4)) y(3:4) = y([4, 3])
-      if (y(1) > y(3)) y([1, 3]) = y([3, 1])
-      if (y(2) > y(4)) y([2, 4]) = y([4, 2])
-      if (y(2) > y(3)) y(2:3) = y([3, 2])
+      integer(ip) :: a, b, c, d, t
+      a = min(x(1), x(2))
+      b = max(x(1), x(2))
+      c = min(x(3), x(4))
+      d = max(x(3), x(4))
+      t = min(a, c)
+      c = max(a, c)
+      a = t
+      t = max(b, d)
+      b = min(b, d)
+      d = t
+      y(1) = a
+      y(2) = min(b, c)
+      y(3) = max(b, c)
+      y(4) = d
    end function sorted4
 
    !> "(tags 3, 7, 9)" of node indices, for messages.
