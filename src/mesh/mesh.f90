@@ -260,7 +260,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: keep_tet(:), keep_tri(:), used(:)
       integer(ip), allocatable :: new_index(:), selected(:)
-      integer(ip) :: i, k, n, stat
+      integer(ip) :: i, k, n, stat, num_midside
 
       if (mesh%num_tets() == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
@@ -370,11 +370,12 @@ contains
 
       call check_duplicate_tets(body, error)
       if (allocated(error)) return
+      num_midside = 0
       if (body%nodes_per_tet == 10) then
-         call check_tet10_edges(body, error)
+         call check_tet10_edges(body, num_midside, error)
          if (allocated(error)) return
       end if
-      call check_connected(body, error)
+      call check_connected(body, num_midside, error)
    end subroutine extract_body
 
    !> The body's volumes must hold tetrahedra only: a hexahedron, prism or pyramid the reader
@@ -575,19 +576,17 @@ contains
    !> Tet10 conformity: every mid-side node sits on one edge (pair of corners) only and is no
    !> corner, and every edge has one mid-side node. Two mid-side nodes on one edge are a crack:
    !> the neighbours are not connected along it. Node-indexed arrays: O(n).
-   subroutine check_tet10_edges(body, error)
+   subroutine check_tet10_edges(body, num_midside, error)
       type(mesh_t), intent(in) :: body
+      !> Number of distinct mid-side nodes (check_connected: no node is corner and mid-side)
+      integer(ip), intent(out) :: num_midside
       type(error_t), allocatable, intent(out) :: error
-      !> edge(:, m) = (low, high) corners of the edge of mid-side node m; (-1, 0) for a corner
+      !> edge(:, m) = (low, high) corners of the edge of mid-side node m, 0 for other nodes
       integer(ip), allocatable :: edge(:, :), first(:), next(:), seen(:)
       integer(ip) :: e, k, a, b, low, high, m, other
+      num_midside = 0
       allocate (edge(2, body%num_nodes))
       edge = 0
-      do e = 1, body%num_tets()
-         do k = 1, 4
-            edge(1, body%tets(k, e)) = -1
-         end do
-      end do
       do e = 1, body%num_tets()
          do k = 1, 6
             a = body%tets(tet_edges(1, k), e)
@@ -610,7 +609,8 @@ contains
       first = 0
       seen = 0
       do m = 1, body%num_nodes
-         if (edge(1, m) <= 0) cycle
+         if (edge(1, m) == 0) cycle
+         num_midside = num_midside + 1
          next(m) = first(edge(1, m))
          first(edge(1, m)) = m
       end do
@@ -633,21 +633,15 @@ contains
       end do
    end subroutine check_tet10_edges
 
-   !> Mid-side node m of edge `new_edge` of tetrahedron e is a corner or sits on `old_edge` too.
+   !> Mid-side node m of edge `new_edge` of tetrahedron e sits on `old_edge` too.
    subroutine shared_midside_error(body, m, old_edge, new_edge, e, error)
       type(mesh_t), intent(in) :: body
       integer(ip), intent(in) :: m, old_edge(2), new_edge(2), e
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: text
-      text = 'mesh ''' // file_of(body) // ''': node ' // to_str(body%node_tags(m)) // &
-         ' is the mid-side node of edge ' // tag_list(body, new_edge) // ' of tetrahedron ' // &
-         to_str(body%tet_tags(e))
-      if (old_edge(1) < 0) then
-         text = text // ' and a corner of another tetrahedron'
-      else
-         text = text // ' and of edge ' // tag_list(body, old_edge)
-      end if
-      call fatal_error(error, FFRF_INPUT_ERROR, text // '; the Tet10 mesh is not ' // &
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // ''': node ' // &
+         to_str(body%node_tags(m)) // ' is the mid-side node of edge ' // &
+         tag_list(body, new_edge) // ' of tetrahedron ' // to_str(body%tet_tags(e)) // &
+         ' and of edge ' // tag_list(body, old_edge) // '; the Tet10 mesh is not ' // &
          'conforming: re-mesh (gmsh -3 with order 2)')
    end subroutine shared_midside_error
 
@@ -676,19 +670,24 @@ contains
    !> The body's tetrahedra form one piece: union-find over their corners (after
    !> check_tet10_edges a mid-side node joins nothing its edge's corners do not). Each further
    !> piece would add six rigid-body modes the modal reduction takes for flexible ones.
-   subroutine check_connected(body, error)
+   subroutine check_connected(body, num_midside, error)
       type(mesh_t), intent(in) :: body
+      !> Distinct mid-side nodes (Tet10) from check_tet10_edges
+      integer(ip), intent(in) :: num_midside
       type(error_t), allocatable, intent(out) :: error
+      !> Union-find forest over the corners; 0 for a node not (yet) seen as a corner
       integer(ip), allocatable :: parent(:)
-      logical, allocatable :: corner(:)
-      integer(ip) :: e, k, root, other, num_corners, num_pieces
-      allocate (parent(body%num_nodes), corner(body%num_nodes))
-      corner = .false.
-      do k = 1, body%num_nodes
-         parent(k) = k
-      end do
+      integer(ip) :: e, k, f, j, root, other, num_corners, num_pieces
+      allocate (parent(body%num_nodes))
+      parent = 0
+      num_corners = 0
       num_pieces = 0
       do e = 1, body%num_tets()
+         do k = 1, 4
+            if (parent(body%tets(k, e)) /= 0) cycle
+            parent(body%tets(k, e)) = body%tets(k, e)
+            num_corners = num_corners + 1
+         end do
          root = find_root(parent, body%tets(1, e))
          do k = 2, 4
             other = find_root(parent, body%tets(k, e))
@@ -703,9 +702,21 @@ contains
                num_pieces = num_pieces - 1
             end if
          end do
-         corner(body%tets(1:4, e)) = .true.
       end do
-      num_corners = count(corner)
+      ! Every node of the body is a corner or a mid-side node: more of both than nodes means a
+      ! node is both.
+      if (body%nodes_per_tet == 10 .and. num_corners + num_midside /= body%num_nodes) then
+         do f = 1, body%num_tets()
+            do j = 5, 10
+               if (parent(body%tets(j, f)) == 0) cycle
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                  ''': node ' // to_str(body%node_tags(body%tets(j, f))) // ' is a mid-side ' // &
+                  'node of tetrahedron ' // to_str(body%tet_tags(f)) // ' and a corner of ' // &
+                  'another one; the Tet10 mesh is not conforming: re-mesh (gmsh -3 with order 2)')
+               return
+            end do
+         end do
+      end if
       num_pieces = num_pieces + num_corners
       if (num_pieces > 1) call pieces_error(body, parent, num_pieces, error)
    end subroutine check_connected

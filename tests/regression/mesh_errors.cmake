@@ -68,6 +68,10 @@ ffrf_mesh_error(tet10_crack 2 "tet10_crack.msh.: edge \\(2, 3\\) has two mid-sid
   tet10_crack.msh)
 ffrf_mesh_error(tet10_crack_22 2 "tet10_crack_22.msh.: edge \\(2, 3\\) has two mid-side nodes"
   tet10_crack_22.msh)
+ffrf_mesh_error(tet10_midside_corner 2 "tet10_midside_corner.msh.: node 5 is a mid-side node of tetrahedron 2 and a corner of another one"
+  tet10_midside_corner.msh)
+ffrf_mesh_error(tet10_midside_two_edges 2 "tet10_midside_two_edges.msh.: node 6 is the mid-side node of edge \\(3, 5\\) of tetrahedron 3 and of edge \\(1, 2\\)"
+  tet10_midside_two_edges.msh)
 ffrf_mesh_error(two_pieces 2 "two_pieces.msh.: the body of physical volume\\(s\\) 'block' is in 2 pieces.*piece 2 has 4 nodes and 1 tetrahedra \\(first 4\\), box \\(3, 0, 0\\)"
   two_pieces.msh)
 ffrf_mesh_error(not_a_face 2 "not_a_face.msh.: triangle 1 of physical surface 'face' \\(surface entity 1; nodes \\(1, 2, 5\\)\\) is not a face"

@@ -702,20 +702,21 @@ contains
    !> tests/regression/mesh_errors.cmake.
    subroutine test_bad_meshes(error)
       type(error_t), allocatable, intent(out) :: error
-      integer, parameter :: num_cases = 22
-      character(len=24) :: files(num_cases)
+      integer, parameter :: num_cases = 24
+      character(len=28) :: files(num_cases)
       character(len=60) :: parts(num_cases), expected(2)
       type(mesh_t) :: mesh, body
       type(error_t), allocatable :: raised
       integer(ip), allocatable :: triangles(:)
       integer :: k
-      files = [character(len=24) :: 'hex_in_body.msh', 'prism_in_body_22.msh', &
+      files = [character(len=28) :: 'hex_in_body.msh', 'prism_in_body_22.msh', &
          'pyramid_in_body_bin.msh', 'unknown_type.msh', 'type_dimension.msh', &
          'node_tag_zero.msh', 'node_tag_zero_22.msh', 'element_count.msh', 'node_range.msh', &
          'node_count_22.msh', 'huge_nodes.msh', 'huge_block.msh', 'missing_coordinate.msh', &
          'nan_coordinate.msh', 'nan_coordinate_bin.msh', 'duplicate_names.msh', &
          'surface_outside.msh', 'duplicate_tet.msh', 'tet10_crack.msh', 'tet10_crack_22.msh', &
-         'two_pieces.msh', 'not_a_face.msh']
+         'two_pieces.msh', 'not_a_face.msh', 'tet10_midside_corner.msh', &
+         'tet10_midside_two_edges.msh']
       parts = [character(len=60) :: '1 Hex8 (Gmsh type 5, first element 4', &
          '1 Prism6 (Gmsh type 6', '1 Pyramid5 (Gmsh type 7', 'has element type 200', &
          'holds Tet4 elements, which have dimension 3', 'node tag 0 is not allowed', &
@@ -729,7 +730,9 @@ contains
          'physical surface ''far'' has no triangles in the body', &
          'tetrahedra 2 and 4', 'edge (2, 3) has two mid-side nodes', &
          'edge (2, 3) has two mid-side nodes', 'is in 2 pieces', &
-         'triangle 1 of physical surface ''face'' (surface entity 1']
+         'triangle 1 of physical surface ''face'' (surface entity 1', &
+         'node 5 is a mid-side node of tetrahedron 2 and a corner', &
+         'node 6 is the mid-side node of edge (3, 5) of tetrahedron 3']
       do k = 1, num_cases
          call read_gmsh(data_file('bad/' // trim(files(k))), mesh, raised)
          if (.not. allocated(raised)) call extract_body(mesh, ['block'], body, raised)
