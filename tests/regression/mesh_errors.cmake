@@ -64,7 +64,7 @@ ffrf_mesh_error(surface_outside 2 "surface_outside.msh.: physical surface 'far' 
 # Body checks: duplicate, non-conforming Tet10, disconnected, a triangle that is not a face
 ffrf_mesh_error(duplicate_tet 2 "duplicate_tet.msh.: tetrahedra 2 and 4 of physical volume\\(s\\) 'block' have the same corner nodes"
   duplicate_tet.msh)
-ffrf_mesh_error(tet10_crack 2 "tet10_crack.msh.: edge \\(2, 3\\) has two mid-side nodes, 15 \\(tetrahedron 3\\) and 7 \\(tetrahedron 2\\)"
+ffrf_mesh_error(tet10_crack 2 "tet10_crack.msh.: edge \\(2, 3\\) has two mid-side nodes, 7 \\(tetrahedron 2\\) and 15 \\(tetrahedron 3\\)"
   tet10_crack.msh)
 ffrf_mesh_error(tet10_crack_22 2 "tet10_crack_22.msh.: edge \\(2, 3\\) has two mid-side nodes"
   tet10_crack_22.msh)
