@@ -260,7 +260,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: keep_tet(:), keep_tri(:), used(:)
       integer(ip), allocatable :: new_index(:), selected(:)
-      integer(ip) :: i, k, n, stat
+      integer(ip) :: i, k, n, stat, num_midside
 
       if (mesh%num_tets() == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
@@ -321,16 +321,32 @@ contains
       call check_triangle_faces(mesh, keep_tet, keep_tri, error)
       if (allocated(error)) return
 
-      selected = pack_indices(used)
+      ! A body of every node (one body per file, the usual case) keeps the node indices.
       body%num_nodes = n
-      body%xyz = mesh%xyz(:, selected)
-      body%node_tags = mesh%node_tags(selected)
+      if (n == mesh%num_nodes) then
+         body%xyz = mesh%xyz
+         body%node_tags = mesh%node_tags
+      else
+         selected = pack_indices(used)
+         body%xyz = mesh%xyz(:, selected)
+         body%node_tags = mesh%node_tags(selected)
+      end if
 
-      selected = pack_indices(keep_tet)
       body%nodes_per_tet = mesh%nodes_per_tet
-      body%tets = renumbered(mesh%tets, selected, new_index)
-      body%tet_tags = mesh%tet_tags(selected)
-      body%tet_entity = mesh%tet_entity(selected)
+      if (all(keep_tet)) then
+         if (n == mesh%num_nodes) then
+            body%tets = mesh%tets
+         else
+            body%tets = renumbered(mesh%tets, pack_indices(keep_tet), new_index)
+         end if
+         body%tet_tags = mesh%tet_tags
+         body%tet_entity = mesh%tet_entity
+      else
+         selected = pack_indices(keep_tet)
+         body%tets = renumbered(mesh%tets, selected, new_index)
+         body%tet_tags = mesh%tet_tags(selected)
+         body%tet_entity = mesh%tet_entity(selected)
+      end if
 
       selected = pack_indices(keep_tri)
       body%nodes_per_tri = mesh%nodes_per_tri
@@ -354,11 +370,12 @@ contains
 
       call check_duplicate_tets(body, error)
       if (allocated(error)) return
+      num_midside = 0
       if (body%nodes_per_tet == 10) then
-         call check_tet10_edges(body, error)
+         call check_tet10_edges(body, num_midside, error)
          if (allocated(error)) return
       end if
-      call check_connected(body, error)
+      call check_connected(body, num_midside, error)
    end subroutine extract_body
 
    !> The body's volumes must hold tetrahedra only: a hexahedron, prism or pyramid the reader
@@ -440,7 +457,7 @@ contains
          if (.not. keep_tri(t)) cycle
          keys(:, t) = sorted3(mesh%tris(1:3, t))
          on_triangle(keys(:, t)) = .true.
-         slot = hash_slot(keys(:, t), mask)
+         slot = hash_slot(key_hash(keys(:, t)), mask)
          do while (table(slot) /= 0)
             slot = iand(slot + 1, mask)
          end do
@@ -458,7 +475,7 @@ contains
          do f = 1, 4
             if (.not. all(on_triangle(mesh%tets(tet_faces(:, f), e)))) cycle
             key = sorted3(mesh%tets(tet_faces(:, f), e))
-            slot = hash_slot(key, mask)
+            slot = hash_slot(key_hash(key), mask)
             do while (table(slot) /= 0)
                t = table(slot)
                if (all(keys(:, t) == key)) then
@@ -520,54 +537,51 @@ contains
    end subroutine check_tri6_edges
 
    !> No two tetrahedra with the same corners (a duplicate doubles mass and stiffness there):
-   !> open-addressing hash table of the sorted corners.
+   !> open-addressing table of the hashes of the sorted corners (4 bytes a slot, cache-resident);
+   !> an equal hash is verified by a search over the earlier tetrahedra.
    subroutine check_duplicate_tets(body, error)
       type(mesh_t), intent(in) :: body
       type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: table(:), keys(:, :)
-      integer(ip) :: e, slot, mask, num_slots, other
-      num_slots = 64
-      do while (num_slots < 2 * body%num_tets())
-         num_slots = 2 * num_slots
-      end do
-      mask = num_slots - 1
-      allocate (table(0:mask), keys(4, body%num_tets()))
-      table = 0
+      integer(ip), allocatable :: table(:)
+      integer(ip) :: e, f, slot, mask, h, key(4)
+      call new_hash_table(body%num_tets(), table, mask)
       do e = 1, body%num_tets()
-         keys(:, e) = sorted4(body%tets(1:4, e))
-         slot = hash_slot(keys(:, e), mask)
+         key = sorted4(body%tets(1:4, e))
+         h = key_hash(key)
+         slot = hash_slot(h, mask)
          do while (table(slot) /= 0)
-            other = table(slot)
-            if (all(keys(:, other) == keys(:, e))) then
-               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
-                  ''': tetrahedra ' // to_str(body%tet_tags(other)) // ' and ' // &
-                  to_str(body%tet_tags(e)) // ' of physical volume(s) ' // body%volumes // &
-                  ' have the same corner nodes ' // tag_list(body, keys(:, e)) // '; a ' // &
-                  'duplicate element doubles mass and stiffness: remove it (or re-mesh)')
-               return
+            if (table(slot) == h) then
+               do f = 1, e - 1
+                  if (all(sorted4(body%tets(1:4, f)) == key)) then
+                     call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                        ''': tetrahedra ' // to_str(body%tet_tags(f)) // ' and ' // &
+                        to_str(body%tet_tags(e)) // ' of physical volume(s) ' // &
+                        body%volumes // ' have the same corner nodes ' // tag_list(body, key) // &
+                        '; a duplicate element doubles mass and stiffness: remove it (or re-mesh)')
+                     return
+                  end if
+               end do
             end if
             slot = iand(slot + 1, mask)
          end do
-         table(slot) = e
+         table(slot) = h
       end do
    end subroutine check_duplicate_tets
 
    !> Tet10 conformity: every mid-side node sits on one edge (pair of corners) only and is no
    !> corner, and every edge has one mid-side node. Two mid-side nodes on one edge are a crack:
    !> the neighbours are not connected along it. Node-indexed arrays: O(n).
-   subroutine check_tet10_edges(body, error)
+   subroutine check_tet10_edges(body, num_midside, error)
       type(mesh_t), intent(in) :: body
+      !> Number of distinct mid-side nodes (check_connected: no node is corner and mid-side)
+      integer(ip), intent(out) :: num_midside
       type(error_t), allocatable, intent(out) :: error
-      !> edge(:, m) = (low, high) corners of the edge of mid-side node m; (-1, 0) for a corner
-      integer(ip), allocatable :: edge(:, :), first(:), next(:), seen(:)
-      integer(ip) :: e, k, a, b, low, high, m, other
+      !> edge(:, m) = (low, high) corners of the edge of mid-side node m, 0 for other nodes
+      integer(ip), allocatable :: edge(:, :), table(:)
+      integer(ip) :: e, k, a, b, low, high, m, other, h, slot, mask
+      num_midside = 0
       allocate (edge(2, body%num_nodes))
       edge = 0
-      do e = 1, body%num_tets()
-         do k = 1, 4
-            edge(1, body%tets(k, e)) = -1
-         end do
-      end do
       do e = 1, body%num_tets()
          do k = 1, 6
             a = body%tets(tet_edges(1, k), e)
@@ -584,50 +598,39 @@ contains
             end if
          end do
       end do
-      ! Mid-side nodes grouped by the lower corner of their edge (linked lists); within a
-      ! group, seen(high) holds the mid-side node met first for edge (low, high).
-      allocate (first(body%num_nodes), next(body%num_nodes), seen(body%num_nodes))
-      first = 0
-      seen = 0
+      ! Every edge has one mid-side node: the hash of each mid-side node's edge into a table of
+      ! hashes (1 MB for 10**5 nodes: cache-resident); an equal hash is verified by a search, a
+      ! second node on one edge is a crack.
+      call new_hash_table(body%num_nodes, table, mask)
       do m = 1, body%num_nodes
-         if (edge(1, m) <= 0) cycle
-         next(m) = first(edge(1, m))
-         first(edge(1, m)) = m
-      end do
-      do low = 1, body%num_nodes
-         m = first(low)
-         do while (m /= 0)
-            other = seen(edge(2, m))
-            if (other /= 0) then
-               call two_midside_error(body, other, m, edge(:, m), error)
-               return
+         if (edge(1, m) == 0) cycle
+         num_midside = num_midside + 1
+         h = key_hash(edge(:, m))
+         slot = hash_slot(h, mask)
+         do while (table(slot) /= 0)
+            if (table(slot) == h) then
+               do other = 1, m - 1
+                  if (edge(1, other) == edge(1, m) .and. edge(2, other) == edge(2, m)) then
+                     call two_midside_error(body, other, m, edge(:, m), error)
+                     return
+                  end if
+               end do
             end if
-            seen(edge(2, m)) = m
-            m = next(m)
+            slot = iand(slot + 1, mask)
          end do
-         m = first(low)
-         do while (m /= 0)
-            seen(edge(2, m)) = 0
-            m = next(m)
-         end do
+         table(slot) = h
       end do
    end subroutine check_tet10_edges
 
-   !> Mid-side node m of edge `new_edge` of tetrahedron e is a corner or sits on `old_edge` too.
+   !> Mid-side node m of edge `new_edge` of tetrahedron e sits on `old_edge` too.
    subroutine shared_midside_error(body, m, old_edge, new_edge, e, error)
       type(mesh_t), intent(in) :: body
       integer(ip), intent(in) :: m, old_edge(2), new_edge(2), e
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: text
-      text = 'mesh ''' // file_of(body) // ''': node ' // to_str(body%node_tags(m)) // &
-         ' is the mid-side node of edge ' // tag_list(body, new_edge) // ' of tetrahedron ' // &
-         to_str(body%tet_tags(e))
-      if (old_edge(1) < 0) then
-         text = text // ' and a corner of another tetrahedron'
-      else
-         text = text // ' and of edge ' // tag_list(body, old_edge)
-      end if
-      call fatal_error(error, FFRF_INPUT_ERROR, text // '; the Tet10 mesh is not ' // &
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // ''': node ' // &
+         to_str(body%node_tags(m)) // ' is the mid-side node of edge ' // &
+         tag_list(body, new_edge) // ' of tetrahedron ' // to_str(body%tet_tags(e)) // &
+         ' and of edge ' // tag_list(body, old_edge) // '; the Tet10 mesh is not ' // &
          'conforming: re-mesh (gmsh -3 with order 2)')
    end subroutine shared_midside_error
 
@@ -656,19 +659,24 @@ contains
    !> The body's tetrahedra form one piece: union-find over their corners (after
    !> check_tet10_edges a mid-side node joins nothing its edge's corners do not). Each further
    !> piece would add six rigid-body modes the modal reduction takes for flexible ones.
-   subroutine check_connected(body, error)
+   subroutine check_connected(body, num_midside, error)
       type(mesh_t), intent(in) :: body
+      !> Distinct mid-side nodes (Tet10) from check_tet10_edges
+      integer(ip), intent(in) :: num_midside
       type(error_t), allocatable, intent(out) :: error
+      !> Union-find forest over the corners; 0 for a node not (yet) seen as a corner
       integer(ip), allocatable :: parent(:)
-      logical, allocatable :: corner(:)
-      integer(ip) :: e, k, root, other, num_corners, num_pieces
-      allocate (parent(body%num_nodes), corner(body%num_nodes))
-      corner = .false.
-      do k = 1, body%num_nodes
-         parent(k) = k
-      end do
+      integer(ip) :: e, k, f, j, root, other, num_corners, num_pieces
+      allocate (parent(body%num_nodes))
+      parent = 0
+      num_corners = 0
       num_pieces = 0
       do e = 1, body%num_tets()
+         do k = 1, 4
+            if (parent(body%tets(k, e)) /= 0) cycle
+            parent(body%tets(k, e)) = body%tets(k, e)
+            num_corners = num_corners + 1
+         end do
          root = find_root(parent, body%tets(1, e))
          do k = 2, 4
             other = find_root(parent, body%tets(k, e))
@@ -683,9 +691,21 @@ contains
                num_pieces = num_pieces - 1
             end if
          end do
-         corner(body%tets(1:4, e)) = .true.
       end do
-      num_corners = count(corner)
+      ! Every node of the body is a corner or a mid-side node: more of both than nodes means a
+      ! node is both.
+      if (body%nodes_per_tet == 10 .and. num_corners + num_midside /= body%num_nodes) then
+         do f = 1, body%num_tets()
+            do j = 5, 10
+               if (parent(body%tets(j, f)) == 0) cycle
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                  ''': node ' // to_str(body%node_tags(body%tets(j, f))) // ' is a mid-side ' // &
+                  'node of tetrahedron ' // to_str(body%tet_tags(f)) // ' and a corner of ' // &
+                  'another one; the Tet10 mesh is not conforming: re-mesh (gmsh -3 with order 2)')
+               return
+            end do
+         end do
+      end if
       num_pieces = num_pieces + num_corners
       if (num_pieces > 1) call pieces_error(body, parent, num_pieces, error)
    end subroutine check_connected
@@ -770,21 +790,42 @@ contains
       end do
    end function find_root
 
-   !> Slot in a table of mask + 1 (a power of 2) slots for a key of node indices (< 2**31; the
-   !> products stay below 2**62).
-   pure function hash_slot(key, mask) result(slot)
-      integer(ip), intent(in) :: key(:), mask
-      integer(ip) :: slot
-      integer(i8), parameter :: multipliers(4) = [73856093_i8, 19349663_i8, 83492791_i8, &
-         2147483629_i8]
-      integer(i8) :: h
-      integer :: k
-      h = 0
-      do k = 1, size(key)
-         h = ieor(h, int(key(k), i8) * multipliers(k))
+   !> An empty table (zeros) of at least 2 n slots, a power of 2; mask = slots - 1.
+   subroutine new_hash_table(n, table, mask)
+      integer(ip), intent(in) :: n
+      integer(ip), allocatable, intent(out) :: table(:)
+      integer(ip), intent(out) :: mask
+      integer(ip) :: num_slots
+      num_slots = 64
+      do while (num_slots < 2 * n)
+         num_slots = 2 * num_slots
       end do
-      h = ieor(h, ishft(h, -29))
-      slot = int(iand(h, int(mask, i8)), ip)
+      mask = num_slots - 1
+      allocate (table(0:mask))
+      table = 0
+   end subroutine new_hash_table
+
+   !> Hash 1 .. 2**31 - 1 of a key of node indices (< 2**31): a polynomial modulo 2**31 (each
+   !> product < 2**51); 0 marks an empty slot.
+   pure function key_hash(key) result(h)
+      integer(ip), intent(in) :: key(:)
+      integer(ip) :: h
+      integer(i8), parameter :: low31 = 2147483647_i8
+      integer(i8) :: value
+      integer :: k
+      value = 0
+      do k = 1, size(key)
+         value = iand(value * 1000003_i8 + key(k), low31)
+      end do
+      h = int(max(1_i8, value), ip)
+   end function key_hash
+
+   !> First slot of hash h in a table of mask + 1 (a power of 2, at most 2**31) slots:
+   !> Fibonacci hashing, the upper bits of h times 2**32 / golden ratio (< 2**63).
+   pure function hash_slot(h, mask) result(slot)
+      integer(ip), intent(in) :: h, mask
+      integer(ip) :: slot
+      slot = int(iand(ishft(int(h, i8) * 2654435761_i8, -28), int(mask, i8)), ip)
    end function hash_slot
 
    !> The three values ascending.
@@ -797,16 +838,25 @@ contains
       if (y(1) > y(2)) y(1:2) = y([2, 1])
    end function sorted3
 
-   !> The four values ascending.
+   !> The four values ascending (a sorting network of five compare-exchanges).
    pure function sorted4(x) result(y)
       integer(ip), intent(in) :: x(4)
       integer(ip) :: y(4)
-      y = x
-      if (y(1) > y(2)) y(1:2) = y([2, 1])
-      if (y(3) > y(4)) y(3:4) = y([4, 3])
-      if (y(1) > y(3)) y([1, 3]) = y([3, 1])
-      if (y(2) > y(4)) y([2, 4]) = y([4, 2])
-      if (y(2) > y(3)) y(2:3) = y([3, 2])
+      integer(ip) :: a, b, c, d, t
+      a = min(x(1), x(2))
+      b = max(x(1), x(2))
+      c = min(x(3), x(4))
+      d = max(x(3), x(4))
+      t = min(a, c)
+      c = max(a, c)
+      a = t
+      t = max(b, d)
+      b = min(b, d)
+      d = t
+      y(1) = a
+      y(2) = min(b, c)
+      y(3) = max(b, c)
+      y(4) = d
    end function sorted4
 
    !> "(tags 3, 7, 9)" of node indices, for messages.

@@ -64,10 +64,14 @@ ffrf_mesh_error(surface_outside 2 "surface_outside.msh.: physical surface 'far' 
 # Body checks: duplicate, non-conforming Tet10, disconnected, a triangle that is not a face
 ffrf_mesh_error(duplicate_tet 2 "duplicate_tet.msh.: tetrahedra 2 and 4 of physical volume\\(s\\) 'block' have the same corner nodes"
   duplicate_tet.msh)
-ffrf_mesh_error(tet10_crack 2 "tet10_crack.msh.: edge \\(2, 3\\) has two mid-side nodes, 15 \\(tetrahedron 3\\) and 7 \\(tetrahedron 2\\)"
+ffrf_mesh_error(tet10_crack 2 "tet10_crack.msh.: edge \\(2, 3\\) has two mid-side nodes, 7 \\(tetrahedron 2\\) and 15 \\(tetrahedron 3\\)"
   tet10_crack.msh)
 ffrf_mesh_error(tet10_crack_22 2 "tet10_crack_22.msh.: edge \\(2, 3\\) has two mid-side nodes"
   tet10_crack_22.msh)
+ffrf_mesh_error(tet10_midside_corner 2 "tet10_midside_corner.msh.: node 5 is a mid-side node of tetrahedron 2 and a corner of another one"
+  tet10_midside_corner.msh)
+ffrf_mesh_error(tet10_midside_two_edges 2 "tet10_midside_two_edges.msh.: node 6 is the mid-side node of edge \\(3, 5\\) of tetrahedron 3 and of edge \\(1, 2\\)"
+  tet10_midside_two_edges.msh)
 ffrf_mesh_error(two_pieces 2 "two_pieces.msh.: the body of physical volume\\(s\\) 'block' is in 2 pieces.*piece 2 has 4 nodes and 1 tetrahedra \\(first 4\\), box \\(3, 0, 0\\)"
   two_pieces.msh)
 ffrf_mesh_error(not_a_face 2 "not_a_face.msh.: triangle 1 of physical surface 'face' \\(surface entity 1; nodes \\(1, 2, 5\\)\\) is not a face"

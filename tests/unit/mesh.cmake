@@ -21,4 +21,4 @@ ffrf_test_mesh(box_o2_22 box -order 2 -format msh22)
 ffrf_test_mesh(two_blocks_o2_41 two_blocks -order 2 -format msh41)
 ffrf_test_mesh(surface_only_41 surface_only -order 1 -format msh41)
 
-ffrf_add_unit_suite(test_mesh_gmsh CHECKED FIXTURES test_mesh LABELS mesh)
+ffrf_add_unit_suite(test_mesh_gmsh CHECKED FIXTURES "test_mesh;crank_lc8_mesh" LABELS mesh)

@@ -2,7 +2,8 @@
 !> fixtures (tests/unit/mesh.cmake) into $FFRF_MESH_DIR/test_mesh/; the hand-written .msh files
 !> are read from $FFRF_TEST_DATA_DIR/mesh/. References: the box volume and face areas in closed
 !> form (a straight-sided tetrahedral tiling is exact up to round-off), the same mesh written in
-!> three formats, and hand-written files whose content is known entry by entry.
+!> three formats, and hand-written files whose content is known entry by entry; the bad meshes of
+!> tests/data/mesh/bad (one defect each) for the validation (issue 10).
 module test_mesh_gmsh
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
@@ -41,7 +42,11 @@ contains
          new_unittest('error_version', test_error_version), &
          new_unittest('error_missing_node', test_error_missing_node), &
          new_unittest('error_mixed_order', test_error_mixed_order), &
-         new_unittest('error_truncated_binary', test_error_truncated_binary)]
+         new_unittest('error_truncated_binary', test_error_truncated_binary), &
+         new_unittest('crank_lc8_counts', test_crank_lc8_counts), &
+         new_unittest('valid_small_meshes', test_valid_small_meshes), &
+         new_unittest('bad_meshes', test_bad_meshes), &
+         new_unittest('error_not_regular', test_error_not_regular)]
    end subroutine collect_mesh_gmsh
 
    !> A mesh gmsh built for the tests.
@@ -634,6 +639,133 @@ contains
       call check_message(raised, FFRF_INPUT_ERROR, [character(len=30) :: 'truncated_b.msh', &
          ', byte ', 'truncated'], error)
    end subroutine test_error_truncated_binary
+
+   !> crank_lc8 (input/crank.geo, lc 8 mm, Tet10, gmsh 4.8.4) still reads and passes every body
+   !> check with the counts it had before the checks: 8498 nodes (input/CMakeLists.txt), 4678
+   !> Tet10 and 412 Tri6 (read on main before this change); the body "crank" keeps all of them
+   !> and each interface surface B1, B2, B3 has triangles.
+   subroutine test_crank_lc8_counts(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(mesh_t) :: mesh, body
+      integer(ip), allocatable :: triangles(:)
+      integer :: k
+      character(len=2), parameter :: surfaces(3) = ['B1', 'B2', 'B3']
+      call read_ok(test_mesh_dir() // '/crank_lc8.msh', mesh, error)
+      if (allocated(error)) return
+      call check(error, 'crank_lc8: ' // mesh%summary(), mesh%num_nodes == 8498 .and. &
+         mesh%num_tets() == 4678 .and. mesh%num_tris() == 412 .and. mesh%nodes_per_tet == 10)
+      if (allocated(error)) return
+      call extract_body(mesh, ['crank'], body, error)
+      if (allocated(error)) return
+      call check(error, 'body crank: ' // body%summary(), body%num_nodes == 8498 .and. &
+         body%num_tets() == 4678 .and. body%num_tris() == 412)
+      if (allocated(error)) return
+      do k = 1, size(surfaces)
+         call body%group_triangles(surfaces(k), triangles, error)
+         if (allocated(error)) return
+         call check(error, surfaces(k) // ' has triangles', size(triangles) > 0)
+         if (allocated(error)) return
+      end do
+   end subroutine test_crank_lc8_counts
+
+   !> The valid two-tetrahedron block of tests/data/mesh/bad/make_bad_meshes.py in MSH 4.1 ASCII,
+   !> 4.1 binary and 2.2 reads and passes the body checks (5 nodes, 2 Tet4, the triangle "face");
+   !> so does its Tet10 version (14 nodes, the Tri6 on the Tet10 face).
+   subroutine test_valid_small_meshes(error)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), parameter :: files(3) = [character(len=20) :: 'valid_base.msh', &
+         'valid_base_bin.msh', 'valid_base_22.msh']
+      type(mesh_t) :: mesh, body
+      integer(ip), allocatable :: triangles(:)
+      integer :: k
+      do k = 1, size(files)
+         call read_ok(data_file('bad/' // trim(files(k))), mesh, error)
+         if (allocated(error)) return
+         call extract_body(mesh, ['block'], body, error)
+         if (.not. allocated(error)) call body%group_triangles('face', triangles, error)
+         if (allocated(error)) return
+         call check(error, trim(files(k)) // ': ' // body%summary(), body%num_nodes == 5 .and. &
+            body%num_tets() == 2 .and. size(triangles) == 1)
+         if (allocated(error)) return
+      end do
+      call read_ok(data_file('bad/tet10_ok.msh'), mesh, error)
+      if (allocated(error)) return
+      call extract_body(mesh, ['block'], body, error)
+      if (allocated(error)) return
+      call check(error, 'tet10_ok.msh: ' // body%summary(), body%num_nodes == 14 .and. &
+         body%nodes_per_tet == 10 .and. body%num_tris() == 1)
+   end subroutine test_valid_small_meshes
+
+   !> Each bad mesh of tests/data/mesh/bad (one defect each, see make_bad_meshes.py) read and cut
+   !> into the body "block" gives FFRF_INPUT_ERROR naming the file and the entity; run in the
+   !> checked build too (bounds of the new checks). The driver cases are in
+   !> tests/regression/mesh_errors.cmake.
+   subroutine test_bad_meshes(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer, parameter :: num_cases = 24
+      character(len=28) :: files(num_cases)
+      character(len=60) :: parts(num_cases), expected(2)
+      type(mesh_t) :: mesh, body
+      type(error_t), allocatable :: raised
+      integer(ip), allocatable :: triangles(:)
+      integer :: k
+      files = [character(len=28) :: 'hex_in_body.msh', 'prism_in_body_22.msh', &
+         'pyramid_in_body_bin.msh', 'unknown_type.msh', 'type_dimension.msh', &
+         'node_tag_zero.msh', 'node_tag_zero_22.msh', 'element_count.msh', 'node_range.msh', &
+         'node_count_22.msh', 'huge_nodes.msh', 'huge_block.msh', 'missing_coordinate.msh', &
+         'nan_coordinate.msh', 'nan_coordinate_bin.msh', 'duplicate_names.msh', &
+         'surface_outside.msh', 'duplicate_tet.msh', 'tet10_crack.msh', 'tet10_crack_22.msh', &
+         'two_pieces.msh', 'not_a_face.msh', 'tet10_midside_corner.msh', &
+         'tet10_midside_two_edges.msh']
+      parts = [character(len=60) :: '1 Hex8 (Gmsh type 5, first element 4', &
+         '1 Prism6 (Gmsh type 6', '1 Pyramid5 (Gmsh type 7', 'has element type 200', &
+         'holds Tet4 elements, which have dimension 3', 'node tag 0 is not allowed', &
+         'node tag 0 is not allowed', 'hold 3 elements, the header announced 4', &
+         'header gives node tags 1..6', '$Nodes announces 6 nodes', &
+         'number of nodes = 2000000000 cannot be right', &
+         'elements in block = 2000000000 cannot be right', &
+         'node 3: the line holds 2 of the node''s 3 coordinates', &
+         'node 4 has the coordinate ''nan''', 'node 4 has a non-finite coordinate', &
+         'two physical volumes are named ''block''', &
+         'physical surface ''far'' has no triangles in the body', &
+         'tetrahedra 2 and 4', 'edge (2, 3) has two mid-side nodes', &
+         'edge (2, 3) has two mid-side nodes', 'is in 2 pieces', &
+         'triangle 1 of physical surface ''face'' (surface entity 1', &
+         'node 5 is a mid-side node of tetrahedron 2 and a corner', &
+         'node 6 is the mid-side node of edge (3, 5) of tetrahedron 3']
+      do k = 1, num_cases
+         call read_gmsh(data_file('bad/' // trim(files(k))), mesh, raised)
+         if (.not. allocated(raised)) call extract_body(mesh, ['block'], body, raised)
+         if (.not. allocated(raised)) then
+            if (files(k) == 'surface_outside.msh') then
+               call body%group_triangles('far', triangles, raised)
+            else
+               call body%group_triangles('face', triangles, raised)
+            end if
+         end if
+         expected(1) = files(k)
+         expected(2) = parts(k)
+         call check_message(raised, FFRF_INPUT_ERROR, expected, error)
+         if (allocated(error)) then
+            error%message = trim(files(k)) // ': ' // error%message
+            return
+         end if
+         if (index(raised%message, achar(10)) > 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, trim(files(k)) // ': two lines')
+            return
+         end if
+      end do
+   end subroutine test_bad_meshes
+
+   !> A folder as mesh file: FFRF_IO_ERROR before anything is read.
+   subroutine test_error_not_regular(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(mesh_t) :: mesh
+      type(error_t), allocatable :: raised
+      call read_gmsh(data_file('bad'), mesh, raised)
+      call check_message(raised, FFRF_IO_ERROR, [character(len=30) :: 'mesh file', &
+         'is a folder'], error)
+   end subroutine test_error_not_regular
 
 end module test_mesh_gmsh
 

@@ -235,6 +235,12 @@ def main():
     m['elements'][1] = (2, 1, 4, m['elements'][1][3])
     write('type_dimension.msh', ascii41(m))
 
+    m = tet10()
+    m['elements'][1][3][0][1][4] = 5          # mid-side node of edge (1, 2) := corner 5
+    write('tet10_midside_corner.msh', ascii41(m))
+    m = tet10()
+    m['elements'][1][3][1][1][9] = 6          # edge (3, 5) of the second: the node of edge (1, 2)
+    write('tet10_midside_two_edges.msh', ascii41(m))
     write('tet10_ok.msh', ascii41(tet10()))
     write('tet10_crack.msh', ascii41(tet10(crack=True)))
     write('tet10_crack_22.msh', ascii22(tet10(crack=True)))
