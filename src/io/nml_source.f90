@@ -200,7 +200,11 @@ contains
          return
       end if
       call check_input_file(file_name, 'case file', MAX_CASE_BYTES, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         if (index(error%message, 'give a regular file') > 0) error%message = error%message // &
+            ' (or - to read the case from standard input)'
+         return
+      end if
       open (newunit=unit, file=file_name, status='old', action='read', access='stream', &
          form='unformatted', iostat=stat, iomsg=msg)
       if (stat /= 0) then
@@ -321,7 +325,7 @@ contains
             if (index(' ' // achar(9) // achar(13) // achar(10) // '/!,', &
                text(s%pos:s%pos)) == 0) then
                call fail(self%file_name // ':' // to_str(start_line) // ': &' // name // &
-                  ': unexpected "' // text(s%pos:s%pos) // '" after the group name; ' // &
+                  ': unexpected "' // quote(text(s%pos:s%pos)) // '" after the group name; ' // &
                   'write &' // name // ' key = value, ... /')
                return
             end if
@@ -505,6 +509,13 @@ contains
             do
                if (s%pos > len(text)) exit
                if (text(s%pos:s%pos) == achar(10)) exit
+               if ((iachar(text(s%pos:s%pos)) < 32 .and. text(s%pos:s%pos) /= achar(9)) .or. &
+                  iachar(text(s%pos:s%pos)) == 127) then
+                  call add_raw(text(start:s%pos))
+                  problem = 'a control character (code ' // to_str(iachar(text(s%pos:s%pos))) &
+                     // ') in a string; use printable characters'
+                  return
+               end if
                if (text(s%pos:s%pos) == c) then
                   if (s%pos < len(text)) then
                      if (text(s%pos + 1:s%pos + 1) == c) then
@@ -781,6 +792,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: o, e, stat
       character(len=512) :: msg
+      stat = 0
+      msg = ''
       do o = 1, size(self%occurrences)
          associate (occ => self%occurrences(o), group => self%groups(self%occurrences(o)%group))
             write (unit, '(a)', iostat=stat, iomsg=msg) '&' // trim(group%name)
