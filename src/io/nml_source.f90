@@ -98,6 +98,7 @@ module ffrf_io_nml_source
       procedure :: count => source_count
       procedure :: has_key => source_has_key
       procedure :: where => source_where
+      procedure :: at => source_at
       procedure :: integer_value => source_integer_value
       procedure :: write_namelist => source_write_namelist
    end type nml_source_t
@@ -771,6 +772,23 @@ contains
       end if
    end function source_where
 
+   !> "FILE:LINE" of a key as given, else of its group occurrence, else "FILE".
+   function source_at(self, group, number, key) result(text)
+      class(nml_source_t), intent(in) :: self
+      character(len=*), intent(in) :: group, key
+      integer, intent(in) :: number
+      character(len=:), allocatable :: text
+      integer :: o, e
+      call find(self, group, number, key, o, e)
+      if (e > 0) then
+         text = self%file_name // ':' // to_str(self%occurrences(o)%entries(e)%line)
+      else if (o > 0) then
+         text = self%file_name // ':' // to_str(self%occurrences(o)%line)
+      else
+         text = self%file_name
+      end if
+   end function source_at
+
    !> Value of an integer key read outside the namelist (in_namelist = .false.), or `default`.
    integer(i8) function source_integer_value(self, group, number, key, default) result(value)
       class(nml_source_t), intent(in) :: self
@@ -800,8 +818,8 @@ contains
             do e = 1, size(occ%entries)
                if (stat /= 0) exit
                if (.not. group%keys(occ%entries(e)%key)%in_namelist) cycle
-               write (unit, '(a)', iostat=stat, iomsg=msg) trim(group%keys(occ%entries(e)%key)%name) &
-                  // ' = ' // occ%entries(e)%canonical
+               write (unit, '(a)', iostat=stat, iomsg=msg) &
+                  trim(group%keys(occ%entries(e)%key)%name) // ' = ' // occ%entries(e)%canonical
             end do
             if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '/'
          end associate
