@@ -123,7 +123,7 @@ contains
          end if
       end do
       if (case%is_mechanism) then
-         call check_mechanism_names(case, error)
+         call check_mechanism_names(src, case, error)
          if (.not. allocated(error)) call check_step_count(src, case, error)
          if (allocated(error)) then
             if (index(error%message, case%file_name // ':') /= 1) call add_context(error, &
@@ -395,14 +395,17 @@ contains
    !> Every body, marker and interface a &joint, &load, &marker or &mechanism names exists: the
    !> markers of a body with a mesh are its interfaces, those of a rigid body or the ground
    !> are its &marker groups.
-   subroutine check_mechanism_names(case, error)
+   subroutine check_mechanism_names(src, case, error)
+      !> The case text: FILE:LINE of the names
+      type(nml_source_t), intent(in) :: src
       type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(out) :: error
       integer :: k
       associate (mech => case%mechanism)
          do k = 1, size(case%interfaces)
             if (case%motions(body_index(case, case%interfaces(k)%body))%type == 'rigid') then
-               call fatal_error(error, FFRF_INPUT_ERROR, '&interface "' // &
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at('interface', k, 'body') // &
+                  ': &interface "' // &
                   trim(case%interfaces(k)%name) // '": body "' // &
                   trim(case%interfaces(k)%body) // '" is rigid (no mesh); give its joint ' // &
                   'points as &marker groups')
@@ -413,48 +416,51 @@ contains
             associate (m => mech%markers(k))
                if (m%body == GROUND_NAME) cycle
                if (body_index(case, m%body) == 0) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&marker "' // trim(m%name) // &
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
+                     ': &marker "' // trim(m%name) // &
                      '": body "' // trim(m%body) // '" is not a &body of this case (nor ' // &
                      '"ground")')
                else if (case%motions(body_index(case, m%body))%type /= 'rigid') then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&marker "' // trim(m%name) // &
-                     '": body "' // trim(m%body) // '" has a mesh; its markers are its ' // &
-                     '&interface groups (virtual nodes)')
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
+                     ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // &
+                     '" has a mesh; its markers are its &interface groups (virtual nodes)')
                end if
                if (allocated(error)) return
             end associate
          end do
          do k = 1, size(mech%joints)
             associate (j => mech%joints(k))
-               call check_marker(case, '&joint "' // trim(j%name) // '"', j%body1, j%marker1, &
-                  error)
-               if (.not. allocated(error)) call check_marker(case, '&joint "' // trim(j%name) &
-                  // '"', j%body2, j%marker2, error)
+               call check_marker(case, src%at('joint', k, 'body1') // ': &joint "' // &
+                  trim(j%name) // '"', j%body1, j%marker1, error)
+               if (.not. allocated(error)) call check_marker(case, src%at('joint', k, 'body2') &
+                  // ': &joint "' // trim(j%name) // '"', j%body2, j%marker2, error)
                if (allocated(error)) return
             end associate
          end do
          do k = 1, size(mech%loads)
             associate (l => mech%loads(k))
-               call check_marker(case, '&load "' // trim(l%name) // '"', l%body, l%marker, &
-                  error)
+               call check_marker(case, src%at('load', k, 'body') // ': &load "' // &
+                  trim(l%name) // '"', l%body, l%marker, error)
                if (allocated(error)) return
                if (l%body == GROUND_NAME) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&load "' // trim(l%name) // &
-                     '": a load on the ground does nothing; name a moving body')
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('load', k, 'body') // &
+                     ': &load "' // trim(l%name) // '": a load on the ground does nothing; ' // &
+                     'name a moving body')
                   return
                end if
                if (any(l%type == [character(len=16) :: 'pressure', 'starter', 'drag']) .and. &
                   len_trim(mech%mechanism%crank) == 0) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&load "' // trim(l%name) // &
-                     '" (' // trim(l%type) // ') depends on the crank angle or speed: name ' // &
-                     'the crank body in &mechanism crank = ...')
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('load', k, 'type') // &
+                     ': &load "' // trim(l%name) // '" (' // trim(l%type) // ') depends on ' // &
+                     'the crank angle or speed: name the crank body in &mechanism crank = ...')
                   return
                end if
             end associate
          end do
          if (len_trim(mech%mechanism%crank) > 0) then
             if (body_index(case, mech%mechanism%crank) == 0) then
-               call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: crank = "' // &
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at('mechanism', 1, 'crank') // &
+                  ': &mechanism: crank = "' // &
                   trim(mech%mechanism%crank) // '" is not a &body of this case')
                return
             end if

@@ -9,13 +9,16 @@
 !>     an integer (in range), a logical (.true./.false., t/f, true/false), a quoted string no
 !>     longer than the field that receives it (one of the allowed words for a choice key); an
 !>     array key takes between min_count and max_count values (3 for a vector, 6 for an inertia);
-!>   - any line length (the text is scanned as a whole, never through a fixed-length buffer).
+!>   - any line length (the text is scanned as a whole, never through a fixed-length buffer);
+!>   - at most MAX_GROUPS (2000) groups and MAX_VALUES (64) values after one key, so that the
+!>     work stays linear in the text (a case of 16 MiB is checked in well under a second).
 !> Messages: `FILE:LINE: &group key = value: what is wrong, what is allowed`, one line.
 !> The validated text is then handed to the namelist reads in a canonical form (one key per
 !> line, strings re-quoted, numbers as written, so the values read are bitwise those of the
 !> file); `where` gives the readers FILE:LINE of a key for their cross-key checks.
 !> Array elements (`position(2) = ...`), null values (`, ,`) and `&end` are not accepted: give
-!> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals.
+!> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals. A string may not
+!> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
 module ffrf_io_nml_source
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
@@ -34,6 +37,9 @@ module ffrf_io_nml_source
    integer, parameter :: KEY_REAL = 1, KEY_INTEGER = 2, KEY_LOGICAL = 3, KEY_STRING = 4
    !> Longest value text quoted in a message
    integer, parameter :: MAX_QUOTE = 60
+   !> Most values after one key (no key takes more than 16) and most groups in a case: bounds
+   !> that keep the work linear in the size of the text
+   integer, parameter :: MAX_VALUES = 64, MAX_GROUPS = 2000
 
    !> One key of a group: its type, how many values, and what is allowed.
    type :: key_spec_t
@@ -92,12 +98,17 @@ module ffrf_io_nml_source
       !> File name for messages ('stdin' for standard input)
       character(len=:), allocatable :: file_name
       type(group_spec_t), allocatable :: groups(:)
+      !> The group occurrences in file order: occurrences(:used)
       type(occurrence_t), allocatable :: occurrences(:)
+      integer :: used = 0
+      !> Occurrences of each group so far (same order as groups)
+      integer, allocatable :: group_count(:)
    contains
       procedure :: parse => source_parse
       procedure :: count => source_count
       procedure :: has_key => source_has_key
       procedure :: where => source_where
+      procedure :: at => source_at
       procedure :: integer_value => source_integer_value
       procedure :: write_namelist => source_write_namelist
    end type nml_source_t
@@ -200,7 +211,11 @@ contains
          return
       end if
       call check_input_file(file_name, 'case file', MAX_CASE_BYTES, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         if (index(error%message, 'give a regular file') > 0) error%message = error%message // &
+            ' (or - to read the case from standard input)'
+         return
+      end if
       open (newunit=unit, file=file_name, status='old', action='read', access='stream', &
          form='unformatted', iostat=stat, iomsg=msg)
       if (stat /= 0) then
@@ -285,7 +300,8 @@ contains
       integer :: g, k, start_line
       self%file_name = file_name
       self%groups = groups
-      allocate (self%occurrences(0))
+      allocate (self%occurrences(16))
+      allocate (self%group_count(size(groups)), source=0)
       do
          call skip_blank(text, s, .true.)
          if (s%pos > len(text)) exit
@@ -301,6 +317,11 @@ contains
             return
          end if
          start_line = s%line
+         if (self%used >= MAX_GROUPS) then
+            call fail(self%file_name // ':' // to_str(start_line) // ': more than ' // &
+               to_str(MAX_GROUPS) // ' namelist groups; a case holds fewer')
+            return
+         end if
          s%pos = s%pos + 1
          name = to_lower(identifier(text, s))
          if (len(name) == 0) then
@@ -321,12 +342,12 @@ contains
             if (index(' ' // achar(9) // achar(13) // achar(10) // '/!,', &
                text(s%pos:s%pos)) == 0) then
                call fail(self%file_name // ':' // to_str(start_line) // ': &' // name // &
-                  ': unexpected "' // text(s%pos:s%pos) // '" after the group name; ' // &
+                  ': unexpected "' // quote(text(s%pos:s%pos)) // '" after the group name; ' // &
                   'write &' // name // ' key = value, ... /')
                return
             end if
          end if
-         k = self%count(name)
+         k = self%group_count(g)
          if (.not. groups(g)%repeatable .and. k > 0) then
             call fail(self%file_name // ':' // to_str(start_line) // ': &' // name // &
                ': a second &' // name // ' group (the first is on line ' // &
@@ -385,7 +406,7 @@ contains
                   return
                end if
             end if
-            self%occurrences = [self%occurrences, occ]
+            call append_occurrence(self, occ)
             return
          case ('&', '$')
             call fail(self%file_name // ':' // to_str(start_line) // ': ' // gname // &
@@ -474,7 +495,7 @@ contains
       character(len=1) :: c
       character(len=:), allocatable :: token
       logical :: need_item
-      integer :: start, k
+      integer :: start, k, piece, used
       allocate (items(0))
       raw = ''
       problem = ''
@@ -499,23 +520,41 @@ contains
             cycle
          end if
          if (c == '''' .or. c == '"') then
-            token = ''
+            if (size(items) >= MAX_VALUES) then
+               problem = 'more than ' // to_str(MAX_VALUES) // ' values; no key takes so many'
+               return
+            end if
             start = s%pos
             s%pos = s%pos + 1
+            ! the string ends on this line: a buffer of the rest of the line holds it
+            piece = index(text(s%pos:), achar(10))
+            if (piece == 0) piece = len(text) - s%pos + 2
+            if (allocated(token)) deallocate (token)
+            allocate (character(len=piece) :: token)
+            used = 0
+            piece = s%pos
             do
                if (s%pos > len(text)) exit
                if (text(s%pos:s%pos) == achar(10)) exit
+               if ((iachar(text(s%pos:s%pos)) < 32 .and. text(s%pos:s%pos) /= achar(9)) .or. &
+                  iachar(text(s%pos:s%pos)) == 127) then
+                  call add_raw(text(start:s%pos))
+                  problem = 'a control character (code ' // to_str(iachar(text(s%pos:s%pos))) &
+                     // ') in a string; use printable characters'
+                  return
+               end if
                if (text(s%pos:s%pos) == c) then
                   if (s%pos < len(text)) then
                      if (text(s%pos + 1:s%pos + 1) == c) then
-                        token = token // c
+                        token(used + 1:used + s%pos - piece + 1) = text(piece:s%pos)
+                        used = used + s%pos - piece + 1
                         s%pos = s%pos + 2
+                        piece = s%pos
                         cycle
                      end if
                   end if
                   exit
                end if
-               token = token // text(s%pos:s%pos)
                s%pos = s%pos + 1
             end do
             if (s%pos > len(text)) then
@@ -528,6 +567,9 @@ contains
                problem = 'the string is not closed on its line; end it with ' // c
                return
             end if
+            token(used + 1:used + s%pos - piece) = text(piece:s%pos - 1)
+            used = used + s%pos - piece
+            token = token(:used)
             s%pos = s%pos + 1
             call add_raw(text(start:s%pos - 1))
             items = [items, item_t(.true., token)]
@@ -559,6 +601,10 @@ contains
          end if
          s%pos = k
          s%line = mark%line
+         if (size(items) >= MAX_VALUES) then
+            problem = 'more than ' // to_str(MAX_VALUES) // ' values; no key takes so many'
+            return
+         end if
          call add_raw(token)
          items = [items, item_t(.false., token)]
          need_item = .false.
@@ -701,6 +747,11 @@ contains
                   return
                end if
             end if
+            if (group_mark(values(k)%text)) then
+               problem = what // 'holds & or $ followed by a letter, which the namelist ' // &
+                  'reads take for the start of a group; put a blank after the & or $'
+               return
+            end if
             piece = '''' // doubled_quotes(values(k)%text) // ''''
          end select
          if (k > 1) canonical = canonical // ', '
@@ -717,7 +768,7 @@ contains
       character(len=*), intent(in) :: name
       integer :: k
       n = 0
-      do k = 1, size(self%occurrences)
+      do k = 1, self%used
          if (trim(self%groups(self%occurrences(k)%group)%name) == name) n = n + 1
       end do
    end function source_count
@@ -760,6 +811,23 @@ contains
       end if
    end function source_where
 
+   !> "FILE:LINE" of a key as given, else of its group occurrence, else "FILE".
+   function source_at(self, group, number, key) result(text)
+      class(nml_source_t), intent(in) :: self
+      character(len=*), intent(in) :: group, key
+      integer, intent(in) :: number
+      character(len=:), allocatable :: text
+      integer :: o, e
+      call find(self, group, number, key, o, e)
+      if (e > 0) then
+         text = self%file_name // ':' // to_str(self%occurrences(o)%entries(e)%line)
+      else if (o > 0) then
+         text = self%file_name // ':' // to_str(self%occurrences(o)%line)
+      else
+         text = self%file_name
+      end if
+   end function source_at
+
    !> Value of an integer key read outside the namelist (in_namelist = .false.), or `default`.
    integer(i8) function source_integer_value(self, group, number, key, default) result(value)
       class(nml_source_t), intent(in) :: self
@@ -781,14 +849,16 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: o, e, stat
       character(len=512) :: msg
-      do o = 1, size(self%occurrences)
+      stat = 0
+      msg = ''
+      do o = 1, self%used
          associate (occ => self%occurrences(o), group => self%groups(self%occurrences(o)%group))
             write (unit, '(a)', iostat=stat, iomsg=msg) '&' // trim(group%name)
             do e = 1, size(occ%entries)
                if (stat /= 0) exit
                if (.not. group%keys(occ%entries(e)%key)%in_namelist) cycle
-               write (unit, '(a)', iostat=stat, iomsg=msg) trim(group%keys(occ%entries(e)%key)%name) &
-                  // ' = ' // occ%entries(e)%canonical
+               write (unit, '(a)', iostat=stat, iomsg=msg) &
+                  trim(group%keys(occ%entries(e)%key)%name) // ' = ' // occ%entries(e)%canonical
             end do
             if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '/'
          end associate
@@ -802,6 +872,27 @@ contains
    ! ---------------------------------------------------------------------------------------------
    ! Helpers
 
+   !> Add a group occurrence, doubling the storage when full (linear time in the groups).
+   subroutine append_occurrence(self, occ)
+      type(nml_source_t), intent(inout) :: self
+      type(occurrence_t), intent(in) :: occ
+      type(occurrence_t), allocatable :: bigger(:)
+      integer :: k
+      if (self%used == size(self%occurrences)) then
+         allocate (bigger(2 * size(self%occurrences)))
+         do k = 1, self%used
+            call move_alloc(self%occurrences(k)%entries, bigger(k)%entries)
+            bigger(k)%group = self%occurrences(k)%group
+            bigger(k)%number = self%occurrences(k)%number
+            bigger(k)%line = self%occurrences(k)%line
+         end do
+         call move_alloc(bigger, self%occurrences)
+      end if
+      self%used = self%used + 1
+      self%occurrences(self%used) = occ
+      self%group_count(occ%group) = self%group_count(occ%group) + 1
+   end subroutine append_occurrence
+
    subroutine find(self, group, number, key, o, e)
       type(nml_source_t), intent(in) :: self
       character(len=*), intent(in) :: group, key
@@ -809,7 +900,7 @@ contains
       integer, intent(out) :: o, e
       integer :: k
       e = 0
-      do o = 1, size(self%occurrences)
+      do o = 1, self%used
          associate (occ => self%occurrences(o))
             if (trim(self%groups(occ%group)%name) /= group .or. occ%number /= number) cycle
             do k = 1, size(occ%entries)
@@ -829,7 +920,7 @@ contains
       integer, intent(in) :: g
       integer :: k
       line = 0
-      do k = 1, size(self%occurrences)
+      do k = 1, self%used
          if (self%occurrences(k)%group == g) then
             line = self%occurrences(k)%line
             return
@@ -916,6 +1007,18 @@ contains
       shown = trim(shown)
       if (len(text) > MAX_QUOTE) shown = shown // '...'
    end function quote
+
+   !> `text` has '&' or '$' followed by a letter (a group start to the namelist reads).
+   pure logical function group_mark(text) result(found)
+      character(len=*), intent(in) :: text
+      integer :: k
+      found = .false.
+      do k = 1, len(text) - 1
+         if (text(k:k) /= '&' .and. text(k:k) /= '$') cycle
+         if (verify(text(k + 1:k + 1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ') &
+            == 0) found = .true.
+      end do
+   end function group_mark
 
    pure function doubled_quotes(text) result(out)
       character(len=*), intent(in) :: text

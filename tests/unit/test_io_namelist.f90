@@ -135,6 +135,11 @@ contains
       if (allocated(error)) return
       call expect('&body geometric_stiffness = yes /' // nl, &
          'e.nml:1: &body geometric_stiffness = yes: not a logical')
+      if (allocated(error)) return
+      call expect('&run title = ''a&body'' /' // nl, 'e.nml:1: &run title = ''a&body'': holds &')
+      if (allocated(error)) return
+      call expect('&run title = ''a' // achar(7) // ''' /' // nl, &
+         'e.nml:1: &run title = ''a?: a control character (code 7)')
    contains
       subroutine expect(text, start)
          character(len=*), intent(in) :: text, start
