@@ -179,7 +179,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(reader_t) :: r
       character(len=:), allocatable :: word
+      logical :: seen_entities
 
+      seen_entities = .false.
       r%tets%kind = 'Tet'
       r%tris%kind = 'Tri'
       call load_file(file_name, r%c, error)
@@ -198,9 +200,17 @@ contains
          r%c%section = word
          select case (word)
          case ('$PhysicalNames')
-            call read_physical_names(r, error)
+            if (allocated(r%names)) then
+               call location_error(r%c, 'a second $PhysicalNames section; ffrf reads one', &
+                  error)
+            else
+               call read_physical_names(r, error)
+            end if
          case ('$Entities')
-            if (r%version == '4.1') then
+            if (seen_entities) then
+               call location_error(r%c, 'a second $Entities section; ffrf reads one', error)
+            else if (r%version == '4.1') then
+               seen_entities = .true.
                call read_entities(r, error)
             else
                call skip_section(r%c, error)

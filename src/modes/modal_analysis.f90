@@ -176,7 +176,7 @@ contains
          n_if = n_if + 1
          call build_interface(body%mesh, interface_inputs(i_if), body%interfaces(n_if), error)
          if (allocated(error)) then
-            call add_context(error, 'body "' // body%name // '"')
+            call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
             return
          end if
          associate (f => body%interfaces(n_if))
@@ -204,7 +204,7 @@ contains
       end if
       call check_reference_conditions(body%interfaces, body%center_of_mass, body%rc, error)
       if (allocated(error)) then
-         call add_context(error, 'body "' // body%name // '"')
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
          return
       end if
       if (body%rc%free_free) then
@@ -222,7 +222,7 @@ contains
       body%formulation = trim(modes_input%formulation)
       call build_reduction(body%mesh%num_nodes, body%interfaces, body%formulation, red, error)
       if (allocated(error)) then
-         call add_context(error, 'body "' // body%name // '"')
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
          return
       end if
       if (.not. red%is_identity) then
@@ -247,7 +247,8 @@ contains
          call solve_modes(body, modes_input, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
             material), log, times, error)
       end if
-      if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
+      if (allocated(error)) call add_context(error, 'body "' // body%name // '", mesh "' // &
+         mesh_file // '"')
    end subroutine compute_body_modes
 
    !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.

@@ -128,10 +128,11 @@ contains
             call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
                times, bodies(k), error)
             call output_timer%begin()
-            if (.not. allocated(error)) call results_write_body(h5, bodies(k), &
-               trim(case%modes%rc_label), error)
-            if (allocated(error)) call add_context(error, 'results file "' // results_file // &
-               '"')
+            if (.not. allocated(error)) then
+               call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)
+               if (allocated(error)) call add_context(error, 'results file "' // &
+                  results_file // '"')
+            end if
             if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0) then
                msh_file = join_path(options%output_dir, trim(case%run%mode_shapes_msh))
                if (size(case%bodies) > 1) msh_file = insert_suffix(msh_file, '_' // &

@@ -42,8 +42,8 @@ contains
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case%file_name)
       do k = 1, size(case%bodies)
          associate (body => case%bodies(k))
-            flexible = .true.
-            if (case%is_mechanism) flexible = case%motions(k)%type /= 'rigid'
+            ! As the runs: a rigid body has no modes, and needs a mesh only for its mass
+            flexible = case%motions(k)%type /= 'rigid'
             if (.not. flexible .and. len_trim(body%mesh_file) == 0) cycle
             files = [body%mesh_file]
             if (case%is_mechanism .and. flexible) files = [pack(case%motions(k)%coarse_meshes, &

@@ -153,6 +153,16 @@ contains
          if (model%h > 0.0_dp) settings%h = model%h
          if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info( &
             'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
+         ! The step count of the h chosen here (read_case checked the given or default h)
+         if ((settings%t_end - settings%t_start) / settings%h > &
+               real(case%mechanism%max_steps, dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
+               'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
+               to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
+               'more than max_steps = ' // to_str(case%mechanism%max_steps) // &
+               '; shorten the run, give h, or raise &integrator max_steps on purpose')
+            return
+         end if
          call integrator%init(mech, settings, q, v, error)
          if (allocated(error)) then
             call add_context(error, case_file // ': starting the integration')
