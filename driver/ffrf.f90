@@ -7,10 +7,8 @@ program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
    use ffrf, only: error_t, logger_t, run_options_t, run_modal, run_mechanism, check_case, &
-      case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, LOG_QUIET, &
-      LOG_DEBUG
-   use ffrf_core_error, only: FFRF_INTERRUPTED
-   use ffrf_core_posix, only: install_signal_handlers, signals_restart_calls, &
+      case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
+      FFRF_INTERRUPTED, LOG_QUIET, LOG_DEBUG, install_signal_handlers, signals_restart_calls, &
       ignore_file_size_signal
    implicit none
    interface
@@ -109,12 +107,14 @@ contains
    subroutine usage(unit)
       integer, intent(in) :: unit
       write (unit, '(a)') 'usage: ffrf CASE.nml|- [--check] [--mesh-dir DIR] ' // &
-         '[--output-dir DIR] [--quiet|--debug]'
-      write (unit, '(a)') '  A modal case computes the constrained normal modes of the bodies of CASE.nml'
+         '[--output-dir DIR] [--quiet|--debug] [--no-overwrite] [--restart RESULTS]'
+      write (unit, '(a)') '  A modal case computes the constrained normal modes of the ' // &
+         'bodies of CASE.nml'
       write (unit, '(a)') '  and writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
       write (unit, '(a)') '  A mechanism case (one with &joint groups) also integrates the motion'
       write (unit, '(a)') '  with generalized-alpha and writes the time histories to <output>.h5'
-      write (unit, '(a)') '  and each flexible body''s deformation to <output>_<body>_animation.msh.'
+      write (unit, '(a)') '  and each flexible body''s deformation to ' // &
+         '<output>_<body>_animation.msh.'
       write (unit, '(a)') '  --mesh-dir DIR    folder of relative mesh files ' // &
          '(default: the case folder)'
       write (unit, '(a)') '  --output-dir DIR  folder of the results (default: current folder)'

@@ -1,9 +1,12 @@
 !> `use ffrf` gives the public API of the library: kinds, errors, logging, the modal pipeline,
-!> mechanism runs (bodies, joints, loads, generalized-alpha).
+!> mechanism runs (bodies, joints, loads, generalized-alpha), the signal handling a batch
+!> program installs so that SIGTERM & co. end a run cleanly.
 module ffrf
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
-      FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
+      FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED
+   use ffrf_core_posix, only: install_signal_handlers, signals_restart_calls, &
+      ignore_file_size_signal, pending_signal, signal_name
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh

@@ -8,7 +8,7 @@
 module ffrf_io_case
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_strings, only: to_str, to_lower, join_words
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_mpc_interface, only: interface_input_t
    use ffrf_io_nml_source, only: nml_source_t, group_spec_t, read_case_text
@@ -111,7 +111,7 @@ contains
          if (.not. any(case%bodies%name == case%interfaces(k)%body)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, 'body') // &
                ': body "' // trim(case%interfaces(k)%body) // '" is not a &body of this ' // &
-               'case (bodies: ' // body_list(case) // ')')
+               'case (bodies: ' // join_words(case%bodies%name, ', ') // ')')
             return
          end if
          if (any(case%interfaces(:k - 1)%body == case%interfaces(k)%body .and. &
@@ -477,7 +477,8 @@ contains
       b = body_index(case, body)
       if (body /= GROUND_NAME .and. b == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': body "' // trim(body) // &
-            '" is not a &body of this case (bodies: ' // body_list(case) // ', ground)')
+            '" is not a &body of this case (bodies: ' // join_words(case%bodies%name, ', ') // &
+            ', ground)')
       else if (body == GROUND_NAME .or. case%motions(max(b, 1))%type == 'rigid') then
          if (.not. any(case%mechanism%markers%body == body .and. &
             case%mechanism%markers%name == marker)) call fatal_error(error, FFRF_INPUT_ERROR, &
@@ -502,16 +503,6 @@ contains
       k = 0
    end function body_index
 
-   function body_list(case) result(text)
-      type(case_input_t), intent(in) :: case
-      character(len=:), allocatable :: text
-      integer :: k
-      text = ''
-      do k = 1, size(case%bodies)
-         if (k > 1) text = text // ', '
-         text = text // trim(case%bodies(k)%name)
-      end do
-   end function body_list
 
    function interface_list(case, body) result(text)
       type(case_input_t), intent(in) :: case

@@ -23,7 +23,7 @@ module ffrf_io_nml_source
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_strings, only: to_str, to_lower, join_words
    use ffrf_core_posix, only: check_input_file
    implicit none
    private
@@ -326,7 +326,7 @@ contains
          name = to_lower(identifier(text, s))
          if (len(name) == 0) then
             call fail(self%file_name // ':' // to_str(start_line) // ': ''&'' without a ' // &
-               'group name; groups are ' // group_list(groups))
+               'group name; groups are &' // join_words(groups%name, ', &'))
             return
          end if
          g = 0
@@ -335,7 +335,8 @@ contains
          end do
          if (g == 0) then
             call fail(self%file_name // ':' // to_str(start_line) // &
-               ': unknown namelist group &' // name // '; groups are ' // group_list(groups))
+               ': unknown namelist group &' // name // '; groups are &' // &
+               join_words(groups%name, ', &'))
             return
          end if
          if (s%pos <= len(text)) then
@@ -454,7 +455,7 @@ contains
             if (k == 0) then
                call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // &
                   key // ' = ' // quote(raw) // ': unknown key; the keys of ' // gname // &
-                  ' are ' // key_list(self%groups(g)))
+                  ' are ' // join_words(self%groups(g)%keys%name, ', '))
                return
             end if
             do e = 1, size(occ%entries)
@@ -1153,27 +1154,5 @@ contains
          if (word == to_lower(trim(value))) ok = .true.
       end do
    end function is_choice
-
-   function group_list(groups) result(text)
-      type(group_spec_t), intent(in) :: groups(:)
-      character(len=:), allocatable :: text
-      integer :: k
-      text = ''
-      do k = 1, size(groups)
-         if (k > 1) text = text // ', '
-         text = text // '&' // trim(groups(k)%name)
-      end do
-   end function group_list
-
-   function key_list(group) result(text)
-      type(group_spec_t), intent(in) :: group
-      character(len=:), allocatable :: text
-      integer :: k
-      text = ''
-      do k = 1, size(group%keys)
-         if (k > 1) text = text // ', '
-         text = text // trim(group%keys(k)%name)
-      end do
-   end function key_list
 
 end module ffrf_io_nml_source
