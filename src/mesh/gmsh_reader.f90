@@ -1095,7 +1095,7 @@ contains
          ! (signs, tabs, line ends, errors) goes through scan_int
          p = r%c%pos
          do while (p <= n)
-            if (r%c%text(p:p) /= ' ') exit
+            if (iachar(r%c%text(p:p)) /= 32) exit  ! not a blank (no len_trim call)
             p = p + 1
          end do
          node_tag = 0
