@@ -1209,9 +1209,16 @@ contains
       call move_alloc(r%xyz, mesh%xyz)
       call move_alloc(r%node_tags, mesh%node_tags)
       mesh%nodes_per_tet = r%tets%nodes_per_element
-      mesh%tets = r%tets%nodes(:, :r%tets%count)
-      mesh%tet_tags = r%tets%tags(:r%tets%count)
-      mesh%tet_entity = r%tets%entity(:r%tets%count)
+      if (size(r%tets%tags) == r%tets%count) then
+         ! Filled to capacity (one block, the usual case): hand the arrays over, no copy
+         call move_alloc(r%tets%nodes, mesh%tets)
+         call move_alloc(r%tets%tags, mesh%tet_tags)
+         call move_alloc(r%tets%entity, mesh%tet_entity)
+      else
+         mesh%tets = r%tets%nodes(:, :r%tets%count)
+         mesh%tet_tags = r%tets%tags(:r%tets%count)
+         mesh%tet_entity = r%tets%entity(:r%tets%count)
+      end if
       mesh%nodes_per_tri = r%tris%nodes_per_element
       if (r%tris%count > 0) then
          mesh%tris = r%tris%nodes(:, :r%tris%count)
