@@ -14,9 +14,9 @@
 !>
 !> The whole file is read into memory with one stream read and parsed by hand (integers by a
 !> digit loop; reals by Clinger's exact fast path, mantissa <= 2**53 and |exponent| <= 22, which
-!> is correctly rounded like strtod, with an internal read as fallback), so ASCII and binary
-!> copies of a mesh agree to the 16 digits (%.16g) Gmsh prints. Peak memory is about the file
-!> size plus the mesh arrays (~60 MB for a 30 MB Tet10 file).
+!> is correctly rounded like strtod, else by C strtod, with an internal read as fallback), so
+!> ASCII and binary copies of a mesh agree to the 16 digits (%.16g) Gmsh prints. Peak memory is
+!> about the file size plus the mesh arrays (~60 MB for a 30 MB Tet10 file).
 !>
 !> Node order is Gmsh's, unchanged (checked by meshing one tetrahedron with gmsh 4.8.4 -order 2,
 !> and as drawn in the Gmsh manual, section "Node ordering"; 1-based here):
@@ -71,6 +71,8 @@ end module ffrf_mesh_gmsh
 !> Bodies of ffrf_mesh_gmsh: file loading, tokenizer, section parsers, group building.
 submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_parse
    use, intrinsic :: iso_fortran_env, only: int32
+   use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_loc, &
+      c_associated
    use ffrf_core_kinds, only: dp, ip, i8
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -89,6 +91,17 @@ submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_parse
       1.0e20_dp, 1.0e21_dp, 1.0e22_dp]
    !> Largest integer every smaller one of which a double holds exactly, 2**53
    integer(i8), parameter :: exact_mantissa = 9007199254740992_i8
+
+   interface
+      !> C strtod: correctly rounded, the conversion libgfortran's list-directed read ends in;
+      !> `end` points after the last character used.
+      function c_strtod(text, end) result(value) bind(c, name='strtod')
+         import :: c_char, c_ptr, c_double
+         character(kind=c_char), intent(in) :: text(*)
+         type(c_ptr), intent(out) :: end
+         real(c_double) :: value
+      end function c_strtod
+   end interface
 
    !> The whole file in memory and the read position in it.
    type :: cursor_t
@@ -1082,7 +1095,7 @@ contains
          ! (signs, tabs, line ends, errors) goes through scan_int
          p = r%c%pos
          do while (p <= n)
-            if (r%c%text(p:p) /= ' ') exit
+            if (iachar(r%c%text(p:p)) /= 32) exit  ! not a blank (no len_trim call)
             p = p + 1
          end do
          node_tag = 0
@@ -1196,9 +1209,16 @@ contains
       call move_alloc(r%xyz, mesh%xyz)
       call move_alloc(r%node_tags, mesh%node_tags)
       mesh%nodes_per_tet = r%tets%nodes_per_element
-      mesh%tets = r%tets%nodes(:, :r%tets%count)
-      mesh%tet_tags = r%tets%tags(:r%tets%count)
-      mesh%tet_entity = r%tets%entity(:r%tets%count)
+      if (size(r%tets%tags) == r%tets%count) then
+         ! Filled to capacity (one block, the usual case): hand the arrays over, no copy
+         call move_alloc(r%tets%nodes, mesh%tets)
+         call move_alloc(r%tets%tags, mesh%tet_tags)
+         call move_alloc(r%tets%entity, mesh%tet_entity)
+      else
+         mesh%tets = r%tets%nodes(:, :r%tets%count)
+         mesh%tet_tags = r%tets%tags(:r%tets%count)
+         mesh%tet_entity = r%tets%entity(:r%tets%count)
+      end if
       mesh%nodes_per_tri = r%tris%nodes_per_element
       if (r%tris%count > 0) then
          mesh%tris = r%tris%nodes(:, :r%tris%count)
@@ -1589,8 +1609,8 @@ contains
    end subroutine scan_int
 
    !> Real token after white space, correctly rounded: exact fast path (mantissa <= 2**53,
-   !> |decimal exponent| <= 22: one IEEE multiply or divide of exact operands), else an
-   !> internal read. On failure `ok` is false and `pos` stays at the token.
+   !> |decimal exponent| <= 22: one IEEE multiply or divide of exact operands), else C strtod
+   !> (strtod_token) or an internal read. On failure `ok` is false and `pos` stays at the token.
    subroutine scan_real(text, pos, line, value, ok)
       character(len=*), intent(in) :: text
       integer(i8), intent(inout) :: pos, line
@@ -1598,7 +1618,7 @@ contains
       logical, intent(out) :: ok
       integer(i8) :: n, p, mantissa
       integer :: digit, significant, exponent, exponent_part, exponent_digits, stat
-      logical :: negative, exact, any_digit, negative_exponent
+      logical :: negative, exact, any_digit, negative_exponent, converted
       call skip_space(text, pos, line)
       n = len(text, kind=i8)
       p = pos
@@ -1657,7 +1677,8 @@ contains
       if (.not. any_digit) return
       ! Exponent
       if (p <= n) then
-         if (scan(text(p:p), 'eEdD') > 0) then
+         if (text(p:p) == 'e' .or. text(p:p) == 'E' .or. text(p:p) == 'd' .or. &
+             text(p:p) == 'D') then
             p = p + 1
             negative_exponent = .false.
             if (p <= n) then
@@ -1693,14 +1714,46 @@ contains
             value = real(mantissa, dp) / powers_of_ten(-exponent)
          end if
       else
-         read (text(pos:p - 1), *, iostat=stat) value
-         if (stat /= 0) return
+         call strtod_token(text(pos:p - 1), value, converted)
+         if (.not. converted) then
+            read (text(pos:p - 1), *, iostat=stat) value
+            if (stat /= 0) return
+         end if
          negative = .false.
       end if
       if (negative) value = -value
       ok = .true.
       pos = p
    end subroutine scan_real
+
+   !> A real token already checked by scan_real (sign, digits, point, exponent with e, E, d or
+   !> D), converted by C strtod, the correctly rounded conversion behind the internal read,
+   !> without the cost of Fortran I/O. `ok` false (the caller does the internal read) for a
+   !> long token, one strtod does not take whole (a locale with a decimal comma) and a result
+   !> that is not finite or is zero.
+   subroutine strtod_token(token, value, ok)
+      character(len=*), intent(in) :: token
+      real(dp), intent(out) :: value
+      logical, intent(out) :: ok
+      character(kind=c_char), target :: buffer(64)
+      type(c_ptr) :: end
+      integer :: k
+      value = 0.0_dp
+      ok = .false.
+      if (len(token) >= size(buffer)) return
+      do k = 1, len(token)
+         select case (token(k:k))
+         case ('d', 'D')
+            buffer(k) = 'e'
+         case default
+            buffer(k) = token(k:k)
+         end select
+      end do
+      buffer(len(token) + 1) = c_null_char
+      value = c_strtod(buffer, end)
+      ok = c_associated(end, c_loc(buffer(len(token) + 1))) .and. ieee_is_finite(value) .and. &
+         value /= 0.0_dp
+   end subroutine strtod_token
 
    !> Next white-space delimited word ('' at end of file).
    function next_word(c) result(word)

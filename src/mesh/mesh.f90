@@ -260,7 +260,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: keep_tet(:), keep_tri(:), used(:)
       integer(ip), allocatable :: new_index(:), selected(:)
-      integer(ip) :: i, k, n, stat, num_midside
+      integer(ip) :: i, k, n, stat
 
       if (mesh%num_tets() == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
@@ -370,12 +370,7 @@ contains
 
       call check_duplicate_tets(body, error)
       if (allocated(error)) return
-      num_midside = 0
-      if (body%nodes_per_tet == 10) then
-         call check_tet10_edges(body, num_midside, error)
-         if (allocated(error)) return
-      end if
-      call check_connected(body, num_midside, error)
+      call check_tet_nodes(body, error)
    end subroutine extract_body
 
    !> The body's volumes must hold tetrahedra only: a hexahedron, prism or pyramid the reader
@@ -442,17 +437,12 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: on_triangle(:), in_body(:), anywhere(:)
       integer(ip), allocatable :: table(:), keys(:, :)
-      integer(ip) :: t, e, f, slot, mask, num_slots, key(3), hits, j
+      integer(ip) :: t, e, f, slot, mask, key(3), hits, j
       if (mesh%num_tris() == 0 .or. .not. any(keep_tri)) return
       allocate (on_triangle(mesh%num_nodes), keys(3, mesh%num_tris()))
       on_triangle = .false.
-      num_slots = 64
-      do while (num_slots < 2 * count(keep_tri))
-         num_slots = 2 * num_slots
-      end do
-      mask = num_slots - 1
-      allocate (table(0:mask))
-      table = 0
+      mask = hash_mask(count(keep_tri, kind=ip))
+      allocate (table(0:mask), source=0_ip)
       do t = 1, mesh%num_tris()
          if (.not. keep_tri(t)) cycle
          keys(:, t) = sorted3(mesh%tris(1:3, t))
@@ -537,90 +527,145 @@ contains
    end subroutine check_tri6_edges
 
    !> No two tetrahedra with the same corners (a duplicate doubles mass and stiffness there):
-   !> open-addressing table of the hashes of the sorted corners (4 bytes a slot, cache-resident);
-   !> an equal hash is verified by a search over the earlier tetrahedra.
+   !> open-addressing table of the hashes of the sorted corners, each with its tetrahedron (hash
+   !> times 2**32 plus index, 8 bytes a slot); an equal hash is verified against that tetrahedron.
    subroutine check_duplicate_tets(body, error)
       type(mesh_t), intent(in) :: body
       type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: table(:)
+      integer(i8), parameter :: low32 = 4294967295_i8
+      integer(i8), allocatable :: table(:)
+      integer(i8) :: entry
       integer(ip) :: e, f, slot, mask, h, key(4)
-      call new_hash_table(body%num_tets(), table, mask)
+      mask = hash_mask(body%num_tets())
+      allocate (table(0:mask), source=0_i8)
       do e = 1, body%num_tets()
          key = sorted4(body%tets(1:4, e))
          h = key_hash(key)
          slot = hash_slot(h, mask)
-         do while (table(slot) /= 0)
-            if (table(slot) == h) then
-               do f = 1, e - 1
-                  if (all(sorted4(body%tets(1:4, f)) == key)) then
-                     call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
-                        ''': tetrahedra ' // to_str(body%tet_tags(f)) // ' and ' // &
-                        to_str(body%tet_tags(e)) // ' of physical volume(s) ' // &
-                        body%volumes // ' have the same corner nodes ' // tag_list(body, key) // &
-                        '; a duplicate element doubles mass and stiffness: remove it (or re-mesh)')
-                     return
-                  end if
-               end do
+         do
+            entry = table(slot)
+            if (entry == 0) exit
+            if (ishft(entry, -32) == h) then
+               f = int(iand(entry, low32), ip)
+               if (all(sorted4(body%tets(1:4, f)) == key)) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                     ''': tetrahedra ' // to_str(body%tet_tags(f)) // ' and ' // &
+                     to_str(body%tet_tags(e)) // ' of physical volume(s) ' // &
+                     body%volumes // ' have the same corner nodes ' // tag_list(body, key) // &
+                     '; a duplicate element doubles mass and stiffness: remove it (or re-mesh)')
+                  return
+               end if
             end if
             slot = iand(slot + 1, mask)
          end do
-         table(slot) = h
+         table(slot) = ior(ishft(int(h, i8), 32), int(e, i8))
       end do
    end subroutine check_duplicate_tets
 
-   !> Tet10 conformity: every mid-side node sits on one edge (pair of corners) only and is no
-   !> corner, and every edge has one mid-side node. Two mid-side nodes on one edge are a crack:
-   !> the neighbours are not connected along it. Node-indexed arrays: O(n).
-   subroutine check_tet10_edges(body, num_midside, error)
+   !> Tet10 conformity and connectivity, in one pass over the tetrahedra with arrays indexed by
+   !> node: O(n).
+   !>
+   !> Tet10: every mid-side node sits on one edge (pair of corners) only and is no corner, and
+   !> every edge has one mid-side node. Two mid-side nodes on one edge are a crack: the
+   !> neighbours are not connected along it.
+   !>
+   !> Connectivity: the tetrahedra form one piece, by union-find over their corners (with the
+   !> Tet10 checks passed a mid-side node joins nothing its edge's corners do not). Each further
+   !> piece would add six rigid-body modes the modal reduction takes for flexible ones.
+   subroutine check_tet_nodes(body, error)
       type(mesh_t), intent(in) :: body
-      !> Number of distinct mid-side nodes (check_connected: no node is corner and mid-side)
-      integer(ip), intent(out) :: num_midside
       type(error_t), allocatable, intent(out) :: error
+      !> Union-find forest over the corners; 0 for a node not (yet) seen as a corner
+      integer(ip), allocatable :: parent(:)
       !> edge(:, m) = (low, high) corners of the edge of mid-side node m, 0 for other nodes
-      integer(ip), allocatable :: edge(:, :), table(:)
-      integer(ip) :: e, k, a, b, low, high, m, other, h, slot, mask
+      integer(ip), allocatable :: edge(:, :)
+      !> Open-addressing table of the mid-side nodes (0 empty), hashed by their edges
+      integer(ip), allocatable :: table(:)
+      integer(ip) :: e, k, f, j, a, b, low, high, m, other, slot, mask, root, corner(4)
+      integer(ip) :: num_corners, num_midside, num_pieces
+      logical :: tet10
+      tet10 = body%nodes_per_tet == 10
+      allocate (parent(body%num_nodes), source=0_ip)
+      if (tet10) allocate (edge(2, body%num_nodes), source=0_ip)
+      num_corners = 0
       num_midside = 0
-      allocate (edge(2, body%num_nodes))
-      edge = 0
+      num_pieces = 0
       do e = 1, body%num_tets()
+         corner = body%tets(1:4, e)
+         do k = 1, 4
+            if (parent(corner(k)) /= 0) cycle
+            parent(corner(k)) = corner(k)
+            num_corners = num_corners + 1
+         end do
+         root = find_root(parent, corner(1))
+         do k = 2, 4
+            other = find_root(parent, corner(k))
+            if (other /= root) then
+               ! Attach the larger index under the smaller: roots are the smallest nodes
+               if (other < root) then
+                  parent(root) = other
+                  root = other
+               else
+                  parent(other) = root
+               end if
+               num_pieces = num_pieces - 1
+            end if
+         end do
+         if (.not. tet10) cycle
          do k = 1, 6
-            a = body%tets(tet_edges(1, k), e)
-            b = body%tets(tet_edges(2, k), e)
+            a = corner(tet_edges(1, k))
+            b = corner(tet_edges(2, k))
             m = body%tets(4 + k, e)
             low = min(a, b)
             high = max(a, b)
             if (edge(1, m) == 0) then
                edge(1, m) = low
                edge(2, m) = high
+               num_midside = num_midside + 1
             else if (edge(1, m) /= low .or. edge(2, m) /= high) then
                call shared_midside_error(body, m, edge(:, m), [low, high], e, error)
                return
             end if
          end do
       end do
-      ! Every edge has one mid-side node: the hash of each mid-side node's edge into a table of
-      ! hashes (1 MB for 10**5 nodes: cache-resident); an equal hash is verified by a search, a
-      ! second node on one edge is a crack.
-      call new_hash_table(body%num_nodes, table, mask)
-      do m = 1, body%num_nodes
-         if (edge(1, m) == 0) cycle
-         num_midside = num_midside + 1
-         h = key_hash(edge(:, m))
-         slot = hash_slot(h, mask)
-         do while (table(slot) /= 0)
-            if (table(slot) == h) then
-               do other = 1, m - 1
-                  if (edge(1, other) == edge(1, m) .and. edge(2, other) == edge(2, m)) then
-                     call two_midside_error(body, other, m, edge(:, m), error)
-                     return
-                  end if
-               end do
-            end if
-            slot = iand(slot + 1, mask)
+      if (tet10) then
+         ! Every edge has one mid-side node: a second node on one edge is a crack. The table
+         ! holds the first mid-side node of each edge; an equal edge is found on probing.
+         mask = hash_mask(num_midside)
+         allocate (table(0:mask), source=0_ip)
+         do m = 1, body%num_nodes
+            if (edge(1, m) == 0) cycle
+            slot = hash_slot(key_hash(edge(:, m)), mask)
+            do while (table(slot) /= 0)
+               other = table(slot)
+               if (edge(1, other) == edge(1, m) .and. edge(2, other) == edge(2, m)) then
+                  call two_midside_error(body, other, m, edge(:, m), error)
+                  return
+               end if
+               slot = iand(slot + 1, mask)
+            end do
+            table(slot) = m
          end do
-         table(slot) = h
-      end do
-   end subroutine check_tet10_edges
+         ! Every node of the body is a corner or a mid-side node: more of both than nodes
+         ! means a node is both.
+         if (num_corners + num_midside /= body%num_nodes) then
+            do f = 1, body%num_tets()
+               do j = 5, 10
+                  if (parent(body%tets(j, f)) == 0) cycle
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
+                     ''': node ' // to_str(body%node_tags(body%tets(j, f))) // ' is a ' // &
+                     'mid-side node of tetrahedron ' // to_str(body%tet_tags(f)) // ' and a ' // &
+                     'corner of another one; the Tet10 mesh is not conforming: re-mesh ' // &
+                     '(gmsh -3 with order 2)')
+                  return
+               end do
+            end do
+         end if
+      end if
+      num_pieces = num_pieces + num_corners
+      if (num_pieces > 1) call pieces_error(body, parent, num_pieces, error)
+   end subroutine check_tet_nodes
+
 
    !> Mid-side node m of edge `new_edge` of tetrahedron e sits on `old_edge` too.
    subroutine shared_midside_error(body, m, old_edge, new_edge, e, error)
@@ -656,59 +701,6 @@ contains
          'conforming: re-mesh (gmsh -3 with order 2)')
    end subroutine two_midside_error
 
-   !> The body's tetrahedra form one piece: union-find over their corners (after
-   !> check_tet10_edges a mid-side node joins nothing its edge's corners do not). Each further
-   !> piece would add six rigid-body modes the modal reduction takes for flexible ones.
-   subroutine check_connected(body, num_midside, error)
-      type(mesh_t), intent(in) :: body
-      !> Distinct mid-side nodes (Tet10) from check_tet10_edges
-      integer(ip), intent(in) :: num_midside
-      type(error_t), allocatable, intent(out) :: error
-      !> Union-find forest over the corners; 0 for a node not (yet) seen as a corner
-      integer(ip), allocatable :: parent(:)
-      integer(ip) :: e, k, f, j, root, other, num_corners, num_pieces
-      allocate (parent(body%num_nodes))
-      parent = 0
-      num_corners = 0
-      num_pieces = 0
-      do e = 1, body%num_tets()
-         do k = 1, 4
-            if (parent(body%tets(k, e)) /= 0) cycle
-            parent(body%tets(k, e)) = body%tets(k, e)
-            num_corners = num_corners + 1
-         end do
-         root = find_root(parent, body%tets(1, e))
-         do k = 2, 4
-            other = find_root(parent, body%tets(k, e))
-            if (other /= root) then
-               ! Attach the larger index under the smaller: roots are the smallest nodes
-               if (other < root) then
-                  parent(root) = other
-                  root = other
-               else
-                  parent(other) = root
-               end if
-               num_pieces = num_pieces - 1
-            end if
-         end do
-      end do
-      ! Every node of the body is a corner or a mid-side node: more of both than nodes means a
-      ! node is both.
-      if (body%nodes_per_tet == 10 .and. num_corners + num_midside /= body%num_nodes) then
-         do f = 1, body%num_tets()
-            do j = 5, 10
-               if (parent(body%tets(j, f)) == 0) cycle
-               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(body) // &
-                  ''': node ' // to_str(body%node_tags(body%tets(j, f))) // ' is a mid-side ' // &
-                  'node of tetrahedron ' // to_str(body%tet_tags(f)) // ' and a corner of ' // &
-                  'another one; the Tet10 mesh is not conforming: re-mesh (gmsh -3 with order 2)')
-               return
-            end do
-         end do
-      end if
-      num_pieces = num_pieces + num_corners
-      if (num_pieces > 1) call pieces_error(body, parent, num_pieces, error)
-   end subroutine check_connected
 
    !> The body is in `num_pieces` pieces: name them (nodes, tetrahedra, first tetrahedron,
    !> bounding box), the largest first, five at most.
@@ -790,20 +782,17 @@ contains
       end do
    end function find_root
 
-   !> An empty table (zeros) of at least 2 n slots, a power of 2; mask = slots - 1.
-   subroutine new_hash_table(n, table, mask)
+   !> Mask (slots - 1) of an open-addressing table of at least 2 n slots, a power of 2.
+   pure function hash_mask(n) result(mask)
       integer(ip), intent(in) :: n
-      integer(ip), allocatable, intent(out) :: table(:)
-      integer(ip), intent(out) :: mask
+      integer(ip) :: mask
       integer(ip) :: num_slots
       num_slots = 64
       do while (num_slots < 2 * n)
          num_slots = 2 * num_slots
       end do
       mask = num_slots - 1
-      allocate (table(0:mask))
-      table = 0
-   end subroutine new_hash_table
+   end function hash_mask
 
    !> Hash 1 .. 2**31 - 1 of a key of node indices (< 2**31): a polynomial modulo 2**31 (each
    !> product < 2**51); 0 marks an empty slot.
