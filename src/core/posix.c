@@ -92,12 +92,23 @@ void ffrf_errno_text(int code, char *buffer, int length)
 
 /* Signals a batch scheduler or a user sends to end a run: SIGTERM (scancel, the time limit),
  * SIGINT (Ctrl-C), SIGHUP (a closed terminal), SIGUSR1 and SIGXCPU (ahead of a time limit).
- * The handler only records the first one; the run checks it between steps. */
+ * The handler only records the first one; the run checks it between steps (and a modal run
+ * between bodies). A second SIGINT (Ctrl-C pressed again) ends the run at once. */
 static volatile sig_atomic_t pending_signal = 0;
 
 static void record_signal(int signal_number)
 {
-    if (pending_signal == 0) pending_signal = signal_number;
+    if (pending_signal == 0) {
+        pending_signal = signal_number;
+        return;
+    }
+    /* A second Ctrl-C while the first waits for the end of a step (or of a body's modes): the
+     * user insists, so end the run at once, as without the handlers. Scheduler signals never
+     * escalate: a repeated SIGTERM must not cut the clean end of the run short. */
+    if (signal_number == SIGINT && pending_signal == SIGINT) {
+        signal(SIGINT, SIG_DFL);
+        raise(SIGINT);
+    }
 }
 
 int ffrf_signals_install(void)

@@ -313,6 +313,16 @@ def test_signals(ffrf, mesh_dir, case_dir, work):
         if when == 'late in the integration':
             check(1.5 < t < 2.0, f'{name}: stopped late ({t:.3f} s)')
 
+    # Ctrl-C pressed twice while the modes are computed (the first waits for the end of a
+    # step): the second ends the run at once, by SIGINT; a repeated SIGTERM never does.
+    run = Run(ffrf_args(ffrf, flexible, mesh_dir, out), work, 'sigint_twice')
+    check(run.wait_for(r'\[mesh\]'), 'SIGINT twice: run reading its meshes')
+    run.process.send_signal(signal.SIGINT)
+    time.sleep(0.05)
+    run.process.send_signal(signal.SIGINT)
+    code = run.wait()
+    check(code == -signal.SIGINT, f'SIGINT twice: ended by SIGINT at once (got {code})')
+
 
 # ------------------------------------------------------------------------------ restart
 
