@@ -213,30 +213,24 @@ contains
             history, log, error)
          call times%add('output', timer%seconds())
          call times%add('total', total%seconds())
-         if (allocated(run_error)) then
-            if (run_error%code /= FFRF_INTERRUPTED) then
-               if (run_error%code == FFRF_IO_ERROR) call add_context(run_error, &
-                  'results file "' // results_file // '"')
-               call add_context(run_error, case_file)
-               status = 'error: ' // run_error%message
+         ! A failed or interrupted run: its file goes into place when it could still be closed
+         if (allocated(run_error) .or. allocated(error)) then
+            if (allocated(run_error)) then
+               if (run_error%code /= FFRF_INTERRUPTED) then
+                  if (run_error%code == FFRF_IO_ERROR) call add_context(run_error, &
+                     'results file "' // results_file // '"')
+                  call add_context(run_error, case_file)
+                  status = 'error: ' // run_error%message
+               else
+                  status = 'interrupted: ' // signal_name(pending_signal())
+               end if
+               if (allocated(error)) status = 'error: ' // error%message
+               call move_alloc(run_error, error)
             else
-               status = 'interrupted: ' // signal_name(pending_signal())
+               status = 'error: ' // error%message
             end if
-            if (allocated(error)) status = 'error: ' // error%message
             call results%finish(status, times%names, times%seconds, close_error, &
                times%peak_mib, closed)
-            if (closed) then
-               call commit_file(temp_file, results_file, close_error)
-            else
-               call abandon_file(temp_file)
-            end if
-            if (.not. allocated(close_error)) call remove_checkpoint(results_file)
-            call move_alloc(run_error, error)
-            return
-         end if
-         if (allocated(error)) then
-            call results%finish('error: ' // error%message, times%names, times%seconds, &
-               close_error, times%peak_mib, closed)
             if (closed) then
                call commit_file(temp_file, results_file, close_error)
             else
