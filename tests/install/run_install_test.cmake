@@ -20,6 +20,7 @@ if(NOT code EQUAL 0)
   file(READ "${WORK_DIR}/modes_app.txt" out)
   message(FATAL_ERROR "modes_app failed (${code}):\n${out}\n${err}")
 endif()
+file(MAKE_DIRECTORY "${WORK_DIR}/driver")
 run("${PREFIX}/${BINDIR}/ffrf" "${CASE}" --mesh-dir "${MESH_DIR}" --output-dir "${WORK_DIR}/driver"
   --quiet)
 get_filename_component(name "${CASE}" NAME_WE)
