@@ -22,23 +22,20 @@ static int failed(const char *call, int status, const ffrf_case *c)
 static int print_body(const ffrf_case *c, int b)
 {
     char name[256];
-    int capacity = 64, count = 0, status;
-    double *hz = NULL;
+    int count = 0, status;
+    double *hz;
 
     status = ffrf_body_name(c, b, name, sizeof name);
     if (status != FFRF_OK) return failed("ffrf_body_name", status, c);
-    for (;;) { /* count > capacity: the body has more modes than the buffer holds; grow it */
-        double *grown = realloc(hz, (size_t)capacity * sizeof *hz);
-        if (grown == NULL) {
-            free(hz);
-            fprintf(stderr, "c_modal: out of memory\n");
-            return EXIT_FAILURE;
-        }
-        hz = grown;
-        status = ffrf_body_frequencies(c, b, hz, capacity, &count);
-        if (status != FFRF_OK || count <= capacity) break;
-        capacity = count;
+    /* a NULL array with capacity 0 asks for the size */
+    status = ffrf_body_frequencies(c, b, NULL, 0, &count);
+    if (status != FFRF_OK) return failed("ffrf_body_frequencies", status, c);
+    hz = malloc((count > 0 ? (size_t)count : 1) * sizeof *hz);
+    if (hz == NULL) {
+        fprintf(stderr, "c_modal: out of memory\n");
+        return EXIT_FAILURE;
     }
+    status = ffrf_body_frequencies(c, b, hz, count, &count);
     if (status != FFRF_OK) {
         free(hz);
         return failed("ffrf_body_frequencies", status, c);

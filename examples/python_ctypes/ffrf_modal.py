@@ -96,14 +96,14 @@ class Case:
         return buffer.value.decode()
 
     def frequencies(self, body):
-        capacity, count = 64, ctypes.c_int()
-        while True:      # count > capacity: more modes than the buffer holds; grow it
-            hz = (ctypes.c_double * capacity)()
-            self._check('ffrf_body_frequencies', self.lib.ffrf_body_frequencies(
-                self.handle, body, hz, capacity, ctypes.byref(count)))
-            if count.value <= capacity:
-                return list(hz[:count.value])
-            capacity = count.value
+        count = ctypes.c_int()
+        # a NULL array with capacity 0 asks for the size
+        self._check('ffrf_body_frequencies', self.lib.ffrf_body_frequencies(
+            self.handle, body, None, 0, ctypes.byref(count)))
+        hz = (ctypes.c_double * count.value)()
+        self._check('ffrf_body_frequencies', self.lib.ffrf_body_frequencies(
+            self.handle, body, hz, count.value, ctypes.byref(count)))
+        return list(hz)
 
 
 def main():
