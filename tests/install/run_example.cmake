@@ -9,8 +9,17 @@ get_filename_component(name "${EXAMPLE_DIR}" NAME)
 if(NOT "${parent}/${name}" STREQUAL "${WORK_DIR}")
   file(RENAME "${parent}/${name}" "${WORK_DIR}")
 endif()
+# PKG_CONFIG_PATH both in the environment (make 4.3 runs $(shell ...) without the command line's
+# variables) and on the command line; the prefix's libdir on LD_LIBRARY_PATH, as a user of a
+# private prefix sets it (c_modal also records it as rpath)
+get_filename_component(libdir "${PKG_CONFIG_DIR}" DIRECTORY)
+set(ld_path "${libdir}")
+if(DEFINED ENV{LD_LIBRARY_PATH} AND NOT "$ENV{LD_LIBRARY_PATH}" STREQUAL "")
+  set(ld_path "${libdir}:$ENV{LD_LIBRARY_PATH}")
+endif()
 foreach(target all check)
-  execute_process(COMMAND "${MAKE_PROGRAM}" -C "${WORK_DIR}" ${target}
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env "PKG_CONFIG_PATH=${PKG_CONFIG_DIR}"
+      "LD_LIBRARY_PATH=${ld_path}" "${MAKE_PROGRAM}" -C "${WORK_DIR}" ${target}
       "PKG_CONFIG_PATH=${PKG_CONFIG_DIR}" "CASE_DIR=${CASE_DIR}" "MESH_DIR=${MESH_DIR}"
       "OUT_DIR=${WORK_DIR}/out" "PYTHON=${PYTHON}"
     RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
