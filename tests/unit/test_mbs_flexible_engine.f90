@@ -310,6 +310,8 @@ contains
       call report('eigenvalues x ' // to_str(law_factor, 2) // ': relative speed difference ' // &
          'at 0.3 s ' // to_str(difference, 4) // ', times the factor ' // &
          to_str(law_factor * difference, 4))
+      ! the 1/s law is the first term of an expansion in 1/s: its relative error is O(1/s) =
+      ! 1e-2 at s = 100 (measured 1.8e-4)
       call check_close(error, 'modal effect on the crank speed at 0.3 s times the eigenvalue ' // &
          'factor ' // to_str(law_factor, 2) // ' vs the true-stiffness effect (1/s law)', &
          law_factor * difference, true_effect, rtol=1.0e-2_dp)
@@ -328,20 +330,25 @@ contains
          call check(error, 'eigenvalues x ' // to_str(factors(i), 2) // ': ' // &
             to_str(rejected) // ' rejected Newton attempts, expected none', rejected == 0)
          if (allocated(error)) return
-         call check_speeds(error, speeds, rigid_speeds, factors(i))
+         call check_speeds(error, speeds, rigid_speeds, factors(i), true_effect)
          if (allocated(error)) return
       end do
    end subroutine test_stiff_crank
 
-   !> The crank speeds at the sample times agree with the rigid engine's to 1e-6 relative.
-   subroutine check_speeds(error, speeds, rigid_speeds, factor)
+   !> The crank speeds at the sample times agree with the rigid engine's within 10 times the
+   !> modal effect the 1/s law predicts for the stiffness factor (|true_effect| / factor, the
+   !> effect at 0.3 s; earlier samples carry less), plus 1e-10 for the Newton tolerances of
+   !> the two runs (measured: 1.8e-9 at x 1e4, where the bound is 5.8e-9; 1.6e-11 at x 1e8).
+   subroutine check_speeds(error, speeds, rigid_speeds, factor, true_effect)
       type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in) :: speeds(num_samples), rigid_speeds(num_samples), factor
+      !> Relative speed difference of the true-stiffness crank at 0.3 s
+      real(dp), intent(in) :: true_effect
       integer :: k
       do k = 1, num_samples
          call check_close(error, 'crank speed at t = ' // to_str(k * sample_interval) // &
             ' s, flexible (eigenvalues x ' // to_str(factor, 2) // ') vs rigid', speeds(k), &
-            rigid_speeds(k), rtol=1.0e-6_dp)
+            rigid_speeds(k), rtol=10.0_dp * abs(true_effect) / factor + 1.0e-10_dp)
          if (allocated(error)) return
       end do
    end subroutine check_speeds

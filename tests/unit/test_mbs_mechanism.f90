@@ -79,10 +79,13 @@ contains
    !> mechanism's own constraints, on the driven slider-crank (rheonomic drive row) at a generic
    !> state (assembled at t = 0.013 s, velocities from Phi_q v = -Phi_t, then q moved 0.02 off the
    !> constraints, where the identities hold as well and no term vanishes):
-   !>   Phi_q vs d Phi/dq (h = 1e-6): 1e-8 absolute (entries O(1); FD error ~h^2 + eps/h ~1e-10);
-   !>   Phi_t vs d Phi/dt (h = 1e-6 s): 1e-7 relative to omega r (the scale of Phi_t);
-   !>   g vs -d/ds [Phi_q(q + s v, t + s) v + Phi_t(q + s v, t + s)] (s = 1e-6 s): 1e-6
-   !>   relative to omega^2 (the scale of g: rad/s^2 on the drive row, m/s^2 on joints).
+   !>   Phi_q vs d Phi/dq (h = 1e-6): 2e-10 absolute (entries O(1); FD error ~h^2 + eps/h ~1e-10;
+   !>   measured 2e-11);
+   !>   Phi_t vs d Phi/dt (h = 1e-6 s): 1e-7 relative to omega r (the scale of Phi_t; measured
+   !>   0.93e-7);
+   !>   g vs -d/ds [Phi_q(q + s v, t + s) v + Phi_t(q + s v, t + s)] (s = 1e-6 s): 1e-7
+   !>   relative to omega^2 (the scale of g: rad/s^2 on the drive row, m/s^2 on joints;
+   !>   measured 1.6e-8).
    subroutine test_time_terms(error)
       type(error_t), allocatable, intent(out) :: error
       type(mechanism_t) :: mech
@@ -134,7 +137,8 @@ contains
          jac2(:, j) = (phi_p - phi_m) / (2.0_dp * h)
       end do
       worst = maxval(abs(jac - jac2))
-      call check_close(error, 'max |Phi_q - FD|', worst, 0.0_dp, atol=1.0e-8_dp)
+      call report('max |Phi_q - FD| ' // to_str(worst, 3))
+      call check_close(error, 'max |Phi_q - FD|', worst, 0.0_dp, atol=2.0e-10_dp)
       if (allocated(error)) return
       ! Phi_t
       call mech%constraint_rate(q, t, rate, error)
@@ -156,7 +160,7 @@ contains
       if (allocated(error)) return
       worst = maxval(abs(g + (w_p - w_m) / (2.0_dp * h)))
       call report('g drive row ' // to_str(g(21), 12) // ', max |g - FD| ' // to_str(worst, 3))
-      call check_close(error, 'max |g - FD|', worst, 0.0_dp, atol=1.0e-6_dp * omega_drive**2)
+      call check_close(error, 'max |g - FD|', worst, 0.0_dp, atol=1.0e-7_dp * omega_drive**2)
    contains
       !> Phi_q(q + s v, t + s) v + Phi_t(q + s v, t + s).
       subroutine path_velocity(s, w, error)
