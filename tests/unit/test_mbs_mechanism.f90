@@ -1,6 +1,6 @@
 !> The mechanism (ffrf_mbs_mechanism) with rigid bodies, integrated by generalized-alpha.
 !> References: finite differences of the mechanism's own residuals (time terms), the closed-form
-!> slider-crank kinematics (ffrf_mbs_slider_crank) under a constant-speed drive, the Gruebler
+!> slider-crank kinematics (ffrf_app_engine_slider_crank) under a constant-speed drive, the Gruebler
 !> count of redundant equations, conservation of linear and angular momentum of a free body, and
 !> for the engine a hand-derived start acceleration T_s / J_total at top dead centre.
 !>
@@ -21,10 +21,11 @@ module test_mbs_mechanism
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_kinematic_projection, only: consistent_motion
-   use ffrf_mbs_mechanism_loads, only: polynomial_drive_t, pressure_force_t, starter_torque_t, &
-      drag_torque_t, LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_input_t
-   use ffrf_mbs_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2
+   use ffrf_mbs_mechanism_loads, only: polynomial_drive_t, starter_torque_t, drag_torque_t, &
+      LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_pressure_load, only: pressure_force_t
+   use ffrf_app_engine_pressure, only: pressure_input_t
+   use ffrf_app_engine_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_test_rigid_engine, only: build_slider_crank, crank_properties, crank_radius, &
       rod_length, rod_mass, rod_com, rod_inertia, piston_mass
@@ -177,7 +178,7 @@ contains
    !> Rigid slider-crank driven at omega = 100 rad/s (drive constraint crank angle = omega t),
    !> generalized-alpha rho_inf = 0.8, to t = 0.02 s (crank angle 2 rad), from the assembly of a
    !> perturbed pose (1e-3) at t = 0. Reference: the closed form y = r cos(wt) + sqrt(l^2 - r^2
-   !> sin^2(wt)), y' = w dy/dtheta, y'' = w^2 d2y/dtheta2 (ffrf_mbs_slider_crank).
+   !> sin^2(wt)), y' = w dy/dtheta, y'' = w^2 d2y/dtheta2 (ffrf_app_engine_slider_crank).
    !> - Redundant rows found by the integrator: 3 (Gruebler, theory.md 4.3: 1 - (6 x 3 - 20)).
    !> - Position: the mechanism has one degree of freedom and it is driven, so index 3 gives the
    !>   positions to the Newton tolerance (newton_atol = 1e-12 here) at any h: 1e-10 relative.

@@ -37,9 +37,9 @@ module test_mbs_spin_up
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, wall_time
-   use ffrf_io_case, only: case_input_t, read_case
-   use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
-   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_input_case, only: case_input_t, read_case
+   use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_rigid_body, only: flexible_body_adapter_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t

@@ -1,4 +1,4 @@
-!> A mechanism_t from a case file's input (namelists of ffrf_io_case) and the modal results of
+!> A mechanism_t from a case file's input (namelists of ffrf_input_case) and the modal results of
 !> its meshed bodies: bodies, markers, joints, loads, crank, and the consistent starting pose.
 !>
 !> Bodies. Mechanism body 1 is the ground; then every &body in input order. A flexible body is
@@ -19,27 +19,28 @@
 !> the same frame in the starting pose (the joints of ffrf_mbs_joints expect coinciding frames).
 !> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
 !> (its marker axes are the body axes): this is checked.
-module ffrf_sim_mechanism_builder
+module ffrf_app_mechanism_builder
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_posix, only: check_input_file
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
-   use ffrf_io_case, only: case_input_t, body_index
-   use ffrf_io_nml_body, only: inertia_tensor
+   use ffrf_input_case, only: case_input_t, body_index
+   use ffrf_input_nml_body, only: inertia_tensor
    use ffrf_modes_input, only: modes_input_t, body_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
-   use ffrf_mbs_mechanism_input, only: GROUND_NAME, load_input_t
+   use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t, flexible_body_adapter_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: load_t, pressure_force_t, starter_torque_t, &
-      drag_torque_t, constant_load_t, LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_model_t
-   use ffrf_sim_auto_model, only: model_choice_t, start_model_selection, selects_body, &
+   use ffrf_mbs_mechanism_loads, only: load_t, starter_torque_t, drag_torque_t, &
+      constant_load_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_pressure_load, only: pressure_force_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
+   use ffrf_app_engine_auto_model, only: model_choice_t, start_model_selection, selects_body, &
       select_body_model, select_step
    implicit none
    private
@@ -98,7 +99,7 @@ contains
       type(pressure_model_t), intent(out) :: pressure
       logical, intent(out) :: has_pressure
       type(error_t), allocatable, intent(out) :: error
-      !> The automatic model (&model selection; ffrf_sim_auto_model): what it chose, with the
+      !> The automatic model (&model selection; ffrf_app_engine_auto_model): what it chose, with the
       !> time step when &integrator gives none (choice%h > 0)
       type(model_choice_t), intent(out), optional :: choice
       type(model_choice_t) :: model
@@ -203,7 +204,7 @@ contains
             if (case%mechanism%markers(k)%body == body .and. &
                case%mechanism%markers(k)%name == name) exit
          end do
-         ! (ffrf_io_case checked that the marker exists)
+         ! (ffrf_input_case checked that the marker exists)
          lists(b)%names = [character(len=64) :: lists(b)%names, name]
          lists(b)%xyz = reshape([lists(b)%xyz, case%mechanism%markers(k)%position], &
             [3, size(lists(b)%names)])
@@ -570,4 +571,4 @@ contains
          'the &body positions and &marker points: the joints must nearly close)')
    end subroutine starting_state
 
-end module ffrf_sim_mechanism_builder
+end module ffrf_app_mechanism_builder
