@@ -47,7 +47,6 @@ module ffrf_mbs_energy_balance
       FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_rigid_body, only: flexible_body_adapter_t
    implicit none
    private
    public :: energy_balance_t
@@ -208,11 +207,7 @@ contains
       do b = 1, size(mech%bodies)
          k = mech%bodies(b)%offset
          nb = mech%bodies(b)%body%num_coordinates
-         select type (body => mech%bodies(b)%body)
-         type is (flexible_body_adapter_t)
-            if (allocated(body%flexible%damping)) damping_power = damping_power + &
-               sum(body%flexible%damping * v(k + 8:k + nb)**2)
-         end select
+         damping_power = damping_power + mech%bodies(b)%body%damping_power(v(k + 1:k + nb))
       end do
       if (.not. (ieee_is_finite(kinetic) .and. ieee_is_finite(strain) .and. &
          ieee_is_finite(power) .and. ieee_is_finite(damping_power))) then
