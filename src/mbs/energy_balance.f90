@@ -202,7 +202,8 @@ contains
          if (allocated(error)) return
          power = power + lambda(mech%drive_row) * phi_t(mech%drive_row)
       end if
-      ! Physical modal damping of the flexible bodies: P_d = zeta_dot^T D_ff zeta_dot.
+      ! Physical damping of the bodies (body_t%damping_power): the flexible bodies' modal
+      ! damping P_d = zeta_dot^T D_ff zeta_dot, zero for rigid bodies and the ground.
       if (.not. allocated(mech%bodies)) return
       do b = 1, size(mech%bodies)
          k = mech%bodies(b)%offset
