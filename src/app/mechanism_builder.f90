@@ -2,7 +2,7 @@
 !> its meshed bodies: bodies, markers, joints, loads, crank, and the consistent starting pose.
 !>
 !> Bodies. Mechanism body 1 is the ground; then every &body in input order. A flexible body is
-!> the reduced FFRF body of its modes (flexible_body_t through flexible_body_adapter_t); with
+!> the reduced FFRF body of its modes (flexible_body_t); with
 !> num_modes = 0 it moves rigidly with its mesh's exact inertia. A rigid body is a rigid_body_t
 !> with the &body mass keys, or with its mesh's mass properties (mass, centre of mass, inertia
 !> about it, from the consistent mass matrix) when it has a mesh_file.
@@ -34,7 +34,7 @@ module ffrf_app_mechanism_builder
    use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
-   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t, flexible_body_adapter_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_mechanism_loads, only: load_t, starter_torque_t, drag_torque_t, &
       constant_load_t, LOAD_FORCE, LOAD_TORQUE
@@ -230,7 +230,6 @@ contains
       type(modes_input_t) :: modes_input
       type(csr_t) :: mass_matrix, stiffness_matrix
       type(flexible_body_t) :: flexible
-      type(flexible_body_adapter_t) :: adapter
       type(rigid_body_t) :: rigid
       type(stage_timer_t) :: timer
       real(dp) :: mass, com(3), inertia(3, 3)
@@ -299,12 +298,11 @@ contains
                   '(the body moves rigidly)')
             end if
          end if
-         if (.not. allocated(error)) call adapter%init(flexible, error)
-         if (.not. allocated(error)) call mech%add_body(adapter, name, built%index, error)
+         if (.not. allocated(error)) call mech%add_body(flexible, name, built%index, error)
          if (allocated(error)) return
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
-            to_str(flexible%num_interfaces) // ' interface marker(s)' // &
+            to_str(flexible%num_markers) // ' interface marker(s)' // &
             trim(merge(', geometric stiffness', '                     ', &
             allocated(flexible%geometric_stiffness))))
       end associate
