@@ -7,9 +7,9 @@
 (b) engine: the same engine integrated through the C API in one call to t_end with its own
     `drag` load, and advanced in 1 ms chunks with the host applying that torque itself at the
     crank (the case without its drag load, written to --work), alternated, --runs times each;
-    medians of the integration time (after the modes and start) and of the whole run, their
-    ratio (target: chunks within 1.3x of the uninterrupted integration), and the difference of
-    the crank angle and speed at t_end.
+    medians of the integration time (after the modes and start: wall and process CPU time) and
+    of the whole run, their ratio (target: chunks within 1.3x of the uninterrupted
+    integration), and the difference of the crank angle and speed at t_end.
 """
 import argparse
 import csv
@@ -75,9 +75,9 @@ def engine(args):
             fields = out.strip().splitlines()[-1].split(',')
             runs[mode].append({'whole': seconds, 'prepare': float(fields[2]),
                                'integrate': float(fields[3]), 'angle': float(fields[5]),
-                               'speed': float(fields[6])})
+                               'speed': float(fields[6]), 'integrate CPU': float(fields[7])})
     rows = []
-    for what in ('integrate', 'whole'):
+    for what in ('integrate', 'integrate CPU', 'whole'):
         full = [r[what] for r in runs['full']]
         chunks = [r[what] for r in runs['chunks']]
         rows.append(summary('engine', args.engine_case, f'C API one call ({what})', full))
