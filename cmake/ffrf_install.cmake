@@ -27,6 +27,16 @@ target_include_directories(ffrf_lib PUBLIC
   "$<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>"
   "$<INSTALL_INTERFACE:${FFRF_INSTALL_MODULEDIR}>")
 
+# A static Release build with LTO installs fat LTO objects: an outside program linked without
+# -fno-lto would have gcc's linker plugin optimise the whole library again at its own link
+# (minutes). Its users link the ordinary code: -fno-lto from the CMake package and ffrf.pc.
+set(FFRF_NO_LTO "")
+if(NOT BUILD_SHARED_LIBS AND FFRF_LTO AND CMAKE_Fortran_COMPILER_ID STREQUAL "GNU"
+    AND CMAKE_BUILD_TYPE STREQUAL "Release")
+  set(FFRF_NO_LTO "-fno-lto")
+  target_link_options(ffrf_lib INTERFACE "$<INSTALL_INTERFACE:-fno-lto>")
+endif()
+
 # The installed driver of a shared build finds libffrf.so beside it: <prefix>/bin/../lib.
 if(BUILD_SHARED_LIBS)
   file(RELATIVE_PATH _lib_from_bin "/${CMAKE_INSTALL_BINDIR}" "/${CMAKE_INSTALL_LIBDIR}")
@@ -94,7 +104,7 @@ if(BUILD_SHARED_LIBS)
   set(FFRF_PC_LIBS "")
   set(FFRF_PC_LIBS_PRIVATE "${FFRF_PC_DEPENDENCIES}")
 else()
-  set(FFRF_PC_LIBS "${FFRF_PC_DEPENDENCIES}")
+  set(FFRF_PC_LIBS "${FFRF_PC_DEPENDENCIES} ${FFRF_NO_LTO}")
   set(FFRF_PC_LIBS_PRIVATE "")
 endif()
 # The .pc file finds its prefix from its own place (${pcfiledir}), so `cmake --install --prefix`
