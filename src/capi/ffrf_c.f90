@@ -239,6 +239,7 @@ contains
       do while (chars(n + 1) /= c_null_char)
          n = n + 1
       end do
+      deallocate (string)
       allocate (character(len=n) :: string)
       do n = 1, len(string)
          string(n:n) = chars(n)

@@ -62,3 +62,23 @@ add_test(NAME capi_compare_driver
     "${_capi_out}/capi_engine.nml" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}" 1.0e-3)
 set_tests_properties(capi_compare_driver PROPERTIES LABELS "capi;regression"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# examples/fortran_host built against the build tree (PACK's ctest builds it against the
+# installed package): the host-torque loop matches the drag run within its derived bound
+add_executable(example_fortran_host ${PROJECT_SOURCE_DIR}/examples/fortran_host/host.f90)
+target_link_libraries(example_fortran_host PRIVATE ffrf::ffrf)
+target_link_options(example_fortran_host PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_example_fortran_host COMMAND example_fortran_host
+  "${PROJECT_SOURCE_DIR}/input" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}")
+set_tests_properties(capi_example_fortran_host PROPERTIES LABELS "capi;example"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1" FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# use ffrf_c from Fortran; use ffrf / ffrf_c with only the two public module files
+add_executable(test_ffrf_c capi/test_ffrf_c.f90)
+target_link_libraries(test_ffrf_c PRIVATE ffrf::ffrf)
+target_link_options(test_ffrf_c PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_ffrf_c COMMAND test_ffrf_c)
+add_test(NAME capi_public_modules COMMAND ${CMAKE_COMMAND}
+  -DCOMPILER=${CMAKE_Fortran_COMPILER} -DMOD_DIR=${PROJECT_BINARY_DIR}/mod
+  -DWORK=${_capi_out}/public_modules -P ${CMAKE_CURRENT_SOURCE_DIR}/capi/public_modules.cmake)
+set_tests_properties(capi_ffrf_c capi_public_modules PROPERTIES LABELS "capi")
