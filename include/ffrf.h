@@ -136,6 +136,35 @@ int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double m
 int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[3],
                          const double moment[3]);
 
+/* ---------------------------------------------------------------- a case from arrays */
+
+/* MPC kinds of an interface (ffrf_case_add_interface). */
+enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2 };
+
+/* An empty modal case to build from arrays; then ffrf_case_run computes the modes of its
+ * bodies and the body queries above apply. Nothing is written. */
+int ffrf_case_new(ffrf_case **c);
+
+/* A body: xyz (3 x num_nodes, m), tets (nodes_per_tet x num_tets, node numbers 0..num_nodes-1,
+ * Gmsh node order; nodes_per_tet 4 or 10), isotropic material (Pa, -, kg/m^3). */
+int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
+                       int nodes_per_tet, int num_tets, const int *tets, double young,
+                       double poisson, double density);
+
+/* A named set of surface triangles of a body (nodes_per_triangle 3 or 6, node numbers 0-based),
+ * for its interfaces. */
+int ffrf_case_add_surface(ffrf_case *c, int body, const char *name, int nodes_per_triangle,
+                          int num_triangles, const int *triangles);
+
+/* An interface on a surface: mpc FFRF_RBE2 or FFRF_RBE3 (uniform weights), virtual node at
+ * virtual_node[3] (m; NULL: the area centroid of the surface), reference conditions rc[6]
+ * (non-zero: the virtual node's Tx Ty Tz Rx Ry Rz is held; NULL: none). */
+int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,
+                            const double *virtual_node, const int rc[6]);
+
+/* Number of flexible modes per body (default 12; free-free bodies: the rigid modes on top). */
+int ffrf_case_set_num_modes(ffrf_case *c, int num_modes);
+
 #ifdef __cplusplus
 }
 #endif

@@ -21,6 +21,8 @@ module ffrf_capi
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+   public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
+      ffrf_case_set_num_modes
 
    !> What a `ffrf_case *` points to.
    type :: capi_handle_t
@@ -715,5 +717,139 @@ contains
       call h%case%set_marker_load(int(body) + 1, int(marker) + 1, f, m, error)
       stat = status_of(h, error)
    end function ffrf_marker_set_load
+
+   ! ------------------------------------------------------------------ a case from arrays
+
+   !> int ffrf_case_new(ffrf_case **c)
+   integer(c_int) function ffrf_case_new(c) result(stat) bind(c, name='ffrf_case_new')
+      type(c_ptr), value :: c
+      type(c_ptr), pointer :: out
+      type(capi_handle_t), pointer :: h
+      if (.not. c_associated(c)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      call c_f_pointer(c, out)
+      allocate (h)
+      out = c_loc(h)
+      call h%case%new()
+      h%message = [c_null_char]
+      stat = 0
+   end function ffrf_case_new
+
+   !> int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
+   !> int nodes_per_tet, int num_tets, const int *tets, double young, double poisson,
+   !> double density)
+   integer(c_int) function ffrf_case_add_body(c, name, num_nodes, xyz, nodes_per_tet, &
+         num_tets, tets, young, poisson, density) result(stat) bind(c, name='ffrf_case_add_body')
+      type(c_ptr), value :: c, name, xyz, tets
+      integer(c_int), value :: num_nodes, nodes_per_tet, num_tets
+      real(c_double), value :: young, poisson, density
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(c_double), pointer :: x(:, :)
+      integer(c_int), pointer :: t(:, :)
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. (c_associated(name) .and. c_associated(xyz) .and. c_associated(tets))) then
+         stat = bad_call(h, 'ffrf_case_add_body: name, xyz or tets is NULL')
+         return
+      end if
+      if (num_nodes < 4 .or. num_tets < 1 .or. (nodes_per_tet /= 4 .and. &
+         nodes_per_tet /= 10)) then
+         stat = bad_call(h, 'ffrf_case_add_body: ' // to_str(int(num_nodes)) // ' nodes, ' // &
+            to_str(int(num_tets)) // ' tetrahedra of ' // to_str(int(nodes_per_tet)) // &
+            ' nodes; give at least 4 nodes, 1 tetrahedron, 4 or 10 nodes per tetrahedron')
+         return
+      end if
+      call c_f_pointer(xyz, x, [3, int(num_nodes)])
+      call c_f_pointer(tets, t, [int(nodes_per_tet), int(num_tets)])
+      call h%case%add_body(from_c(name), real(x, dp), int(t) + 1, real(young, dp), &
+         real(poisson, dp), real(density, dp), error)
+      stat = status_of(h, error)
+   end function ffrf_case_add_body
+
+   !> int ffrf_case_add_surface(ffrf_case *c, int body, const char *name,
+   !> int nodes_per_triangle, int num_triangles, const int *triangles)
+   integer(c_int) function ffrf_case_add_surface(c, body, name, nodes_per_triangle, &
+         num_triangles, triangles) result(stat) bind(c, name='ffrf_case_add_surface')
+      type(c_ptr), value :: c, name, triangles
+      integer(c_int), value :: body, nodes_per_triangle, num_triangles
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      integer(c_int), pointer :: t(:, :)
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. (c_associated(name) .and. c_associated(triangles))) then
+         stat = bad_call(h, 'ffrf_case_add_surface: name or triangles is NULL')
+         return
+      end if
+      if (num_triangles < 1 .or. (nodes_per_triangle /= 3 .and. nodes_per_triangle /= 6)) then
+         stat = bad_call(h, 'ffrf_case_add_surface: ' // to_str(int(num_triangles)) // &
+            ' triangles of ' // to_str(int(nodes_per_triangle)) // ' nodes; give at least ' // &
+            'one triangle of 3 or 6 nodes')
+         return
+      end if
+      call c_f_pointer(triangles, t, [int(nodes_per_triangle), int(num_triangles)])
+      call h%case%add_surface(int(body) + 1, from_c(name), int(t) + 1, error)
+      stat = status_of(h, error)
+   end function ffrf_case_add_surface
+
+   !> int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,
+   !> const double *virtual_node, const int rc[6])
+   integer(c_int) function ffrf_case_add_interface(c, body, surface, mpc, virtual_node, rc) &
+         result(stat) bind(c, name='ffrf_case_add_interface')
+      type(c_ptr), value :: c, surface, virtual_node, rc
+      integer(c_int), value :: body, mpc
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(c_double), pointer :: position(:)
+      integer(c_int), pointer :: flags(:)
+      logical :: forbidden(6)
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. c_associated(surface)) then
+         stat = bad_call(h, 'ffrf_case_add_interface: surface is NULL')
+         return
+      end if
+      forbidden = .false.
+      if (c_associated(rc)) then
+         call c_f_pointer(rc, flags, [6])
+         forbidden = flags /= 0
+      end if
+      if (c_associated(virtual_node)) then
+         call c_f_pointer(virtual_node, position, [3])
+         call h%case%add_interface(int(body) + 1, from_c(surface), int(mpc), forbidden, error, &
+            position=real(position, dp))
+      else
+         call h%case%add_interface(int(body) + 1, from_c(surface), int(mpc), forbidden, error)
+      end if
+      stat = status_of(h, error)
+   end function ffrf_case_add_interface
+
+   !> int ffrf_case_set_num_modes(ffrf_case *c, int num_modes)
+   integer(c_int) function ffrf_case_set_num_modes(c, num_modes) result(stat) &
+         bind(c, name='ffrf_case_set_num_modes')
+      type(c_ptr), value :: c
+      integer(c_int), value :: num_modes
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      call h%case%set_num_modes(int(num_modes), error)
+      stat = status_of(h, error)
+   end function ffrf_case_set_num_modes
 
 end module ffrf_capi

@@ -20,13 +20,21 @@ module ffrf_capi_case
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_core_paths, only: folder_of
    use ffrf_io_case, only: case_input_t, read_case
+   use ffrf_core_kinds, only: ip, i8
+   use ffrf_mesh_mesh, only: mesh_t, physical_group_t
+   use ffrf_mpc_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_mbs_mechanism_input, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_modes_modal_case, only: run_options_t, run_modal
    use ffrf_sim_mechanism_case, only: run_mechanism
    use ffrf_sim_mechanism_session, only: mechanism_session_t, move_modes
    implicit none
    private
-   public :: ffrf_case_t, FFRF_BAD_CALL
+   public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3
+
+   !> MPC kinds of an interface given from arrays (add_interface)
+   integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2
 
    !> Status of a call out of order, a bad index or argument, a buffer too small (the C API's
    !> FFRF_BAD_CALL); the other codes are those of ffrf_core_error
@@ -50,7 +58,20 @@ module ffrf_capi_case
       !> Time, crank angle, crank speed after a run that wrote results (no session state)
       real(dp), private :: final_state(3) = 0.0_dp
       logical, private :: have_final = .false.
+      !> A modal case built from arrays (new): the meshes of its bodies, case order
+      type(mesh_t), allocatable, private :: meshes(:)
+      logical, private :: from_arrays = .false.
    contains
+      !> An empty modal case to build from arrays (nothing written)
+      procedure :: new => case_new
+      !> A body from node coordinates and Tet4/Tet10 connectivity, with its material
+      procedure :: add_body => case_add_body
+      !> A named set of surface triangles (Tri3/Tri6) of a body, for its interfaces
+      procedure :: add_surface => case_add_surface
+      !> An interface on a surface: MPC kind, virtual node, reference conditions
+      procedure :: add_interface => case_add_interface
+      !> Number of modes per body of a case built from arrays
+      procedure :: set_num_modes => case_set_num_modes
       !> Read and check a case file
       procedure :: open => case_open
       !> Modes (and motion to t_end for a mechanism case)
@@ -105,6 +126,232 @@ contains
       self%opened = .true.
    end subroutine case_open
 
+   !> An empty modal case to build from arrays (add_body, add_surface, add_interface,
+   !> set_num_modes), then run; nothing is written.
+   subroutine case_new(self)
+      class(ffrf_case_t), intent(out) :: self
+      self%log%level = LOG_QUIET
+      self%options%log_level = LOG_QUIET
+      self%options%mesh_dir = ''
+      self%options%output_dir = ''
+      self%options%restart_file = ''
+      self%case%file_name = '(arrays)'
+      self%case%name = 'arrays'
+      allocate (self%case%bodies(0), self%case%motions(0), self%case%interfaces(0), &
+         self%meshes(0))
+      self%opened = .true.
+      self%from_arrays = .true.
+   end subroutine case_new
+
+   !> FFRF_BAD_CALL unless the case is built from arrays and has not run.
+   subroutine check_building(self, what, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. (self%opened .and. self%from_arrays)) then
+         call bad_call(error, what // ': only for a case made by ffrf_case_new')
+      else if (self%ran) then
+         call bad_call(error, what // ': the case has run; build a new one')
+      end if
+   end subroutine check_building
+
+   !> A body: node coordinates (m) xyz(3, n), tetrahedra tets(4 or 10, m) of node numbers
+   !> 1..n in Gmsh order (Tet10: corners, then edges 1-2, 2-3, 3-1, 1-4, 3-4, 2-4 as Gmsh),
+   !> isotropic material (Pa, -, kg/m^3).
+   subroutine case_add_body(self, name, xyz, tets, young, poisson, density, error)
+      class(ffrf_case_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: xyz(:, :)
+      integer, intent(in) :: tets(:, :)
+      real(dp), intent(in) :: young, poisson, density
+      type(error_t), allocatable, intent(out) :: error
+      type(body_input_t), allocatable :: bodies(:)
+      type(body_motion_input_t), allocatable :: motions(:)
+      type(mesh_t), allocatable :: meshes(:)
+      integer :: n, k
+      call check_building(self, 'add_body', error)
+      if (allocated(error)) return
+      if (len_trim(name) == 0 .or. len_trim(name) > 64) then
+         call bad_call(error, 'add_body: the name must have 1 to 64 characters')
+      else if (any(self%case%bodies%name == name)) then
+         call bad_call(error, 'add_body: a body "' // trim(name) // '" exists already')
+      else if (size(xyz, 1) /= 3 .or. size(xyz, 2) < 4) then
+         call bad_call(error, 'add_body "' // trim(name) // '": ' // to_str(size(xyz, 2)) // &
+            ' nodes; a body needs at least 4')
+      else if (size(tets, 1) /= 4 .and. size(tets, 1) /= 10) then
+         call bad_call(error, 'add_body "' // trim(name) // '": ' // to_str(size(tets, 1)) // &
+            ' nodes per tetrahedron; give 4 (Tet4) or 10 (Tet10)')
+      else if (size(tets, 2) < 1) then
+         call bad_call(error, 'add_body "' // trim(name) // '": no tetrahedra')
+      else if (minval(tets) < 1 .or. maxval(tets) > size(xyz, 2)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'add_body "' // trim(name) // '": node ' // &
+            'numbers of the tetrahedra must lie in 0..' // to_str(size(xyz, 2) - 1) // &
+            ' (C, 0-based); found ' // to_str(minval(tets) - 1) // '..' // &
+            to_str(maxval(tets) - 1))
+      else if (.not. all(abs(xyz) <= huge(1.0_dp))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'add_body "' // trim(name) // &
+            '": a node coordinate is not finite')
+      end if
+      if (allocated(error)) return
+      n = size(self%case%bodies)
+      allocate (bodies(n + 1), motions(n + 1), meshes(n + 1))
+      bodies(:n) = self%case%bodies
+      motions(:n) = self%case%motions
+      do k = 1, n
+         call move_mesh(self%meshes(k), meshes(k))
+      end do
+      bodies(n + 1)%name = name
+      bodies(n + 1)%young = young
+      bodies(n + 1)%poisson = poisson
+      bodies(n + 1)%density = density
+      associate (mesh => meshes(n + 1))
+         mesh%num_nodes = size(xyz, 2)
+         mesh%xyz = xyz
+         mesh%node_tags = [(int(k, i8), k=1, size(xyz, 2))]
+         mesh%nodes_per_tet = size(tets, 1)
+         mesh%tets = int(tets, ip)
+         mesh%tet_tags = [(int(k, i8), k=1, size(tets, 2))]
+         mesh%tet_entity = [(1_ip, k=1, size(tets, 2))]
+         mesh%nodes_per_tri = 0
+         allocate (mesh%tris(3, 0), mesh%tri_tags(0), mesh%tri_entity(0), mesh%groups(1))
+         mesh%groups(1)%dim = 3
+         mesh%groups(1)%tag = 1
+         mesh%groups(1)%name = trim(name)
+         mesh%groups(1)%entities = [1_ip]
+         mesh%file_name = '(arrays of body "' // trim(name) // '")'
+      end associate
+      call move_alloc(bodies, self%case%bodies)
+      call move_alloc(motions, self%case%motions)
+      call move_alloc(meshes, self%meshes)
+   end subroutine case_add_body
+
+   !> Move a mesh (its arrays) from `from` to `to`.
+   subroutine move_mesh(from, to)
+      type(mesh_t), intent(inout) :: from
+      type(mesh_t), intent(out) :: to
+      to = from
+   end subroutine move_mesh
+
+   !> A named set of triangles tris(3 or 6, m) on the surface of body `body`, node numbers
+   !> 1..n (an interface names it).
+   subroutine case_add_surface(self, body, name, tris, error)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: tris(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      type(physical_group_t), allocatable :: groups(:)
+      integer :: entity, n, k
+      call check_building(self, 'add_surface', error)
+      if (.not. allocated(error)) call check_body(self, 'add_surface', body, error)
+      if (allocated(error)) return
+      associate (mesh => self%meshes(body))
+         if (len_trim(name) == 0 .or. len_trim(name) > 64) then
+            call bad_call(error, 'add_surface: the name must have 1 to 64 characters')
+         else if (mesh%find_group(2_ip, name) > 0) then
+            call bad_call(error, 'add_surface: body "' // trim(self%case%bodies(body)%name) // &
+               '" has a surface "' // trim(name) // '" already')
+         else if (size(tris, 1) /= 3 .and. size(tris, 1) /= 6) then
+            call bad_call(error, 'add_surface "' // trim(name) // '": ' // &
+               to_str(size(tris, 1)) // ' nodes per triangle; give 3 or 6')
+         else if (size(tris, 2) < 1) then
+            call bad_call(error, 'add_surface "' // trim(name) // '": no triangles')
+         else if (mesh%nodes_per_tri > 0 .and. size(tris, 1) /= mesh%nodes_per_tri) then
+            call bad_call(error, 'add_surface "' // trim(name) // '": ' // &
+               to_str(size(tris, 1)) // ' nodes per triangle, the body''s other surfaces ' &
+               // 'have ' // to_str(mesh%nodes_per_tri))
+         else if (minval(tris) < 1 .or. maxval(tris) > mesh%num_nodes) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'add_surface "' // trim(name) // &
+               '": node numbers must lie in 0..' // to_str(mesh%num_nodes - 1) // &
+               ' (C, 0-based)')
+         end if
+         if (allocated(error)) return
+         entity = size(mesh%groups)
+         if (mesh%nodes_per_tri == 0) deallocate (mesh%tris)
+         mesh%nodes_per_tri = size(tris, 1)
+         if (.not. allocated(mesh%tris)) allocate (mesh%tris(size(tris, 1), 0))
+         mesh%tris = reshape([reshape(mesh%tris, [size(mesh%tris)]), &
+            reshape(int(tris, ip), [size(tris)])], [size(tris, 1), size(mesh%tris, 2) + &
+            size(tris, 2)])
+         n = size(mesh%tri_tags)
+         mesh%tri_tags = [mesh%tri_tags, [(int(n + k, i8), k=1, size(tris, 2))]]
+         mesh%tri_entity = [mesh%tri_entity, [(int(entity, ip), k=1, size(tris, 2))]]
+         ! surfaces (dim 2, tags 1..) before the volume (dim 3): sorted by dimension, then tag
+         allocate (groups(size(mesh%groups) + 1))
+         groups(:entity - 1) = mesh%groups(:entity - 1)
+         groups(entity)%dim = 2
+         groups(entity)%tag = entity
+         groups(entity)%name = trim(name)
+         groups(entity)%entities = [int(entity, ip)]
+         groups(entity + 1) = mesh%groups(entity)
+         call move_alloc(groups, mesh%groups)
+      end associate
+   end subroutine case_add_surface
+
+   !> An interface of body `body` on its surface `surface` (add_surface): mpc FFRF_RBE2 or
+   !> FFRF_RBE3 (uniform weights), virtual node at `position` (m) or, absent, at the area
+   !> centroid of the surface, reference conditions rc = forbidden virtual-node dofs
+   !> Tx Ty Tz Rx Ry Rz.
+   subroutine case_add_interface(self, body, surface, mpc, rc, error, position)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: surface
+      integer, intent(in) :: mpc
+      logical, intent(in) :: rc(6)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(in), optional :: position(3)
+      character(len=2), parameter :: dof_names(6) = ['Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz']
+      type(interface_input_t) :: input
+      integer :: k
+      call check_building(self, 'add_interface', error)
+      if (.not. allocated(error)) call check_body(self, 'add_interface', body, error)
+      if (allocated(error)) return
+      if (self%meshes(body)%find_group(2_ip, surface) == 0) then
+         call bad_call(error, 'add_interface: body "' // trim(self%case%bodies(body)%name) // &
+            '" has no surface "' // trim(surface) // '"; add it with add_surface first')
+         return
+      end if
+      if (mpc /= FFRF_RBE2 .and. mpc /= FFRF_RBE3) then
+         call bad_call(error, 'add_interface: mpc = ' // to_str(mpc) // '; give FFRF_RBE2 (' &
+            // to_str(FFRF_RBE2) // ') or FFRF_RBE3 (' // to_str(FFRF_RBE3) // ')')
+         return
+      end if
+      if (any(self%case%interfaces%body == self%case%bodies(body)%name .and. &
+         self%case%interfaces%name == surface)) then
+         call bad_call(error, 'add_interface: surface "' // trim(surface) // '" of body "' // &
+            trim(self%case%bodies(body)%name) // '" has an interface already')
+         return
+      end if
+      input%body = self%case%bodies(body)%name
+      input%name = surface
+      input%mpc = merge('RBE2', 'RBE3', mpc == FFRF_RBE2)
+      if (present(position)) then
+         input%virtual_node = 'position'
+         input%position = position
+      end if
+      input%rc = ''
+      do k = 1, 6
+         if (rc(k)) input%rc = trim(input%rc) // ' ' // dof_names(k)
+      end do
+      input%rc = adjustl(input%rc)
+      self%case%interfaces = [self%case%interfaces, input]
+   end subroutine case_add_interface
+
+   !> Number of flexible modes per body (free-free bodies: the six rigid modes come on top).
+   subroutine case_set_num_modes(self, num_modes, error)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: num_modes
+      type(error_t), allocatable, intent(out) :: error
+      call check_building(self, 'set_num_modes', error)
+      if (allocated(error)) return
+      if (num_modes < 1) then
+         call bad_call(error, 'set_num_modes: num_modes = ' // to_str(num_modes) // &
+            ', must be at least 1')
+         return
+      end if
+      self%case%modes%num_modes = num_modes
+   end subroutine case_set_num_modes
+
    !> Raise FFRF_BAD_CALL with `message`.
    subroutine bad_call(error, message)
       type(error_t), allocatable, intent(out) :: error
@@ -150,6 +397,10 @@ contains
             return
          end if
       end if
+      if (size(self%case%bodies) == 0) then
+         call bad_call(error, 'run: the case has no bodies; add one with ffrf_case_add_body')
+         return
+      end if
       self%ran = .true.
       if (.not. self%case%is_mechanism) then
          if (self%write_output) then
@@ -158,8 +409,14 @@ contains
             allocate (self%modes(size(self%case%bodies)))
             do k = 1, size(self%case%bodies)
                if (self%case%motions(k)%type == 'rigid') cycle
-               call compute_body_modes(self%case%bodies(k), self%case%interfaces, &
-                  self%case%modes, mesh_folder(self), self%log, times, self%modes(k), error)
+               if (self%from_arrays) then
+                  call compute_body_modes(self%case%bodies(k), self%case%interfaces, &
+                     self%case%modes, '', self%log, times, self%modes(k), error, &
+                     body_mesh=self%meshes(k))
+               else
+                  call compute_body_modes(self%case%bodies(k), self%case%interfaces, &
+                     self%case%modes, mesh_folder(self), self%log, times, self%modes(k), error)
+               end if
                if (allocated(error)) then
                   call add_context(error, self%case%file_name)
                   exit

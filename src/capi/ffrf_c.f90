@@ -16,7 +16,12 @@ module ffrf_c
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+   public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
+      ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3
    public :: ffrf_c_string
+
+   !> MPC kinds of ffrf_case_add_interface
+   integer(c_int), parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2
 
    !> Status codes of include/ffrf.h
    integer(c_int), parameter :: FFRF_OK = 0, FFRF_BAD_CALL = 1, FFRF_INPUT_ERROR = 2, &
@@ -222,6 +227,55 @@ module ffrf_c
          integer(c_int), value :: body, marker
          real(c_double), intent(in) :: force(3), moment(3)
       end function ffrf_marker_set_load
+
+      integer(c_int) function ffrf_case_new(c) bind(c, name='ffrf_case_new')
+         import :: c_int, c_ptr
+         implicit none
+         type(c_ptr), intent(out) :: c
+      end function ffrf_case_new
+
+      integer(c_int) function ffrf_case_add_body(c, name, num_nodes, xyz, nodes_per_tet, &
+            num_tets, tets, young, poisson, density) bind(c, name='ffrf_case_add_body')
+         import :: c_int, c_ptr, c_char, c_double
+         implicit none
+         type(c_ptr), value :: c
+         character(kind=c_char), intent(in) :: name(*)
+         integer(c_int), value :: num_nodes, nodes_per_tet, num_tets
+         real(c_double), intent(in) :: xyz(3, *)
+         integer(c_int), intent(in) :: tets(nodes_per_tet, *)
+         real(c_double), value :: young, poisson, density
+      end function ffrf_case_add_body
+
+      integer(c_int) function ffrf_case_add_surface(c, body, name, nodes_per_triangle, &
+            num_triangles, triangles) bind(c, name='ffrf_case_add_surface')
+         import :: c_int, c_ptr, c_char
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: body
+         character(kind=c_char), intent(in) :: name(*)
+         integer(c_int), value :: nodes_per_triangle, num_triangles
+         integer(c_int), intent(in) :: triangles(nodes_per_triangle, *)
+      end function ffrf_case_add_surface
+
+      integer(c_int) function ffrf_case_add_interface(c, body, surface, mpc, virtual_node, &
+            rc) bind(c, name='ffrf_case_add_interface')
+         import :: c_int, c_ptr, c_char
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: body
+         character(kind=c_char), intent(in) :: surface(*)
+         integer(c_int), value :: mpc
+         !> c_loc of 3 doubles, or c_null_ptr (centroid); c_loc of 6 ints, or c_null_ptr
+         type(c_ptr), value :: virtual_node, rc
+      end function ffrf_case_add_interface
+
+      integer(c_int) function ffrf_case_set_num_modes(c, num_modes) &
+            bind(c, name='ffrf_case_set_num_modes')
+         import :: c_int, c_ptr
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: num_modes
+      end function ffrf_case_set_num_modes
    end interface
 
 contains

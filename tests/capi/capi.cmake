@@ -82,3 +82,13 @@ add_test(NAME capi_public_modules COMMAND ${CMAKE_COMMAND}
   -DCOMPILER=${CMAKE_Fortran_COMPILER} -DMOD_DIR=${PROJECT_BINARY_DIR}/mod
   -DWORK=${_capi_out}/public_modules -P ${CMAKE_CURRENT_SOURCE_DIR}/capi/public_modules.cmake)
 set_tests_properties(capi_ffrf_c capi_public_modules PROPERTIES LABELS "capi")
+
+# examples/c_body_arrays built against the build tree: a cantilever from arrays (Tet10), its
+# mass exact and its first bending pair within 2 % of Euler-Bernoulli
+add_executable(example_c_body_arrays ${PROJECT_SOURCE_DIR}/examples/c_body_arrays/body_arrays.c)
+target_link_libraries(example_c_body_arrays PRIVATE ffrf::ffrf m)
+target_compile_options(example_c_body_arrays PRIVATE ${_capi_flags})
+target_link_options(example_c_body_arrays PRIVATE ${_capi_link})
+add_test(NAME capi_example_c_body_arrays COMMAND example_c_body_arrays)
+set_tests_properties(capi_example_c_body_arrays PROPERTIES LABELS "capi;example"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1")

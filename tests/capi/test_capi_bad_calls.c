@@ -139,6 +139,46 @@ int main(int argc, char **argv)
            "advance to t = 1000 s, beyond the case's t_end");
     ffrf_case_close(mechanism);
 
+    /* a case from arrays: bad arguments and order (nothing computed) */
+    {
+        ffrf_case *arrays = NULL;
+        const double xyz[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+        const int tet[4] = {0, 1, 2, 3}, bad_tet[4] = {0, 1, 2, 4}, tri[3] = {0, 1, 2};
+        CHECK(ffrf_case_new(NULL) == FFRF_BAD_CALL);
+        EXPECT(arrays, ffrf_case_new(&arrays), FFRF_OK, "");
+        EXPECT(arrays, ffrf_case_run(arrays), FFRF_BAD_CALL, "the case has no bodies");
+        EXPECT(arrays, ffrf_case_add_body(arrays, "block", 4, xyz, 5, 1, tet, 2e11, 0.3, 7850),
+               FFRF_BAD_CALL, "4 or 10 nodes per tetrahedron");
+        EXPECT(arrays, ffrf_case_add_body(arrays, "block", 4, NULL, 4, 1, tet, 2e11, 0.3, 7850),
+               FFRF_BAD_CALL, "name, xyz or tets is NULL");
+        EXPECT(arrays, ffrf_case_add_body(arrays, "block", 4, xyz, 4, 1, bad_tet, 2e11, 0.3,
+               7850), FFRF_INPUT_ERROR, "must lie in 0..3 (C, 0-based); found 0..4");
+        EXPECT(arrays, ffrf_case_add_surface(arrays, 0, "face", 3, 1, tri), FFRF_BAD_CALL,
+               "body 0 does not exist; the case has 0 bodies");
+        EXPECT(arrays, ffrf_case_add_body(arrays, "block", 4, xyz, 4, 1, tet, 2e11, 0.3, 7850),
+               FFRF_OK, "");
+        EXPECT(arrays, ffrf_case_add_body(arrays, "block", 4, xyz, 4, 1, tet, 2e11, 0.3, 7850),
+               FFRF_BAD_CALL, "a body \"block\" exists already");
+        EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", FFRF_RBE3, NULL, NULL),
+               FFRF_BAD_CALL, "has no surface \"face\"; add it with add_surface first");
+        EXPECT(arrays, ffrf_case_add_surface(arrays, 0, "face", 4, 1, tri), FFRF_BAD_CALL,
+               "give at least one triangle of 3 or 6 nodes");
+        EXPECT(arrays, ffrf_case_add_surface(arrays, 0, "face", 3, 1, tri), FFRF_OK, "");
+        EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", 7, NULL, NULL), FFRF_BAD_CALL,
+               "mpc = 7; give FFRF_RBE2 (1) or FFRF_RBE3 (2)");
+        EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", FFRF_RBE3, NULL, NULL),
+               FFRF_OK, "");
+        EXPECT(arrays, ffrf_case_set_num_modes(arrays, 0), FFRF_BAD_CALL,
+               "num_modes = 0, must be at least 1");
+        EXPECT(arrays, ffrf_body_frequencies(arrays, 0, hz, 4, &count), FFRF_BAD_CALL,
+               "no modes yet");
+        ffrf_case_close(arrays);
+        EXPECT(modal, ffrf_case_open(argv[1], argv[3], NULL, &modal), FFRF_OK, "");
+        EXPECT(modal, ffrf_case_add_body(modal, "block", 4, xyz, 4, 1, tet, 2e11, 0.3, 7850),
+               FFRF_BAD_CALL, "only for a case made by ffrf_case_new");
+        ffrf_case_close(modal);
+    }
+
     if (failures > 0) {
         fprintf(stderr, "%d failure(s)\n", failures);
         return 1;
