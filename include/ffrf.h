@@ -103,6 +103,16 @@ int ffrf_body_virtual_node_shapes(const ffrf_case *c, int body, double *rows, si
 int ffrf_body_mass_properties(const ffrf_case *c, int body, double *mass, double center[3],
                               double inertia[9]);
 
+/* FFRF inertia invariants of a body's modes (docs/theory.md 3.2: exact Gram matrices of the
+ * consistent mass matrix, what a host multibody code needs to build the reduced body itself),
+ * by name, column-major, m = number of modes: "mass" (1, kg), "center_of_mass" (3, m),
+ * "theta_u" (3 x 3, inertia about the body-frame origin, kg m^2), "M_PhitPsi" (3 x m),
+ * "M_PhitPsit" (3 x 3m), "M_xPsi" (3 x m), "M_xPsit" (3 x 3m), "M_PsitPsi" (3m x m),
+ * "M_PsitPsit" (3m x 3m), "M_PsiPsi" (m x m, the identity for mass-normalised modes), "K_ff"
+ * (m, omega_j^2 in 1/s^2). The first request of a body assembles its mass matrix again. */
+int ffrf_body_invariant(ffrf_case *c, int body, const char *name, double *values,
+                        size_t capacity, size_t *count);
+
 /* ---------------------------------------------------------------- mechanism state */
 
 /* Time of the current state (s) and the case's end time (s). */

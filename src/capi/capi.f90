@@ -21,6 +21,7 @@ module ffrf_capi
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+   public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes
 
@@ -503,6 +504,36 @@ contains
       call c_f_pointer(inertia, p9, [9])
       p9 = reshape(inertia_tensor, [9])
    end function ffrf_body_mass_properties
+
+   !> int ffrf_body_invariant(ffrf_case *c, int body, const char *name, double *values,
+   !> size_t capacity, size_t *count)
+   integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
+         result(stat) bind(c, name='ffrf_body_invariant')
+      type(c_ptr), value :: c, name, values, count
+      integer(c_int), value :: body
+      integer(c_size_t), value :: capacity
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: array(:)
+      integer(c_size_t), pointer :: out
+      integer(c_size_t) :: n
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. (c_associated(name) .and. c_associated(count))) then
+         stat = bad_call(h, 'ffrf_body_invariant: name or count is NULL')
+         return
+      end if
+      call c_f_pointer(count, out)
+      out = 0
+      call h%case%invariant(int(body) + 1, from_c(name), array, error)
+      stat = status_of(h, error)
+      if (stat /= 0) return
+      stat = copy_out(h, 'ffrf_body_invariant', array, values, capacity, n)
+      out = n
+   end function ffrf_body_invariant
 
    ! ------------------------------------------------------------------ mechanism state
 

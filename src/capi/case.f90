@@ -26,6 +26,11 @@ module ffrf_capi_case
    use ffrf_modes_input, only: body_input_t
    use ffrf_mbs_mechanism_input, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_la_sparse, only: csr_t
+   use ffrf_fe_material, only: material_t
+   use ffrf_fe_assembly, only: assemble_stiffness_mass
+   use ffrf_mbs_flexible_body, only: flexible_body_t
+   use ffrf_core_kinds, only: pi
    use ffrf_modes_modal_case, only: run_options_t, run_modal
    use ffrf_sim_mechanism_case, only: run_mechanism
    use ffrf_sim_mechanism_session, only: mechanism_session_t, move_modes
@@ -61,7 +66,12 @@ module ffrf_capi_case
       !> A modal case built from arrays (new): the meshes of its bodies, case order
       type(mesh_t), allocatable, private :: meshes(:)
       logical, private :: from_arrays = .false.
+      !> FFRF inertia invariants of each body, computed on the first request (invariant)
+      type(flexible_body_t), allocatable, private :: invariants(:)
+      logical, allocatable, private :: have_invariants(:)
    contains
+      !> An FFRF inertia invariant of a body (theory.md 3.2), by name
+      procedure :: invariant => case_invariant
       !> An empty modal case to build from arrays (nothing written)
       procedure :: new => case_new
       !> A body from node coordinates and Tet4/Tet10 connectivity, with its material
@@ -582,6 +592,89 @@ contains
       center = self%modes(body)%center_of_mass
       inertia = self%modes(body)%inertia
    end subroutine case_mass_properties
+
+   !> The FFRF inertia invariants of a body's modes (docs/theory.md 3.2; flexible_body_t,
+   !> exact Gram matrices of the consistent mass matrix, assembled again here once per body),
+   !> flattened column-major, by name: 'mass' (kg), 'center_of_mass' (3, m), 'theta_u' (3 x 3,
+   !> inertia about the body-frame origin), 'M_PhitPsi' (3 x m), 'M_PhitPsit' (3 x 3m),
+   !> 'M_xPsi' (3 x m), 'M_xPsit' (3 x 3m), 'M_PsitPsi' (3m x m), 'M_PsitPsit' (3m x 3m),
+   !> 'M_PsiPsi' (m x m), 'K_ff' (m: omega_j^2, 1/s^2).
+   subroutine case_invariant(self, body, name, values, error)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: name
+      real(dp), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(csr_t) :: K, M
+      real(dp), allocatable :: virtual_xyz(:, :)
+      integer :: i, nt
+      allocate (values(0))
+      call check_modes(self, 'body_invariant', body, error)
+      if (allocated(error)) return
+      associate (modes => self%modes(body))
+         if (.not. allocated(modes%frequency_hz)) then
+            call bad_call(error, 'body_invariant: body "' // trim(self%case%bodies(body)%name) &
+               // '" has no modes (rigid)')
+            return
+         end if
+         if (size(modes%frequency_hz) == 0) then
+            call bad_call(error, 'body_invariant: body "' // trim(self%case%bodies(body)%name) &
+               // '" has no modes (rigid)')
+            return
+         end if
+         if (.not. allocated(self%invariants)) then
+            allocate (self%invariants(size(self%modes)), self%have_invariants(size(self%modes)))
+            self%have_invariants = .false.
+         end if
+         if (.not. self%have_invariants(body)) then
+            nt = size(modes%mesh%tets, 2)
+            call assemble_stiffness_mass(modes%mesh%xyz, modes%mesh%tets, &
+               [(int(i, i8), i=1, nt)], material_t(self%case%bodies(body)%young, &
+               self%case%bodies(body)%poisson, self%case%bodies(body)%density, &
+               self%case%bodies(body)%name), K, M, error)
+            if (allocated(error)) return
+            allocate (virtual_xyz(3, size(modes%interfaces)))
+            do i = 1, size(modes%interfaces)
+               virtual_xyz(:, i) = modes%interfaces(i)%virtual_xyz
+            end do
+            call self%invariants(body)%init(M, modes%mesh%xyz, modes%shape, &
+               (2.0_dp * pi * modes%frequency_hz)**2, modes%virtual_node_shape, virtual_xyz, &
+               error)
+            if (allocated(error)) return
+            self%have_invariants(body) = .true.
+         end if
+      end associate
+      associate (f => self%invariants(body))
+         select case (name)
+         case ('mass')
+            values = [f%mass]
+         case ('center_of_mass')
+            values = f%center_of_mass
+         case ('theta_u')
+            values = reshape(f%theta_u, [9])
+         case ('M_PhitPsi')
+            values = reshape(f%m_phit_psi, [size(f%m_phit_psi)])
+         case ('M_PhitPsit')
+            values = reshape(f%m_phit_psit, [size(f%m_phit_psit)])
+         case ('M_xPsi')
+            values = reshape(f%m_x_psi, [size(f%m_x_psi)])
+         case ('M_xPsit')
+            values = reshape(f%m_x_psit, [size(f%m_x_psit)])
+         case ('M_PsitPsi')
+            values = reshape(f%m_psit_psi, [size(f%m_psit_psi)])
+         case ('M_PsitPsit')
+            values = reshape(f%m_psit_psit, [size(f%m_psit_psit)])
+         case ('M_PsiPsi')
+            values = reshape(f%m_psi_psi, [size(f%m_psi_psi)])
+         case ('K_ff')
+            values = f%stiffness
+         case default
+            call bad_call(error, 'body_invariant: no invariant "' // name // '"; the ' // &
+               'invariants are mass, center_of_mass, theta_u, M_PhitPsi, M_PhitPsit, ' // &
+               'M_xPsi, M_xPsit, M_PsitPsi, M_PsitPsit, M_PsiPsi, K_ff')
+         end select
+      end associate
+   end subroutine case_invariant
 
    !> FFRF_BAD_CALL unless the case is a mechanism case with a prepared session.
    subroutine check_session(self, what, error)

@@ -16,6 +16,7 @@ module ffrf_c
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+   public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3
    public :: ffrf_c_string
@@ -227,6 +228,18 @@ module ffrf_c
          integer(c_int), value :: body, marker
          real(c_double), intent(in) :: force(3), moment(3)
       end function ffrf_marker_set_load
+
+      integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
+            bind(c, name='ffrf_body_invariant')
+         import :: c_int, c_ptr, c_char, c_double, c_size_t
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: body
+         character(kind=c_char), intent(in) :: name(*)
+         real(c_double), intent(out) :: values(*)
+         integer(c_size_t), value :: capacity
+         integer(c_size_t), intent(out) :: count
+      end function ffrf_body_invariant
 
       integer(c_int) function ffrf_case_new(c) bind(c, name='ffrf_case_new')
          import :: c_int, c_ptr

@@ -9,6 +9,8 @@
  * Usage: test_capi_run MODAL_CASE MECHANISM_CASE MESH_DIR OUTPUT_DIR CHUNK_SECONDS
  * Output lines: "frequency <body> <mode> <Hz>", "crank <t> <angle> <speed>",
  * "reaction <joint name> <12 values>" (%.17g: the doubles exactly). */
+#include <math.h>
+
 #include "check.h"
 
 static void modal_case(const char *case_file, const char *mesh_dir, const char *output_dir)
@@ -67,6 +69,44 @@ static void modal_case(const char *case_file, const char *mesh_dir, const char *
         CHECK(inertia[1] == inertia[3] && inertia[2] == inertia[6] && inertia[5] == inertia[7]);
         CHECK(inertia[0] > 0.0 && inertia[4] > 0.0 && inertia[8] > 0.0);
         printf("mass %s %.17g\n", name, mass);
+        /* FFRF invariants: mass and centre as above (1e-12), M_PsiPsi = I for mass-normalised
+         * modes (1e-10: the modes' orthonormality error), K_ff = (2 pi f)^2 (1e-14),
+         * theta_u = J_c + m (|c|^2 I - c c^T) (parallel axes, 1e-10 of its largest entry) */
+        {
+            double inv[64 * 64], inv2[9], scale = 0.0, worst = 0.0, d;
+            size_t n_inv;
+            int r, s;
+            EXPECT(c, ffrf_body_invariant(c, b, "mass", inv, 64 * 64, &n_inv), FFRF_OK, "");
+            CHECK(n_inv == 1 && fabs(inv[0] - mass) <= 1e-12 * mass);
+            EXPECT(c, ffrf_body_invariant(c, b, "M_PsiPsi", inv, 64 * 64, &n_inv), FFRF_OK, "");
+            CHECK(n_inv == (size_t)modes * modes);
+            for (r = 0; r < modes; r++)
+                for (s = 0; s < modes; s++)
+                    worst = fmax(worst, fabs(inv[r + modes * s] - (r == s ? 1.0 : 0.0)));
+            CHECK(worst < 1e-10);
+            printf("invariant %s M_PsiPsi %.3g\n", name, worst);
+            EXPECT(c, ffrf_body_invariant(c, b, "K_ff", inv, 64 * 64, &n_inv), FFRF_OK, "");
+            for (k = 0; k < modes; k++) {
+                d = 2.0 * 3.14159265358979323846 * hz[k];
+                CHECK(fabs(inv[k] - d * d) <= 1e-14 * d * d);
+            }
+            EXPECT(c, ffrf_body_invariant(c, b, "theta_u", inv2, 9, &n_inv), FFRF_OK, "");
+            worst = 0.0;
+            for (r = 0; r < 3; r++)
+                for (s = 0; s < 3; s++) {
+                    d = inertia[r + 3 * s] - mass * center[r] * center[s] +
+                        (r == s ? mass * (center[0] * center[0] + center[1] * center[1] +
+                                          center[2] * center[2]) : 0.0);
+                    scale = fmax(scale, fabs(inv2[r + 3 * s]));
+                    worst = fmax(worst, fabs(inv2[r + 3 * s] - d));
+                }
+            CHECK(worst <= 1e-10 * scale);
+            printf("invariant %s theta_u %.3g of %.3g\n", name, worst, scale);
+            EXPECT(c, ffrf_body_invariant(c, b, "M_xPsit", NULL, 0, &n_inv), FFRF_OK, "");
+            CHECK(n_inv == (size_t)9 * modes);
+            EXPECT(c, ffrf_body_invariant(c, b, "M_Psi", inv, 64, &n_inv), FFRF_BAD_CALL,
+                   "no invariant \"M_Psi\"; the invariants are mass, center_of_mass");
+        }
         printf("shape_value %s %.17g %.17g\n", name, shape[0], rows[0]);
         free(shape);
         free(rows);
