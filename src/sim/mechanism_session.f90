@@ -380,7 +380,7 @@ contains
             to_str(marker) // ' of body "' // self%mech%bodies(b)%name // '" is not finite')
          return
       end if
-      k = findloc(self%host%body * 100000 + self%host%marker, b * 100000 + marker, dim=1)
+      k = findloc(self%host%body == b .and. self%host%marker == marker, .true., dim=1)
       if (k == 0) then
          load%body = b
          load%marker = marker
