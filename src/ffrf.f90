@@ -28,13 +28,14 @@ module ffrf
    use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
-   use ffrf_modes_modal_case, only: run_options_t, run_modal_case, run_modal
-   use ffrf_io_case, only: case_input_t, read_case
+   use ffrf_app_run_options, only: run_options_t
+   use ffrf_app_modal_run, only: run_modal_case, run_modal
+   use ffrf_input_case, only: case_input_t, read_case
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
-   use ffrf_sim_mechanism_case, only: run_mechanism_case, run_mechanism
-   use ffrf_sim_check_case, only: check_case
-   use ffrf_sim_mechanism_session, only: mechanism_session_t
+   use ffrf_app_mechanism_run, only: run_mechanism_case, run_mechanism
+   use ffrf_app_check_case, only: check_case
+   use ffrf_app_mechanism_session, only: mechanism_session_t
    use ffrf_capi_case, only: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3
    use ffrf_core_build_info, only: FFRF_VERSION, FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, &
       FFRF_VERSION_PATCH

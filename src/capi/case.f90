@@ -1,7 +1,7 @@
 !> The case object of the public APIs: a typed Fortran `ffrf_case_t` (exported by `use ffrf`)
 !> that the C API (ffrf_capi, include/ffrf.h) wraps one to one. It holds a case read from its
 !> namelist file, the modes of its bodies once computed and, for a mechanism case, its
-!> mechanism session (ffrf_sim_mechanism_session). Every procedure reports through
+!> mechanism session (ffrf_app_mechanism_session). Every procedure reports through
 !> `type(error_t), allocatable, intent(out) :: error` (code FFRF_BAD_CALL for a call out of
 !> order or a bad index, else the library's codes); nothing here stops, prints or installs
 !> signal handlers, and there is no state outside the object.
@@ -19,21 +19,22 @@ module ffrf_capi_case
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_core_paths, only: folder_of
-   use ffrf_io_case, only: case_input_t, read_case
+   use ffrf_input_case, only: case_input_t, read_case
    use ffrf_core_kinds, only: ip, i8
    use ffrf_mesh_mesh, only: mesh_t, physical_group_t
    use ffrf_mpc_interface, only: interface_input_t
    use ffrf_modes_input, only: body_input_t
-   use ffrf_mbs_mechanism_input, only: body_motion_input_t
+   use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_la_sparse, only: csr_t
    use ffrf_fe_material, only: material_t
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_core_kinds, only: pi
-   use ffrf_modes_modal_case, only: run_options_t, run_modal
-   use ffrf_sim_mechanism_case, only: run_mechanism
-   use ffrf_sim_mechanism_session, only: mechanism_session_t, move_modes
+   use ffrf_app_run_options, only: run_options_t
+   use ffrf_app_modal_run, only: run_modal
+   use ffrf_app_mechanism_run, only: run_mechanism
+   use ffrf_app_mechanism_session, only: mechanism_session_t, move_modes
    implicit none
    private
    public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3
@@ -698,7 +699,7 @@ contains
    end subroutine check_session
 
    !> Mechanism case: prepare on the first call (modes, mechanism, consistent start), then
-   !> integrate up to time t (ffrf_sim_mechanism_session).
+   !> integrate up to time t (ffrf_app_mechanism_session).
    subroutine case_advance(self, t, error)
       class(ffrf_case_t), intent(inout) :: self
       !> Time to reach (s), t_start <= t <= t_end
@@ -778,7 +779,7 @@ contains
       t_end = self%session%end_time()
    end subroutine case_time
 
-   !> Coordinates and velocities of a body (ffrf_sim_mechanism_session body_state).
+   !> Coordinates and velocities of a body (ffrf_app_mechanism_session body_state).
    subroutine case_body_state(self, body, q, v, error)
       class(ffrf_case_t), intent(in) :: self
       integer, intent(in) :: body

@@ -47,7 +47,6 @@ module ffrf_mbs_energy_balance
       FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_rigid_body, only: flexible_body_adapter_t
    implicit none
    private
    public :: energy_balance_t
@@ -203,16 +202,13 @@ contains
          if (allocated(error)) return
          power = power + lambda(mech%drive_row) * phi_t(mech%drive_row)
       end if
-      ! Physical modal damping of the flexible bodies: P_d = zeta_dot^T D_ff zeta_dot.
+      ! Physical damping of the bodies (body_t%damping_power): the flexible bodies' modal
+      ! damping P_d = zeta_dot^T D_ff zeta_dot, zero for rigid bodies and the ground.
       if (.not. allocated(mech%bodies)) return
       do b = 1, size(mech%bodies)
          k = mech%bodies(b)%offset
          nb = mech%bodies(b)%body%num_coordinates
-         select type (body => mech%bodies(b)%body)
-         type is (flexible_body_adapter_t)
-            if (allocated(body%flexible%damping)) damping_power = damping_power + &
-               sum(body%flexible%damping * v(k + 8:k + nb)**2)
-         end select
+         damping_power = damping_power + mech%bodies(b)%body%damping_power(v(k + 1:k + nb))
       end do
       if (.not. (ieee_is_finite(kinetic) .and. ieee_is_finite(strain) .and. &
          ieee_is_finite(power) .and. ieee_is_finite(damping_power))) then

@@ -1,5 +1,6 @@
 !> One reduced flexible body in the floating frame of reference (FFRF) with modal coordinates
-!> (theory.md section 3; Shabana, Dynamics of Multibody Systems, 3rd ed., ch. 5).
+!> (theory.md section 3; Shabana, Dynamics of Multibody Systems, 3rd ed., ch. 5): an extension
+!> of the abstract body body_t (ffrf_mbs_body) whose markers are its interfaces.
 !>
 !> Position of a material point (node i): r_i = R + A(theta) (x_i + Psi_i zeta), with the
 !> coordinates q = [R (3); theta (4 Euler parameters, ffrf_mbs_rotation); zeta (m)] and the
@@ -43,16 +44,16 @@ module ffrf_mbs_flexible_body
       NUM_CENTRIFUGAL_CASES
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
       rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
+   use ffrf_mbs_body, only: body_t
    implicit none
    private
    public :: flexible_body_t
 
-   !> Reduced flexible body: inertia invariants, modal stiffness and damping, markers.
-   type :: flexible_body_t
-      !> Number of FE nodes, of modes m, of interfaces (markers)
-      integer :: num_nodes = 0, num_modes = 0, num_interfaces = 0
-      !> Number of coordinates, 7 + m
-      integer :: num_coordinates = 0
+   !> Reduced flexible body: inertia invariants, modal stiffness and damping, markers (one per
+   !> interface). num_coordinates = 7 + m; num_markers = number of interfaces.
+   type, extends(body_t) :: flexible_body_t
+      !> Number of FE nodes, of modes m
+      integer :: num_nodes = 0, num_modes = 0
       !> Total mass m (kg)
       real(dp) :: mass = 0.0_dp
       !> Centre of mass chi in the body frame (m)
@@ -77,9 +78,9 @@ module ffrf_mbs_flexible_body
       real(dp), allocatable :: stiffness(:)
       !> Modal damping D_ff = diag(2 xi_j omega_j) (1/s); zero unless set_modal_damping
       real(dp), allocatable :: damping(:)
-      !> Virtual-node mode rows (6 num_interfaces x m): [Psi_Vt; Psi_Vr] per interface
+      !> Virtual-node mode rows (6 num_markers x m): [Psi_Vt; Psi_Vr] per interface
       real(dp), allocatable :: virtual_shapes(:, :)
-      !> Virtual node positions x_V in the body frame (3, num_interfaces) (m)
+      !> Virtual node positions x_V in the body frame (3, num_markers) (m)
       real(dp), allocatable :: virtual_xyz(:, :)
       !> Modal geometric stiffness K_G^(c) (m x m x 6) of the centrifugal load cases (module
       !> header); not allocated: linear modal FFRF, no stiffening (the default)
@@ -93,6 +94,8 @@ module ffrf_mbs_flexible_body
       procedure :: quadratic_velocity => flexible_body_quadratic_velocity
       !> Exact -df_v/dq and -df_v/dv (Newton tangents of the mechanism)
       procedure :: quadratic_velocity_tangents => flexible_body_quadratic_velocity_tangents
+      !> Exact -d(f_v + Q_e)/dq and -d(f_v + Q_e)/dv
+      procedure :: force_tangents => flexible_body_force_tangents
       !> Hessian of weighted marker position and axes (joints' constraint stiffness)
       procedure :: marker_hessian => flexible_body_marker_hessian
       !> d(marker_generalized_force)/dq at a fixed force and moment
@@ -102,8 +105,9 @@ module ffrf_mbs_flexible_body
       !> Marker position, orientation, position and axis Jacobians in one call
       procedure :: marker_kinematics => flexible_body_marker_kinematics
       procedure :: elastic_force => flexible_body_elastic_force
-      procedure :: kinetic_energy => flexible_body_kinetic_energy
       procedure :: strain_energy => flexible_body_strain_energy
+      !> Power of the modal damping zeta_dot^T D_ff zeta_dot (W)
+      procedure :: damping_power => flexible_body_damping_power
       procedure :: marker_position => flexible_body_marker_position
       procedure :: marker_orientation => flexible_body_marker_orientation
       procedure :: marker_velocity_jacobian => flexible_body_marker_velocity_jacobian
@@ -128,10 +132,10 @@ contains
       real(dp), intent(in) :: shapes(:, :)
       !> Eigenvalues omega_j^2 (1/s^2): the modal stiffness
       real(dp), intent(in) :: eigenvalues(:)
-      !> Virtual-node rows of the modes (6 num_interfaces, m): [u; theta] per interface, as
+      !> Virtual-node rows of the modes (6 num_markers, m): [u; theta] per interface, as
       !> body_modes_t%virtual_node_shape
       real(dp), intent(in) :: virtual_shapes(:, :)
-      !> Virtual node positions (3, num_interfaces) (m), body frame
+      !> Virtual node positions (3, num_markers) (m), body frame
       real(dp), intent(in) :: virtual_xyz(:, :)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: Z(:, :), MZ(:, :), gram(:, :)
@@ -174,7 +178,7 @@ contains
 
       self%num_nodes = n
       self%num_modes = nm
-      self%num_interfaces = size(virtual_xyz, 2)
+      self%num_markers = size(virtual_xyz, 2)
       self%num_coordinates = 7 + nm
       self%stiffness = eigenvalues
       allocate (self%damping(nm), source=0.0_dp)
@@ -921,6 +925,27 @@ contains
       end do
    end subroutine flexible_body_marker_kinematics
 
+   !> -d(f_v + Q_e)/dq, -d(f_v + Q_e)/dv, exact: the FFRF quadratic velocity vector
+   !> (quadratic_velocity_tangents) and the modal stiffness K_ff and damping D_ff
+   !> (Q_e = [0; 0; -K_ff zeta - D_ff zeta_dot]).
+   pure subroutine flexible_body_force_tangents(self, q, v, K, C)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Velocities [R_dot; theta_dot; zeta_dot]
+      real(dp), intent(in) :: v(:)
+      !> -df/dq ((7+m) x (7+m))
+      real(dp), intent(out) :: K(:, :)
+      !> -df/dv ((7+m) x (7+m))
+      real(dp), intent(out) :: C(:, :)
+      integer :: j
+      call self%quadratic_velocity_tangents(q, v, K, C)
+      do j = 1, self%num_modes
+         K(7 + j, 7 + j) = K(7 + j, 7 + j) + self%stiffness(j)
+         if (allocated(self%damping)) C(7 + j, 7 + j) = C(7 + j, 7 + j) + self%damping(j)
+      end do
+   end subroutine flexible_body_force_tangents
+
    !> Elastic and damping generalized force Q_e = [0; 0; -K_ff zeta - D_ff zeta_dot].
    pure function flexible_body_elastic_force(self, q, v) result(force)
       class(flexible_body_t), intent(in) :: self
@@ -934,19 +959,6 @@ contains
          self%damping * v(8:self%num_coordinates)
    end function flexible_body_elastic_force
 
-   !> Kinetic energy T = v^T M(q) v / 2 (J).
-   pure function flexible_body_kinetic_energy(self, q, v) result(energy)
-      class(flexible_body_t), intent(in) :: self
-      !> Coordinates
-      real(dp), intent(in) :: q(:)
-      !> Velocities
-      real(dp), intent(in) :: v(:)
-      real(dp) :: energy
-      real(dp) :: mass_matrix(self%num_coordinates, self%num_coordinates)
-      mass_matrix = self%mass_matrix(q)
-      energy = 0.5_dp * dot_product(v, matmul(mass_matrix, v))
-   end function flexible_body_kinetic_energy
-
    !> Strain energy zeta^T K_ff zeta / 2 (J).
    pure function flexible_body_strain_energy(self, q) result(energy)
       class(flexible_body_t), intent(in) :: self
@@ -955,6 +967,16 @@ contains
       real(dp) :: energy
       energy = 0.5_dp * sum(self%stiffness * q(8:self%num_coordinates)**2)
    end function flexible_body_strain_energy
+
+   !> Power of the modal damping, zeta_dot^T D_ff zeta_dot (W).
+   pure function flexible_body_damping_power(self, v) result(power)
+      class(flexible_body_t), intent(in) :: self
+      !> Velocities [R_dot; theta_dot; zeta_dot]
+      real(dp), intent(in) :: v(:)
+      real(dp) :: power
+      power = 0.0_dp
+      if (allocated(self%damping)) power = sum(self%damping * v(8:self%num_coordinates)**2)
+   end function flexible_body_damping_power
 
    !> Deformed position of virtual node k in the body frame, u_V = x_V + Psi_Vt zeta.
    pure function marker_local(self, q, k) result(u)
@@ -982,7 +1004,7 @@ contains
       end do
    end function marker_rotation_vector
 
-   !> Global position of marker k, r_V = R + A (x_V + Psi_Vt zeta) (m). k in 1..num_interfaces.
+   !> Global position of marker k, r_V = R + A (x_V + Psi_Vt zeta) (m). k in 1..num_markers.
    pure function flexible_body_marker_position(self, q, k) result(r)
       class(flexible_body_t), intent(in) :: self
       !> Coordinates

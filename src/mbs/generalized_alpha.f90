@@ -180,7 +180,7 @@ module ffrf_mbs_generalized_alpha
       real(dp) :: alternation_limit = 0.25_dp
       !> Project inconsistent initial positions/velocities onto the constraints (else refuse)
       logical :: project_initial = .true.
-      !> Restart checkpoints of a mechanism run (ffrf_sim_mechanism_case; they do not change
+      !> Restart checkpoints of a mechanism run (ffrf_app_mechanism_run; they do not change
       !> the integration): every this many seconds of wall time (0: none by time) and every
       !> this many steps (0: none by steps)
       real(dp) :: checkpoint_seconds = 2.0_dp

@@ -1,5 +1,5 @@
 !> A load whose force or moment a host program sets between intervals of the integration
-!> (co-simulation through the C or Fortran API, ffrf_sim_mechanism_session).
+!> (co-simulation through the C or Fortran API, ffrf_app_mechanism_session).
 !>
 !> The host gives a global vector F (N) or M (N m) that stays constant over the next interval:
 !> it is stored as its length `value` along the unit `direction` (load_t's form), so the

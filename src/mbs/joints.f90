@@ -52,7 +52,7 @@ module ffrf_mbs_joints
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_mbs_rigid_body, only: body_t
+   use ffrf_mbs_body, only: body_t
    use ffrf_mbs_dae_system, only: fd_step
    implicit none
    private

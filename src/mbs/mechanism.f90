@@ -61,7 +61,7 @@ module ffrf_mbs_mechanism
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t
    use ffrf_mbs_dae_system, only: dae_system_t
-   use ffrf_mbs_rigid_body, only: body_t
+   use ffrf_mbs_body, only: body_t
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    implicit none
@@ -70,7 +70,7 @@ module ffrf_mbs_mechanism
 
    !> A body of the mechanism and where its coordinates and normalisation row sit.
    type :: mechanism_body_t
-      !> The body (rigid_body_t, ground_t, flexible_body_adapter_t, ...)
+      !> The body (rigid_body_t, ground_t, flexible_body_t, ...)
       class(body_t), allocatable :: body
       !> Name for messages and output
       character(len=:), allocatable :: name
@@ -181,7 +181,7 @@ module ffrf_mbs_mechanism
       module subroutine mechanism_add_body(self, body, name, index, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Initialised body (rigid_body_t%init, ground_t%init, flexible_body_adapter_t%init)
+         !> Initialised body (rigid_body_t%init, ground_t%init, flexible_body_t%init)
          class(body_t), intent(in) :: body
          !> Name for messages
          character(len=*), intent(in) :: name

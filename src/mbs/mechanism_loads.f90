@@ -4,12 +4,12 @@
 !> (LOAD_FORCE) or as a moment about a fixed global axis (LOAD_TORQUE). Its magnitude is a
 !> function of the time t, the crank angle phi (rad, unwrapped over many revolutions) and the
 !> crank speed omega = dphi/dt (rad/s) that the mechanism measures on its crank body; each kind of
-!> load is a small type that extends `load_t` and implements `magnitude(t, phi, omega)`:
+!> load is a small type that extends `load_t` and implements `magnitude(t, phi, omega)`
+!> (the engine's gas force, pressure_force_t, lives in src/app/engine/pressure_load.f90):
 !>
 !> | type                 | magnitude                                                      |
 !> |----------------------|----------------------------------------------------------------|
 !> | constant_load_t      | value                                                          |
-!> | pressure_force_t     | pressure_model_t%piston_force(phi) = -(p(phi) - p_ref) pi B^2/4 |
 !> | starter_torque_t     | max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0          |
 !> | drag_torque_t        | -c omega |omega|  (= -c omega^2 for omega >= 0, always opposing) |
 !>
@@ -20,10 +20,9 @@
 !> constraint in ffrf_mbs_mechanism); `drive_law_t%evaluate(t)` returns f, f' and f''.
 module ffrf_mbs_mechanism_loads
    use ffrf_core_kinds, only: dp
-   use ffrf_mbs_pressure, only: pressure_model_t
    implicit none
    private
-   public :: load_t, constant_load_t, pressure_force_t, starter_torque_t, drag_torque_t
+   public :: load_t, constant_load_t, starter_torque_t, drag_torque_t
    public :: drive_law_t, polynomial_drive_t
    public :: LOAD_FORCE, LOAD_TORQUE
 
@@ -73,15 +72,6 @@ module ffrf_mbs_mechanism_loads
    contains
       procedure :: magnitude => constant_magnitude
    end type constant_load_t
-
-   !> In-cylinder gas force on the piston (scene.md "Loads"): kind LOAD_FORCE, direction +y (the
-   !> pressure model gives the force along +y, negative while p > p_ref).
-   type, extends(load_t) :: pressure_force_t
-      !> Initialised pressure model (pressure_model_t%init)
-      type(pressure_model_t) :: model
-   contains
-      procedure :: magnitude => pressure_magnitude
-   end type pressure_force_t
 
    !> Starter motor (scene.md): T = T0 (1 - omega / omega_0) for t <= t_off and only while
    !> positive; kind LOAD_TORQUE about +z.
@@ -151,19 +141,6 @@ contains
       real(dp) :: value
       value = self%value + 0.0_dp * (t + crank_angle + crank_speed)
    end function constant_magnitude
-
-   !> Gas force along +y at the unwrapped crank angle (pressure_model_t%piston_force).
-   pure function pressure_magnitude(self, t, crank_angle, crank_speed) result(value)
-      class(pressure_force_t), intent(in) :: self
-      !> Time (s)
-      real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
-      real(dp) :: value
-      value = self%model%piston_force(crank_angle) + 0.0_dp * (t + crank_speed)
-   end function pressure_magnitude
 
    !> max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0.
    pure function starter_magnitude(self, t, crank_angle, crank_speed) result(value)

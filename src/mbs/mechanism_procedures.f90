@@ -9,8 +9,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_core_finite, only: all_finite
    use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
       rotated_vector_jacobian
-   use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t, euler_hessian, &
-      point_load_tangent
+   use ffrf_mbs_rigid_body, only: rigid_body_t, euler_hessian, point_load_tangent
    use ffrf_mbs_dae_system, only: fd_step, dae_stiffness_fd, dae_damping_fd, &
       dae_constraint_stiffness_fd, dae_mass_stiffness_fd
    use ffrf_mbs_joints, only: new_joint, joint_reaction
@@ -315,10 +314,7 @@ contains
       do b = 1, num_bodies(self)
          k = self%bodies(b)%offset
          nb = self%bodies(b)%body%num_coordinates
-         select type (body => self%bodies(b)%body)
-         type is (flexible_body_adapter_t)
-            energy = energy + body%flexible%strain_energy(q(k + 1:k + nb))
-         end select
+         energy = energy + self%bodies(b)%body%strain_energy(q(k + 1:k + nb))
       end do
    end procedure mechanism_strain_energy
 

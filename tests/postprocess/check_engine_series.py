@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Read the engine results files that the Fortran writer (src/io/engine_results.f90) left in a
+"""Read the engine results files that the Fortran writer (src/app/engine/results.f90) left in a
 folder, via tests/unit/test_io_engine_results, with postprocess/ffrf_results.read_engine and
 engine_summary.py: the writer follows the schema the Python side expects.
 

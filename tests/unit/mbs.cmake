@@ -5,7 +5,7 @@ ffrf_add_unit_suite(test_mbs_flexible_body CHECKED LABELS mbs FIXTURES "crank_lc
 ffrf_add_unit_suite(test_mbs_generalized_alpha CHECKED LABELS mbs)
 # In-cylinder pressure model and slider-crank kinematics.
 ffrf_add_unit_suite(test_mbs_pressure CHECKED LABELS mbs)
-# Rigid bodies, ground, flexible-body adapter and joints between markers; rigid-flexible pairs on
+# Rigid bodies, ground, flexible bodies and joints between markers; rigid-flexible pairs on
 # the crank_lc8 mesh (RC set 3). ~3 s, checked a few seconds more.
 ffrf_add_unit_suite(test_mbs_joints CHECKED LABELS mbs FIXTURES crank_lc8_mesh)
 # Mechanism with generalized-alpha: driven slider-crank, free body, engine start. ~4 s, checked ~10

@@ -9,10 +9,10 @@ module ffrf_test_rigid_engine
    use ffrf_mbs_rotation, only: euler_from_axis_angle, identity3
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: pressure_force_t, starter_torque_t, drag_torque_t, &
-      LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_input_t
-   use ffrf_mbs_slider_crank, only: piston_position
+   use ffrf_mbs_mechanism_loads, only: starter_torque_t, drag_torque_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_pressure_load, only: pressure_force_t
+   use ffrf_app_engine_pressure, only: pressure_input_t
+   use ffrf_app_engine_slider_crank, only: piston_position
    implicit none
    private
    public :: build_engine, build_slider_crank, add_engine_loads, crank_properties, tdc_pose

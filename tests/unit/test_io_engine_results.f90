@@ -1,4 +1,4 @@
-!> Tests of ffrf_io_engine_results, the progressive writer of the engine time histories. Steps are
+!> Tests of ffrf_app_engine_results, the progressive writer of the engine time histories. Steps are
 !> analytic functions of the step index; HDF5 stores IEEE doubles bit for bit, so every value
 !> read back must equal the one written exactly (tolerance 0). A kill is simulated by copying
 !> the file's bytes from disk after 550 steps with 100 steps per flush: the copy is what a killed
@@ -12,7 +12,7 @@ module test_io_engine_results
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_io_hdf5, only: h5_file_t
-   use ffrf_io_engine_results, only: engine_results_t
+   use ffrf_app_engine_results, only: engine_results_t
    use ffrf_testing, only: unittest_t, new_unittest, check
    implicit none
    private

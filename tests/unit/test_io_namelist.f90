@@ -1,5 +1,5 @@
-!> Tests of the strict case reading (ffrf_io_nml_source, ffrf_io_case): the resolved input echo
-!> of every case in input/ is bitwise the one the solver wrote before the strict reader (the
+!> Tests of the strict case reading (ffrf_input_nml_source, ffrf_input_case): the resolved input
+!> echo of every case in input/ is bitwise the one the solver wrote before the strict reader (the
 !> reference files in tests/data/input_echo were written by case_echo of the previous reader), so
 !> no value of a valid case changes; lines of any length; quotes and repeat counts handed to the
 !> namelist read unchanged; FILE:LINE of a key for the readers' cross checks; the structural
@@ -7,8 +7,8 @@
 module test_io_namelist
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_io_nml_source, only: nml_source_t
-   use ffrf_io_case, only: case_input_t, read_case, case_echo, case_groups
+   use ffrf_input_nml_source, only: nml_source_t
+   use ffrf_input_case, only: case_input_t, read_case, case_echo, case_groups
    use ffrf_testing, only: unittest_t, new_unittest, check, test_input_dir
    implicit none
    private

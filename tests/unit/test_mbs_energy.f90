@@ -20,7 +20,7 @@ module test_mbs_energy
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, euler_from_axis_angle, identity3, &
       skew3
    use ffrf_mbs_flexible_body, only: flexible_body_t
-   use ffrf_mbs_rigid_body, only: rigid_body_t, flexible_body_adapter_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, chung_hulbert
@@ -352,12 +352,11 @@ contains
 
    !> The hand-made flexible body (module header) with the first num_modes of two Ritz vectors,
    !> modal stiffness omegas**2; one interface at node 1. Also returns the shapes (12, num_modes).
-   subroutine make_flexible(omegas, adapter, shapes, error)
+   subroutine make_flexible(omegas, flexible, shapes, error)
       real(dp), intent(in) :: omegas(:)
-      type(flexible_body_adapter_t), intent(out) :: adapter
+      type(flexible_body_t), intent(out) :: flexible
       real(dp), allocatable, intent(out) :: shapes(:, :)
       type(error_t), allocatable, intent(out) :: error
-      type(flexible_body_t) :: flexible
       type(csr_t) :: M
       real(dp) :: basis(12, 6 + 2), mdiag(12), start(12, 2), virtual_shapes(6, size(omegas))
       integer(ip) :: rows(12)
@@ -399,8 +398,6 @@ contains
       virtual_shapes = 0.0_dp
       virtual_shapes(1:3, :) = shapes(1:3, :)
       call flexible%init(M, xyz, shapes, omegas**2, virtual_shapes, xyz(:, 1:1), error)
-      if (allocated(error)) return
-      call adapter%init(flexible, error)
    end subroutine make_flexible
 
    !> Particle-sum momenta of the hand-made flexible body (module header).
@@ -433,7 +430,7 @@ contains
       real(dp), intent(out) :: drift_p, drift_l, dissipation
       type(error_t), allocatable, intent(out) :: error
       type(mechanism_t) :: mech
-      type(flexible_body_adapter_t) :: body
+      type(flexible_body_t) :: body
       type(galpha_integrator_t) :: integrator
       type(energy_balance_t) :: balance
       real(dp), allocatable :: shapes(:, :)
@@ -557,7 +554,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), parameter :: omega = 2.0_dp * pi * 10.0_dp, zeta_dot0 = 0.1_dp
       type(mechanism_t) :: mech
-      type(flexible_body_adapter_t) :: body
+      type(flexible_body_t) :: body
       type(galpha_integrator_t) :: integrator
       type(energy_balance_t) :: balance
       real(dp), allocatable :: shapes(:, :)
@@ -669,7 +666,7 @@ contains
       real(dp), parameter :: t_end = 0.5_dp
       integer, parameter :: per_period(2) = [100, 200]
       type(mechanism_t) :: mech
-      type(flexible_body_adapter_t) :: body
+      type(flexible_body_t) :: body
       type(galpha_integrator_t) :: integrator
       type(energy_balance_t) :: balance
       real(dp), allocatable :: shapes(:, :)
@@ -685,7 +682,7 @@ contains
          h = 2.0_dp * pi / omega / per_period(k)
          call make_flexible([omega], body, shapes, error)
          if (allocated(error)) return
-         call body%flexible%set_modal_damping([xi], error)
+         call body%set_modal_damping([xi], error)
          if (allocated(error)) return
          if (allocated(mech%bodies)) deallocate (mech%bodies)
          call mech%add_body(body, 'damped body', index, error)

@@ -9,7 +9,7 @@ module test_mbs_engine_convergence
    use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: pressure_force_t
+   use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_test_rigid_engine, only: build_engine, crank_properties, crank_radius, rod_length, &
       load_coefficient, crank_pin, piston_pin
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, galpha_stats_t

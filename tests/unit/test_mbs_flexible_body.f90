@@ -454,7 +454,7 @@ contains
       hp = h / norm2(v(4:7))      ! path step: theta moves by h
       axis = [0.3_dp, -0.5_dp, 0.8_dp]
       allocate (dq(nc), fd(3, nc))
-      do k = 1, crank%num_interfaces
+      do k = 1, crank%num_markers
          jac = crank%marker_position_jacobian(q, k)
          jac_axis = crank%marker_axis_jacobian(q, k, axis)
          do i = 1, nc
@@ -531,7 +531,7 @@ contains
       call random_state(crank, 31, 0.0_dp, q, v)
       A = euler_rotation(q(4:7))
       G_bar = euler_g_bar(q(4:7))
-      do k = 1, crank%num_interfaces
+      do k = 1, crank%num_markers
          call check_close(error, 'marker ' // to_str(k) // ' at zeta = 0: |r_V - R - A x_V|', &
             norm2(crank%marker_position(q, k) - q(1:3) - matmul(A, crank%virtual_xyz(:, k))), &
             0.0_dp, atol=1.0e-15_dp)
@@ -553,7 +553,7 @@ contains
       ! Deformed state: virtual power
       call random_state(crank, 32, 0.02_dp, q, v)
       hp = h / norm2(v(4:7))      ! path step: theta moves by h
-      do k = 1, crank%num_interfaces
+      do k = 1, crank%num_markers
          gen = crank%marker_generalized_force(q, k, force, moment)
          r_dot = (crank%marker_position(path_point(q, v, hp), k) - &
             crank%marker_position(path_point(q, v, -hp), k)) / (2.0_dp * hp)
@@ -584,8 +584,8 @@ contains
       integer :: k, nc
       call get_crank(error)
       if (allocated(error)) return
-      allocate (virtual_xyz(3, crank%num_interfaces))
-      do k = 1, crank%num_interfaces
+      allocate (virtual_xyz(3, crank%num_markers))
+      do k = 1, crank%num_markers
          virtual_xyz(:, k) = crank_modes%interfaces(k)%virtual_xyz
       end do
       call stiff%init(crank_mass, crank_modes%mesh%xyz, crank_modes%shape, &

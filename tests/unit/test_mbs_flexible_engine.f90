@@ -1,6 +1,6 @@
-!> The engine of scene.md with a flexible crank (ffrf_mbs_flexible_body through
-!> flexible_body_adapter_t) against the same engine with a rigid crank (issue 3: "a flexible body
-!> whose modes are made very stiff reproduces the rigid-body engine").
+!> The engine of scene.md with a flexible crank (ffrf_mbs_flexible_body) against the same
+!> engine with a rigid crank (issue 3: "a flexible body whose modes are made very stiff
+!> reproduces the rigid-body engine").
 !>
 !> Both engines have the same bodies, joints and loads (test_mbs_mechanism's rigid engine, with
 !> the flywheel as a separate rigid body welded to B3 so that the crank is one FE body):
@@ -51,7 +51,8 @@ module test_mbs_flexible_engine
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
-   use ffrf_mbs_rigid_body, only: body_t, rigid_body_t, ground_t, flexible_body_adapter_t
+   use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, parallel_axis, rod_length, &
       flywheel_mass, flywheel_com, flywheel_inertia, rod_mass, rod_com, rod_inertia, &
@@ -251,7 +252,6 @@ contains
    subroutine test_stiff_crank(error)
       type(error_t), allocatable, intent(out) :: error
       type(rigid_body_t) :: rigid
-      type(flexible_body_adapter_t) :: flexible
       type(flexible_body_t) :: stiff
       real(dp) :: rigid_speeds(num_samples), speeds(num_samples), J_c(3, 3), frames(3, 3, 3)
       real(dp) :: zeta_max, true_effect, difference
@@ -288,9 +288,7 @@ contains
          rigid_speeds(num_samples) > 0.0_dp)
       if (allocated(error)) return
       ! The true stiffness: the modes must move
-      call flexible%init(crank, error)
-      if (allocated(error)) return
-      call run_engine(flexible, speeds, zeta_max, rejected, 'flexible crank, true stiffness', &
+      call run_engine(crank, speeds, zeta_max, rejected, 'flexible crank, true stiffness', &
          error)
       if (allocated(error)) return
       true_effect = (speeds(num_samples) - rigid_speeds(num_samples)) / rigid_speeds(num_samples)
@@ -301,15 +299,15 @@ contains
       ! The 1/s law of the modal effect on the speed
       stiff = crank
       stiff%stiffness = law_factor * crank%stiffness
-      call flexible%init(stiff, error)
-      if (allocated(error)) return
-      call run_engine(flexible, speeds, zeta_max, rejected, 'flexible crank, eigenvalues x ' // &
+      call run_engine(stiff, speeds, zeta_max, rejected, 'flexible crank, eigenvalues x ' // &
          to_str(law_factor, 2), error)
       if (allocated(error)) return
       difference = (speeds(num_samples) - rigid_speeds(num_samples)) / rigid_speeds(num_samples)
       call report('eigenvalues x ' // to_str(law_factor, 2) // ': relative speed difference ' // &
          'at 0.3 s ' // to_str(difference, 4) // ', times the factor ' // &
          to_str(law_factor * difference, 4))
+      ! the 1/s law is the first term of an expansion in 1/s: its relative error is O(1/s) =
+      ! 1e-2 at s = 100 (measured 1.8e-4)
       call check_close(error, 'modal effect on the crank speed at 0.3 s times the eigenvalue ' // &
          'factor ' // to_str(law_factor, 2) // ' vs the true-stiffness effect (1/s law)', &
          law_factor * difference, true_effect, rtol=1.0e-2_dp)
@@ -317,9 +315,7 @@ contains
       ! The stiffened crank reproduces the rigid engine
       do i = 1, size(factors)
          stiff%stiffness = factors(i) * crank%stiffness
-         call flexible%init(stiff, error)
-         if (allocated(error)) return
-         call run_engine(flexible, speeds, zeta_max, rejected, 'flexible crank, eigenvalues x ' &
+         call run_engine(stiff, speeds, zeta_max, rejected, 'flexible crank, eigenvalues x ' &
             // to_str(factors(i), 2), error)
          if (allocated(error)) return
          call report('eigenvalues x ' // to_str(factors(i), 2) // ': max relative speed ' // &
@@ -328,20 +324,25 @@ contains
          call check(error, 'eigenvalues x ' // to_str(factors(i), 2) // ': ' // &
             to_str(rejected) // ' rejected Newton attempts, expected none', rejected == 0)
          if (allocated(error)) return
-         call check_speeds(error, speeds, rigid_speeds, factors(i))
+         call check_speeds(error, speeds, rigid_speeds, factors(i), true_effect)
          if (allocated(error)) return
       end do
    end subroutine test_stiff_crank
 
-   !> The crank speeds at the sample times agree with the rigid engine's to 1e-6 relative.
-   subroutine check_speeds(error, speeds, rigid_speeds, factor)
+   !> The crank speeds at the sample times agree with the rigid engine's within 10 times the
+   !> modal effect the 1/s law predicts for the stiffness factor (|true_effect| / factor, the
+   !> effect at 0.3 s; earlier samples carry less), plus 1e-10 for the Newton tolerances of
+   !> the two runs (measured: 1.8e-9 at x 1e4, where the bound is 5.8e-9; 1.6e-11 at x 1e8).
+   subroutine check_speeds(error, speeds, rigid_speeds, factor, true_effect)
       type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in) :: speeds(num_samples), rigid_speeds(num_samples), factor
+      !> Relative speed difference of the true-stiffness crank at 0.3 s
+      real(dp), intent(in) :: true_effect
       integer :: k
       do k = 1, num_samples
          call check_close(error, 'crank speed at t = ' // to_str(k * sample_interval) // &
             ' s, flexible (eigenvalues x ' // to_str(factor, 2) // ') vs rigid', speeds(k), &
-            rigid_speeds(k), rtol=1.0e-6_dp)
+            rigid_speeds(k), rtol=10.0_dp * abs(true_effect) / factor + 1.0e-10_dp)
          if (allocated(error)) return
       end do
    end subroutine check_speeds

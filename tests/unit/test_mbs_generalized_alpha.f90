@@ -186,7 +186,9 @@ contains
    !> over one step of the real integrator (w h = 1e8, where its deviation from the limit is
    !> O((w h)**-2)); its spectral radius is lim ||A^k||^(1/k), taken at k = 2**60 by repeated
    !> squaring (the k**2 growth of the triple eigenvalue's Jordan block then costs < 1e-16).
-   !> Tolerance 1e-3 (brief); for rho_inf = 0 the eigenvalues are O(eps**(1/3)).
+   !> At the limit the amplification matrix has a triple (defective) eigenvalue, which round-off
+   !> moves by O(eps**(1/3)) = 6e-6 (measured 3.7e-6 for rho_inf = 0.5, 0.8; 4.8e-6 for 0):
+   !> tolerance 10 eps**(1/3) = 6e-5.
    subroutine test_spectral_radius(error)
       type(error_t), allocatable, intent(out) :: error
       real(dp), parameter :: rhos(3) = [0.0_dp, 0.5_dp, 0.8_dp]
@@ -227,7 +229,7 @@ contains
          if (k <= 60) radius = 0.0_dp
          call report('rho_inf = ' // to_str(rhos(i)) // ': spectral radius ' // to_str(radius, 10))
          call check_close(error, 'spectral radius for rho_inf = ' // to_str(rhos(i)), radius, &
-            rhos(i), atol=1.0e-3_dp)
+            rhos(i), atol=10.0_dp * epsilon(1.0_dp)**(1.0_dp / 3.0_dp))
          if (allocated(error)) return
       end do
    end subroutine test_spectral_radius

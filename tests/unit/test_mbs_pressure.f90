@@ -1,6 +1,6 @@
-!> In-cylinder pressure model (ffrf_mbs_pressure) and slider-crank kinematics
-!> (ffrf_mbs_slider_crank) against independent references: closed forms of the slider-crank and of
-!> the motored polytropic p V^n = const, central differences, the exact work of the linear
+!> In-cylinder pressure model (ffrf_app_engine_pressure) and slider-crank kinematics
+!> (ffrf_app_engine_slider_crank) against independent references: closed forms of the slider-crank
+!> and of the motored polytropic p V^n = const, central differences, the exact work of the linear
 !> single-zone ODE W = integral of (1 - (V/V_1)^(n-1)) dQ (derived below), its Otto limit, a
 !> separate fine RK4 integration written here, a trapezoidal p dV sum, and the error bounds of the
 !> periodic spline.
@@ -8,9 +8,9 @@ module test_mbs_pressure
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_mbs_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2, &
+   use ffrf_app_engine_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2, &
       cylinder_volume, cylinder_dvolume, swept_volume, clearance_volume
-   use ffrf_mbs_pressure, only: pressure_input_t, pressure_model_t
+   use ffrf_app_engine_pressure, only: pressure_input_t, pressure_model_t
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
    private

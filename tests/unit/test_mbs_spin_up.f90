@@ -37,11 +37,11 @@ module test_mbs_spin_up
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, wall_time
-   use ffrf_io_case, only: case_input_t, read_case
-   use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
-   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_input_case, only: case_input_t, read_case
+   use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_rigid_body, only: flexible_body_adapter_t
+   use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_test_spin_beam, only: spin_up_drive_t, hencky_chain_spin_up, &
       hencky_chain_lowest_frequency, rotating_lambda, reference_frequency, BEAM_YOUNG, &
@@ -179,12 +179,12 @@ contains
       model%beam = bodies(1)%index
       model%offset = model%mech%bodies(model%beam)%offset
       select type (beam => model%mech%bodies(model%beam)%body)
-      type is (flexible_body_adapter_t)
+      type is (flexible_body_t)
          ! tip = interface 2; rows 7..9 of the virtual-node shapes are its translation
-         model%tip_row = beam%flexible%virtual_shapes(8, :)
+         model%tip_row = beam%virtual_shapes(8, :)
          call check(error, 'geometric stiffness set as asked', &
-            allocated(beam%flexible%geometric_stiffness) .eqv. stiffening)
-         model%rest_frequency = sqrt(beam%flexible%stiffness(1))
+            allocated(beam%geometric_stiffness) .eqv. stiffening)
+         model%rest_frequency = sqrt(beam%stiffness(1))
       class default
          call check(error, 'the beam is a flexible body', .false.)
       end select

@@ -29,8 +29,14 @@ module test_modes_beam
 
    real(dp), parameter :: young = 210.0e9_dp, poisson = 0.3_dp, density = 7850.0_dp
    real(dp), parameter :: radius = 0.010_dp, length = 0.200_dp
-   !> Issue tolerance for the discretisation error at lc = 4 mm (measured errors are reported)
-   real(dp), parameter :: accuracy = 5.0e-3_dp
+   !> Tolerances of the lc = 4 mm beam against the closed forms, each at most 10x what it
+   !> measures (the errors are reported): the first bending against Timoshenko beam theory, free-
+   !> free 1e-3 (measured 4.6e-4, which is the beam theory's model error: 4.5e-4 at lc = 3 mm) and
+   !> clamped by an RBE2 spider 5e-3 (measured 4.4e-3: a rigid end face is not a beam clamp);
+   !> the first torsion against the closed form 3e-4 (measured 6.1e-5 and 5.7e-5)
+   real(dp), parameter :: bending_free_tolerance = 1.0e-3_dp
+   real(dp), parameter :: bending_clamped_tolerance = 5.0e-3_dp
+   real(dp), parameter :: torsion_tolerance = 3.0e-4_dp
 
    integer, parameter :: BENDING = 1, TORSION = 2, OTHER = 3
 
@@ -157,11 +163,12 @@ contains
          to_str(body%frequency_hz(t), 8) // ' Hz (closed form ' // to_str(torsion_ref, 8) // &
          ', error ' // to_str(body%frequency_hz(t) / torsion_ref - 1.0_dp, 3) // ')')
       call check_close(error, tag // ' first bending (Hz)', body%frequency_hz(b), bending_ref, &
-         rtol=accuracy)
+         rtol=merge(bending_clamped_tolerance, bending_free_tolerance, clamped))
       if (.not. allocated(error)) call check_close(error, tag // ' bending pair partner (Hz)', &
-         body%frequency_hz(b + 1), bending_ref, rtol=accuracy)
+         body%frequency_hz(b + 1), bending_ref, &
+         rtol=merge(bending_clamped_tolerance, bending_free_tolerance, clamped))
       if (.not. allocated(error)) call check_close(error, tag // ' first torsion (Hz)', &
-         body%frequency_hz(t), torsion_ref, rtol=accuracy)
+         body%frequency_hz(t), torsion_ref, rtol=torsion_tolerance)
    end subroutine check_beam
 
    subroutine test_free_free(error)

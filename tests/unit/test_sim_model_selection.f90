@@ -1,5 +1,5 @@
-!> The error estimates of the automatic engine model (ffrf_sim_model_selection) against closed
-!> forms and conservation laws:
+!> The error estimates of the automatic engine model (ffrf_app_engine_model_selection) against
+!> closed forms and conservation laws:
 !> - generalized-alpha with rho_inf = 1 is the trapezoidal rule: its numerical frequency
 !>   2 atan(w h / 2) / h, no damping; its periodic response of a free mass to e^(i W t),
 !>   (W h / 2)^2 / tan^2(W h / 2) times the exact one, and of an oscillator, 1 / (1 - (2 tan(W h /
@@ -17,8 +17,8 @@ module test_sim_model_selection
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_str
-   use ffrf_mbs_pressure, only: pressure_model_t, pressure_input_t
-   use ffrf_sim_model_selection, only: excitation_t, engine_excitation, set_harmonics, &
+   use ffrf_app_engine_pressure, only: pressure_model_t, pressure_input_t
+   use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, set_harmonics, &
       mode_effect_t, mode_effect, galpha_mode, effective_frequencies, exact_response, &
       galpha_response, body_selection_t, select_modes, select_time_step, step_errors, &
       STEP_LADDER, MAX_TURN_PER_STEP, NUM_HARMONICS

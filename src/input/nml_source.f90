@@ -19,7 +19,7 @@
 !> Array elements (`position(2) = ...`), null values (`, ,`) and `&end` are not accepted: give
 !> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals. A string may not
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
-module ffrf_io_nml_source
+module ffrf_input_nml_source
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -1176,4 +1176,4 @@ contains
       call move_alloc(grown, items)
    end subroutine append_item
 
-end module ffrf_io_nml_source
+end module ffrf_input_nml_source

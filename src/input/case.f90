@@ -1,24 +1,24 @@
 !> A case file: the namelist groups of one run, read, checked against each other, and echoed.
-!> The case text is read once into memory (ffrf_io_nml_source: a regular file of at most 16 MiB,
+!> The case text is read once into memory (ffrf_input_nml_source: a regular file of at most 16 MiB,
 !> or standard input for the case name '-', then named "stdin" with relative meshes taken from
 !> the current folder), checked strictly (groups, keys, types, ranges), then read by the group
 !> readers of src/io/nml_*.f90. Checked here across groups: interface and mechanism names, the
 !> output paths of &run (relative, no '..': outputs stay inside --output-dir) and the number of
 !> integration steps (t_end - t_start)/h against &integrator max_steps.
-module ffrf_io_case
+module ffrf_input_case
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
    use ffrf_modes_input, only: body_input_t, modes_input_t
    use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_io_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text
-   use ffrf_io_nml_run, only: run_input_t, read_run_group, run_keys
-   use ffrf_io_nml_body, only: read_body_groups, body_keys
-   use ffrf_io_nml_interface, only: read_interface_groups, interface_keys
-   use ffrf_io_nml_modes, only: read_modes_group, modes_keys
-   use ffrf_io_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
+   use ffrf_input_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text
+   use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys
+   use ffrf_input_nml_body, only: read_body_groups, body_keys
+   use ffrf_input_nml_interface, only: read_interface_groups, interface_keys
+   use ffrf_input_nml_modes, only: read_modes_group, modes_keys
+   use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
-   use ffrf_mbs_mechanism_input, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
+   use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
    implicit none
    private
@@ -550,4 +550,4 @@ contains
       if (dot > 1) name = name(:dot - 1)
    end function case_name_of
 
-end module ffrf_io_case
+end module ffrf_input_case

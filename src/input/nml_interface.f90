@@ -8,13 +8,13 @@
 !>                 [-1e4, 1e4] m
 !>   rc            reference conditions: forbidden virtual-node dofs, 'Tx Ty Tz Rx Ry Rz'
 !>                 or Nastran component digits '123456'; each dof at most once
-module ffrf_io_nml_interface
+module ffrf_input_nml_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_mpc_interface, only: interface_input_t, parse_dofs
-   use ffrf_io_nml_common, only: namelist_read_error
-   use ffrf_io_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
    implicit none
    private
    public :: read_interface_groups, interface_keys
@@ -95,4 +95,4 @@ contains
       end do
    end subroutine read_interface_groups
 
-end module ffrf_io_nml_interface
+end module ffrf_input_nml_interface

@@ -9,7 +9,7 @@
 !>   geometric_stiffness  mechanism runs, flexible bodies: centrifugal stress stiffening (.false.)
 !>   coarse_meshes  mechanism runs, flexible bodies, &model selection = 'auto': up to 4 coarser
 !>                  meshes of the same geometry, coarse to fine, to choose the mesh from
-!> Mechanism keys (ffrf_mbs_mechanism_input's body_motion_input_t):
+!> Mechanism keys (ffrf_input_mechanism's body_motion_input_t):
 !>   type           'flexible' (default) or 'rigid'
 !>   num_modes      flexible bodies: modes kept, integer in 0..10000 (default: &modes num_modes)
 !>   modal_damping  damping ratio of every mode, in [0, 1)
@@ -18,15 +18,15 @@
 !>   inertia [kg m^2]      Jxx Jyy Jzz Jxy Jyz Jxz, 6 finite reals in [-1e12, 1e12], positive
 !>                         definite when it is used
 !>   position [m]   start position of the body frame, 3 finite reals in [-1e4, 1e4] m
-!> Types, counts and ranges are checked by ffrf_io_nml_source from body_keys.
-module ffrf_io_nml_body
+!> Types, counts and ranges are checked by ffrf_input_nml_source from body_keys.
+module ffrf_input_nml_body
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: body_input_t, MAX_VOLUMES
-   use ffrf_mbs_mechanism_input, only: body_motion_input_t
-   use ffrf_io_nml_common, only: namelist_read_error
-   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &
+   use ffrf_input_mechanism, only: body_motion_input_t
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &
       choice_key, nml_source_t
    implicit none
    private
@@ -124,7 +124,7 @@ contains
       end do
    end subroutine read_body_groups
 
-   !> Cross-key checks of one &body (single keys are checked by ffrf_io_nml_source).
+   !> Cross-key checks of one &body (single keys are checked by ffrf_input_nml_source).
    subroutine check_body(src, body, motion, occurrence, error)
       type(nml_source_t), intent(in) :: src
       type(body_input_t), intent(in) :: body
@@ -204,4 +204,4 @@ contains
       ok = d3 > 0.0_dp
    end function positive_definite
 
-end module ffrf_io_nml_body
+end module ffrf_input_nml_body

@@ -1,8 +1,8 @@
-!> A mechanism_t from a case file's input (namelists of ffrf_io_case) and the modal results of
+!> A mechanism_t from a case file's input (namelists of ffrf_input_case) and the modal results of
 !> its meshed bodies: bodies, markers, joints, loads, crank, and the consistent starting pose.
 !>
 !> Bodies. Mechanism body 1 is the ground; then every &body in input order. A flexible body is
-!> the reduced FFRF body of its modes (flexible_body_t through flexible_body_adapter_t); with
+!> the reduced FFRF body of its modes (flexible_body_t); with
 !> num_modes = 0 it moves rigidly with its mesh's exact inertia. A rigid body is a rigid_body_t
 !> with the &body mass keys, or with its mesh's mass properties (mass, centre of mass, inertia
 !> about it, from the consistent mass matrix) when it has a mesh_file.
@@ -19,27 +19,28 @@
 !> the same frame in the starting pose (the joints of ffrf_mbs_joints expect coinciding frames).
 !> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
 !> (its marker axes are the body axes): this is checked.
-module ffrf_sim_mechanism_builder
+module ffrf_app_mechanism_builder
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_posix, only: check_input_file
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
-   use ffrf_io_case, only: case_input_t, body_index
-   use ffrf_io_nml_body, only: inertia_tensor
+   use ffrf_input_case, only: case_input_t, body_index
+   use ffrf_input_nml_body, only: inertia_tensor
    use ffrf_modes_input, only: modes_input_t, body_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
-   use ffrf_mbs_mechanism_input, only: GROUND_NAME, load_input_t
+   use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
-   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t, flexible_body_adapter_t
+   use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: load_t, pressure_force_t, starter_torque_t, &
-      drag_torque_t, constant_load_t, LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_pressure, only: pressure_model_t
-   use ffrf_sim_auto_model, only: model_choice_t, start_model_selection, selects_body, &
+   use ffrf_mbs_mechanism_loads, only: load_t, starter_torque_t, drag_torque_t, &
+      constant_load_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_pressure_load, only: pressure_force_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
+   use ffrf_app_engine_auto_model, only: model_choice_t, start_model_selection, selects_body, &
       select_body_model, select_step
    implicit none
    private
@@ -98,7 +99,7 @@ contains
       type(pressure_model_t), intent(out) :: pressure
       logical, intent(out) :: has_pressure
       type(error_t), allocatable, intent(out) :: error
-      !> The automatic model (&model selection; ffrf_sim_auto_model): what it chose, with the
+      !> The automatic model (&model selection; ffrf_app_engine_auto_model): what it chose, with the
       !> time step when &integrator gives none (choice%h > 0)
       type(model_choice_t), intent(out), optional :: choice
       type(model_choice_t) :: model
@@ -203,7 +204,7 @@ contains
             if (case%mechanism%markers(k)%body == body .and. &
                case%mechanism%markers(k)%name == name) exit
          end do
-         ! (ffrf_io_case checked that the marker exists)
+         ! (ffrf_input_case checked that the marker exists)
          lists(b)%names = [character(len=64) :: lists(b)%names, name]
          lists(b)%xyz = reshape([lists(b)%xyz, case%mechanism%markers(k)%position], &
             [3, size(lists(b)%names)])
@@ -229,7 +230,6 @@ contains
       type(modes_input_t) :: modes_input
       type(csr_t) :: mass_matrix, stiffness_matrix
       type(flexible_body_t) :: flexible
-      type(flexible_body_adapter_t) :: adapter
       type(rigid_body_t) :: rigid
       type(stage_timer_t) :: timer
       real(dp) :: mass, com(3), inertia(3, 3)
@@ -298,12 +298,11 @@ contains
                   '(the body moves rigidly)')
             end if
          end if
-         if (.not. allocated(error)) call adapter%init(flexible, error)
-         if (.not. allocated(error)) call mech%add_body(adapter, name, built%index, error)
+         if (.not. allocated(error)) call mech%add_body(flexible, name, built%index, error)
          if (allocated(error)) return
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
-            to_str(flexible%num_interfaces) // ' interface marker(s)' // &
+            to_str(flexible%num_markers) // ' interface marker(s)' // &
             trim(merge(', geometric stiffness', '                     ', &
             allocated(flexible%geometric_stiffness))))
       end associate
@@ -570,4 +569,4 @@ contains
          'the &body positions and &marker points: the joints must nearly close)')
    end subroutine starting_state
 
-end module ffrf_sim_mechanism_builder
+end module ffrf_app_mechanism_builder

@@ -1,24 +1,24 @@
 !> The automatic model of a mechanism case (&model selection = 'auto'; the rules and error
-!> estimates are in ffrf_sim_model_selection): which case qualifies, the mesh and modes of each
-!> flexible body whose num_modes the input leaves open, the time step when &integrator gives
+!> estimates are in ffrf_app_engine_model_selection): which case qualifies, the mesh and modes of
+!> each flexible body whose num_modes the input leaves open, the time step when &integrator gives
 !> none, and the report of the choice (log and results file, /model_selection).
 !>
 !> The selection runs on an engine case: a crank, a pressure load on a rigid body with a mass
 !> (the piston) and a drag load (the regime speed). Anything else keeps the manual defaults
 !> (&modes num_modes, h = 1e-3 s), with a note that says why.
-module ffrf_sim_auto_model
+module ffrf_app_engine_auto_model
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_la_sparse, only: csr_t
-   use ffrf_io_case, only: case_input_t, body_index, vector_text
-   use ffrf_io_engine_results, only: engine_results_t
+   use ffrf_input_case, only: case_input_t, body_index, vector_text
+   use ffrf_app_engine_results, only: engine_results_t
    use ffrf_modes_input, only: modes_input_t, body_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
-   use ffrf_mbs_mechanism_input, only: GROUND_NAME
-   use ffrf_mbs_pressure, only: pressure_model_t
-   use ffrf_sim_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
+   use ffrf_input_mechanism, only: GROUND_NAME
+   use ffrf_app_engine_pressure, only: pressure_model_t
+   use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
       mode_effect_t, select_modes, mesh_frequency_error, select_time_step, step_errors
    implicit none
    private
@@ -131,7 +131,7 @@ contains
    end function selects_body
 
    !> Modes of body k on its candidate meshes, coarse to fine, until one meets the mesh budget
-   !> (ffrf_sim_model_selection, 3); the kept modes of that mesh in `modes`, its mass matrix.
+   !> (ffrf_app_engine_model_selection, 3); the kept modes of that mesh in `modes`, its mass matrix.
    subroutine select_body_model(case, k, mesh_dir, log, times, choice, modes, mass_matrix, &
          error)
       type(case_input_t), intent(in) :: case
@@ -399,8 +399,8 @@ contains
       if (allocated(modes%residual)) modes%residual = modes%residual(kept)
    end subroutine keep_modes
 
-   !> The step from the harmonics and the kept modes of every selected body (ffrf_sim_model_
-   !> selection, 4); h = 0 when &integrator gives it.
+   !> The step from the harmonics and the kept modes of every selected body
+   !> (ffrf_app_engine_model_selection, 4); h = 0 when &integrator gives it.
    subroutine select_step(case, log, choice)
       type(case_input_t), intent(in) :: case
       type(logger_t), intent(in) :: log
@@ -540,4 +540,4 @@ contains
       end do
    end subroutine write_model_choice
 
-end module ffrf_sim_auto_model
+end module ffrf_app_engine_auto_model

@@ -1,5 +1,5 @@
 !> Error estimates and rules of the automatic engine model (issue 4, part 3; the choices are made
-!> by ffrf_sim_auto_model). Everything is predicted before the integration, in the periodic
+!> by ffrf_app_engine_auto_model). Everything is predicted before the integration, in the periodic
 !> regime of the rigid engine:
 !>
 !> 1. Excitation. Regime speed from the balance of the mean indicated torque and the drag load,
@@ -12,7 +12,7 @@
 !>    e^(i k theta / 2) + mean).
 !> 2. A mode j of a flexible body, frequency f~_j with the masses m_i jointed at its interfaces
 !>    (Rayleigh quotient with point masses; u_ji the translation of virtual node i relative to
-!>    the interfaces the bearings hold, ffrf_sim_auto_model):
+!>    the interfaces the bearings hold, ffrf_app_engine_auto_model):
 !>       f~_j = f_j / sqrt(1 + A_j),  A_j = sum_i m_i |u_ji|^2,  mu_j = A_j / (1 + A_j).
 !>    In a statically determinate chain the quasi-static deflection of the mode does not change
 !>    the joint forces; its dynamic excess does, through the inertia of the jointed masses, a
@@ -42,11 +42,11 @@
 !>    2)^2 / max|F| (the steps fall up to half a step from the peak). The largest step of the
 !>    ladder {1, 1.25, 1.6, 2, 2.5, 3.2, 4, 5, 6.4, 8} 10^n within the budgets and a crank turn of
 !>    at most 10 deg per step is taken.
-module ffrf_sim_model_selection
+module ffrf_app_engine_model_selection
    use ffrf_core_kinds, only: dp, ip, pi
    use ffrf_la_lapack, only: dgeev
    use ffrf_mbs_generalized_alpha, only: chung_hulbert
-   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
    implicit none
    private
    public :: excitation_t, engine_excitation, set_harmonics, mode_effect_t, mode_effect
@@ -542,4 +542,4 @@ contains
       end do
    end subroutine select_time_step
 
-end module ffrf_sim_model_selection
+end module ffrf_app_engine_model_selection

@@ -1,6 +1,6 @@
 !> A mechanism case from its namelist file to its results: read and echo the input, compute the
 !> modes of the flexible bodies, build the mechanism, integrate it with generalized-alpha and
-!> write the time histories progressively (ffrf_io_engine_results), the redundant constraint
+!> write the time histories progressively (ffrf_app_engine_results), the redundant constraint
 !> equations, the integrator's counters, the final state and a Gmsh animation of each flexible
 !> body's elastic deformation over the last 720 deg of the crank. Nothing here stops or prints
 !> errors; a failed integration still closes the results file with every recorded step, the
@@ -12,7 +12,7 @@
 !> energy taken by modal damping). For the exact solution D = 0; generalized-alpha with
 !> rho_inf < 1 removes energy from the high frequencies, so D grows slowly (and the trapezoidal
 !> quadrature adds O(h^2)).
-module ffrf_sim_mechanism_case
+module ffrf_app_mechanism_run
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
       FFRF_IO_ERROR, FFRF_INTERRUPTED
@@ -20,21 +20,21 @@ module ffrf_sim_mechanism_case
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
-   use ffrf_io_case, only: case_input_t, read_case, case_echo
-   use ffrf_io_engine_results, only: engine_results_t
+   use ffrf_input_case, only: case_input_t, read_case, case_echo
+   use ffrf_app_engine_results, only: engine_results_t
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_io_results, only: output_lock_t, partial_name, commit_file, abandon_file, &
       check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
-   use ffrf_modes_modal_case, only: run_options_t, set_log_level
+   use ffrf_app_run_options, only: run_options_t, set_log_level
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
-   use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
-   use ffrf_sim_auto_model, only: model_choice_t, write_model_choice
-   use ffrf_sim_mechanism_session, only: start_integration, move_modes
+   use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
+   use ffrf_app_mechanism_session, only: start_integration, move_modes
    implicit none
    private
    public :: run_mechanism_case, run_mechanism
@@ -880,4 +880,4 @@ contains
       history%num_steps = num_steps
    end subroutine history_from
 
-end module ffrf_sim_mechanism_case
+end module ffrf_app_mechanism_run

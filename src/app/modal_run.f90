@@ -1,16 +1,16 @@
 !> A modal case from its namelist file to its results: read and echo the input, compute the
 !> constrained normal modes of every body, write the HDF5 results and a Gmsh file of the modes.
 !> The batch driver and the C API call `run_modal_case`; nothing here stops or prints errors.
-module ffrf_modes_modal_case
+module ffrf_app_modal_run
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INTERRUPTED, &
       FFRF_INPUT_ERROR
    use ffrf_core_posix, only: pending_signal, signal_name
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
-   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, &
-      LOG_QUIET, LOG_INFO, LOG_DEBUG
-   use ffrf_io_case, only: case_input_t, read_case, case_echo
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib
+   use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_input_case, only: case_input_t, read_case, case_echo
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_io_results, only: results_create, results_write_body, results_finish, &
       output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
@@ -18,23 +18,8 @@ module ffrf_modes_modal_case
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    implicit none
    private
+   !> run_options_t and set_log_level (ffrf_app_run_options) are public here too
    public :: run_options_t, run_modal_case, run_modal, set_log_level
-
-   !> Where inputs come from and results go, and how much to log.
-   type :: run_options_t
-      !> Folder of relative mesh files ('' = the case file's folder)
-      character(len=:), allocatable :: mesh_dir
-      !> Folder of the results ('' = current folder)
-      character(len=:), allocatable :: output_dir
-      !> Log level from the command line (-1: take &run log_level)
-      integer :: log_level = -1
-      !> Replace an existing results file when the run has finished (--no-overwrite: refuse
-      !> to start when it exists)
-      logical :: overwrite = .true.
-      !> Results (or checkpoint) file of an earlier run of the case to continue from
-      !> (--restart FILE; '' = start from t_start)
-      character(len=:), allocatable :: restart_file
-   end type run_options_t
 
 contains
 
@@ -189,24 +174,6 @@ contains
 
    end subroutine run_modal
 
-   !> The log level of the command line options, else that of the case ('quiet', 'info',
-   !> 'debug').
-   subroutine set_log_level(log, options, case_level)
-      type(logger_t), intent(inout) :: log
-      type(run_options_t), intent(in) :: options
-      character(len=*), intent(in) :: case_level
-      log%level = options%log_level
-      if (log%level >= 0) return
-      select case (trim(case_level))
-      case ('quiet')
-         log%level = LOG_QUIET
-      case ('debug')
-         log%level = LOG_DEBUG
-      case default
-         log%level = LOG_INFO
-      end select
-   end subroutine set_log_level
-
    subroutine log_frequency_table(log, body, rc_label)
       type(logger_t), intent(in) :: log
       type(body_modes_t), intent(in) :: body
@@ -224,4 +191,4 @@ contains
       end do
    end subroutine log_frequency_table
 
-end module ffrf_modes_modal_case
+end module ffrf_app_modal_run

@@ -21,15 +21,17 @@
 !>
 !> The piston force is -(p - p_ref) pi B^2 / 4 along +y (scene.md: the gas pushes the piston towards
 !> the crank, -y, since crank angle 0 puts the pin at +y).
-module ffrf_mbs_pressure
+module ffrf_app_engine_pressure
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_mbs_slider_crank, only: cylinder_volume, cylinder_dvolume, swept_volume, &
+   use ffrf_input_pressure, only: pressure_input_t
+   use ffrf_app_engine_slider_crank, only: cylinder_volume, cylinder_dvolume, swept_volume, &
       clearance_volume
    implicit none
    private
+   !> pressure_input_t (ffrf_input_pressure) is public here too, the type init takes
    public :: pressure_input_t, pressure_model_t, wiebe_rate
 
    !> Period of the four-stroke cycle in crank rotation (rad)
@@ -38,41 +40,6 @@ module ffrf_mbs_pressure
    real(dp), parameter :: deg = pi / 180.0_dp
    !> Widest piece of one Gauss-Legendre rule in the work integrals (rad): 0.5 deg
    real(dp), parameter :: max_gauss_piece = 0.5_dp * pi / 180.0_dp
-
-   !> Engine data of the pressure model; SI units, angles in degrees of the 720 deg cycle. Defaults:
-   !> the reference engine of scene.md.
-   type :: pressure_input_t
-      !> Bore B (m)
-      real(dp) :: bore = 0.080_dp
-      !> Stroke S = 2 r (m)
-      real(dp) :: stroke = 0.090_dp
-      !> Conrod length l between the pin centres (m), l > S/2
-      real(dp) :: conrod_length = 0.150_dp
-      !> Compression ratio r_c = (V_c + V_d) / V_c, > 1
-      real(dp) :: compression_ratio = 10.0_dp
-      !> Intake pressure (Pa), also p at the start of compression (180 deg)
-      real(dp) :: intake_pressure = 1.0e5_dp
-      !> Exhaust pressure (Pa), from blow-down at 540 deg to 720 deg
-      real(dp) :: exhaust_pressure = 1.05e5_dp
-      !> Polytropic exponent n of compression and expansion, > 1
-      real(dp) :: polytropic_exponent = 1.32_dp
-      !> Wiebe efficiency parameter a (a = 5: 99.3 % burned after the duration)
-      real(dp) :: wiebe_a = 5.0_dp
-      !> Wiebe form factor m
-      real(dp) :: wiebe_m = 2.0_dp
-      !> Start of combustion theta_0 (deg of the cycle, firing TDC at 360)
-      real(dp) :: combustion_start_deg = 350.0_dp
-      !> Combustion duration Dtheta (deg)
-      real(dp) :: combustion_duration_deg = 60.0_dp
-      !> Heat released per cycle Q (J); negative: tuned so that the peak is target_peak_pressure
-      real(dp) :: heat_per_cycle = -1.0_dp
-      !> Peak pressure the tuned heat gives (Pa); used when heat_per_cycle < 0
-      real(dp) :: target_peak_pressure = 55.0e5_dp
-      !> Pressure on the underside of the piston (Pa): force = -(p - p_ref) A
-      real(dp) :: reference_pressure = 1.0e5_dp
-      !> Largest RK4 step of the closed part (deg); the step is also at most duration / 200
-      real(dp) :: step_deg = 0.05_dp
-   end type pressure_input_t
 
    !> Cylinder pressure p(theta) as a periodic piecewise cubic Hermite function of the crank
    !> rotation (period 4 pi), from the single-zone model or from a user table.
@@ -258,11 +225,11 @@ module ffrf_mbs_pressure
       end function wiebe_rate
    end interface
 
-end module ffrf_mbs_pressure
+end module ffrf_app_engine_pressure
 
-!> Bodies of ffrf_mbs_pressure (a submodule, as the house style asks of long modules): the
+!> Bodies of ffrf_app_engine_pressure (a submodule, as the house style asks of long modules): the
 !> single-zone integration, the heat tuning and the piecewise cubic Hermite and spline tables.
-submodule (ffrf_mbs_pressure) ffrf_mbs_pressure_impl
+submodule (ffrf_app_engine_pressure) ffrf_app_engine_pressure_impl
    implicit none
 
 contains
@@ -895,4 +862,4 @@ contains
       end do
    end function thomas
 
-end submodule ffrf_mbs_pressure_impl
+end submodule ffrf_app_engine_pressure_impl

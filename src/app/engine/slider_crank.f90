@@ -4,7 +4,7 @@
 !> derivatives in theta; cylinder volume V(theta) and dV/dtheta (theory.md section 6). At constant
 !> crank speed omega the piston velocity is omega dy/dtheta and its acceleration
 !> omega^2 d2y/dtheta2. All functions require l > r > 0 (callers check it once).
-module ffrf_mbs_slider_crank
+module ffrf_app_engine_slider_crank
    use ffrf_core_kinds, only: dp, pi
    implicit none
    private
@@ -129,4 +129,4 @@ contains
       w = sqrt(conrod_length**2 - (crank_radius * sin(theta))**2)
    end function rod_root
 
-end module ffrf_mbs_slider_crank
+end module ffrf_app_engine_slider_crank

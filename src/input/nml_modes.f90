@@ -11,13 +11,13 @@
 !>   basis        'rc_normal' (default: constrained normal modes of the RC set) or
 !>                'craig_bampton' (static constraint modes of the non-RC virtual-node dofs +
 !>                num_modes fixed-interface modes, orthonormalised; Heirman & Desmet 2010)
-module ffrf_io_nml_modes
+module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_modes_input, only: modes_input_t
-   use ffrf_io_nml_common, only: namelist_read_error
-   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    implicit none
    private
@@ -92,4 +92,4 @@ contains
          lanczos_vectors, basis)
    end subroutine read_modes_group
 
-end module ffrf_io_nml_modes
+end module ffrf_input_nml_modes

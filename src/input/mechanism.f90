@@ -1,9 +1,10 @@
 !> Plain input types of a mechanism run, with their defaults (namelist groups &body's motion
 !> keys, &marker, &joint, &load, &pressure, &integrator, &mechanism; readers in
-!> src/io/nml_mechanism.f90 and src/io/nml_body.f90). SI units; angles in degrees where named so.
-module ffrf_mbs_mechanism_input
+!> src/input/nml_mechanism.f90 and src/input/nml_body.f90). SI units; angles in degrees where named
+!> so.
+module ffrf_input_mechanism
    use ffrf_core_kinds, only: dp, i8
-   use ffrf_mbs_pressure, only: pressure_input_t
+   use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    implicit none
    private
@@ -33,7 +34,7 @@ module ffrf_mbs_mechanism_input
       real(dp) :: position(3) = 0.0_dp
       !> Flexible bodies under &model selection = 'auto': coarser meshes of the same geometry,
       !> coarse to fine (mesh_file is the finest); the selection takes the coarsest one whose
-      !> estimated error meets the targets (ffrf_sim_model_selection)
+      !> estimated error meets the targets (ffrf_app_engine_model_selection)
       character(len=256) :: coarse_meshes(4) = ''
    end type body_motion_input_t
 
@@ -92,7 +93,7 @@ module ffrf_mbs_mechanism_input
       integer :: animation_frames = 24
    end type mechanism_input_t
 
-   !> Automatic model selection (&model; ffrf_sim_model_selection).
+   !> Automatic model selection (&model; ffrf_app_engine_model_selection).
    type :: model_input_t
       !> 'auto': an engine run (a crank, a pressure and a drag load) gets the smallest model whose
       !> predicted error meets the tolerances for every choice the input leaves open (a flexible
@@ -103,7 +104,7 @@ module ffrf_mbs_mechanism_input
       real(dp) :: speed_tolerance = 1.0e-3_dp, force_tolerance = 1.0e-2_dp
       !> Modes computed per body to choose from
       integer :: candidate_modes = 20
-      !> Floor of |1 - r^2| in a mode's forced response (ffrf_sim_model_selection, 2)
+      !> Floor of |1 - r^2| in a mode's forced response (ffrf_app_engine_model_selection, 2)
       real(dp) :: resonance_floor = 0.1_dp
       !> .true. when &integrator gives h (set by the reader, not a namelist key)
       logical :: h_given = .false.
@@ -126,4 +127,4 @@ module ffrf_mbs_mechanism_input
       type(model_input_t) :: model
    end type mechanism_case_input_t
 
-end module ffrf_mbs_mechanism_input
+end module ffrf_input_mechanism

@@ -1,21 +1,21 @@
 !> `ffrf --check`: everything of a case that can be checked without computing modes or
-!> integrating: the case text (ffrf_io_case), every flexible body's mesh and coarse meshes (read,
+!> integrating: the case text (ffrf_input_case), every flexible body's mesh and coarse meshes (read,
 !> the body's volumes extracted, its interfaces built: nodes, weights, virtual node, reference
 !> conditions parsed), the meshes of rigid bodies that take their mass from a mesh, and the
 !> pressure model or table of an engine. Meant for quick validation, e.g. by a fuzzer: no
 !> results file is written and no matrix is assembled.
-module ffrf_sim_check_case
+module ffrf_app_check_case
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path
    use ffrf_core_log, only: logger_t
-   use ffrf_io_case, only: case_input_t
+   use ffrf_input_case, only: case_input_t
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_mpc_interface, only: interface_t, build_interface
-   use ffrf_modes_modal_case, only: run_options_t, set_log_level
-   use ffrf_mbs_pressure, only: pressure_model_t
-   use ffrf_sim_mechanism_builder, only: make_pressure_model
+   use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_app_engine_pressure, only: pressure_model_t
+   use ffrf_app_mechanism_builder, only: make_pressure_model
    implicit none
    private
    public :: check_case
@@ -108,4 +108,4 @@ contains
       end associate
    end subroutine check_body_mesh
 
-end module ffrf_sim_check_case
+end module ffrf_app_check_case

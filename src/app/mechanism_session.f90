@@ -15,22 +15,22 @@
 !> case's t_end, or before the current time, is an error (FFRF_INPUT_ERROR).
 !>
 !> Not here (see run_mechanism): the results file, checkpoints, --restart and animations.
-module ffrf_sim_mechanism_session
+module ffrf_app_mechanism_session
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
       FFRF_INTERRUPTED
    use ffrf_core_posix, only: pending_signal, signal_name
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
-   use ffrf_io_case, only: case_input_t
+   use ffrf_input_case, only: case_input_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
    use ffrf_mbs_host_load, only: host_load_t
-   use ffrf_mbs_pressure, only: pressure_model_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t, galpha_settings_t
-   use ffrf_sim_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_modes_modal_analysis, only: body_modes_t
-   use ffrf_sim_auto_model, only: model_choice_t
+   use ffrf_app_engine_auto_model, only: model_choice_t
    implicit none
    private
    public :: mechanism_session_t, start_integration, move_modes
@@ -309,7 +309,7 @@ contains
    !> Global position (m), velocity (m/s) and angular velocity (rad/s) of a marker: r_k(q),
    !> L_r v and L_w v (theory.md 3.5). A flexible body's markers are its interfaces' virtual
    !> nodes in input order; a rigid body's are made from its &marker points per joint end and
-   !> load (ffrf_sim_mechanism_builder).
+   !> load (ffrf_app_mechanism_builder).
    subroutine session_marker_motion(self, body, marker, position, velocity, &
          angular_velocity, error)
       class(mechanism_session_t), intent(in) :: self
@@ -440,4 +440,4 @@ contains
       self%prepared = .false.
    end subroutine session_finish
 
-end module ffrf_sim_mechanism_session
+end module ffrf_app_mechanism_session

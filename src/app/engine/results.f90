@@ -19,7 +19,7 @@
 !> counters) anywhere in the file.
 !> Steps are buffered in memory and appended + flushed every `steps_per_flush` steps (100 by
 !> default) and by `finish`: HDF5 is touched once per chunk, not once per step.
-module ffrf_io_engine_results
+module ffrf_app_engine_results
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
@@ -502,4 +502,4 @@ contains
       end if
    end subroutine check_not_started
 
-end module ffrf_io_engine_results
+end module ffrf_app_engine_results

@@ -6,13 +6,13 @@
 !>   mode_shapes_msh  Gmsh file to animate the modes (default <case>_modes.msh; 'none': no file);
 !>                    same rules as output
 !>   log_level        'quiet', 'info' (default) or 'debug'
-!> Types, lengths and choices are checked by ffrf_io_nml_source from run_keys; the output
-!> paths by ffrf_io_case.
-module ffrf_io_nml_run
+!> Types, lengths and choices are checked by ffrf_input_nml_source from run_keys; the output
+!> paths by ffrf_input_case.
+module ffrf_input_nml_run
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
-   use ffrf_io_nml_common, only: namelist_read_error
-   use ffrf_io_nml_source, only: key_spec_t, string_key, choice_key
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key
    implicit none
    private
    public :: run_input_t, read_run_group, run_keys
@@ -65,4 +65,4 @@ contains
       input = run_input_t(title, output, mode_shapes_msh, log_level)
    end subroutine read_run_group
 
-end module ffrf_io_nml_run
+end module ffrf_input_nml_run

@@ -14,9 +14,9 @@
 !>                checkpoint_seconds, checkpoint_steps                       (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
-!> Defaults: ffrf_mbs_mechanism_input, ffrf_mbs_pressure's pressure_input_t (the scene's engine)
-!> and galpha_settings_t. Names are checked against each other by ffrf_io_case.
-!> Types, counts and ranges (checked by ffrf_io_nml_source from the *_keys functions below; every
+!> Defaults: ffrf_input_mechanism, ffrf_input_pressure's pressure_input_t (the scene's engine)
+!> and galpha_settings_t. Names are checked against each other by ffrf_input_case.
+!> Types, counts and ranges (checked by ffrf_input_nml_source from the *_keys functions below; every
 !> real must be finite; names and labels <= 64 characters, file names <= 256):
 !>   &mechanism  crank_angle_deg in [-720, 720] deg; crank_speed in [-1e4, 1e4] rad/s; gravity:
 !>               3 reals in [-1e4, 1e4] m/s^2; progress_interval in (0, 1e6] s;
@@ -42,16 +42,16 @@
 !>               checkpoint_seconds in [0, 1e9] s (the checkpoint work)
 !>   &model      speed_tolerance, force_tolerance in (0, 1); candidate_modes in 1..200;
 !>               resonance_floor in (0, 1]
-module ffrf_io_nml_mechanism
+module ffrf_input_nml_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_io_nml_common, only: namelist_read_error
-   use ffrf_io_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
-   use ffrf_mbs_mechanism_input, only: mechanism_case_input_t, mechanism_input_t, &
+   use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t
-   use ffrf_mbs_pressure, only: pressure_input_t
+   use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
    use ffrf_mbs_joints, only: joint_kinds
@@ -123,7 +123,7 @@ contains
          real_key('reference_pressure', 0.0_dp, 1.0e9_dp, 'Pa'), string_key('table_file', 256)]
    end function pressure_keys
 
-   !> Keys of &integrator (module header). max_steps is read from the source by ffrf_io_case
+   !> Keys of &integrator (module header). max_steps is read from the source by ffrf_input_case
    !> (not a namelist key); checkpoint_steps and checkpoint_seconds belong to the checkpoint work.
    function integrator_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
@@ -537,4 +537,4 @@ contains
          error%message
    end subroutine read_integrator_group
 
-end module ffrf_io_nml_mechanism
+end module ffrf_input_nml_mechanism

@@ -1,6 +1,6 @@
 !> Shared helper of the namelist readers: the error text of a failed namelist read (a fallback:
-!> ffrf_io_nml_source checks groups, keys and types before any namelist read).
-module ffrf_io_nml_common
+!> ffrf_input_nml_source checks groups, keys and types before any namelist read).
+module ffrf_input_nml_common
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    implicit none
@@ -27,4 +27,4 @@ contains
          ' (valid keys: ' // keys // ')')
    end subroutine namelist_read_error
 
-end module ffrf_io_nml_common
+end module ffrf_input_nml_common
