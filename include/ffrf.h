@@ -4,6 +4,9 @@
  * exits or prints, and installs no signal handlers. Every call returns a status (FFRF_OK = 0)
  * and keeps its message in the handle (ffrf_last_error). Reference: docs/api.md.
  *
+ * Threads: distinct handles may be used from distinct threads, but computing modes and writing
+ * results must be serialised by the host (ARPACK and a serial HDF5 are not reentrant).
+ *
  * Indices are 0-based: body 0..n-1 in the order of the case's &body groups (the ground is not
  * a body here), marker 0..m-1, joint 0..j-1 in the order of the &joint groups, mode 0..k-1.
  * Arrays are column-major (Fortran order); lengths are counts of doubles.
@@ -148,8 +151,9 @@ int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[
 
 /* ---------------------------------------------------------------- a case from arrays */
 
-/* MPC kinds of an interface (ffrf_case_add_interface). */
-enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2 };
+/* MPC kinds of an interface (ffrf_case_add_interface): RBE2 (rigid), RBE3 with uniform
+ * weights (Nastran's default), RBE3 with area weights. */
+enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3 };
 
 /* An empty modal case to build from arrays; then ffrf_case_run computes the modes of its
  * bodies and the body queries above apply. Nothing is written. */
@@ -166,7 +170,7 @@ int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const doub
 int ffrf_case_add_surface(ffrf_case *c, int body, const char *name, int nodes_per_triangle,
                           int num_triangles, const int *triangles);
 
-/* An interface on a surface: mpc FFRF_RBE2 or FFRF_RBE3 (uniform weights), virtual node at
+/* An interface on a surface: mpc FFRF_RBE2, FFRF_RBE3 or FFRF_RBE3_AREA, virtual node at
  * virtual_node[3] (m; NULL: the area centroid of the surface), reference conditions rc[6]
  * (non-zero: the virtual node's Tx Ty Tz Rx Ry Rz is held; NULL: none). */
 int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,

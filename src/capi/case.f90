@@ -37,10 +37,11 @@ module ffrf_capi_case
    use ffrf_app_mechanism_session, only: mechanism_session_t, move_modes
    implicit none
    private
-   public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3
+   public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
 
-   !> MPC kinds of an interface given from arrays (add_interface)
-   integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2
+   !> MPC kinds of an interface given from arrays (add_interface): RBE2, RBE3 with uniform
+   !> weights (Nastran's default), RBE3 with area weights
+   integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3
 
    !> Status of a call out of order, a bad index or argument, a buffer too small (the C API's
    !> FFRF_BAD_CALL); the other codes are those of ffrf_core_error
@@ -299,8 +300,8 @@ contains
       end associate
    end subroutine case_add_surface
 
-   !> An interface of body `body` on its surface `surface` (add_surface): mpc FFRF_RBE2 or
-   !> FFRF_RBE3 (uniform weights), virtual node at `position` (m) or, absent, at the area
+   !> An interface of body `body` on its surface `surface` (add_surface): mpc FFRF_RBE2,
+   !> FFRF_RBE3 (uniform weights) or FFRF_RBE3_AREA (area weights), virtual node at `position` (m) or, absent, at the area
    !> centroid of the surface, reference conditions rc = forbidden virtual-node dofs
    !> Tx Ty Tz Rx Ry Rz.
    subroutine case_add_interface(self, body, surface, mpc, rc, error, position)
@@ -322,9 +323,10 @@ contains
             '" has no surface "' // trim(surface) // '"; add it with add_surface first')
          return
       end if
-      if (mpc /= FFRF_RBE2 .and. mpc /= FFRF_RBE3) then
+      if (mpc /= FFRF_RBE2 .and. mpc /= FFRF_RBE3 .and. mpc /= FFRF_RBE3_AREA) then
          call bad_call(error, 'add_interface: mpc = ' // to_str(mpc) // '; give FFRF_RBE2 (' &
-            // to_str(FFRF_RBE2) // ') or FFRF_RBE3 (' // to_str(FFRF_RBE3) // ')')
+            // to_str(FFRF_RBE2) // '), FFRF_RBE3 (' // to_str(FFRF_RBE3) // &
+            ') or FFRF_RBE3_AREA (' // to_str(FFRF_RBE3_AREA) // ')')
          return
       end if
       if (any(self%case%interfaces%body == self%case%bodies(body)%name .and. &
@@ -336,6 +338,7 @@ contains
       input%body = self%case%bodies(body)%name
       input%name = surface
       input%mpc = merge('RBE2', 'RBE3', mpc == FFRF_RBE2)
+      if (mpc == FFRF_RBE3_AREA) input%weighting = 'area'
       if (present(position)) then
          input%virtual_node = 'position'
          input%position = position

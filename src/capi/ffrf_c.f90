@@ -18,11 +18,11 @@ module ffrf_c
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
-      ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3
+      ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
    public :: ffrf_c_string
 
    !> MPC kinds of ffrf_case_add_interface
-   integer(c_int), parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2
+   integer(c_int), parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3
 
    !> Status codes of include/ffrf.h
    integer(c_int), parameter :: FFRF_OK = 0, FFRF_BAD_CALL = 1, FFRF_INPUT_ERROR = 2, &

@@ -165,7 +165,7 @@ int main(int argc, char **argv)
                "give at least one triangle of 3 or 6 nodes");
         EXPECT(arrays, ffrf_case_add_surface(arrays, 0, "face", 3, 1, tri), FFRF_OK, "");
         EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", 7, NULL, NULL), FFRF_BAD_CALL,
-               "mpc = 7; give FFRF_RBE2 (1) or FFRF_RBE3 (2)");
+               "mpc = 7; give FFRF_RBE2 (1), FFRF_RBE3 (2) or FFRF_RBE3_AREA (3)");
         EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", FFRF_RBE3, NULL, NULL),
                FFRF_OK, "");
         EXPECT(arrays, ffrf_case_set_num_modes(arrays, 0), FFRF_BAD_CALL,
