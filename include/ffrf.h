@@ -68,8 +68,10 @@ int ffrf_body_name(const ffrf_case *c, int body, char *buf, size_t len);
 int ffrf_body_frequencies(const ffrf_case *c, int body, double *hz, int capacity, int *count);
 
 /* Mechanism case: the first call prepares (modes, mechanism, consistent start at t_start);
- * then integrates up to time t (t_start < t <= t_end); call again to go on. Steps are the
- * case's h; one shortened step lands on a t between two steps. */
+ * then integrates up to time t (current time <= t <= t_end; t = t_start on the first call only
+ * prepares); call again to go on. Steps are the case's h; one shortened step lands on a t
+ * between two steps, so with every t a multiple of h the states are the driver's, bitwise.
+ * A t beyond t_end or before the current time: FFRF_INPUT_ERROR. */
 int ffrf_mechanism_advance(ffrf_case *c, double t);
 
 /* Crank angle (rad, unwrapped over revolutions) and speed (rad/s) of the current state. */
@@ -145,7 +147,7 @@ int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double m
 
 /* Apply a global force (N) and moment (N m) at a marker from now on, until set again (the
  * host's load of the next interval of co-simulation). NULL means zero. After the first
- * ffrf_mechanism_advance. */
+ * ffrf_mechanism_advance (advance to t_start to set a load for the first interval). */
 int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[3],
                          const double moment[3]);
 
