@@ -1,6 +1,21 @@
-!> `use ffrf` gives the public API of the library: kinds, errors, logging, the modal pipeline,
-!> mechanism runs (bodies, joints, loads, generalized-alpha), the signal handling a batch
-!> program installs so that SIGTERM & co. end a run cleanly.
+!> `use ffrf`: the public Fortran API of the library (docs/api.md).
+!>
+!> The case object `ffrf_case_t` is the Fortran face of the C API (include/ffrf.h), with the
+!> same entry points as type-bound procedures, 1-based indices and an error object:
+!>
+!>     type(ffrf_case_t) :: engine
+!>     type(error_t), allocatable :: error
+!>     call engine%open('engine.nml', error, mesh_dir='meshes')       ! nothing written
+!>     call engine%advance(1.0e-3_dp, error)                          ! prepares, then steps
+!>     call engine%crank_state(angle, speed, error)
+!>     call engine%set_marker_load(1, 3, [0, 0, 0]*1.0_dp, [0.0_dp, 0.0_dp, torque], error)
+!>
+!> error%code is FFRF_BAD_CALL (1: call out of order, bad index), FFRF_INPUT_ERROR (2),
+!> FFRF_IO_ERROR (3), FFRF_NUMERIC_ERROR (4) or FFRF_INTERRUPTED (5), the statuses of the C API.
+!> Below it, for programs that drive the stages themselves (the batch driver among them):
+!> kinds, errors, logging, the case reader, the modal pipeline, mechanism runs, and the signal
+!> handling a batch program may install so that SIGTERM & co. end a run cleanly (the library
+!> never installs it on its own).
 module ffrf
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
@@ -20,6 +35,11 @@ module ffrf
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_app_mechanism_run, only: run_mechanism_case, run_mechanism
    use ffrf_app_check_case, only: check_case
+   use ffrf_app_mechanism_session, only: mechanism_session_t
+   use ffrf_capi_case, only: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, &
+      FFRF_RBE3_AREA
+   use ffrf_core_build_info, only: FFRF_VERSION, FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, &
+      FFRF_VERSION_PATCH
    implicit none
    public
 end module ffrf

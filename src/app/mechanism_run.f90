@@ -30,10 +30,11 @@ module ffrf_app_mechanism_run
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_app_engine_pressure, only: pressure_model_t
-   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t, galpha_settings_t
+   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
+   use ffrf_app_mechanism_session, only: start_integration, move_modes
    implicit none
    private
    public :: run_mechanism_case, run_mechanism
@@ -80,7 +81,7 @@ contains
    end subroutine run_mechanism_case
 
    !> Run a mechanism case read by read_case; progress goes to `log`'s unit.
-   subroutine run_mechanism(case, options, log, error)
+   subroutine run_mechanism(case, options, log, error, modes, final_state)
       !> The case, read and checked (a case with &joint groups)
       type(case_input_t), intent(in) :: case
       !> Folders and log level
@@ -88,6 +89,10 @@ contains
       !> Logger (its level is set from the case unless the options fix it)
       type(logger_t), intent(inout) :: log
       type(error_t), allocatable, intent(out) :: error
+      !> The modes of every body (case order; rigid bodies: none), when built (C API)
+      type(body_modes_t), allocatable, intent(out), optional :: modes(:)
+      !> Time (s), crank angle (rad) and speed (rad/s) of the last state (0 when none)
+      real(dp), intent(out), optional :: final_state(3)
       character(len=:), allocatable :: case_file
       type(mechanism_t) :: mech
       type(built_body_t), allocatable :: bodies(:)
@@ -98,15 +103,14 @@ contains
       type(stage_timer_t) :: total, timer
       type(history_t) :: history
       type(model_choice_t) :: model
-      type(galpha_settings_t) :: settings
       type(error_t), allocatable :: run_error, close_error
       type(output_lock_t) :: lock
       type(restart_state_t) :: restart
       type(h5_file_t) :: source
       type(energy_balance_t) :: balance
-      real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: mesh_dir, results_file, temp_file, echo, status
       logical :: has_pressure, restarting, closed
+      integer :: k
 
       call total%begin()
       case_file = case%file_name
@@ -124,6 +128,17 @@ contains
       call run_locked(error)
       call source%close(close_error)
       call lock%release()
+      if (present(modes) .and. allocated(bodies)) then
+         allocate (modes(size(bodies)))
+         do k = 1, size(bodies)
+            call move_modes(bodies(k)%modes, modes(k))
+         end do
+      end if
+      if (present(final_state)) then
+         final_state = 0.0_dp
+         if (allocated(integrator%q)) final_state = [integrator%t, &
+            mech%crank_angle(integrator%q), mech%crank_speed(integrator%q, integrator%v)]
+      end if
 
    contains
 
@@ -141,33 +156,11 @@ contains
             if (allocated(error)) return
          end if
 
-         ! Bodies (modes of the meshed ones), joints, loads, starting pose
-         call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-            has_pressure, error, model)
-         if (allocated(error)) then
-            call add_context(error, case_file)
-            return
-         end if
-         call timer%begin()
-         settings = case%mechanism%integrator
-         if (model%h > 0.0_dp) settings%h = model%h
-         if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info( &
-            'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
-         ! The step count of the h chosen here (read_case checked the given or default h)
-         if ((settings%t_end - settings%t_start) / settings%h > &
-               real(case%mechanism%max_steps, dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
-               'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
-               to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
-               'more than max_steps = ' // to_str(case%mechanism%max_steps) // &
-               '; shorten the run, give h, or raise &integrator max_steps on purpose')
-            return
-         end if
-         call integrator%init(mech, settings, q, v, error)
-         if (allocated(error)) then
-            call add_context(error, case_file // ': starting the integration')
-            return
-         end if
+         ! Bodies (modes of the meshed ones), joints, loads, starting pose, integrator start
+         ! (shared with the mechanism session of the C and Fortran API)
+         call start_integration(case, mesh_dir, log, times, mech, bodies, pressure, &
+            has_pressure, model, integrator, error, timer)
+         if (allocated(error)) return
          if (restarting) then
             call apply_restart(options%restart_file, restart, mech, bodies, integrator, &
                balance, error)

@@ -38,7 +38,7 @@ contains
    end subroutine run_modal_case
 
    !> Run a modal case read by read_case; progress goes to `log`'s unit.
-   subroutine run_modal(case, options, log, error)
+   subroutine run_modal(case, options, log, error, modes)
       !> The case, read and checked
       type(case_input_t), intent(in) :: case
       !> Folders and log level
@@ -46,6 +46,8 @@ contains
       !> Logger (its level is set from the case unless the options fix it)
       type(logger_t), intent(inout) :: log
       type(error_t), allocatable, intent(out) :: error
+      !> The modes of every body (case order; rigid bodies: none), as far as computed (C API)
+      type(body_modes_t), allocatable, intent(out), optional :: modes(:)
       type(error_t), allocatable :: close_error
       character(len=:), allocatable :: case_file
       type(h5_file_t) :: h5
@@ -70,6 +72,7 @@ contains
       if (allocated(error)) return
       call compute_and_write(error)
       call lock%release()
+      if (present(modes) .and. allocated(bodies)) call move_alloc(bodies, modes)
 
    contains
 

@@ -573,7 +573,7 @@ contains
             token = token(:used)
             s%pos = s%pos + 1
             call add_raw(text(start:s%pos - 1))
-            items = [items, item_t(.true., token)]
+            call append_item(items, .true., token)
             need_item = .false.
             cycle
          end if
@@ -607,7 +607,7 @@ contains
             return
          end if
          call add_raw(token)
-         items = [items, item_t(.false., token)]
+         call append_item(items, .false., token)
          need_item = .false.
       end do
       if (size(items) == 0) problem = 'no value given'
@@ -653,9 +653,11 @@ contains
                   items(k)%text // ' is not in 1..' // to_str(key%max_count)
                return
             end if
-            values = [values, (item_t(.false., items(k)%text(star + 1:)), j=1, repeat)]
+            do j = 1, repeat
+               call append_item(values, .false., items(k)%text(star + 1:))
+            end do
          else
-            values = [values, items(k)]
+            call append_item(values, items(k)%quoted, items(k)%text)
          end if
       end do
       if (size(values) < key%min_count .or. size(values) > key%max_count) then
@@ -1154,5 +1156,24 @@ contains
          if (word == to_lower(trim(value))) ok = .true.
       end do
    end function is_choice
+
+   !> Append an item (grown by hand: gfortran 12 leaks the allocatable component of an
+   !> item_t(...) constructor inside an array constructor, seen by valgrind in tests/capi).
+   subroutine append_item(items, quoted, text)
+      type(item_t), allocatable, intent(inout) :: items(:)
+      logical, intent(in) :: quoted
+      character(len=*), intent(in) :: text
+      type(item_t), allocatable :: grown(:)
+      integer :: k, n
+      n = size(items)
+      allocate (grown(n + 1))
+      do k = 1, n
+         grown(k)%quoted = items(k)%quoted
+         call move_alloc(items(k)%text, grown(k)%text)
+      end do
+      grown(n + 1)%quoted = quoted
+      grown(n + 1)%text = text
+      call move_alloc(grown, items)
+   end subroutine append_item
 
 end module ffrf_input_nml_source

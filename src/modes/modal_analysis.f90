@@ -97,7 +97,7 @@ contains
    !> are computed: the body gets its mesh, mass properties and interfaces (a rigid body with the
    !> mesh's exact mass, e.g. a rigid reference in a mechanism run).
    subroutine compute_body_modes(body_input, interface_inputs, modes_input, mesh_dir, log, times, &
-         body, error, mass_matrix, stiffness_matrix)
+         body, error, mass_matrix, stiffness_matrix, body_mesh)
       !> Body: mesh, volumes, material
       type(body_input_t), intent(in) :: body_input
       !> All interfaces of the case (those of this body are used)
@@ -117,6 +117,9 @@ contains
       type(csr_t), intent(out), optional :: mass_matrix
       !> The FE stiffness matrix of the body (for its geometric stiffness: no second assembly)
       type(csr_t), intent(out), optional :: stiffness_matrix
+      !> The body's mesh given in memory (C API, a body from arrays): body_input%mesh_file,
+      !> volumes and mesh_dir are then not used
+      type(mesh_t), intent(in), optional :: body_mesh
       type(mesh_t) :: mesh
       type(material_t) :: material
       type(csr_t) :: K, M, K_r, M_r
@@ -134,10 +137,15 @@ contains
 
       ! Mesh
       call timer%begin()
-      mesh_file = resolve_path(body_input%mesh_file, mesh_dir)
-      call read_gmsh(mesh_file, mesh, error)
-      if (.not. allocated(error)) call extract_body(mesh, &
-         pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
+      if (present(body_mesh)) then
+         mesh_file = '(arrays)'
+         body%mesh = body_mesh
+      else
+         mesh_file = resolve_path(body_input%mesh_file, mesh_dir)
+         call read_gmsh(mesh_file, mesh, error)
+         if (.not. allocated(error)) call extract_body(mesh, &
+            pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
+      end if
       if (allocated(error)) return
       call times%add(tag // ': mesh', timer%seconds())
       call log%info('mesh', tag // ': ' // mesh_file // ', ' // to_str(body%mesh%num_nodes) // &

@@ -1,0 +1,94 @@
+# C API tests (label capi): C99 programs against include/ffrf.h, compiled with
+# -Wall -Wextra -pedantic -Werror.
+#  - capi_bad_calls: every entry point's failure paths (NULL handles and pointers, bad indices,
+#    calls out of order, a missing and a bad case file, small buffers), status and message;
+#    again under AddressSanitizer + UBSan (capi_bad_calls_asan) and valgrind
+#    (capi_bad_calls_valgrind, --leak-check=full, any error fails).
+#  - capi_compare_driver: the C API's frequencies (crank lc 8 mm, RC set 2) equal the driver's
+#    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
+#    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
+#    1e-10 (compare_driver.py reads the driver's HDF5 results).
+set(_capi_out "${PROJECT_BINARY_DIR}/tests/capi")
+file(MAKE_DIRECTORY "${_capi_out}")
+
+# The short engine case: input/engine_rc1.nml on the lc 8 mm meshes, hand-set model, 20 ms
+file(READ "${PROJECT_SOURCE_DIR}/input/engine_rc1.nml" _text)
+string(REPLACE "'crank.msh'" "'crank_lc8.msh'" _text "${_text}")
+string(REPLACE "'conrod.msh'" "'conrod_lc8.msh'" _text "${_text}")
+string(REPLACE "t_end = 2.0" "t_end = 0.02" _text "${_text}")
+string(REPLACE "selection = 'auto'" "selection = 'manual'" _text "${_text}")
+string(REPLACE "&integrator t_end" "&integrator h = 1.0e-4, t_end" _text "${_text}")
+string(REPLACE "type = 'flexible',\n" "type = 'flexible', num_modes = 10,\n" _text "${_text}")
+string(REPLACE "&run title = '" "&run output = 'capi_engine.h5', title = '" _text "${_text}")
+file(WRITE "${_capi_out}/capi_engine.nml" "${_text}")
+
+set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
+# linked from the fat objects' ordinary code (-fno-lto: no link-time optimisation of the whole
+# library into each test, minutes per program)
+set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
+foreach(program test_capi_bad_calls test_capi_run)
+  add_executable(${program} capi/${program}.c)
+  target_link_libraries(${program} PRIVATE ffrf::ffrf m)
+  target_compile_options(${program} PRIVATE ${_capi_flags})
+  target_link_options(${program} PRIVATE ${_capi_link})
+  set_target_properties(${program} PROPERTIES C_STANDARD 99 C_EXTENSIONS OFF)
+endforeach()
+add_executable(test_capi_bad_calls_asan capi/test_capi_bad_calls.c)
+target_link_libraries(test_capi_bad_calls_asan PRIVATE ffrf::ffrf)
+target_compile_options(test_capi_bad_calls_asan PRIVATE ${_capi_flags} -g
+  -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
+target_link_options(test_capi_bad_calls_asan PRIVATE -fsanitize=address,undefined ${_capi_link})
+
+set(_capi_args "${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml"
+  "${_capi_out}/capi_engine.nml" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}")
+add_test(NAME capi_bad_calls COMMAND test_capi_bad_calls ${_capi_args})
+add_test(NAME capi_bad_calls_asan COMMAND test_capi_bad_calls_asan ${_capi_args})
+set_tests_properties(capi_bad_calls_asan PROPERTIES ENVIRONMENT
+  "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0;UBSAN_OPTIONS=print_stacktrace=1")
+find_program(VALGRIND_EXECUTABLE valgrind)
+set(_capi_tests capi_bad_calls capi_bad_calls_asan)
+if(VALGRIND_EXECUTABLE)
+  add_test(NAME capi_bad_calls_valgrind COMMAND ${VALGRIND_EXECUTABLE} --error-exitcode=1
+    --leak-check=full --errors-for-leak-kinds=definite,indirect
+    $<TARGET_FILE:test_capi_bad_calls> ${_capi_args})
+  list(APPEND _capi_tests capi_bad_calls_valgrind)
+endif()
+set_tests_properties(${_capi_tests} PROPERTIES LABELS "capi")
+
+add_test(NAME capi_compare_driver
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/capi/compare_driver.py $<TARGET_FILE:ffrf>
+    $<TARGET_FILE:test_capi_run> "${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml"
+    "${_capi_out}/capi_engine.nml" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}" 1.0e-3)
+set_tests_properties(capi_compare_driver PROPERTIES LABELS "capi;regression"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# examples/fortran_host built against the build tree (PACK's ctest builds it against the
+# installed package): the host-torque loop matches the drag run within its derived bound
+add_executable(example_fortran_host ${PROJECT_SOURCE_DIR}/examples/fortran_host/host.f90)
+target_link_libraries(example_fortran_host PRIVATE ffrf::ffrf)
+target_link_options(example_fortran_host PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_example_fortran_host COMMAND example_fortran_host
+  "${PROJECT_SOURCE_DIR}/input" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}")
+set_tests_properties(capi_example_fortran_host PROPERTIES LABELS "capi;example"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1" FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# use ffrf_c from Fortran; use ffrf / ffrf_c with only the two public module files
+add_executable(test_ffrf_c capi/test_ffrf_c.f90)
+target_link_libraries(test_ffrf_c PRIVATE ffrf::ffrf)
+target_link_options(test_ffrf_c PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_ffrf_c COMMAND test_ffrf_c)
+add_test(NAME capi_public_modules COMMAND ${CMAKE_COMMAND}
+  -DCOMPILER=${CMAKE_Fortran_COMPILER} -DMOD_DIR=${PROJECT_BINARY_DIR}/mod
+  -DWORK=${_capi_out}/public_modules -P ${CMAKE_CURRENT_SOURCE_DIR}/capi/public_modules.cmake)
+set_tests_properties(capi_ffrf_c capi_public_modules PROPERTIES LABELS "capi")
+
+# examples/c_body_arrays built against the build tree: a cantilever from arrays (Tet10), its
+# mass exact and its first bending pair within 2 % of Euler-Bernoulli
+add_executable(example_c_body_arrays ${PROJECT_SOURCE_DIR}/examples/c_body_arrays/body_arrays.c)
+target_link_libraries(example_c_body_arrays PRIVATE ffrf::ffrf m)
+target_compile_options(example_c_body_arrays PRIVATE ${_capi_flags})
+target_link_options(example_c_body_arrays PRIVATE ${_capi_link})
+add_test(NAME capi_example_c_body_arrays COMMAND example_c_body_arrays)
+set_tests_properties(capi_example_c_body_arrays PROPERTIES LABELS "capi;example"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
