@@ -17,11 +17,13 @@
 !> (-d(f_v + Q_e)/dq, -d(f_v + Q_e)/dv), mass_stiffness (d(M a)/dq at fixed a), marker_hessian
 !> (d^2/dq^2 of w_r . r_k + sum_j w_j . A_k e_j, for the joints' constraint stiffness) and
 !> marker_force_tangent (d(L_r^T F + L_w^T M)/dq at fixed F, M). The defaults here are central
-!> differences over the body's own coordinates (fd_step, cheap: per body); the rigid and the
-!> flexible body override them with exact forms. marker_kinematics gives a marker's position,
-!> orientation and Jacobians in one call (the joints use it); the default calls the separate
-!> marker procedures. Energies: kinetic_energy v^T M v / 2; strain_energy and damping_power
-!> (power dissipated by the body's own damping) are zero unless a body overrides them.
+!> differences over the body's own coordinates (fd_step, cheap: per body); the rigid body
+!> overrides them with exact forms, the flexible body with forms exact but for the second
+!> derivative of the exponential map of its marker rotations (a 3 x 3 central difference).
+!> marker_kinematics gives a marker's position, orientation and Jacobians in one call (the
+!> joints use it); the default calls the separate marker procedures. Energies: kinetic_energy
+!> v^T M v / 2; strain_energy and damping_power (power dissipated by the body's own damping) are
+!> zero unless a body overrides them.
 module ffrf_mbs_body
    use ffrf_core_kinds, only: dp
    use ffrf_mbs_dae_system, only: fd_step

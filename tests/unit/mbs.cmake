@@ -13,3 +13,6 @@ ffrf_add_unit_suite(test_mbs_joints CHECKED LABELS mbs FIXTURES crank_lc8_mesh)
 ffrf_add_unit_suite(test_mbs_mechanism CHECKED LABELS mbs)
 # Engine with a flexible crank (stiffened modes) against the rigid-crank engine. ~7 s.
 ffrf_add_unit_suite(test_mbs_flexible_engine LABELS mbs FIXTURES crank_lc8_mesh)
+# The abstract body and its extensions (ground, rigid, flexible) through class(body_t): energies
+# of the energy balance, a flexible body added to a mechanism directly. Well under a second.
+ffrf_add_unit_suite(test_mbs_body CHECKED LABELS mbs)

@@ -4,7 +4,8 @@
 !> mass plus rotation), a second implementation (flexible_body_t of point masses at zeta = 0),
 !> Lagrange's equations and joint Jacobians by central finite differences, motions that a joint
 !> allows or forbids by construction, virtual work of the reactions, and the planar slider-crank
-!> of scene.md (Gruebler count, closed-form piston position). The flexible body is the crank_lc8 mesh with RC set 3 (B2 clamped), 8 modes.
+!> of scene.md (Gruebler count, closed-form piston position). The flexible body is the crank_lc8
+!> mesh with RC set 3 (B2 clamped), 8 modes.
 module test_mbs_joints
    use ffrf_core_kinds, only: dp, ip, pi
    use ffrf_core_error, only: error_t, add_context
