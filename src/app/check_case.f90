@@ -12,7 +12,8 @@ module ffrf_app_check_case
    use ffrf_input_case, only: case_input_t
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
-   use ffrf_mpc_interface, only: interface_t, build_interface
+   use ffrf_mpc_interface, only: interface_t, interface_spec_t, build_interface
+   use ffrf_model_specs, only: body_interface_specs
    use ffrf_app_run_options, only: run_options_t, set_log_level
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model
@@ -82,6 +83,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(mesh_t) :: mesh, body_mesh
       type(interface_t) :: iface
+      type(interface_spec_t), allocatable :: specs(:)
       integer :: i
       associate (body => case%bodies(k))
          call read_gmsh(mesh_file, mesh, error)
@@ -93,9 +95,10 @@ contains
             return
          end if
          if (flexible) then
-            do i = 1, size(case%interfaces)
-               if (case%interfaces(i)%body /= body%name) cycle
-               call build_interface(body_mesh, case%interfaces(i), iface, error)
+            call body_interface_specs(case%interfaces, body%name, specs, error)
+            if (allocated(error)) return
+            do i = 1, size(specs)
+               call build_interface(body_mesh, specs(i), iface, error)
                if (allocated(error)) then
                   call add_context(error, 'mesh "' // mesh_file // '"')
                   return

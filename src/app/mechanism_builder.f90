@@ -28,8 +28,11 @@ module ffrf_app_mechanism_builder
    use ffrf_la_sparse, only: csr_t
    use ffrf_input_case, only: case_input_t, body_index
    use ffrf_input_nml_body, only: inertia_tensor
-   use ffrf_modes_input, only: modes_input_t, body_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_input, only: modes_spec_t, body_input_t
+   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_model_specs, only: body_modes_spec, body_interface_specs
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
@@ -227,7 +230,8 @@ contains
       type(mechanism_t), intent(inout) :: mech
       type(built_body_t), intent(inout) :: built
       type(error_t), allocatable, intent(out) :: error
-      type(modes_input_t) :: modes_input
+      type(modes_spec_t) :: modes
+      type(interface_spec_t), allocatable :: interfaces(:)
       type(csr_t) :: mass_matrix, stiffness_matrix
       type(flexible_body_t) :: flexible
       type(flexible_body_adapter_t) :: adapter
@@ -239,12 +243,10 @@ contains
       name = trim(case%bodies(k)%name)
       associate (motion => case%motions(k))
          if (built%meshed) then
-            modes_input = case%modes
-            if (motion%type == 'rigid') then
-               modes_input%num_modes = 0
-            else if (motion%num_modes >= 0) then
-               modes_input%num_modes = motion%num_modes
-            end if
+            call body_modes_spec(case, k, modes, error)
+            if (.not. allocated(error)) call body_interface_specs(case%interfaces, &
+               case%bodies(k)%name, interfaces, error)
+            if (allocated(error)) return
             if (selects_body(case, model, k)) then
                if (case%bodies(k)%geometric_stiffness) then
                   call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
@@ -256,12 +258,12 @@ contains
                   mass_matrix, error)
             else if (case%bodies(k)%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
-               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
-                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix, &
+               call compute_body_modes_from_file(case%bodies(k), interfaces, modes, mesh_dir, &
+                  log, times, built%modes, error, mass_matrix=mass_matrix, &
                   stiffness_matrix=stiffness_matrix)
             else
-               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
-                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix)
+               call compute_body_modes_from_file(case%bodies(k), interfaces, modes, mesh_dir, &
+                  log, times, built%modes, error, mass_matrix=mass_matrix)
             end if
             if (allocated(error)) return
             built%num_modes = size(built%modes%frequency_hz)

@@ -15,7 +15,11 @@ module ffrf_app_modal_run
    use ffrf_io_results, only: results_create, results_write_body, results_finish, &
       output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_modes_input, only: modes_spec_t
+   use ffrf_model_specs, only: body_interface_specs, body_modes_spec
    implicit none
    private
    !> run_options_t and set_log_level (ffrf_app_run_options) are public here too
@@ -80,6 +84,8 @@ contains
          character(len=:), allocatable :: temp_file
          integer :: signal
          logical :: closed
+         type(interface_spec_t), allocatable :: interfaces(:)
+         type(modes_spec_t) :: modes
 
          if (allocated(options%restart_file)) then
             if (len(options%restart_file) > 0) then
@@ -110,8 +116,10 @@ contains
                call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
                cycle
             end if
-            call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
-               times, bodies(k), error)
+            call body_interface_specs(case%interfaces, case%bodies(k)%name, interfaces, error)
+            if (.not. allocated(error)) call body_modes_spec(case, k, modes, error)
+            if (.not. allocated(error)) call compute_body_modes_from_file(case%bodies(k), &
+               interfaces, modes, mesh_dir, log, times, bodies(k), error)
             call output_timer%begin()
             if (.not. allocated(error)) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)

@@ -9,8 +9,9 @@ module ffrf_input_case
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_mpc_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_input_interface, only: interface_input_t
    use ffrf_input_nml_source, only: nml_source_t, group_spec_t, read_case_text
    use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys
    use ffrf_input_nml_body, only: read_body_groups, body_keys
