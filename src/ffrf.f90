@@ -14,7 +14,9 @@ module ffrf
    use ffrf_modes_input, only: body_input_t, modes_spec_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_modes, only: modes_input_t
-   use ffrf_model_specs, only: interface_spec_of, modes_spec_of, body_interface_specs
+   use ffrf_model_specs, only: interface_spec_of, modes_spec_of, body_interface_specs, &
+      body_modes_spec
+   use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_app_run_options, only: run_options_t
    use ffrf_app_body_modes, only: read_body_mesh, compute_body_modes_from_file, &
