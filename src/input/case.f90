@@ -2,7 +2,7 @@
 !> The case text is read once into memory (ffrf_input_nml_source: a regular file of at most 16 MiB,
 !> or standard input for the case name '-', then named "stdin" with relative meshes taken from
 !> the current folder), checked strictly (groups, keys, types, ranges), then read by the group
-!> readers of src/io/nml_*.f90. Checked here across groups: interface and mechanism names, the
+!> readers of src/input/nml_*.f90. Checked here across groups: interface and mechanism names, the
 !> output paths of &run (relative, no '..': outputs stay inside --output-dir) and the number of
 !> integration steps (t_end - t_start)/h against &integrator max_steps.
 module ffrf_input_case
