@@ -25,10 +25,17 @@ module ffrf
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
-   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
-   use ffrf_modes_input, only: body_input_t, modes_input_t
+   use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface
+   use ffrf_modes_input, only: body_input_t, modes_spec_t
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_model_specs, only: interface_spec_of, modes_spec_of, body_interface_specs, &
+      body_modes_spec
+   use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_app_run_options, only: run_options_t
+   use ffrf_app_body_modes, only: read_body_mesh, compute_body_modes_from_file, &
+      compute_input_body_modes
    use ffrf_app_modal_run, only: run_modal_case, run_modal
    use ffrf_input_case, only: case_input_t, read_case
    use ffrf_mbs_mechanism, only: mechanism_t

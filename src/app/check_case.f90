@@ -13,6 +13,7 @@ module ffrf_app_check_case
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_mpc_interface, only: interface_t, build_interface
+   use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_app_run_options, only: run_options_t, set_log_level
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model
@@ -34,23 +35,29 @@ contains
       type(pressure_model_t) :: pressure
       character(len=:), allocatable :: mesh_dir
       character(len=256), allocatable :: files(:)
+      type(model_t) :: model
       logical :: flexible
       integer :: k, f
 
       call set_log_level(log, options, case%run%log_level)
+      call build_model(case, model, error)
+      if (allocated(error)) then
+         call add_context(error, case%file_name)
+         return
+      end if
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case%file_name)
       do k = 1, size(case%bodies)
          associate (body => case%bodies(k))
             ! As the runs: a rigid body has no modes, and needs a mesh only for its mass
-            flexible = case%motions(k)%type /= 'rigid'
+            flexible = .not. model%bodies(k)%rigid
             if (.not. flexible .and. len_trim(body%mesh_file) == 0) cycle
             files = [body%mesh_file]
             if (case%is_mechanism .and. flexible) files = [pack(case%motions(k)%coarse_meshes, &
                len_trim(case%motions(k)%coarse_meshes) > 0), files]
             do f = 1, size(files)
-               call check_body_mesh(case, k, join_path(mesh_dir, trim(files(f))), flexible, &
-                  log, error)
+               call check_body_mesh(model%bodies(k), join_path(mesh_dir, trim(files(f))), &
+                  flexible, log, error)
                if (allocated(error)) then
                   call add_context(error, case%file_name // ': &body "' // trim(body%name) // &
                      '"')
@@ -73,9 +80,9 @@ contains
    end subroutine check_case
 
    !> Read one mesh of body k, extract its volumes and (flexible) build its interfaces.
-   subroutine check_body_mesh(case, k, mesh_file, flexible, log, error)
-      type(case_input_t), intent(in) :: case
-      integer, intent(in) :: k
+   subroutine check_body_mesh(model_body, mesh_file, flexible, log, error)
+      !> The body, resolved (volumes, interfaces)
+      type(model_body_t), intent(in) :: model_body
       character(len=*), intent(in) :: mesh_file
       logical, intent(in) :: flexible
       type(logger_t), intent(in) :: log
@@ -83,7 +90,7 @@ contains
       type(mesh_t) :: mesh, body_mesh
       type(interface_t) :: iface
       integer :: i
-      associate (body => case%bodies(k))
+      associate (body => model_body%body)
          call read_gmsh(mesh_file, mesh, error)
          if (allocated(error)) return
          call extract_body(mesh, pack(body%volumes, len_trim(body%volumes) > 0), body_mesh, &
@@ -93,9 +100,8 @@ contains
             return
          end if
          if (flexible) then
-            do i = 1, size(case%interfaces)
-               if (case%interfaces(i)%body /= body%name) cycle
-               call build_interface(body_mesh, case%interfaces(i), iface, error)
+            do i = 1, size(model_body%interfaces)
+               call build_interface(body_mesh, model_body%interfaces(i), iface, error)
                if (allocated(error)) then
                   call add_context(error, 'mesh "' // mesh_file // '"')
                   return

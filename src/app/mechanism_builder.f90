@@ -26,10 +26,12 @@ module ffrf_app_mechanism_builder
    use ffrf_core_posix, only: check_input_file
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
    use ffrf_la_sparse, only: csr_t
-   use ffrf_input_case, only: case_input_t, body_index
+   use ffrf_input_case, only: case_input_t
    use ffrf_input_nml_body, only: inertia_tensor
-   use ffrf_modes_input, only: modes_input_t, body_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_model_model, only: model_t, model_body_t, build_model
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
    use ffrf_mbs_rotation, only: identity3
@@ -103,11 +105,15 @@ contains
       !> time step when &integrator gives none (choice%h > 0)
       type(model_choice_t), intent(out), optional :: choice
       type(model_choice_t) :: model
+      type(model_t) :: resolved
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
       integer, allocatable :: ends(:, :)
       integer :: nb, k, ground_index
 
+      ! The case resolved once (ffrf_model_model): bodies, interfaces as marker handles, modes
+      call build_model(case, resolved, error)
+      if (allocated(error)) return
       nb = size(case%bodies)
       allocate (bodies(nb), lists(0:nb))
       do k = 0, nb
@@ -121,17 +127,18 @@ contains
       call start_model_selection(case, pressure, has_pressure, log, model)
 
       do k = 1, nb
-         bodies(k)%meshed = len_trim(case%bodies(k)%mesh_file) > 0
+         bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(case, lists, ends)
-      call check_interface_markers(case, error)
+      call resolve_markers(case, resolved, lists, ends)
+      call check_interface_markers(case, resolved, error)
       if (allocated(error)) return
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
       do k = 1, nb
-         call add_body(case, k, mesh_dir, log, times, lists(k), model, mech, bodies(k), error)
+         call add_body(case, k, resolved%bodies(k), mesh_dir, log, times, lists(k), model, mech, &
+            bodies(k), error)
          if (allocated(error)) then
             call add_context(error, '&body "' // trim(case%bodies(k)%name) // '"')
             return
@@ -139,24 +146,27 @@ contains
       end do
       call select_step(case, log, model)
       if (present(choice)) choice = model
-      call add_joints(case, bodies, ground_index, ends, mech, error)
-      if (.not. allocated(error)) call add_loads(case, bodies, ends, mech, pressure, error)
+      call add_joints(case, resolved, bodies, ground_index, ends, mech, error)
+      if (.not. allocated(error)) call add_loads(case, resolved, bodies, ends, mech, pressure, &
+         error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (len_trim(case%mechanism%mechanism%crank) > 0) then
-         call mech%set_crank(bodies(body_index(case, case%mechanism%mechanism%crank))%index, &
+         call mech%set_crank(bodies(resolved%body_index(case%mechanism%mechanism%crank))%index, &
             error)
          if (allocated(error)) return
       end if
-      call starting_state(case, bodies, mech, q, v, error)
+      call starting_state(case, resolved, bodies, mech, q, v, error)
    end subroutine build_mechanism
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
-   !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's position among the
-   !> body's &interface groups (their order in compute_body_modes). Rigid bodies and the
-   !> ground: a new marker per distinct (point, axis) in `lists`.
-   subroutine resolve_markers(case, lists, ends)
+   !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the
+   !> model (model_body_t%marker_index). Rigid bodies and the ground: a new marker per distinct
+   !> (point, axis) in `lists`.
+   subroutine resolve_markers(case, resolved, lists, ends)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (bodies, marker handles)
+      type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
       integer, allocatable, intent(out) :: ends(:, :)
       integer :: j, l
@@ -179,16 +189,10 @@ contains
          integer, intent(out) :: marker
          integer :: b, k
          real(dp) :: frame(3, 3)
-         b = body_index(case, body)
+         b = resolved%body_index(body)
          if (b > 0) then
-            if (case%motions(b)%type /= 'rigid') then
-               marker = 0
-               do k = 1, size(case%interfaces)
-                  if (case%interfaces(k)%body /= body) cycle
-                  marker = marker + 1
-                  if (case%interfaces(k)%name == name) return
-               end do
-               marker = 0
+            if (.not. resolved%bodies(b)%rigid) then
+               marker = resolved%bodies(b)%marker_index(name)
                return
             end if
          end if
@@ -215,9 +219,11 @@ contains
    end subroutine resolve_markers
 
    !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
-   subroutine add_body(case, k, mesh_dir, log, times, list, model, mech, built, error)
+   subroutine add_body(case, k, resolved, mesh_dir, log, times, list, model, mech, built, error)
       type(case_input_t), intent(in) :: case
       integer, intent(in) :: k
+      !> Body k resolved: rigid flag, modes to compute, interfaces
+      type(model_body_t), intent(in) :: resolved
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
@@ -227,7 +233,6 @@ contains
       type(mechanism_t), intent(inout) :: mech
       type(built_body_t), intent(inout) :: built
       type(error_t), allocatable, intent(out) :: error
-      type(modes_input_t) :: modes_input
       type(csr_t) :: mass_matrix, stiffness_matrix
       type(flexible_body_t) :: flexible
       type(rigid_body_t) :: rigid
@@ -235,17 +240,11 @@ contains
       real(dp) :: mass, com(3), inertia(3, 3)
       character(len=:), allocatable :: name
 
-      name = trim(case%bodies(k)%name)
-      associate (motion => case%motions(k))
+      name = trim(resolved%name)
+      associate (motion => resolved%motion)
          if (built%meshed) then
-            modes_input = case%modes
-            if (motion%type == 'rigid') then
-               modes_input%num_modes = 0
-            else if (motion%num_modes >= 0) then
-               modes_input%num_modes = motion%num_modes
-            end if
             if (selects_body(case, model, k)) then
-               if (case%bodies(k)%geometric_stiffness) then
+               if (resolved%body%geometric_stiffness) then
                   call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
                      'num_modes on the &body (the automatic model does not estimate stress ' // &
                      'stiffening)')
@@ -253,19 +252,20 @@ contains
                end if
                call select_body_model(case, k, mesh_dir, log, times, model, built%modes, &
                   mass_matrix, error)
-            else if (case%bodies(k)%geometric_stiffness) then
+            else if (resolved%body%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
-               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
-                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix, &
-                  stiffness_matrix=stiffness_matrix)
+               call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
+                  resolved%modes, mesh_dir, log, times, built%modes, error, &
+                  mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
             else
-               call compute_body_modes(case%bodies(k), case%interfaces, modes_input, &
-                  mesh_dir, log, times, built%modes, error, mass_matrix=mass_matrix)
+               call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
+                  resolved%modes, mesh_dir, log, times, built%modes, error, &
+                  mass_matrix=mass_matrix)
             end if
             if (allocated(error)) return
             built%num_modes = size(built%modes%frequency_hz)
          end if
-         if (motion%type == 'rigid') then
+         if (resolved%rigid) then
             if (built%meshed) then
                mass = built%modes%mass
                com = built%modes%center_of_mass
@@ -289,9 +289,9 @@ contains
          call times%add(name // ': inertia invariants', timer%seconds())
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
-         if (.not. allocated(error) .and. case%bodies(k)%geometric_stiffness) then
+         if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
             if (built%num_modes > 0) then
-               call add_geometric_stiffness(case%bodies(k), built%modes, stiffness_matrix, &
+               call add_geometric_stiffness(resolved%body, built%modes, stiffness_matrix, &
                   mass_matrix, log, times, flexible, error)
             else
                call log%note('mechanism', name // ': geometric_stiffness ignored: no modes ' // &
@@ -339,8 +339,10 @@ contains
 
    !> A joint at a flexible body's interface uses the body axes: its axis must be e_z (module
    !> header) unless it is spherical.
-   subroutine check_interface_markers(case, error)
+   subroutine check_interface_markers(case, resolved, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (rigid flags)
+      type(model_t), intent(in) :: resolved
       type(error_t), allocatable, intent(out) :: error
       integer :: j
       associate (joints => case%mechanism%joints)
@@ -364,15 +366,17 @@ contains
       logical function is_flexible(name)
          character(len=*), intent(in) :: name
          integer :: k
-         k = body_index(case, name)
+         k = resolved%body_index(name)
          is_flexible = .false.
-         if (k > 0) is_flexible = case%motions(k)%type /= 'rigid'
+         if (k > 0) is_flexible = .not. resolved%bodies(k)%rigid
       end function is_flexible
 
    end subroutine check_interface_markers
 
-   subroutine add_joints(case, bodies, ground_index, ends, mech, error)
+   subroutine add_joints(case, resolved, bodies, ground_index, ends, mech, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (body indices)
+      type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ground_index
       integer, intent(in) :: ends(:, :)
@@ -396,15 +400,17 @@ contains
       integer function mechanism_index(name)
          character(len=*), intent(in) :: name
          integer :: k
-         k = body_index(case, name)
+         k = resolved%body_index(name)
          mechanism_index = ground_index
          if (k > 0) mechanism_index = bodies(k)%index
       end function mechanism_index
 
    end subroutine add_joints
 
-   subroutine add_loads(case, bodies, ends, mech, pressure, error)
+   subroutine add_loads(case, resolved, bodies, ends, mech, pressure, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (body indices)
+      type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ends(:, :)
       type(mechanism_t), intent(inout) :: mech
@@ -454,7 +460,7 @@ contains
          type(load_input_t), intent(in) :: input
          integer, intent(in) :: kind, marker
          load%kind = kind
-         load%body = bodies(body_index(case, input%body))%index
+         load%body = bodies(resolved%body_index(input%body))%index
          load%marker = marker
          load%direction = input%direction
          load%name = input%name(:len(load%name))
@@ -538,8 +544,10 @@ contains
    !> Starting pose: every body at its &body position with identity Euler parameters and zero
    !> modal coordinates, then assembled (minimum-norm Gauss-Newton) at the &mechanism crank angle,
    !> and velocities at its crank speed.
-   subroutine starting_state(case, bodies, mech, q, v, error)
+   subroutine starting_state(case, resolved, bodies, mech, q, v, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (start positions)
+      type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       type(mechanism_t), intent(inout) :: mech
       real(dp), allocatable, intent(out) :: q(:), v(:)
@@ -549,7 +557,7 @@ contains
       allocate (q(mech%num_coordinates()), v(mech%num_coordinates()), source=0.0_dp)
       do k = 1, size(bodies)
          offset = mech%bodies(bodies(k)%index)%offset
-         q(offset + 1:offset + 3) = case%motions(k)%position
+         q(offset + 1:offset + 3) = resolved%bodies(k)%motion%position
          q(offset + 4) = 1.0_dp
       end do
       angle = case%mechanism%mechanism%crank_angle_deg * pi / 180.0_dp

@@ -28,6 +28,7 @@ module ffrf_app_mechanism_run
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_app_run_options, only: run_options_t, set_log_level
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
@@ -351,7 +352,7 @@ contains
          xyz(:, i) = modes%interfaces(i)%virtual_xyz
       end do
       call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
-         modes%basis, int(modes%num_static), error)
+         basis_name(modes%basis), int(modes%num_static), error)
    end subroutine write_body_modes
 
    !> MPC kind of the crank's interfaces ('RBE3', 'RBE2', 'rigid'), for labels.

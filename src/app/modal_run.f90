@@ -1,6 +1,8 @@
 !> A modal case from its namelist file to its results: read and echo the input, compute the
 !> constrained normal modes of every body, write the HDF5 results and a Gmsh file of the modes.
-!> The batch driver and the C API call `run_modal_case`; nothing here stops or prints errors.
+!> The batch driver calls `run_modal_case` (a host program may too); nothing here stops or prints
+!> errors. Each body: its Gmsh file read (ffrf_app_body_modes), then compute_body_modes on the
+!> mesh with the body resolved by the model (ffrf_model_model: interfaces, modes, rigid flag).
 module ffrf_app_modal_run
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INTERRUPTED, &
@@ -15,7 +17,9 @@ module ffrf_app_modal_run
    use ffrf_io_results, only: results_create, results_write_body, results_finish, &
       output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_model_model, only: model_t, build_model
    implicit none
    private
    !> run_options_t and set_log_level (ffrf_app_run_options) are public here too
@@ -83,6 +87,7 @@ contains
          character(len=:), allocatable :: temp_file
          integer :: signal
          logical :: closed
+         type(model_t) :: model
 
          if (allocated(options%restart_file)) then
             if (len(options%restart_file) > 0) then
@@ -95,6 +100,12 @@ contains
          if (.not. options%overwrite) then
             call check_no_overwrite(results_file, error)
             if (allocated(error)) return
+         end if
+         ! The case resolved once: every body's rigid flag, interfaces and modes to compute
+         call build_model(case, model, error)
+         if (allocated(error)) then
+            call add_context(error, case_file)
+            return
          end if
          temp_file = partial_name(results_file)
          call results_create(temp_file, case%name, trim(case%run%title), echo, h5, error)
@@ -109,12 +120,14 @@ contains
          signal = 0
          allocate (bodies(size(case%bodies)))
          do k = 1, size(case%bodies)
-            if (case%motions(k)%type == 'rigid') then
+            if (model%bodies(k)%rigid) then
                call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
                cycle
             end if
-            call compute_body_modes(case%bodies(k), case%interfaces, case%modes, mesh_dir, log, &
-               times, bodies(k), error)
+            associate (body => model%bodies(k))
+               call compute_body_modes_from_file(body%body, body%interfaces, body%modes, &
+                  mesh_dir, log, times, bodies(k), error)
+            end associate
             call output_timer%begin()
             if (.not. allocated(error)) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)

@@ -22,10 +22,12 @@ module ffrf_capi_case
    use ffrf_input_case, only: case_input_t, read_case
    use ffrf_core_kinds, only: ip, i8
    use ffrf_mesh_mesh, only: mesh_t, physical_group_t
-   use ffrf_mpc_interface, only: interface_input_t
+   use ffrf_input_interface, only: interface_input_t
    use ffrf_modes_input, only: body_input_t
    use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_model_model, only: model_t, build_model
    use ffrf_la_sparse, only: csr_t
    use ffrf_fe_material, only: material_t
    use ffrf_fe_assembly, only: assemble_stiffness_mass
@@ -397,6 +399,7 @@ contains
       class(ffrf_case_t), intent(inout) :: self
       type(error_t), allocatable, intent(out) :: error
       type(stage_times_t) :: times
+      type(model_t) :: model
       integer :: k
       call check_open(self, 'run', error)
       if (allocated(error)) return
@@ -420,17 +423,24 @@ contains
          if (self%write_output) then
             call run_modal(self%case, self%options, self%log, error, self%modes)
          else
+            ! as run_modal: the case resolved once by the model (rigid flags, interfaces, modes)
+            call build_model(self%case, model, error)
+            if (allocated(error)) then
+               call add_context(error, self%case%file_name)
+               return
+            end if
             allocate (self%modes(size(self%case%bodies)))
             do k = 1, size(self%case%bodies)
-               if (self%case%motions(k)%type == 'rigid') cycle
-               if (self%from_arrays) then
-                  call compute_body_modes(self%case%bodies(k), self%case%interfaces, &
-                     self%case%modes, '', self%log, times, self%modes(k), error, &
-                     body_mesh=self%meshes(k))
-               else
-                  call compute_body_modes(self%case%bodies(k), self%case%interfaces, &
-                     self%case%modes, mesh_folder(self), self%log, times, self%modes(k), error)
-               end if
+               if (model%bodies(k)%rigid) cycle
+               associate (body => model%bodies(k))
+                  if (self%from_arrays) then
+                     call compute_body_modes(self%meshes(k), body%body, body%interfaces, &
+                        body%modes, self%log, times, self%modes(k), error)
+                  else
+                     call compute_body_modes_from_file(body%body, body%interfaces, body%modes, &
+                        mesh_folder(self), self%log, times, self%modes(k), error)
+                  end if
+               end associate
                if (allocated(error)) then
                   call add_context(error, self%case%file_name)
                   exit

@@ -2,15 +2,16 @@
 !> The case text is read once into memory (ffrf_input_nml_source: a regular file of at most 16 MiB,
 !> or standard input for the case name '-', then named "stdin" with relative meshes taken from
 !> the current folder), checked strictly (groups, keys, types, ranges), then read by the group
-!> readers of src/io/nml_*.f90. Checked here across groups: interface and mechanism names, the
+!> readers of src/input/nml_*.f90. Checked here across groups: interface and mechanism names, the
 !> output paths of &run (relative, no '..': outputs stay inside --output-dir) and the number of
 !> integration steps (t_end - t_start)/h against &integrator max_steps.
 module ffrf_input_case
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_mpc_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_input_interface, only: interface_input_t
    use ffrf_input_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text
    use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys
    use ffrf_input_nml_body, only: read_body_groups, body_keys

@@ -11,7 +11,8 @@
 !>                  meshes of the same geometry, coarse to fine, to choose the mesh from
 !> Mechanism keys (ffrf_input_mechanism's body_motion_input_t):
 !>   type           'flexible' (default) or 'rigid'
-!>   num_modes      flexible bodies: modes kept, integer in 0..10000 (default: &modes num_modes)
+!>   num_modes      flexible bodies: modes kept, integer in 0..10000 (default: &modes num_modes);
+!>                  modal runs take it too (ffrf_model_specs body_modes_spec)
 !>   modal_damping  damping ratio of every mode, in [0, 1)
 !>   mass [kg]      rigid bodies without a mesh: in [0, 1e9] kg, > 0 when it is used
 !>   center_of_mass [m]    3 finite reals in [-1e4, 1e4] m

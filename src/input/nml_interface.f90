@@ -12,7 +12,7 @@ module ffrf_input_nml_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_mpc_interface, only: interface_input_t, parse_dofs
+   use ffrf_input_interface, only: interface_input_t, parse_dofs
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
    implicit none
@@ -91,7 +91,7 @@ contains
             return
          end if
          interfaces = [interfaces, interface_input_t(body, name, mpc, weighting, virtual_node, &
-            position, rc)]
+            position, rc, dofs)]
       end do
    end subroutine read_interface_groups
 

@@ -15,7 +15,7 @@ module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_modes_input, only: modes_input_t
+   use ffrf_input_modes, only: modes_input_t
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t

@@ -1,5 +1,5 @@
 !> Strict pre-parser of a case file's namelist text, run before the namelist reads of
-!> src/io/nml_*.f90 so that nothing slips through them silently and no error comes back in the
+!> src/input/nml_*.f90 so that nothing slips through them silently and no error comes back in the
 !> compiler runtime's words. The case text is held in memory (read once: a regular file of at
 !> most MAX_CASE_BYTES, or standard input for the case name '-'). Checked here:
 !>   - only blank lines and '!' comments outside groups; every group opened by &name (a known

@@ -20,6 +20,8 @@ module ffrf_io_results
    use ffrf_core_build_info, only: FFRF_VERSION, build_versions
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_mpc_interface, only: mpc_name, dofs_text
+   use ffrf_mpc_reduction, only: formulation_name
+   use ffrf_modes_input, only: basis_name, BASIS_CRAIG_BAMPTON
    use ffrf_modes_modal_analysis, only: body_modes_t
    implicit none
    private
@@ -192,12 +194,13 @@ contains
          path // '/rigid_frequency', body%rigid_frequency_hz, 'Hz', error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'rc_set', rc_label, error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'mpc', mpc_summary(body), error)
-      if (.not. allocated(error)) call h5%set_attribute(path, 'formulation', body%formulation, &
+      if (.not. allocated(error)) call h5%set_attribute(path, 'formulation', &
+         formulation_name(body%formulation), error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'basis', basis_name(body%basis), &
          error)
-      if (.not. allocated(error)) call h5%set_attribute(path, 'basis', body%basis, error)
-      if (.not. allocated(error) .and. body%basis == 'craig_bampton') call h5%write_int( &
+      if (.not. allocated(error) .and. body%basis == BASIS_CRAIG_BAMPTON) call h5%write_int( &
          path // '/num_static_modes', body%num_static, error)
-      if (.not. allocated(error) .and. body%basis == 'craig_bampton') call h5%write_real( &
+      if (.not. allocated(error) .and. body%basis == BASIS_CRAIG_BAMPTON) call h5%write_real( &
          path // '/fixed_interface_frequency', body%fixed_interface_hz, 'Hz', error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'num_rc', body%rc%num_rc, error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'rc_redundancy', &

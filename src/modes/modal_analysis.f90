@@ -2,7 +2,7 @@
 !> mesh -> Tet4/Tet10 K and M -> interfaces reduced to virtual nodes (RBE2/RBE3) -> reference
 !> conditions D q_V = 0 -> RC matrix T (and constraint rows C) -> (T^T K T) phi = w^2 (T^T M T) phi
 !> by shift-invert Lanczos on one MUMPS factorisation -> psi = T phi, mass-normalised.
-!> With modes_input%basis = 'craig_bampton' the basis is instead the Craig-Bampton one of
+!> With modes%basis = BASIS_CRAIG_BAMPTON the basis is instead the Craig-Bampton one of
 !> src/modes/craig_bampton.f90 (static constraint modes + fixed-interface modes, Rayleigh-Ritz).
 module ffrf_modes_modal_analysis
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -12,15 +12,15 @@ module ffrf_modes_modal_analysis
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t
    use ffrf_mesh_mesh, only: mesh_t, extract_body
-   use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_assembly, only: assemble_stiffness_mass, body_mass_properties
    use ffrf_la_sparse, only: csr_t
-   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface, mpc_name, &
+   use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface, mpc_name, &
       dofs_text
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
-   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors
-   use ffrf_modes_input, only: body_input_t, modes_input_t
+   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors, &
+      FORMULATION_NONE, formulation_name
+   use ffrf_modes_input, only: body_input_t, modes_spec_t, BASIS_NONE, BASIS_CRAIG_BAMPTON
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_craig_bampton, only: cb_result_t, craig_bampton_modes
    implicit none
@@ -42,10 +42,12 @@ module ffrf_modes_modal_analysis
       real(dp) :: mass = 0.0_dp, center_of_mass(3) = 0.0_dp, inertia(3, 3) = 0.0_dp
       !> What the RC set does (rank, hyperstatic redundancy, free-free)
       type(rc_summary_t) :: rc
-      !> 'multipliers' or 'null_space'
-      character(len=:), allocatable :: formulation
-      !> Mode basis: 'rc_normal' or 'craig_bampton'
-      character(len=:), allocatable :: basis
+      !> FORMULATION_MULTIPLIERS or FORMULATION_NULL_SPACE (ffrf_mpc_reduction); FORMULATION_NONE
+      !> when no modes were asked
+      integer :: formulation = FORMULATION_NONE
+      !> Mode basis: BASIS_RC_NORMAL or BASIS_CRAIG_BAMPTON (ffrf_modes_input); BASIS_NONE when
+      !> no modes were asked
+      integer :: basis = BASIS_NONE
       !> Craig-Bampton: static constraint modes in the basis (0 for 'rc_normal')
       integer(ip) :: num_static = 0
       !> Craig-Bampton: frequencies of the fixed-interface modes (Hz); empty for 'rc_normal'
@@ -93,19 +95,24 @@ contains
       sigma = sign((2.0_dp * pi * shift_hz)**2, shift_hz)
    end function sigma_of_shift
 
-   !> Compute the constrained normal modes of one body. With modes_input%num_modes = 0 no modes
+   !> Compute the constrained normal modes of one body. With modes%num_modes = 0 no modes
    !> are computed: the body gets its mesh, mass properties and interfaces (a rigid body with the
    !> mesh's exact mass, e.g. a rigid reference in a mechanism run).
-   subroutine compute_body_modes(body_input, interface_inputs, modes_input, mesh_dir, log, times, &
-         body, error, mass_matrix, stiffness_matrix, body_mesh)
-      !> Body: mesh, volumes, material
+   !>
+   !> `mesh` is the mesh as read (from a Gmsh file by the caller, or built in memory); the body is
+   !> cut from it here by body_input%volumes (extract_body), so a mesh holding several bodies can
+   !> be passed as it is. Messages name the mesh by mesh%file_name when it is set.
+   subroutine compute_body_modes(mesh, body_input, interfaces, modes, log, times, &
+         body, error, mass_matrix, stiffness_matrix)
+      !> The mesh as read: nodes, tetrahedra, physical groups
+      type(mesh_t), intent(in) :: mesh
+      !> Body: name, volumes, material (body_input%mesh_file is not used here)
       type(body_input_t), intent(in) :: body_input
-      !> All interfaces of the case (those of this body are used)
-      type(interface_input_t), intent(in) :: interface_inputs(:)
-      !> Number of modes, shift, formulation
-      type(modes_input_t), intent(in) :: modes_input
-      !> Folder relative mesh files are taken from
-      character(len=*), intent(in) :: mesh_dir
+      !> The body's interfaces, resolved; body%interfaces(k) and the k-th virtual node of the
+      !> mode shapes are interfaces(k) (the marker handle of the interface is k)
+      type(interface_spec_t), intent(in) :: interfaces(:)
+      !> Number of modes, shift, formulation, basis
+      type(modes_spec_t), intent(in) :: modes
       !> Progress log
       type(logger_t), intent(in) :: log
       !> Stage times, appended to
@@ -117,15 +124,11 @@ contains
       type(csr_t), intent(out), optional :: mass_matrix
       !> The FE stiffness matrix of the body (for its geometric stiffness: no second assembly)
       type(csr_t), intent(out), optional :: stiffness_matrix
-      !> The body's mesh given in memory (C API, a body from arrays): body_input%mesh_file,
-      !> volumes and mesh_dir are then not used
-      type(mesh_t), intent(in), optional :: body_mesh
-      type(mesh_t) :: mesh
       type(material_t) :: material
       type(csr_t) :: K, M, K_r, M_r
       type(reduction_t) :: red
       type(stage_timer_t) :: timer
-      character(len=:), allocatable :: tag, mesh_file
+      character(len=:), allocatable :: tag, mesh_name
       integer :: i_if, n_if
 
       body%name = trim(body_input%name)
@@ -137,18 +140,13 @@ contains
 
       ! Mesh
       call timer%begin()
-      if (present(body_mesh)) then
-         mesh_file = '(arrays)'
-         body%mesh = body_mesh
-      else
-         mesh_file = resolve_path(body_input%mesh_file, mesh_dir)
-         call read_gmsh(mesh_file, mesh, error)
-         if (.not. allocated(error)) call extract_body(mesh, &
-            pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
-      end if
+      mesh_name = '(in memory)'
+      if (allocated(mesh%file_name)) mesh_name = mesh%file_name
+      call extract_body(mesh, &
+         pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
       if (allocated(error)) return
       call times%add(tag // ': mesh', timer%seconds())
-      call log%info('mesh', tag // ': ' // mesh_file // ', ' // to_str(body%mesh%num_nodes) // &
+      call log%info('mesh', tag // ': ' // mesh_name // ', ' // to_str(body%mesh%num_nodes) // &
          ' nodes, ' // to_str(body%mesh%num_tets()) // ' Tet' // &
          to_str(body%mesh%nodes_per_tet) // ' ... ' // to_str(timer%seconds(), 3) // ' s')
 
@@ -157,7 +155,7 @@ contains
       call assemble_stiffness_mass(body%mesh%xyz, body%mesh%tets, body%mesh%tet_tags, material, &
          K, M, error)
       if (allocated(error)) then
-         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
          return
       end if
       call body_mass_properties(M, body%mesh%xyz, body%mass, body%center_of_mass, body%inertia)
@@ -176,18 +174,15 @@ contains
 
       ! Interfaces and reference conditions
       call timer%begin()
-      n_if = count(interface_inputs%body == body_input%name)
+      n_if = size(interfaces)
       allocate (body%interfaces(n_if))
-      n_if = 0
-      do i_if = 1, size(interface_inputs)
-         if (interface_inputs(i_if)%body /= body_input%name) cycle
-         n_if = n_if + 1
-         call build_interface(body%mesh, interface_inputs(i_if), body%interfaces(n_if), error)
+      do i_if = 1, n_if
+         call build_interface(body%mesh, interfaces(i_if), body%interfaces(i_if), error)
          if (allocated(error)) then
-            call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
+            call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
             return
          end if
-         associate (f => body%interfaces(n_if))
+         associate (f => body%interfaces(i_if))
             call log%info('mpc', tag // ', ' // f%name // ': ' // mpc_name(f%mpc) // ', ' // &
                to_str(size(f%nodes)) // ' nodes, area ' // to_str(f%area, 6) // &
                ' m^2, virtual node (' // to_str(f%virtual_xyz(1), 6) // ', ' // &
@@ -198,13 +193,13 @@ contains
                'is undefined and reads zero')
          end associate
       end do
-      body%basis = trim(modes_input%basis)
+      body%basis = modes%basis
       allocate (body%fixed_interface_hz(0))
-      if (modes_input%num_modes == 0) then
+      if (modes%num_modes == 0) then
          allocate (body%shape(body%num_dofs, 0), body%virtual_node_shape(6 * n_if, 0))
          allocate (body%frequency_hz(0), body%residual(0))
-         body%formulation = 'none'
-         body%basis = 'none'
+         body%formulation = FORMULATION_NONE
+         body%basis = BASIS_NONE
          call times%add(tag // ': interfaces', timer%seconds())
          call log%info('modes', tag // ': no modes asked: rigid body with the mass ' // &
             'properties of its mesh, markers at its virtual nodes')
@@ -212,7 +207,7 @@ contains
       end if
       call check_reference_conditions(body%interfaces, body%center_of_mass, body%rc, error)
       if (allocated(error)) then
-         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
          return
       end if
       if (body%rc%free_free) then
@@ -227,10 +222,10 @@ contains
          to_str(body%rc%redundancy) // ' condition(s) also constrain the deformation (this ' // &
          'changes the modes; statically determinate sets have exactly 6)')
 
-      body%formulation = trim(modes_input%formulation)
+      body%formulation = modes%formulation
       call build_reduction(body%mesh%num_nodes, body%interfaces, body%formulation, red, error)
       if (allocated(error)) then
-         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_file // '"')
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
          return
       end if
       if (.not. red%is_identity) then
@@ -244,28 +239,28 @@ contains
       body%num_reduced = red%num_reduced
       body%num_constraints = red%C%num_rows
       call times%add(tag // ': interfaces and RC matrix', timer%seconds())
-      call log%info('rc', tag // ': RC matrix (' // body%formulation // '): ' // &
-         to_str(red%num_reduced) // ' reduced coordinates, ' // to_str(red%C%num_rows) // &
+      call log%info('rc', tag // ': RC matrix (' // formulation_name(body%formulation) // '): ' &
+         // to_str(red%num_reduced) // ' reduced coordinates, ' // to_str(red%C%num_rows) // &
          ' constraint rows ... ' // to_str(timer%seconds(), 3) // ' s')
 
       if (red%is_identity) then
-         call solve_modes(body, modes_input, red, K, M, automatic_shift_hz(body%mesh%xyz, &
+         call solve_modes(body, modes, red, K, M, automatic_shift_hz(body%mesh%xyz, &
             material), log, times, error)
       else
-         call solve_modes(body, modes_input, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
+         call solve_modes(body, modes, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
             material), log, times, error)
       end if
       if (allocated(error)) call add_context(error, 'body "' // body%name // '", mesh "' // &
-         mesh_file // '"')
+         mesh_name // '"')
    end subroutine compute_body_modes
 
    !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.
-   subroutine solve_modes(body, modes_input, red, K_r, M_r, auto_shift_hz, log, times, error)
+   subroutine solve_modes(body, modes, red, K_r, M_r, auto_shift_hz, log, times, error)
       type(body_modes_t), intent(inout) :: body
-      type(modes_input_t), intent(in) :: modes_input
+      type(modes_spec_t), intent(in) :: modes
       type(reduction_t), intent(in) :: red
       type(csr_t), intent(in) :: K_r, M_r
-      !> Shift used when modes_input%shift_hz = 0 (Hz, negative)
+      !> Shift used when modes%shift_hz = 0 (Hz, negative)
       real(dp), intent(in) :: auto_shift_hz
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
@@ -280,17 +275,17 @@ contains
       call timer%begin()
       num_rigid = 0
       if (body%rc%free_free) num_rigid = NUM_RIGID_MODES
-      options%num_modes = modes_input%num_modes + num_rigid
-      if (modes_input%shift_hz == 0.0_dp) then
+      options%num_modes = modes%num_modes + num_rigid
+      if (modes%shift_hz == 0.0_dp) then
          options%sigma = sigma_of_shift(auto_shift_hz)
          call log%info('modes', tag // ': automatic shift ' // to_str(auto_shift_hz, 4) // &
             ' Hz (sigma = ' // to_str(options%sigma, 4) // ' s^-2)')
       else
-         options%sigma = sigma_of_shift(modes_input%shift_hz)
+         options%sigma = sigma_of_shift(modes%shift_hz)
       end if
-      options%tolerance = modes_input%tolerance
-      options%ncv = int(modes_input%lanczos_vectors, kind(options%ncv))
-      if (body%basis == 'craig_bampton') then
+      options%tolerance = modes%tolerance
+      options%ncv = int(modes%lanczos_vectors, kind(options%ncv))
+      if (body%basis == BASIS_CRAIG_BAMPTON) then
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return
       end if
@@ -355,7 +350,7 @@ contains
       call expand_vectors(red, body%eigen%vectors(:, first:), psi)
       call set_shapes(body, psi)
       call times%add(tag // ': mode shapes', timer%seconds())
-      if (len_trim(modes_input%rc_label) > 0) tag = tag // ', ' // trim(modes_input%rc_label)
+      if (len_trim(modes%rc_label) > 0) tag = tag // ', ' // trim(modes%rc_label)
       call log%info('modes', tag // ': ' // &
          to_str(num_modes) // ' modes, ' // to_str(body%frequency_hz(1), 6) // ' .. ' // &
          to_str(body%frequency_hz(num_modes), 6) // ' Hz, max residual ' // &
@@ -484,16 +479,5 @@ contains
       text = dofs_text(rc)
       if (len(text) == 0) text = 'none'
    end function rc_text
-
-   !> `path` itself when absolute or when `dir` is empty, else dir/path.
-   pure function resolve_path(path, dir) result(full)
-      character(len=*), intent(in) :: path, dir
-      character(len=:), allocatable :: full
-      if (path(1:1) == '/' .or. len_trim(dir) == 0) then
-         full = trim(path)
-      else
-         full = trim(dir) // '/' // trim(path)
-      end if
-   end function resolve_path
 
 end module ffrf_modes_modal_analysis

@@ -1,12 +1,17 @@
-!> Plain input types of the modal pipeline, with their defaults (namelist groups &body and
-!> &modes; readers in src/io/nml_*.f90).
+!> Plain types of the modal pipeline: a body's material and volumes (&body) and the resolved
+!> modes specification (no strings for choices: the model maps &modes onto it).
 module ffrf_modes_input
    use ffrf_core_kinds, only: dp
+   use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS
    implicit none
    private
-   public :: body_input_t, modes_input_t, MAX_VOLUMES
+   public :: body_input_t, modes_spec_t, MAX_VOLUMES, BASIS_NONE, BASIS_RC_NORMAL, &
+      BASIS_CRAIG_BAMPTON, basis_name
 
    integer, parameter :: MAX_VOLUMES = 16
+   !> Mode basis: none (no modes asked), the constrained normal modes of the RC set, or
+   !> Craig-Bampton (src/modes/craig_bampton.f90)
+   integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
 
    !> A flexible body: mesh, physical volumes and material (&body).
    type :: body_input_t
@@ -27,18 +32,21 @@ module ffrf_modes_input
       logical :: geometric_stiffness = .false.
    end type body_input_t
 
-   !> Constrained normal modes (&modes).
-   type :: modes_input_t
-      !> Number of flexible modes per body (free-free bodies: the six rigid modes come on top)
+   !> Constrained normal modes of a body, as the model resolved them (from &modes, the body's
+   !> num_modes and the automatic model: ffrf_model_specs).
+   type :: modes_spec_t
+      !> Number of flexible modes (free-free bodies: the six rigid modes come on top); 0: none,
+      !> the body gets its mesh, mass properties and interfaces only
       integer :: num_modes = 12
       !> Shift of the shift-invert Lanczos, as a frequency (Hz); negative means sigma < 0:
       !> sigma = sign(shift_hz) (2 pi shift_hz)^2. 0 (default) = automatic: a negative shift at
       !> 1 % of the body's wave frequency sqrt(E/rho)/L, below its modes and far enough from
       !> zero that a free-free factorisation stays well conditioned.
       real(dp) :: shift_hz = 0.0_dp
-      !> 'multipliers' (scalable, default) or 'null_space' (explicit LAPACK null spaces)
-      character(len=16) :: formulation = 'multipliers'
-      !> Label of the reference-condition set, e.g. 'RC set 1', for tables and plots
+      !> FORMULATION_MULTIPLIERS (scalable, default) or FORMULATION_NULL_SPACE (explicit LAPACK
+      !> null spaces), of ffrf_mpc_reduction
+      integer :: formulation = FORMULATION_MULTIPLIERS
+      !> Label of the reference-condition set, e.g. 'RC set 1', for the log
       character(len=64) :: rc_label = ''
       !> Relative tolerance of ARPACK's Ritz values (0: machine precision). 1e-9 gives eigen
       !> residuals ~1e-10 on the reference crank with ~25 % fewer solves than machine precision;
@@ -46,10 +54,28 @@ module ffrf_modes_input
       real(dp) :: tolerance = 1.0e-9_dp
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
       integer :: lanczos_vectors = 0
-      !> Mode basis: 'rc_normal' (the constrained normal modes of the RC set, the paper's) or
-      !> 'craig_bampton' (static constraint modes of the non-RC virtual-node dofs plus num_modes
-      !> fixed-interface modes, orthonormalised by Rayleigh-Ritz: src/modes/craig_bampton.f90)
-      character(len=16) :: basis = 'rc_normal'
-   end type modes_input_t
+      !> Mode basis: BASIS_RC_NORMAL (the constrained normal modes of the RC set, the paper's) or
+      !> BASIS_CRAIG_BAMPTON (static constraint modes of the non-RC virtual-node dofs plus
+      !> num_modes fixed-interface modes, orthonormalised by Rayleigh-Ritz:
+      !> src/modes/craig_bampton.f90)
+      integer :: basis = BASIS_RC_NORMAL
+   end type modes_spec_t
+
+contains
+
+   !> 'none', 'rc_normal' or 'craig_bampton' (the &modes key's words), for logs and results.
+   pure function basis_name(basis) result(name)
+      !> BASIS_NONE, BASIS_RC_NORMAL or BASIS_CRAIG_BAMPTON
+      integer, intent(in) :: basis
+      character(len=:), allocatable :: name
+      select case (basis)
+      case (BASIS_RC_NORMAL)
+         name = 'rc_normal'
+      case (BASIS_CRAIG_BAMPTON)
+         name = 'craig_bampton'
+      case default
+         name = 'none'
+      end select
+   end function basis_name
 
 end module ffrf_modes_input

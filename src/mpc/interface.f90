@@ -4,38 +4,42 @@
 module ffrf_mpc_interface
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_strings, only: to_str
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_fe_surface, only: surface_area_centroid, nodal_area_weights
    use ffrf_mpc_rbe2, only: rbe2_matrix, rbe2_pseudo_inverse
    use ffrf_mpc_rbe3, only: rbe3_matrix
    implicit none
    private
-   public :: interface_input_t, interface_t, build_interface, parse_dofs, dofs_text
+   public :: interface_spec_t, interface_t, build_interface, dofs_text
    public :: MPC_RBE2, MPC_RBE3, DOF_NAMES, mpc_name
+   public :: WEIGHTING_UNIFORM, WEIGHTING_AREA, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
 
    integer, parameter :: MPC_RBE2 = 1  !< rigid spider, q_B = F q_V
    integer, parameter :: MPC_RBE3 = 2  !< interpolation element, q_V = G q_B
+   integer, parameter :: WEIGHTING_UNIFORM = 1  !< RBE3 node weights all 1 (Nastran's default)
+   integer, parameter :: WEIGHTING_AREA = 2     !< RBE3 node weights: tributary areas
+   integer, parameter :: VIRTUAL_NODE_CENTROID = 1  !< virtual node at the face's area centroid
+   integer, parameter :: VIRTUAL_NODE_POSITION = 2  !< virtual node at a given position
    !> Virtual-node dof names, in the order of q_V = [u; theta]
    character(len=2), parameter :: DOF_NAMES(6) = ['Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz']
 
-   !> One interface as the user describes it (namelist group &interface).
-   type :: interface_input_t
-      !> Body the interface belongs to
-      character(len=64) :: body = ''
+   !> One interface as the model resolved it (from &interface: ffrf_model_specs).
+   type :: interface_spec_t
       !> Physical surface name in the body's mesh
       character(len=64) :: name = ''
-      !> 'RBE2' or 'RBE3'
-      character(len=8) :: mpc = 'RBE3'
-      !> RBE3 weights: 'uniform' (Nastran's default, every node weight 1) or 'area'
-      character(len=16) :: weighting = 'uniform'
-      !> Virtual node: 'centroid' (area centroid of the face) or 'position'
-      character(len=16) :: virtual_node = 'centroid'
-      !> Virtual node position when virtual_node = 'position' (m, body mesh frame)
+      !> MPC_RBE2 or MPC_RBE3
+      integer :: mpc = MPC_RBE3
+      !> RBE3 node weights: WEIGHTING_UNIFORM (Nastran's default, every node weight 1) or
+      !> WEIGHTING_AREA
+      integer :: weighting = WEIGHTING_UNIFORM
+      !> Virtual node: VIRTUAL_NODE_CENTROID (area centroid of the face) or VIRTUAL_NODE_POSITION
+      integer :: virtual_node = VIRTUAL_NODE_CENTROID
+      !> Virtual node position when virtual_node = VIRTUAL_NODE_POSITION (m, body mesh frame)
       real(dp) :: position(3) = 0.0_dp
-      !> Reference conditions: forbidden virtual-node dofs ('Tx Ty Tz Rz', or Nastran '1234')
-      character(len=64) :: rc = ''
-   end type interface_input_t
+      !> Reference conditions: forbidden virtual-node dofs, Tx..Rz
+      logical :: rc(6) = .false.
+   end type interface_spec_t
 
    !> A reduced interface of a body.
    type :: interface_t
@@ -67,13 +71,13 @@ module ffrf_mpc_interface
 
 contains
 
-   !> Build interface `input%name` of `body` (mesh restricted to the body): nodes, weights,
+   !> Build interface `spec%name` of `body` (mesh restricted to the body): nodes, weights,
    !> virtual node, F or G, reference conditions.
-   subroutine build_interface(body, input, iface, error)
+   subroutine build_interface(body, spec, iface, error)
       !> The body's mesh
       type(mesh_t), intent(in) :: body
-      !> User description
-      type(interface_input_t), intent(in) :: input
+      !> The interface, resolved
+      type(interface_spec_t), intent(in) :: spec
       !> Result
       type(interface_t), intent(out) :: iface
       type(error_t), allocatable, intent(out) :: error
@@ -82,22 +86,14 @@ contains
       real(dp) :: centroid(3)
       integer :: i
 
-      iface%name = trim(input%name)
-      select case (to_lower(trim(input%mpc)))
-      case ('rbe2')
-         iface%mpc = MPC_RBE2
-      case ('rbe3')
-         iface%mpc = MPC_RBE3
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mpc = "' // trim(input%mpc) // &
-            '" is not known; use "RBE2" (rigid) or "RBE3" (interpolation)')
-         return
-      end select
-      call parse_dofs(input%rc, iface%rc, error)
-      if (allocated(error)) then
-         call add_context(error, 'rc = "' // trim(input%rc) // '"')
+      iface%name = trim(spec%name)
+      if (spec%mpc /= MPC_RBE2 .and. spec%mpc /= MPC_RBE3) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // '": mpc = ' // &
+            to_str(spec%mpc) // ' is not known; use MPC_RBE2 or MPC_RBE3')
          return
       end if
+      iface%mpc = spec%mpc
+      iface%rc = spec%rc
 
       call body%group_triangles(iface%name, triangles, error)
       if (allocated(error)) return
@@ -111,27 +107,29 @@ contains
       call surface_area_centroid(body%xyz, body%tris(:, triangles), iface%area, centroid, error)
       if (allocated(error)) return
 
-      select case (to_lower(trim(input%virtual_node)))
-      case ('centroid')
+      select case (spec%virtual_node)
+      case (VIRTUAL_NODE_CENTROID)
          iface%virtual_xyz = centroid
-      case ('position')
-         iface%virtual_xyz = input%position
+      case (VIRTUAL_NODE_POSITION)
+         iface%virtual_xyz = spec%position
       case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'virtual_node = "' // &
-            trim(input%virtual_node) // '" is not known; use "centroid" or "position"')
+         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // &
+            '": virtual_node = ' // to_str(spec%virtual_node) // ' is not known; use ' // &
+            'VIRTUAL_NODE_CENTROID or VIRTUAL_NODE_POSITION')
          return
       end select
 
-      select case (to_lower(trim(input%weighting)))
-      case ('uniform')
+      select case (spec%weighting)
+      case (WEIGHTING_UNIFORM)
          allocate (iface%weights(size(iface%nodes)), source=1.0_dp)
-      case ('area')
+      case (WEIGHTING_AREA)
          call nodal_area_weights(body%xyz, body%tris(:, triangles), iface%nodes, iface%weights, &
             error)
          if (allocated(error)) return
       case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'weighting = "' // trim(input%weighting) // &
-            '" is not known; use "uniform" (Nastran default) or "area"')
+         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // &
+            '": weighting = ' // to_str(spec%weighting) // ' is not known; use ' // &
+            'WEIGHTING_UNIFORM or WEIGHTING_AREA')
          return
       end select
 
@@ -153,65 +151,6 @@ contains
       end if
       if (allocated(error)) call add_context(error, 'interface "' // iface%name // '"')
    end subroutine build_interface
-
-   !> Parse forbidden dofs: names Tx Ty Tz Rx Ry Rz (any case, separated by blanks or commas) or
-   !> Nastran component digits ('123456'); '', 'none' or '-' mean no reference condition. A dof
-   !> named twice ('Tx Tx', '113') is an error: it is a slip, not a stronger condition.
-   subroutine parse_dofs(text, dofs, error)
-      !> Text to parse
-      character(len=*), intent(in) :: text
-      !> Selected dofs, Tx..Rz
-      logical, intent(out) :: dofs(6)
-      type(error_t), allocatable, intent(out) :: error
-      character(len=len(text)) :: words
-      integer :: i, start, finish, d
-      character(len=:), allocatable :: token
-      dofs = .false.
-      words = to_lower(text)
-      do i = 1, len(words)
-         if (words(i:i) == ',' .or. words(i:i) == ';') words(i:i) = ' '
-      end do
-      start = 1
-      do
-         do while (start <= len(words))
-            if (words(start:start) /= ' ') exit
-            start = start + 1
-         end do
-         if (start > len(words)) exit
-         finish = index(words(start:), ' ') + start - 2
-         if (finish < start) finish = len(words)
-         token = words(start:finish)
-         start = finish + 1
-         if (token == 'none' .or. token == '-') cycle
-         d = 0
-         do i = 1, 6
-            if (token == to_lower(DOF_NAMES(i))) d = i
-         end do
-         if (d > 0) then
-            if (dofs(d)) then
-               call fatal_error(error, FFRF_INPUT_ERROR, 'dof ' // DOF_NAMES(d) // &
-                  ' is given twice; name each dof once (Tx Ty Tz Rx Ry Rz or digits 1-6)')
-               return
-            end if
-            dofs(d) = .true.
-         else if (verify(token, '123456') == 0) then
-            do i = 1, len(token)
-               d = iachar(token(i:i)) - iachar('0')
-               if (dofs(d)) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, 'dof ' // DOF_NAMES(d) // ' (' // &
-                     token(i:i) // ') is given twice; name each dof once (Tx Ty Tz Rx Ry Rz ' // &
-                     'or digits 1-6)')
-                  return
-               end if
-               dofs(d) = .true.
-            end do
-         else
-            call fatal_error(error, FFRF_INPUT_ERROR, 'unknown dof "' // token // &
-               '"; use Tx Ty Tz Rx Ry Rz or Nastran digits 1-6')
-            return
-         end if
-      end do
-   end subroutine parse_dofs
 
    !> "Tx Ty Tz Rz" for a dof selection ('' if none).
    function dofs_text(dofs) result(text)

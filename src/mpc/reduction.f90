@@ -18,15 +18,19 @@ module ffrf_mpc_reduction
    implicit none
    private
    public :: reduction_t, build_reduction, reduce_matrix, expand_vectors
-   public :: FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE
+   public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
 
-   character(len=*), parameter :: FORMULATION_MULTIPLIERS = 'multipliers'
-   character(len=*), parameter :: FORMULATION_NULL_SPACE = 'null_space'
+   !> No reduction built (a body without modes)
+   integer, parameter :: FORMULATION_NONE = 0
+   !> RBE2 eliminated, RBE3 reference conditions as constraint rows (Lagrange multipliers)
+   integer, parameter :: FORMULATION_MULTIPLIERS = 1
+   !> Explicit null spaces B2 = null(D) or null(D G) (LAPACK SVD)
+   integer, parameter :: FORMULATION_NULL_SPACE = 2
 
    !> q = T p with C p = 0.
    type :: reduction_t
-      !> 'multipliers' or 'null_space'
-      character(len=:), allocatable :: formulation
+      !> FORMULATION_MULTIPLIERS or FORMULATION_NULL_SPACE
+      integer :: formulation = FORMULATION_NONE
       !> Number of nodal dofs, 3 * num_nodes
       integer(ip) :: num_full = 0
       !> Number of reduced coordinates p
@@ -56,7 +60,7 @@ contains
       !> Interfaces with F/G and reference conditions
       type(interface_t), intent(in) :: interfaces(:)
       !> FORMULATION_MULTIPLIERS or FORMULATION_NULL_SPACE
-      character(len=*), intent(in) :: formulation
+      integer, intent(in) :: formulation
       !> Result
       type(reduction_t), intent(out) :: red
       type(error_t), allocatable, intent(out) :: error
@@ -68,8 +72,8 @@ contains
       integer :: k, i, c, j, dof
 
       if (formulation /= FORMULATION_MULTIPLIERS .and. formulation /= FORMULATION_NULL_SPACE) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'formulation = "' // formulation // &
-            '" is not known; use "multipliers" or "null_space"')
+         call fatal_error(error, FFRF_INPUT_ERROR, 'formulation = ' // to_str(formulation) // &
+            ' is not known; use FORMULATION_MULTIPLIERS or FORMULATION_NULL_SPACE')
          return
       end if
       red%formulation = formulation
@@ -155,7 +159,7 @@ contains
    !> RBE3 with reference conditions in the null-space formulation.
    pure logical function owns_nodes(iface, formulation)
       type(interface_t), intent(in) :: iface
-      character(len=*), intent(in) :: formulation
+      integer, intent(in) :: formulation
       owns_nodes = iface%mpc == MPC_RBE2 .or. &
          (formulation == FORMULATION_NULL_SPACE .and. any(iface%rc))
    end function owns_nodes
@@ -165,7 +169,7 @@ contains
    !> RBE3: null(D G) (SVD).
    subroutine owned_block(iface, formulation, B, error)
       type(interface_t), intent(in) :: iface
-      character(len=*), intent(in) :: formulation
+      integer, intent(in) :: formulation
       real(dp), allocatable, intent(out) :: B(:, :)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: D(:, :), B2(:, :), DG(:, :)
@@ -207,7 +211,7 @@ contains
    !> formulation (C = C_full T when T is not the identity). Dependent rows are refused.
    subroutine build_constraints(interfaces, formulation, red, error)
       type(interface_t), intent(in) :: interfaces(:)
-      character(len=*), intent(in) :: formulation
+      integer, intent(in) :: formulation
       type(reduction_t), intent(inout) :: red
       type(error_t), allocatable, intent(out) :: error
       integer(ip), allocatable :: rows(:), cols(:)
@@ -256,7 +260,7 @@ contains
 
    pure logical function is_constraint_interface(iface, formulation)
       type(interface_t), intent(in) :: iface
-      character(len=*), intent(in) :: formulation
+      integer, intent(in) :: formulation
       is_constraint_interface = iface%mpc == MPC_RBE3 .and. any(iface%rc) .and. &
          formulation == FORMULATION_MULTIPLIERS
    end function is_constraint_interface
@@ -324,5 +328,20 @@ contains
          end do
       end do
    end subroutine expand_vectors
+
+   !> 'multipliers', 'null_space' or 'none' (the &modes key's words), for logs and results.
+   pure function formulation_name(formulation) result(name)
+      !> FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE or FORMULATION_NONE
+      integer, intent(in) :: formulation
+      character(len=:), allocatable :: name
+      select case (formulation)
+      case (FORMULATION_MULTIPLIERS)
+         name = 'multipliers'
+      case (FORMULATION_NULL_SPACE)
+         name = 'null_space'
+      case default
+         name = 'none'
+      end select
+   end function formulation_name
 
 end module ffrf_mpc_reduction

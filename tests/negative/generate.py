@@ -489,7 +489,7 @@ def generate_meshes(fmt, base_dir, out_dir, count):
 
 
 # ====================================================================== namelists
-#: key -> type of every namelist key (src/io/nml_*.f90); 'r' real, 'i' integer, 'l' logical,
+#: key -> type of every namelist key (src/input/nml_*.f90); 'r' real, 'i' integer, 'l' logical,
 #: 's' string
 KEY_TYPES = {}
 for _group, _keys in {

@@ -46,9 +46,11 @@ module test_mbs_flexible_engine
    use ffrf_fe_material, only: material_t
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_la_sparse, only: csr_t
-   use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_body, only: body_t
@@ -109,7 +111,8 @@ contains
       faces(3)%rc = 'Tx Ty Tz Rz'
       modes_input%num_modes = num_modes
       log%level = LOG_QUIET
-      call compute_body_modes(input, faces, modes_input, test_mesh_dir(), log, times, modes, error)
+      call compute_input_body_modes(input, faces, modes_input, test_mesh_dir(), &
+         log, times, modes, error)
       if (allocated(error)) then
          call add_context(error, 'crank_lc8.msh')
          return

@@ -15,9 +15,11 @@ module test_mbs_joints
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_la_sparse, only: csr_t, csr_from_coo
    use ffrf_la_dense, only: singular_values, numerical_rank
-   use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, euler_g, euler_from_axis_angle, &
       euler_from_rotation, euler_normalized, skew3, identity3, rotation_vector_matrix
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -183,7 +185,8 @@ contains
       faces(2)%rc = 'Tx Ty Tz Rx Ry Rz'
       modes_input%num_modes = 8
       log%level = LOG_QUIET
-      call compute_body_modes(input, faces, modes_input, test_mesh_dir(), log, times, modes, error)
+      call compute_input_body_modes(input, faces, modes_input, test_mesh_dir(), &
+         log, times, modes, error)
       if (allocated(error)) then
          call add_context(error, 'crank_lc8.msh')
          return

@@ -16,9 +16,12 @@ module test_modes_beam
    use ffrf_fe_material, only: material_t
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_la_sparse, only: csr_t, csr_from_coo
-   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes, sigma_of_shift
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t, sigma_of_shift
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_test_beam_reference, only: timoshenko_free_free_hz, timoshenko_clamped_free_hz, &
       torsion_free_free_hz, torsion_clamped_free_hz, shear_coefficient_circle
@@ -102,7 +105,7 @@ contains
       modes%num_modes = num_modes
       if (present(formulation)) modes%formulation = formulation
       log%level = LOG_QUIET
-      call compute_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, error)
+      call compute_input_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, error)
       if (allocated(error)) call add_context(error, mesh_name)
    end subroutine beam_modes
 
@@ -269,7 +272,7 @@ contains
       type(mesh_t) :: mesh, beam
       type(csr_t) :: K, M, K_aug, M_aug, C_none, C_rbe3, C_rbe2
       type(interface_t) :: ends(2)
-      type(interface_input_t) :: input
+      type(interface_spec_t) :: input
       type(eigen_options_t) :: options
       type(eigen_result_t) :: plain, with_rbe3, with_rbe2
       type(logger_t) :: log
@@ -281,7 +284,6 @@ contains
          material_t(young, poisson, density, 'steel'), K, M, error)
       if (allocated(error)) return
       do side = 1, 2
-         input%body = 'beam'
          input%name = merge('end0', 'end1', side == 1)
          call build_interface(beam, input, ends(side), error)
          if (allocated(error)) return

@@ -24,11 +24,16 @@ module test_modes_craig_bampton
    use ffrf_la_sparse, only: csr_t, csr_to_dense
    use ffrf_la_dense, only: null_space
    use ffrf_la_lapack, only: dgemm, dsygv, dgesv
-   use ffrf_mpc_interface, only: interface_input_t, interface_t, build_interface
-   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix
-   use ffrf_modes_input, only: body_input_t, modes_input_t
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface
+   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, &
+      FORMULATION_MULTIPLIERS
+   use ffrf_model_specs, only: interface_spec_of
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_modes_craig_bampton, only: cb_result_t, virtual_node_rows, rayleigh_ritz, &
       craig_bampton_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
@@ -68,6 +73,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(mesh_t) :: mesh, beam
       type(interface_input_t) :: inputs(2)
+      type(interface_spec_t) :: spec
       type(csr_t) :: K, M
       integer :: i_if
       call read_gmsh(test_mesh_dir() // '/' // BEAM_MESH, mesh, error)
@@ -81,10 +87,12 @@ contains
          inputs(i_if)%name = 'end' // to_str(i_if - 1)
          inputs(i_if)%mpc = mpc(i_if)
          inputs(i_if)%rc = rc(i_if)
-         call build_interface(beam, inputs(i_if), body%interfaces(i_if), error)
+         call interface_spec_of(inputs(i_if), spec, error)
+         if (.not. allocated(error)) call build_interface(beam, spec, body%interfaces(i_if), error)
          if (allocated(error)) return
       end do
-      call build_reduction(beam%num_nodes, body%interfaces, 'multipliers', body%red, error)
+      call build_reduction(beam%num_nodes, body%interfaces, FORMULATION_MULTIPLIERS, body%red, &
+         error)
       if (.not. allocated(error)) call reduce_matrix(body%red, K, body%K, error)
       if (.not. allocated(error)) call reduce_matrix(body%red, M, body%M, error)
    end subroutine reduced_beam
@@ -349,7 +357,8 @@ contains
       modes%num_modes = num_modes
       modes%basis = basis
       log%level = LOG_QUIET
-      call compute_body_modes(crank, faces, modes, test_mesh_dir(), log, times, body, error)
+      call compute_input_body_modes(crank, faces, modes, test_mesh_dir(), &
+         log, times, body, error)
       if (allocated(error)) call add_context(error, basis // ', ' // to_str(num_modes) // ' modes')
    end subroutine crank_modes
 
@@ -413,7 +422,8 @@ contains
       modes%num_modes = 4
       modes%basis = 'craig_bampton'
       log%level = LOG_QUIET
-      call compute_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, expected)
+      call compute_input_body_modes(beam, ends, modes, test_mesh_dir(), &
+         log, times, body, expected)
       call check(error, 'free-free body with basis = craig_bampton refused', allocated(expected))
       if (allocated(error)) return
       call report('message: ' // expected%message)

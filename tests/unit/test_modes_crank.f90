@@ -11,10 +11,13 @@ module test_modes_crank
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
-   use ffrf_mpc_interface, only: interface_input_t, MPC_RBE3
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_mpc_interface, only: MPC_RBE3
    use ffrf_mpc_rbe2, only: rbe2_matrix
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
    implicit none
    private
@@ -65,7 +68,8 @@ contains
       modes%shift_hz = shift_hz
       modes%formulation = formulation
       log%level = LOG_QUIET
-      call compute_body_modes(crank, faces, modes, test_mesh_dir(), log, times, body, error)
+      call compute_input_body_modes(crank, faces, modes, test_mesh_dir(), &
+         log, times, body, error)
       if (allocated(error)) call add_context(error, 'RC set ' // to_str(rc_set) // ', ' // mpc)
    end subroutine crank_modes
 

@@ -23,9 +23,11 @@ module test_modes_geometric_stiffness
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_la_sparse, only: csr_t
-   use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_mbs_rotation, only: euler_g_bar
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -93,7 +95,8 @@ contains
       ends(2)%name = 'tip'
       modes%num_modes = num_modes
       log%level = LOG_QUIET
-      call compute_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, error, &
+      call compute_input_body_modes(beam, ends, modes, test_mesh_dir(), &
+         log, times, body, error, &
          mass_matrix=M)
       if (allocated(error)) then
          call add_context(error, mesh_name)

@@ -9,7 +9,8 @@ module test_mpc_rbe
    use ffrf_la_dense, only: skew
    use ffrf_mpc_rbe2, only: rbe2_matrix, rbe2_pseudo_inverse
    use ffrf_mpc_rbe3, only: rbe3_matrix
-   use ffrf_mpc_interface, only: interface_t, parse_dofs, dofs_text, MPC_RBE3
+   use ffrf_mpc_interface, only: interface_t, dofs_text, MPC_RBE3
+   use ffrf_input_interface, only: parse_dofs
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check
    implicit none

@@ -28,9 +28,11 @@ module test_stability_free_body
    use ffrf_core_error, only: error_t, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
-   use ffrf_mpc_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t, modes_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_input_interface, only: interface_input_t
+   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_input_body_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report, test_mesh_dir
    implicit none
    private
@@ -124,7 +126,7 @@ contains
       modes%num_modes = 6
       modes%shift_hz = shift_hz
       log%level = LOG_QUIET
-      call compute_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, error)
+      call compute_input_body_modes(beam, ends, modes, test_mesh_dir(), log, times, body, error)
    end subroutine beam_modes
 
 end module test_stability_free_body

@@ -24,7 +24,7 @@ module test_stability_mpc
    use ffrf_mpc_rbe3, only: rbe3_matrix
    use ffrf_mpc_interface, only: interface_t, MPC_RBE3
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
-   use ffrf_mpc_reduction, only: reduction_t, build_reduction
+   use ffrf_mpc_reduction, only: reduction_t, build_reduction, FORMULATION_MULTIPLIERS
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
@@ -385,7 +385,8 @@ contains
       type(reduction_t) :: red
       type(logger_t) :: log
       real(dp) :: shift_hz
-      call build_reduction(int(size(xyz, 2), ip), faces, 'multipliers', red, error)
+      call build_reduction(int(size(xyz, 2), ip), faces, FORMULATION_MULTIPLIERS, red, &
+         error)
       if (allocated(error)) return
       shift_hz = 0.01_dp * sqrt(210.0e9_dp / 7850.0_dp) / (sqrt(3.0_dp) * cubes * cube)
       log%level = LOG_QUIET

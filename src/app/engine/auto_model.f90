@@ -14,8 +14,11 @@ module ffrf_app_engine_auto_model
    use ffrf_la_sparse, only: csr_t
    use ffrf_input_case, only: case_input_t, body_index, vector_text
    use ffrf_app_engine_results, only: engine_results_t
-   use ffrf_modes_input, only: modes_input_t, body_input_t
-   use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
+   use ffrf_modes_input, only: modes_spec_t, body_input_t
+   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_model_specs, only: modes_spec_of, body_interface_specs
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_input_mechanism, only: GROUND_NAME
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
@@ -149,7 +152,8 @@ contains
       type(body_selection_t) :: previous_selection, current_selection
       type(mode_effect_t) :: coarse_effect, fine_effect
       type(body_input_t) :: input
-      type(modes_input_t) :: modes_input
+      type(modes_spec_t) :: spec
+      type(interface_spec_t), allocatable :: interfaces(:)
       character(len=256), allocatable :: meshes(:)
       real(dp), allocatable :: attached(:), fine_delta(:), coarse_delta(:)
       integer, allocatable :: pair(:)
@@ -162,12 +166,15 @@ contains
       meshes = [pack(case%motions(k)%coarse_meshes, len_trim(case%motions(k)%coarse_meshes) &
          > 0), input%mesh_file]
       body%name = input%name
-      modes_input = case%modes
-      modes_input%num_modes = case%mechanism%model%candidate_modes
+      call modes_spec_of(case%modes, spec, error)
+      if (.not. allocated(error)) call body_interface_specs(case%interfaces, input%name, &
+         interfaces, error)
+      if (allocated(error)) return
+      spec%num_modes = case%mechanism%model%candidate_modes
       allocate (body%meshes_tried(0), body%mesh_errors(0))
       do i = 1, size(meshes)
          input%mesh_file = meshes(i)
-         call compute_body_modes(input, case%interfaces, modes_input, mesh_dir, log, times, &
+         call compute_body_modes_from_file(input, interfaces, spec, mesh_dir, log, times, &
             current, error, mass_matrix=current_mass)
          if (allocated(error)) then
             call add_context(error, 'automatic model, candidate mesh "' // trim(meshes(i)) // '"')
@@ -373,18 +380,22 @@ contains
       real(dp), intent(out) :: mass
       type(error_t), allocatable, intent(out) :: error
       type(body_input_t) :: input
-      type(modes_input_t) :: modes_input
+      type(modes_spec_t) :: spec
+      type(interface_spec_t), allocatable :: interfaces(:)
       type(body_modes_t) :: modes
       type(stage_times_t) :: times
       type(logger_t) :: quiet
       input = case%bodies(k)
       if (len_trim(case%motions(k)%coarse_meshes(1)) > 0) input%mesh_file = &
          case%motions(k)%coarse_meshes(1)
-      modes_input = case%modes
-      modes_input%num_modes = 0
+      call modes_spec_of(case%modes, spec, error)
+      if (.not. allocated(error)) call body_interface_specs(case%interfaces, input%name, &
+         interfaces, error)
+      if (allocated(error)) return
+      spec%num_modes = 0
       quiet = log
       quiet%level = LOG_QUIET
-      call compute_body_modes(input, case%interfaces, modes_input, mesh_dir, quiet, times, modes, &
+      call compute_body_modes_from_file(input, interfaces, spec, mesh_dir, quiet, times, modes, &
          error)
       mass = modes%mass
    end subroutine mesh_mass

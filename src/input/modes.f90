@@ -1,0 +1,34 @@
+!> The &modes group as read (strings, as the user wrote them; reader src/input/nml_modes.f90).
+!> The model (ffrf_model_specs) turns it into a modes_spec_t of ffrf_modes_input.
+module ffrf_input_modes
+   use ffrf_core_kinds, only: dp
+   implicit none
+   private
+   public :: modes_input_t
+
+   !> Constrained normal modes (&modes).
+   type :: modes_input_t
+      !> Number of flexible modes per body (free-free bodies: the six rigid modes come on top)
+      integer :: num_modes = 12
+      !> Shift of the shift-invert Lanczos, as a frequency (Hz); negative means sigma < 0:
+      !> sigma = sign(shift_hz) (2 pi shift_hz)^2. 0 (default) = automatic: a negative shift at
+      !> 1 % of the body's wave frequency sqrt(E/rho)/L, below its modes and far enough from
+      !> zero that a free-free factorisation stays well conditioned.
+      real(dp) :: shift_hz = 0.0_dp
+      !> 'multipliers' (scalable, default) or 'null_space' (explicit LAPACK null spaces)
+      character(len=16) :: formulation = 'multipliers'
+      !> Label of the reference-condition set, e.g. 'RC set 1', for tables and plots
+      character(len=64) :: rc_label = ''
+      !> Relative tolerance of ARPACK's Ritz values (0: machine precision). 1e-9 gives eigen
+      !> residuals ~1e-10 on the reference crank with ~25 % fewer solves than machine precision;
+      !> the frequencies (Rayleigh quotients) are accurate to about the residual squared.
+      real(dp) :: tolerance = 1.0e-9_dp
+      !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
+      integer :: lanczos_vectors = 0
+      !> Mode basis: 'rc_normal' (the constrained normal modes of the RC set, the paper's) or
+      !> 'craig_bampton' (static constraint modes of the non-RC virtual-node dofs plus num_modes
+      !> fixed-interface modes, orthonormalised by Rayleigh-Ritz: src/modes/craig_bampton.f90)
+      character(len=16) :: basis = 'rc_normal'
+   end type modes_input_t
+
+end module ffrf_input_modes
