@@ -218,6 +218,8 @@ contains
       bodies(n + 1)%young = young
       bodies(n + 1)%poisson = poisson
       bodies(n + 1)%density = density
+      ! the body is cut from its mesh by name: the mesh's one volume group below
+      bodies(n + 1)%volumes(1) = name
       associate (mesh => meshes(n + 1))
          mesh%num_nodes = size(xyz, 2)
          mesh%xyz = xyz
