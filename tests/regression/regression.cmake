@@ -26,3 +26,15 @@ add_test(NAME regression_crank_lc8_rc2_table
 set_tests_properties(regression_crank_lc8_rc2_check regression_crank_lc8_rc2_plots
   regression_crank_lc8_rc2_table PROPERTIES LABELS "regression;postprocess"
   FIXTURES_REQUIRED crank_lc8_results)
+set_tests_properties(regression_crank_lc8_rc2_plots regression_crank_lc8_rc2_table PROPERTIES
+  FIXTURES_SETUP crank_lc8_postprocess)
+# what the plot and table scripts wrote, read back: the CSV's frequencies equal the results
+# file's exactly (h5py), the plot is a real, non-blank PNG
+add_test(NAME regression_crank_lc8_rc2_table_content
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_outputs.py table
+    ${_out}/crank_lc8_rc2.csv ${_out}/crank_lc8_rc2.h5)
+add_test(NAME regression_crank_lc8_rc2_plots_content
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_outputs.py png
+    ${_out}/crank_lc8_rc2_modes.png)
+set_tests_properties(regression_crank_lc8_rc2_table_content regression_crank_lc8_rc2_plots_content
+  PROPERTIES LABELS "regression;postprocess" FIXTURES_REQUIRED "crank_lc8_results;crank_lc8_postprocess")
