@@ -8,35 +8,20 @@
 !> sees the marker-force term only (mechanism header).
 module ffrf_mbs_host_load
    use ffrf_core_kinds, only: dp
-   use ffrf_mbs_mechanism_loads, only: load_t
+   use ffrf_mbs_mechanism_loads, only: constant_load_t
    implicit none
    private
    public :: host_load_t
 
-   !> A force or moment set by the host: value * direction, constant until set again.
-   type, extends(load_t) :: host_load_t
-      !> Length of the vector (N or N m), >= 0
-      real(dp) :: value = 0.0_dp
+   !> A force or moment set by the host: a constant load (value * direction) whose vector the
+   !> host replaces between intervals.
+   type, extends(constant_load_t) :: host_load_t
    contains
-      procedure :: magnitude => host_magnitude
       !> Set the global vector (a zero vector keeps the direction with value 0)
       procedure :: set_vector => host_set_vector
    end type host_load_t
 
 contains
-
-   !> The length of the host's vector.
-   pure function host_magnitude(self, t, crank_angle, crank_speed) result(value)
-      class(host_load_t), intent(in) :: self
-      !> Time (s)
-      real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
-      real(dp) :: value
-      value = self%value + 0.0_dp * (t + crank_angle + crank_speed)
-   end function host_magnitude
 
    !> value = |vector|, direction = vector / |vector| (unchanged for a zero vector).
    pure subroutine host_set_vector(self, vector)
