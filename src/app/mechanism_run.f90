@@ -22,7 +22,7 @@ module ffrf_app_mechanism_run
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
    use ffrf_input_case, only: case_input_t, read_case, case_echo
    use ffrf_app_engine_results, only: engine_results_t
-   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_hdf5, only: h5_file_t, H5_READ_ONLY
    use ffrf_io_results, only: output_lock_t, partial_name, commit_file, abandon_file, &
       check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
@@ -771,7 +771,7 @@ contains
       type(restart_state_t), intent(out) :: restart
       type(error_t), allocatable, intent(out) :: error
       integer(i8), allocatable :: counts(:)
-      call source%open(file_name, 'r', error)
+      call source%open(file_name, H5_READ_ONLY, error)
       if (allocated(error)) then
          call add_context(error, '--restart')
          return

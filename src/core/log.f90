@@ -1,6 +1,7 @@
 !> Leveled progress log and stage timers. One logger writes to a unit the caller picks; every
 !> stage reports its size and wall time: `[modes] crank, RC set 2: 20 modes ... 2.93 s`.
 module ffrf_core_log
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use, intrinsic :: iso_fortran_env, only: output_unit
    use ffrf_core_kinds, only: dp, i8
    implicit none
@@ -137,8 +138,13 @@ contains
       integer :: unit, stat
       integer(i8) :: kib
       mib = 0.0_dp
+      ! one unit per file in the process (Fortran 2008, 9.5.4): threads take turns
+      call enter_serial_section(SECTION_FILES)
       open (newunit=unit, file='/proc/self/status', action='read', status='old', iostat=stat)
-      if (stat /= 0) return
+      if (stat /= 0) then
+         call leave_serial_section(SECTION_FILES)
+         return
+      end if
       do
          read (unit, '(a)', iostat=stat) line
          if (stat /= 0) exit
@@ -149,6 +155,7 @@ contains
          end if
       end do
       close (unit)
+      call leave_serial_section(SECTION_FILES)
    end function peak_memory_mib
 
 end module ffrf_core_log

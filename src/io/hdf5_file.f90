@@ -18,7 +18,10 @@ module ffrf_io_hdf5
    use hdf5, only: hid_t
    implicit none
    private
-   public :: h5_file_t
+   public :: h5_file_t, H5_READ_ONLY, H5_READ_WRITE
+
+   integer, parameter :: H5_READ_ONLY = 1   !< h5_file_t%open: read only
+   integer, parameter :: H5_READ_WRITE = 2  !< h5_file_t%open: read and write
 
    !> One HDF5 file, open or closed. Components are private: use the type-bound procedures.
    type :: h5_file_t
@@ -27,7 +30,7 @@ module ffrf_io_hdf5
       integer(hid_t) :: id = -1
       !> File name, for messages
       character(len=:), allocatable :: name
-      !> False when opened with mode 'r'
+      !> False when opened H5_READ_ONLY
       logical :: writable = .false.
    contains
       procedure :: create => h5_file_create
@@ -78,13 +81,13 @@ module ffrf_io_hdf5
          type(error_t), allocatable, intent(out) :: error
       end subroutine h5_file_create
 
-      !> Open an existing file: `mode` 'r' (read only) or 'rw' (read and write).
+      !> Open an existing file: `mode` H5_READ_ONLY or H5_READ_WRITE.
       module subroutine h5_file_open(self, file_name, mode, error)
          class(h5_file_t), intent(inout) :: self
          !> File to open
          character(len=*), intent(in) :: file_name
-         !> 'r' or 'rw'
-         character(len=*), intent(in) :: mode
+         !> H5_READ_ONLY or H5_READ_WRITE
+         integer, intent(in) :: mode
          type(error_t), allocatable, intent(out) :: error
       end subroutine h5_file_open
 
@@ -511,6 +514,7 @@ submodule (ffrf_io_hdf5) ffrf_io_hdf5_impl
    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_null_ptr, c_associated, c_char
    use ffrf_core_error, only: fatal_error, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_HDF5
    use hdf5, only: hsize_t, size_t, h5open_f, h5dont_atexit_f, h5eset_auto_f, h5kind_to_type, &
       H5_INTEGER_KIND, h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, &
       H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, h5gcreate_f, h5gclose_f, &
@@ -537,480 +541,649 @@ contains
    ! ------------------------------------------------------------------ file
 
    module procedure h5_file_create
-      integer :: hdferr
-      call prepare_open(self, file_name, error)
-      if (allocated(error)) return
-      call h5fcreate_f(file_name, H5F_ACC_TRUNC_F, self%id, hdferr)
-      self%writable = .true.
-      if (hdferr < 0) then
-         self%id = -1
-         call fatal_error(error, FFRF_IO_ERROR, 'cannot create HDF5 file "' // file_name // &
-            '": check that its folder exists and is writable')
-      end if
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: hdferr
+         call prepare_open(self, file_name, error)
+         if (allocated(error)) exit section
+         call h5fcreate_f(file_name, H5F_ACC_TRUNC_F, self%id, hdferr)
+         self%writable = .true.
+         if (hdferr < 0) then
+            self%id = -1
+            call fatal_error(error, FFRF_IO_ERROR, 'cannot create HDF5 file "' // file_name // &
+               '": check that its folder exists and is writable')
+         end if
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_create
 
    module procedure h5_file_open
-      integer :: hdferr, flags
-      select case (mode)
-      case ('r')
-         flags = H5F_ACC_RDONLY_F
-      case ('rw')
-         flags = H5F_ACC_RDWR_F
-      case default
-         call fatal_error(error, FFRF_IO_ERROR, 'HDF5 file "' // file_name // '": open mode "' &
-            // mode // '" is not one of r, rw')
-         return
-      end select
-      call prepare_open(self, file_name, error)
-      if (allocated(error)) return
-      call h5fopen_f(file_name, flags, self%id, hdferr)
-      self%writable = mode == 'rw'
-      if (hdferr < 0) then
-         self%id = -1
-         call fatal_error(error, FFRF_IO_ERROR, 'cannot open HDF5 file "' // file_name // &
-            '" (mode ' // mode // '): check that it exists, is readable and is an HDF5 file')
-      end if
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: hdferr, flags
+         select case (mode)
+         case (H5_READ_ONLY)
+            flags = H5F_ACC_RDONLY_F
+         case (H5_READ_WRITE)
+            flags = H5F_ACC_RDWR_F
+         case default
+            call fatal_error(error, FFRF_IO_ERROR, 'HDF5 file "' // file_name // '": open mode ' &
+               // to_str(mode) // ' is not H5_READ_ONLY or H5_READ_WRITE')
+            exit section
+         end select
+         call prepare_open(self, file_name, error)
+         if (allocated(error)) exit section
+         call h5fopen_f(file_name, flags, self%id, hdferr)
+         self%writable = mode == H5_READ_WRITE
+         if (hdferr < 0) then
+            self%id = -1
+            call fatal_error(error, FFRF_IO_ERROR, 'cannot open HDF5 file "' // file_name // &
+               '" (' // trim(merge('read only ', 'read-write', mode == H5_READ_ONLY)) // &
+               '): check that it exists, is readable and is an HDF5 file')
+         end if
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_open
 
    module procedure h5_file_close
-      integer :: hdferr
-      if (self%id < 0) return
-      call h5fclose_f(self%id, hdferr)
-      self%id = -1
-      if (hdferr < 0) call fatal_error(error, FFRF_IO_ERROR, 'HDF5 file "' // self%name // &
-         '": closing failed (disk full, quota or file size limit?)')
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: hdferr
+         if (self%id < 0) exit section
+         call h5fclose_f(self%id, hdferr)
+         self%id = -1
+         if (hdferr < 0) call fatal_error(error, FFRF_IO_ERROR, 'HDF5 file "' // self%name // &
+            '": closing failed (disk full, quota or file size limit?)')
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_close
 
    module procedure h5_file_flush
-      integer :: hdferr
-      call require_open(self, '/', error)
-      if (allocated(error)) return
-      call h5fflush_f(self%id, H5F_SCOPE_GLOBAL_F, hdferr)
-      if (hdferr < 0) call fail(self, error, '/', 'flush failed (disk full, quota or file ' // &
-         'size limit?)')
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: hdferr
+         call require_open(self, '/', error)
+         if (allocated(error)) exit section
+         call h5fflush_f(self%id, H5F_SCOPE_GLOBAL_F, hdferr)
+         if (hdferr < 0) call fail(self, error, '/', 'flush failed (disk full, quota or file ' // &
+            'size limit?)')
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_flush
 
    module procedure h5_file_is_open
-      is_open = self%id >= 0
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         is_open = self%id >= 0
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_is_open
 
    module procedure h5_file_exists
-      integer :: i, hdferr
-      found = .false.
-      if (self%id < 0) return
-      if (path == '/') then
-         found = .true.
-         return
-      end if
-      if (.not. valid_path(path)) return
-      ! h5lexists_f needs every parent to exist: test the prefixes one by one
-      do i = 2, len(path)
-         if (path(i:i) == '/' .or. i == len(path)) then
-            if (path(i:i) == '/') then
-               call h5lexists_f(self%id, path(1:i - 1), found, hdferr)
-            else
-               call h5lexists_f(self%id, path, found, hdferr)
-            end if
-            if (hdferr < 0) found = .false.
-            if (.not. found) return
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: i, hdferr
+         found = .false.
+         if (self%id < 0) exit section
+         if (path == '/') then
+            found = .true.
+            exit section
          end if
-      end do
+         if (.not. valid_path(path)) exit section
+         ! h5lexists_f needs every parent to exist: test the prefixes one by one
+         do i = 2, len(path)
+            if (path(i:i) == '/' .or. i == len(path)) then
+               if (path(i:i) == '/') then
+                  call h5lexists_f(self%id, path(1:i - 1), found, hdferr)
+               else
+                  call h5lexists_f(self%id, path, found, hdferr)
+               end if
+               if (hdferr < 0) found = .false.
+               if (.not. found) exit section
+            end if
+         end do
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_exists
 
    module procedure h5_file_attribute_exists
-      integer(hid_t) :: obj
-      integer :: hdferr
-      found = .false.
-      if (.not. self%exists(path)) return
-      call h5oopen_f(self%id, path, obj, hdferr)
-      if (hdferr < 0) return
-      call h5aexists_f(obj, name, found, hdferr)
-      if (hdferr < 0) found = .false.
-      call h5oclose_f(obj, hdferr)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: obj
+         integer :: hdferr
+         found = .false.
+         if (.not. self%exists(path)) exit section
+         call h5oopen_f(self%id, path, obj, hdferr)
+         if (hdferr < 0) exit section
+         call h5aexists_f(obj, name, found, hdferr)
+         if (hdferr < 0) found = .false.
+         call h5oclose_f(obj, hdferr)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_attribute_exists
 
    ! ------------------------------------------------------------------ writers
 
    module procedure write_real_0d
-      call write_dataset(self, path, H5T_NATIVE_DOUBLE, [integer(hsize_t) ::], c_loc(value), &
-         units, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call write_dataset(self, path, H5T_NATIVE_DOUBLE, [integer(hsize_t) ::], c_loc(value), &
+            units, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_real_0d
 
    module procedure write_real_1d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, H5T_NATIVE_DOUBLE, shape(value, hsize_t), buffer, units, &
-         error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, H5T_NATIVE_DOUBLE, shape(value, hsize_t), buffer, units, &
+            error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_real_1d
 
    module procedure write_real_2d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, H5T_NATIVE_DOUBLE, shape(value, hsize_t), buffer, units, &
-         error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, H5T_NATIVE_DOUBLE, shape(value, hsize_t), buffer, units, &
+            error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_real_2d
 
    module procedure write_int_0d
-      call write_dataset(self, path, H5T_NATIVE_INTEGER, [integer(hsize_t) ::], c_loc(value), &
-         error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call write_dataset(self, path, H5T_NATIVE_INTEGER, [integer(hsize_t) ::], c_loc(value), &
+            error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_int_0d
 
    module procedure write_int_1d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, H5T_NATIVE_INTEGER, shape(value, hsize_t), buffer, &
-         error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, H5T_NATIVE_INTEGER, shape(value, hsize_t), buffer, &
+            error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_int_1d
 
    module procedure write_int_2d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, H5T_NATIVE_INTEGER, shape(value, hsize_t), buffer, &
-         error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, H5T_NATIVE_INTEGER, shape(value, hsize_t), buffer, &
+            error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_int_2d
 
    module procedure write_long_0d
-      call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), [integer(hsize_t) ::], &
-         c_loc(value), error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), &
+            [integer(hsize_t) ::], c_loc(value), error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_long_0d
 
    module procedure write_long_1d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), shape(value, hsize_t), &
-         buffer, error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), &
+            shape(value, hsize_t), buffer, error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_long_1d
 
    module procedure write_long_2d
-      type(c_ptr) :: buffer
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), shape(value, hsize_t), &
-         buffer, error=error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         type(c_ptr) :: buffer
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call write_dataset(self, path, h5kind_to_type(i8, H5_INTEGER_KIND), &
+            shape(value, hsize_t), buffer, error=error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure write_long_2d
 
    module procedure h5_file_write_string
-      character(kind=c_char, len=1), allocatable, target :: bytes(:)
-      integer(hid_t) :: string_type
-      integer :: hdferr
-      call pack_strings([text], len(text), .false., bytes)
-      call make_string_type(size(bytes), string_type, hdferr)
-      if (hdferr < 0) then
-         call fail(self, error, path, 'cannot make a string type of length ' // &
-            to_str(size(bytes)))
-         return
-      end if
-      call write_dataset(self, path, string_type, [integer(hsize_t) ::], c_loc(bytes), &
-         error=error)
-      call h5tclose_f(string_type, hdferr)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         character(kind=c_char, len=1), allocatable, target :: bytes(:)
+         integer(hid_t) :: string_type
+         integer :: hdferr
+         call pack_strings([text], len(text), .false., bytes)
+         call make_string_type(size(bytes), string_type, hdferr)
+         if (hdferr < 0) then
+            call fail(self, error, path, 'cannot make a string type of length ' // &
+               to_str(size(bytes)))
+            exit section
+         end if
+         call write_dataset(self, path, string_type, [integer(hsize_t) ::], c_loc(bytes), &
+            error=error)
+         call h5tclose_f(string_type, hdferr)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_write_string
 
    module procedure h5_file_write_string_list
-      character(kind=c_char, len=1), allocatable, target :: bytes(:)
-      integer(hid_t) :: string_type
-      integer :: hdferr, width, i
-      type(c_ptr) :: buffer
-      width = 1
-      do i = 1, size(strings)
-         width = max(width, len_trim(strings(i)))
-      end do
-      call pack_strings(strings, width, .true., bytes)
-      call make_string_type(width, string_type, hdferr)
-      if (hdferr < 0) then
-         call fail(self, error, path, 'cannot make a string type of length ' // to_str(width))
-         return
-      end if
-      buffer = c_null_ptr
-      if (size(bytes) > 0) buffer = c_loc(bytes)
-      call write_dataset(self, path, string_type, shape(strings, hsize_t), buffer, error=error)
-      call h5tclose_f(string_type, hdferr)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         character(kind=c_char, len=1), allocatable, target :: bytes(:)
+         integer(hid_t) :: string_type
+         integer :: hdferr, width, i
+         type(c_ptr) :: buffer
+         width = 1
+         do i = 1, size(strings)
+            width = max(width, len_trim(strings(i)))
+         end do
+         call pack_strings(strings, width, .true., bytes)
+         call make_string_type(width, string_type, hdferr)
+         if (hdferr < 0) then
+            call fail(self, error, path, 'cannot make a string type of length ' // to_str(width))
+            exit section
+         end if
+         buffer = c_null_ptr
+         if (size(bytes) > 0) buffer = c_loc(bytes)
+         call write_dataset(self, path, string_type, shape(strings, hsize_t), buffer, error=error)
+         call h5tclose_f(string_type, hdferr)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_write_string_list
 
    ! ------------------------------------------------------------------ readers
 
    module procedure read_real_0d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(0)
-      value = 0.0_dp
-      call open_dataset(self, path, 0, dset, dims, error)
-      if (allocated(error)) return
-      call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(0)
+         value = 0.0_dp
+         call open_dataset(self, path, 0, dset, dims, error)
+         if (allocated(error)) exit section
+         call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_real_0d
 
    module procedure read_real_1d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(1)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 1, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(1)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 1, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_real_1d
 
    module procedure read_real_2d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 2, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1), dims(2)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(2)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 2, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1), dims(2)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, H5T_NATIVE_DOUBLE, buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_real_2d
 
    module procedure read_int_0d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(0)
-      value = 0
-      call open_dataset(self, path, 0, dset, dims, error)
-      if (allocated(error)) return
-      call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(0)
+         value = 0
+         call open_dataset(self, path, 0, dset, dims, error)
+         if (allocated(error)) exit section
+         call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_int_0d
 
    module procedure read_int_1d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(1)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 1, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(1)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 1, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_int_1d
 
    module procedure read_int_2d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 2, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1), dims(2)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(2)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 2, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1), dims(2)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, H5T_NATIVE_INTEGER, buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_int_2d
 
    module procedure read_long_0d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(0)
-      value = 0_i8
-      call open_dataset(self, path, 0, dset, dims, error)
-      if (allocated(error)) return
-      call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(value), &
-         error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(0)
+         value = 0_i8
+         call open_dataset(self, path, 0, dset, dims, error)
+         if (allocated(error)) exit section
+         call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), c_loc(value), &
+            error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_long_0d
 
    module procedure read_long_1d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(1)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 1, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(1)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 1, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_long_1d
 
    module procedure read_long_2d
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      type(c_ptr) :: buffer
-      call open_dataset(self, path, 2, dset, dims, error)
-      if (allocated(error)) return
-      allocate (value(dims(1), dims(2)))
-      buffer = c_null_ptr
-      if (size(value) > 0) buffer = c_loc(value)
-      call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), buffer, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(2)
+         type(c_ptr) :: buffer
+         call open_dataset(self, path, 2, dset, dims, error)
+         if (allocated(error)) exit section
+         allocate (value(dims(1), dims(2)))
+         buffer = c_null_ptr
+         if (size(value) > 0) buffer = c_loc(value)
+         call read_and_close(self, path, dset, h5kind_to_type(i8, H5_INTEGER_KIND), buffer, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_long_2d
 
    module procedure h5_file_read_string
-      character(len=:), allocatable :: strings(:)
-      call read_strings(self, path, 0, strings, error)
-      if (allocated(error)) return
-      text = trim_padding(strings(1))
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         character(len=:), allocatable :: strings(:)
+         call read_strings(self, path, 0, strings, error)
+         if (allocated(error)) exit section
+         text = trim_padding(strings(1))
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_read_string
 
    module procedure h5_file_read_string_list
-      integer :: i
-      call read_strings(self, path, 1, strings, error)
-      if (allocated(error)) return
-      do i = 1, size(strings)
-         strings(i) = trim_padding(strings(i))
-      end do
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: i
+         call read_strings(self, path, 1, strings, error)
+         if (allocated(error)) exit section
+         do i = 1, size(strings)
+            strings(i) = trim_padding(strings(i))
+         end do
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_read_string_list
 
    ! ------------------------------------------------------------------ attributes
 
    module procedure set_attribute_string
-      character(kind=c_char, len=1), allocatable, target :: bytes(:)
-      integer(hid_t) :: string_type
-      integer :: hdferr
-      call pack_strings([value], len(value), .false., bytes)
-      call make_string_type(size(bytes), string_type, hdferr)
-      if (hdferr < 0) then
-         call fail(self, error, path, 'cannot make a string type for attribute ' // name)
-         return
-      end if
-      call put_attribute(self, path, name, string_type, c_loc(bytes), error)
-      call h5tclose_f(string_type, hdferr)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         character(kind=c_char, len=1), allocatable, target :: bytes(:)
+         integer(hid_t) :: string_type
+         integer :: hdferr
+         call pack_strings([value], len(value), .false., bytes)
+         call make_string_type(size(bytes), string_type, hdferr)
+         if (hdferr < 0) then
+            call fail(self, error, path, 'cannot make a string type for attribute ' // name)
+            exit section
+         end if
+         call put_attribute(self, path, name, string_type, c_loc(bytes), error)
+         call h5tclose_f(string_type, hdferr)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure set_attribute_string
 
    module procedure set_attribute_real
-      call put_attribute(self, path, name, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call put_attribute(self, path, name, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure set_attribute_real
 
    module procedure set_attribute_int
-      call put_attribute(self, path, name, H5T_NATIVE_INTEGER, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call put_attribute(self, path, name, H5T_NATIVE_INTEGER, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure set_attribute_int
 
    module procedure read_attribute_string
-      character(kind=c_char, len=1), allocatable, target :: bytes(:)
-      integer(hid_t) :: obj, attr, file_type
-      integer(size_t) :: width
-      integer :: hdferr, type_class, i
-      logical :: variable
-      type(c_ptr) :: pointer
-      type_class = -1
-      variable = .false.
-      obj = -1
-      attr = -1
-      file_type = -1
-      call open_attribute(self, path, name, obj, attr, error)
-      steps: block
-         if (allocated(error)) exit steps
-         call h5aget_type_f(attr, file_type, hdferr)
-         if (hdferr >= 0) call h5tget_class_f(file_type, type_class, hdferr)
-         if (hdferr >= 0) call h5tis_variable_str_f(file_type, variable, hdferr)
-         if (hdferr < 0 .or. type_class /= H5T_STRING_F) then
-            call fail(self, error, path, 'attribute "' // name // '" is not a string')
-            exit steps
-         end if
-         if (variable) then
-            call fail(self, error, path, 'attribute "' // name // '" is a variable-length ' // &
-               'string; only fixed-length strings are read')
-            exit steps
-         end if
-         call h5tget_size_f(file_type, width, hdferr)
-         allocate (bytes(width))
-         pointer = c_loc(bytes)
-         call h5aread_f(attr, file_type, pointer, hdferr)
-         if (hdferr < 0) then
-            call fail(self, error, path, 'cannot read attribute "' // name // '"')
-            exit steps
-         end if
-         allocate (character(len=size(bytes)) :: value)
-         do i = 1, size(bytes)
-            value(i:i) = bytes(i)
-         end do
-         value = trim_padding(value)
-      end block steps
-      if (.not. allocated(value)) value = ''
-      call release(type=file_type, attr=attr, obj=obj)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         character(kind=c_char, len=1), allocatable, target :: bytes(:)
+         integer(hid_t) :: obj, attr, file_type
+         integer(size_t) :: width
+         integer :: hdferr, type_class, i
+         logical :: variable
+         type(c_ptr) :: pointer
+         type_class = -1
+         variable = .false.
+         obj = -1
+         attr = -1
+         file_type = -1
+         call open_attribute(self, path, name, obj, attr, error)
+         steps: block
+            if (allocated(error)) exit steps
+            call h5aget_type_f(attr, file_type, hdferr)
+            if (hdferr >= 0) call h5tget_class_f(file_type, type_class, hdferr)
+            if (hdferr >= 0) call h5tis_variable_str_f(file_type, variable, hdferr)
+            if (hdferr < 0 .or. type_class /= H5T_STRING_F) then
+               call fail(self, error, path, 'attribute "' // name // '" is not a string')
+               exit steps
+            end if
+            if (variable) then
+               call fail(self, error, path, 'attribute "' // name // '" is a variable-length ' // &
+                  'string; only fixed-length strings are read')
+               exit steps
+            end if
+            call h5tget_size_f(file_type, width, hdferr)
+            allocate (bytes(width))
+            pointer = c_loc(bytes)
+            call h5aread_f(attr, file_type, pointer, hdferr)
+            if (hdferr < 0) then
+               call fail(self, error, path, 'cannot read attribute "' // name // '"')
+               exit steps
+            end if
+            allocate (character(len=size(bytes)) :: value)
+            do i = 1, size(bytes)
+               value(i:i) = bytes(i)
+            end do
+            value = trim_padding(value)
+         end block steps
+         if (.not. allocated(value)) value = ''
+         call release(type=file_type, attr=attr, obj=obj)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_attribute_string
 
    module procedure read_attribute_real
-      value = 0.0_dp
-      call get_attribute(self, path, name, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         value = 0.0_dp
+         call get_attribute(self, path, name, H5T_NATIVE_DOUBLE, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_attribute_real
 
    module procedure read_attribute_int
-      value = 0
-      call get_attribute(self, path, name, H5T_NATIVE_INTEGER, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         value = 0
+         call get_attribute(self, path, name, H5T_NATIVE_INTEGER, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure read_attribute_int
 
    module procedure h5_file_set_status
-      call self%set_attribute('/', 'status', status, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call self%set_attribute('/', 'status', status, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_set_status
 
    module procedure h5_file_get_status
-      call self%read_attribute('/', 'status', status, error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call self%read_attribute('/', 'status', status, error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_get_status
 
    ! ------------------------------------------------------------------ time series
 
    module procedure h5_file_create_series
-      integer(hid_t) :: space, plist, dset
-      integer(hsize_t), allocatable :: dims(:), max_dims(:), chunk(:)
-      integer :: hdferr
-      if (num_rows < 0) then
-         call fail(self, error, path, 'time series with num_rows = ' // to_str(num_rows) // &
-            ', must be >= 0')
-         return
-      end if
-      if (num_rows == 0) then
-         dims = [0_hsize_t]
-         max_dims = [H5S_UNLIMITED_F]
-         chunk = [int(series_chunk, hsize_t)]
-      else
-         dims = [int(num_rows, hsize_t), 0_hsize_t]
-         max_dims = [int(num_rows, hsize_t), H5S_UNLIMITED_F]
-         chunk = [int(num_rows, hsize_t), int(max(1, series_chunk / num_rows), hsize_t)]
-      end if
-      call prepare_dataset(self, path, error)
-      if (allocated(error)) return
-      space = -1
-      plist = -1
-      dset = -1
-      steps: block
-         call h5screate_simple_f(size(dims), dims, space, hdferr, max_dims)
-         if (hdferr < 0) exit steps
-         call h5pcreate_f(H5P_DATASET_CREATE_F, plist, hdferr)
-         if (hdferr < 0) exit steps
-         call h5pset_chunk_f(plist, size(chunk), chunk, hdferr)
-         if (hdferr < 0) exit steps
-         call h5dcreate_f(self%id, path, H5T_NATIVE_DOUBLE, space, dset, hdferr, plist)
-         if (hdferr < 0) exit steps
-         call put_units(dset, units, hdferr)
-      end block steps
-      if (hdferr < 0) call fail(self, error, path, 'cannot create the time series dataset')
-      call release(dset=dset, space=space, plist=plist)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: space, plist, dset
+         integer(hsize_t), allocatable :: dims(:), max_dims(:), chunk(:)
+         integer :: hdferr
+         if (num_rows < 0) then
+            call fail(self, error, path, 'time series with num_rows = ' // to_str(num_rows) // &
+               ', must be >= 0')
+            exit section
+         end if
+         if (num_rows == 0) then
+            dims = [0_hsize_t]
+            max_dims = [H5S_UNLIMITED_F]
+            chunk = [int(series_chunk, hsize_t)]
+         else
+            dims = [int(num_rows, hsize_t), 0_hsize_t]
+            max_dims = [int(num_rows, hsize_t), H5S_UNLIMITED_F]
+            chunk = [int(num_rows, hsize_t), int(max(1, series_chunk / num_rows), hsize_t)]
+         end if
+         call prepare_dataset(self, path, error)
+         if (allocated(error)) exit section
+         space = -1
+         plist = -1
+         dset = -1
+         steps: block
+            call h5screate_simple_f(size(dims), dims, space, hdferr, max_dims)
+            if (hdferr < 0) exit steps
+            call h5pcreate_f(H5P_DATASET_CREATE_F, plist, hdferr)
+            if (hdferr < 0) exit steps
+            call h5pset_chunk_f(plist, size(chunk), chunk, hdferr)
+            if (hdferr < 0) exit steps
+            call h5dcreate_f(self%id, path, H5T_NATIVE_DOUBLE, space, dset, hdferr, plist)
+            if (hdferr < 0) exit steps
+            call put_units(dset, units, hdferr)
+         end block steps
+         if (hdferr < 0) call fail(self, error, path, 'cannot create the time series dataset')
+         call release(dset=dset, space=space, plist=plist)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_create_series
 
    module procedure append_real_0d
-      call append_steps(self, path, 1, [0_hsize_t], 1_hsize_t, c_loc(value), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         call append_steps(self, path, 1, [0_hsize_t], 1_hsize_t, c_loc(value), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure append_real_0d
 
    module procedure append_real_1d
-      integer :: rank
-      if (size(values) == 0) return
-      call series_rank(self, path, rank, error)
-      if (allocated(error)) return
-      if (rank == 1) then
-         call append_steps(self, path, 1, [0_hsize_t], size(values, kind=hsize_t), &
-            c_loc(values), error)
-      else
-         call append_steps(self, path, 2, [size(values, kind=hsize_t)], 1_hsize_t, &
-            c_loc(values), error)
-      end if
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer :: rank
+         if (size(values) == 0) exit section
+         call series_rank(self, path, rank, error)
+         if (allocated(error)) exit section
+         if (rank == 1) then
+            call append_steps(self, path, 1, [0_hsize_t], size(values, kind=hsize_t), &
+               c_loc(values), error)
+         else
+            call append_steps(self, path, 2, [size(values, kind=hsize_t)], 1_hsize_t, &
+               c_loc(values), error)
+         end if
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure append_real_1d
 
    module procedure append_real_2d
-      if (size(values) == 0) return
-      call append_steps(self, path, 2, [size(values, 1, kind=hsize_t)], &
-         size(values, 2, kind=hsize_t), c_loc(values), error)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         if (size(values) == 0) exit section
+         call append_steps(self, path, 2, [size(values, 1, kind=hsize_t)], &
+            size(values, 2, kind=hsize_t), c_loc(values), error)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure append_real_2d
 
    module procedure h5_file_series_length
-      integer(hid_t) :: dset
-      integer(hsize_t) :: dims(2)
-      integer :: rank, hdferr
-      num_steps = 0
-      call series_rank(self, path, rank, error)
-      if (allocated(error)) return
-      call open_dataset(self, path, rank, dset, dims(1:rank), error)
-      if (allocated(error)) return
-      num_steps = int(dims(rank), i8)
-      call h5dclose_f(dset, hdferr)
+      call enter_serial_section(SECTION_HDF5)
+      section: block
+         integer(hid_t) :: dset
+         integer(hsize_t) :: dims(2)
+         integer :: rank, hdferr
+         num_steps = 0
+         call series_rank(self, path, rank, error)
+         if (allocated(error)) exit section
+         call open_dataset(self, path, rank, dset, dims(1:rank), error)
+         if (allocated(error)) exit section
+         num_steps = int(dims(rank), i8)
+         call h5dclose_f(dset, hdferr)
+      end block section
+      call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_series_length
 
    ! ------------------------------------------------------------------ internals

@@ -4,6 +4,7 @@
 !> REALTYPEWIDTH = 32), hence `c_int32_t` throughout. Numbering is 1-based
 !> (METIS_OPTION_NUMBERING = 1) so that arrays pass to and from Fortran unchanged.
 module ffrf_la_metis
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_METIS
    use, intrinsic :: iso_c_binding, only: c_int, c_int32_t, c_ptr, c_null_ptr, c_loc
    use ffrf_core_kinds, only: ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
@@ -118,7 +119,11 @@ contains
          vwgt = weights
          vwgt_ptr = c_loc(vwgt)
       end if
+      ! METIS 5.1 draws from GKlib's random generator, whose state is a process-wide static:
+      ! two orderings at once would interleave its draws and differ from run to run
+      call enter_serial_section(SECTION_METIS)
       stat = metis_nodend(nvtxs, xadj_c, adjncy_c, vwgt_ptr, options, perm, iperm)
+      call leave_serial_section(SECTION_METIS)
       select case (stat)
       case (metis_ok)
       case (metis_error_input)

@@ -19,6 +19,7 @@ module ffrf_la_mumps
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
    use ffrf_la_metis, only: pattern_nested_dissection
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_MUMPS
    implicit none
    private
    public :: mumps_solver_t, mumps_ordering_name
@@ -140,7 +141,7 @@ contains
          id%par = 1
          id%sym = sym
          id%job = -1
-         call dmumps(id)
+         call serial_dmumps(id)
          if (id%infog(1) < 0) then
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS initialisation (JOB = -1): ' // &
                describe_status(id%infog(1), id%infog(2)))
@@ -242,7 +243,7 @@ contains
          id%icntl(7) = 1
          id%job = 1
          t0 = wall_time()
-         call dmumps(id)
+         call serial_dmumps(id)
          self%time_analysis = wall_time() - t0
          self%status = id%infog(1)
          if (id%infog(1) < 0) then
@@ -296,7 +297,7 @@ contains
          self%num_workspace_retries = 0
          t0 = wall_time()
          do attempt = 0, max_workspace_retries
-            call dmumps(id)
+            call serial_dmumps(id)
             if (id%infog(1) /= -8 .and. id%infog(1) /= -9) exit
             if (attempt == max_workspace_retries) exit
             id%icntl(14) = 2 * max(id%icntl(14), 10)
@@ -373,7 +374,7 @@ contains
          call release_user_arrays(self%id)
          if (self%phase >= phase_initialised) then
             self%id%job = -2
-            call dmumps(self%id)
+            call serial_dmumps(self%id)
          end if
          deallocate (self%id)
       end if
@@ -444,7 +445,7 @@ contains
          id%lrhs = self%n
          id%job = 3
          t0 = wall_time()
-         call dmumps(id)
+         call serial_dmumps(id)
          self%time_solve = self%time_solve + (wall_time() - t0)
          if (id%infog(1) < 0) then
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS solve (n = ' // to_str(self%n) &
@@ -560,5 +561,15 @@ contains
       if (associated(id%perm_in)) deallocate (id%perm_in)
       if (associated(id%rhs)) deallocate (id%rhs)
    end subroutine release_user_arrays
+
+   !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
+   !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each
+   !> other even on distinct DMUMPS_STRUC (serial_section.c).
+   subroutine serial_dmumps(id)
+      type(DMUMPS_STRUC), intent(inout) :: id
+      call enter_serial_section(SECTION_MUMPS)
+      call dmumps(id)
+      call leave_serial_section(SECTION_MUMPS)
+   end subroutine serial_dmumps
 
 end module ffrf_la_mumps

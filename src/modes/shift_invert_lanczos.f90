@@ -10,6 +10,7 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
    use ffrf_la_arpack, only: dsaupd, dseupd
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_ARPACK
    use ffrf_la_lapack, only: dgemm, dposv
    implicit none
 
@@ -476,7 +477,25 @@ contains
    end function moved_shift
 
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
+   !> ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at a
+   !> time in the process (a serial section), so that distinct handles may run in threads.
    subroutine lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
+      type(csr_t), intent(in) :: M
+      type(eigen_options_t), intent(in) :: options
+      integer(ip), intent(in) :: ncv, nc
+      real(dp), intent(in) :: sigma
+      type(mumps_solver_t), intent(inout) :: solver
+      real(dp), allocatable, intent(out) :: z(:, :)
+      type(eigen_result_t), intent(inout) :: result
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      call enter_serial_section(SECTION_ARPACK)
+      call lanczos_in_section(M, options, ncv, nc, sigma, solver, z, result, log, error)
+      call leave_serial_section(SECTION_ARPACK)
+   end subroutine lanczos
+
+   !> lanczos inside the ARPACK serial section.
+   subroutine lanczos_in_section(M, options, ncv, nc, sigma, solver, z, result, log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: ncv, nc
@@ -557,7 +576,7 @@ contains
             to_str(info) // ': ' // dseupd_message(info))
          return
       end if
-   end subroutine lanczos
+   end subroutine lanczos_in_section
 
    !> rhs(1:n) = M x on entry -> y on exit: solve (5.2b) with zero constraint right-hand side.
    subroutine kkt_solve(solver, rhs, n, error)

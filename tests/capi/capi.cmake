@@ -63,6 +63,18 @@ add_test(NAME capi_compare_driver
 set_tests_properties(capi_compare_driver PROPERTIES LABELS "capi;regression"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
 
+# distinct handles in distinct threads: two modal runs (crank lc 8 mm, one writing results) and
+# two engine mechanisms (5 ms in 1 ms chunks) at once give, bitwise, what each gives alone
+add_executable(test_capi_threads capi/test_capi_threads.c)
+target_link_libraries(test_capi_threads PRIVATE ffrf::ffrf m)
+target_compile_options(test_capi_threads PRIVATE -std=c99 -Wall -Wextra -pedantic -Werror -pthread)
+target_link_options(test_capi_threads PRIVATE ${_capi_link} -pthread)
+add_test(NAME capi_threads COMMAND test_capi_threads
+  "${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml" "${_capi_out}/capi_engine.nml"
+  "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}")
+set_tests_properties(capi_threads PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
 # examples/fortran_host built against the build tree (PACK's ctest builds it against the
 # installed package): the host-torque loop matches the drag run within its derived bound
 add_executable(example_fortran_host ${PROJECT_SOURCE_DIR}/examples/fortran_host/host.f90)

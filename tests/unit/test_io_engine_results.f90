@@ -11,7 +11,7 @@ module test_io_engine_results
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_hdf5, only: h5_file_t, H5_READ_ONLY
    use ffrf_app_engine_results, only: engine_results_t
    use ffrf_testing, only: unittest_t, new_unittest, check
    implicit none
@@ -158,7 +158,7 @@ contains
          pose(:, 1, k) = pose_of(k, 1)
          pose(:, 2, k) = pose_of(k, 2)
       end do
-      call h5%open(file_name, 'r', error)
+      call h5%open(file_name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call h5%get_status(text, error)
       if (.not. allocated(error)) call check(error, 'status "' // text // '", expected "' // &
@@ -228,7 +228,7 @@ contains
          [character(len=11) :: 'setup', 'integration', 'total'], [0.25_dp, 1.5_dp, 1.75_dp], error)
       if (.not. allocated(error)) call check_file(file_name, 'complete', 1234, error)
       if (allocated(error)) return
-      call h5%open(file_name, 'r', error)
+      call h5%open(file_name, H5_READ_ONLY, error)
       if (.not. allocated(error)) call h5%read_string_list('/timings/stage', stages, error)
       if (.not. allocated(error)) call h5%read_real('/timings/seconds', seconds, error)
       if (.not. allocated(error)) then

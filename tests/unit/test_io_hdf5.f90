@@ -7,7 +7,7 @@ module test_io_hdf5
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_hdf5, only: h5_file_t, H5_READ_ONLY, H5_READ_WRITE
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check
    implicit none
    private
@@ -60,7 +60,7 @@ contains
       call file%close(error)
       if (allocated(error)) return
 
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%read_real('/bodies/crank/mesh/coordinates', a_back, error)
       if (allocated(error)) return
@@ -134,7 +134,7 @@ contains
       call file%close(error)
       if (allocated(error)) return
 
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%read_int('/mesh/tets', tets_back, error)
       if (allocated(error)) return
@@ -193,7 +193,7 @@ contains
       call file%close(error)
       if (allocated(error)) return
 
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%read_string('/input/namelist', back, error)
       if (allocated(error)) return
@@ -255,7 +255,7 @@ contains
       call file%close(error)
       if (allocated(error)) return
 
-      call file%open(name, 'rw', error)
+      call file%open(name, H5_READ_WRITE, error)
       if (allocated(error)) return
       call file%get_status(text, error)
       if (allocated(error)) return
@@ -283,7 +283,7 @@ contains
       if (allocated(error)) return
       call file%close(error)
       if (allocated(error)) return
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%get_status(text, error)
       if (allocated(error)) return
@@ -339,7 +339,7 @@ contains
       call file%close(error)
       if (allocated(error)) return
 
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%series_length('/time/t', num_steps, error)
       if (allocated(error)) return
@@ -477,11 +477,11 @@ contains
       character(len=:), allocatable :: text
       real(dp) :: x
       name = scratch('errors.h5')
-      call file%open('no_such_file_ffrf.h5', 'r', e)
+      call file%open('no_such_file_ffrf.h5', H5_READ_ONLY, e)
       call expect(error, e, 'open of a missing file', 'no_such_file_ffrf.h5')
       if (allocated(error)) return
-      call file%open(name, 'w', e)
-      call expect(error, e, 'open mode w', '"w"', 'r, rw')
+      call file%open(name, 3, e)
+      call expect(error, e, 'open mode 3', 'mode 3', 'H5_READ_ONLY or H5_READ_WRITE')
       if (allocated(error)) return
       call file%create(name, error)
       if (allocated(error)) return
@@ -537,7 +537,7 @@ contains
       if (allocated(error)) return
       call file%close(error)
       if (allocated(error)) return
-      call file%open(name, 'r', error)
+      call file%open(name, H5_READ_ONLY, error)
       if (allocated(error)) return
       call file%write_real('/w/x', 1.0_dp, 'm', e)
       call expect(error, e, 'write into a read-only file', name, '/w/x', 'read-only')
