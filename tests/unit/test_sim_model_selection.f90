@@ -102,10 +102,11 @@ contains
       call report('rho_inf 0.8: period error ' // to_str(abs(ratio1 - 1.0_dp), 3) // ' -> ' // &
          to_str(abs(ratio2 - 1.0_dp), 3) // ', damping ' // to_str(damping1, 3) // ' -> ' // &
          to_str(damping2, 3))
+      ! measured 2 - 6.8e-5 and 3 - 1.7e-4 (higher-order terms at w h = 0.02)
       call check_close(error, 'period error order', log(abs(ratio1 - 1.0_dp) / &
-         abs(ratio2 - 1.0_dp)) / log(2.0_dp), 2.0_dp, atol=0.02_dp)
+         abs(ratio2 - 1.0_dp)) / log(2.0_dp), 2.0_dp, atol=2.0e-3_dp)
       if (.not. allocated(error)) call check_close(error, 'damping order', &
-         log(damping1 / damping2) / log(2.0_dp), 3.0_dp, atol=0.02_dp)
+         log(damping1 / damping2) / log(2.0_dp), 3.0_dp, atol=2.0e-3_dp)
    end subroutine test_galpha_orders
 
    !> A single harmonic F = cos(k theta / 2) (peak 1 at theta = 0): a mode's force error is
@@ -183,7 +184,7 @@ contains
       ! 2880 samples of a pressure with a jump at 540 deg (blow-down, where the lever is ~0):
       ! measured 1.8e-7
       call check_close(error, 'mean(F L)', torque, pressure%mean_indicated_torque(), &
-         rtol=1.0e-5_dp)
+         rtol=2.0e-6_dp)
       if (allocated(error)) return
       ! regime speed sqrt(T_i / c) with T_i = W / (4 pi) from the cycle work integrated here
       ! (midpoint rule, 288000 points: O(dtheta^2) at the kinks of p); measured 4.6e-12
