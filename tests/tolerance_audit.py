@@ -86,7 +86,8 @@ def main():
             flagged_lines += [f"{name}: {c[0]}: measured {c[1]:.3g}, tolerance {c[2]:.3g}, "
                               f"expected {c[3]:.3g}" for c in flagged]
             worst = max(flagged or checks, key=ratio)
-            print(f"| {name} ({status}) | {len(checks)} | {worst[0][:70]}: {worst[1]:.2g} / "
+            what = worst[0][:70].replace("|", "\\|")
+            print(f"| {name} ({status}) | {len(checks)} | {what}: {worst[1]:.2g} / "
                   f"{worst[2]:.2g} | {ratio(worst):.3g} | {len(flagged) or ''} |")
     if args.flagged:
         args.flagged.write_text("\n".join(flagged_lines) + "\n")
