@@ -6,7 +6,8 @@ prints every measured difference beside its tolerance, and summarises per test: 
 check_close calls, and the loosest one (largest tolerance / measured). A check is flagged when
 its tolerance exceeds 10 times what it measures and 1e-8 of the expected value (tighter ones
 are round-off bounds of checks exact in exact arithmetic); a flagged check needs a comment in
-the test giving the method's error bound, or a tighter tolerance. Assertions made with `check` (a logical) are not seen here.
+the test giving the method's error bound, or a tighter tolerance. Assertions made with `check`
+(a logical) are not seen here.
 
     python3 tests/tolerance_audit.py BUILD_DIR [SUITE ...] [--flagged FILE] > audit.md
 

@@ -408,7 +408,8 @@ contains
 
    !> Steady state of generalized-alpha on x'' + w^2 x = w^2 e^(i W t) (w > 0; on x'' = e^(i W t)
    !> for w = 0, as a multiple of the exact -1/W^2) by the z-transform, z = e^(i W h):
-   !>   Newmark: X = h^2 q(z) A, q = ((1 - gamma) + gamma z)/(z - 1)^2 + ((1/2 - beta) + beta z)/(z - 1)
+   !>   Newmark: X = h^2 q(z) A,
+   !>   q = ((1 - gamma) + gamma z)/(z - 1)^2 + ((1/2 - beta) + beta z)/(z - 1);
    !>   balance: A ((1 - am) z + am) = w^2 ((1 - af) z + af) (1 - X)   (free mass: A M = F).
    pure function reference_response(w, big_omega, h, rho) result(response)
       real(dp), intent(in) :: w, big_omega, h, rho

@@ -84,7 +84,7 @@ contains
       end if
    end subroutine check_close
 
-   !> FFRF_TEST_AUDIT set (to anything): check_close prints every measured difference beside its
+   !> FFRF_TEST_AUDIT set and not empty: check_close prints every measured difference beside its
    !> tolerance (the tolerance audit of tests/TOLERANCES.md).
    logical function audit()
       integer :: length
