@@ -1,6 +1,10 @@
 # Stability where methods fail (issue 4, part 2; README "Stability where methods fail").
 # generalized-alpha's amplification against its closed-form characteristic cubic and steps far
 # beyond the highest mode (vs central differences and the trapezoidal rule); well under a second.
+# Generalized-alpha written out for the tests (module ffrf_test_galpha_reference), shared with
+# test_sim_model_selection.
+target_sources(ffrf_testing PRIVATE unit/galpha_reference.f90)
+target_sources(ffrf_testing_checked PRIVATE unit/galpha_reference.f90)
 ffrf_add_unit_suite(test_stability_integrator CHECKED LABELS mbs)
 # rho_inf = 1 refused with constraints; multipliers as rho_inf -> 1 on the pendulum and the rigid
 # engine. ~0.4 s, checked ~1.2 s.

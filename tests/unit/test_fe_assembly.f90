@@ -741,8 +741,10 @@ contains
                rel(q, m_idx) < BOUND(q, m_idx))
             if (allocated(error)) return
          end do
+         ! the centre is off by the geometric error of the curved faces (measured 6.7e-8 m and
+         ! 1.3e-9 m, H = 0.05 m)
          call check_close(error, trim(NAMES(m_idx)) // ': |centre - (0, 0, H/2)|', &
-            norm2(center - [0.0_dp, 0.0_dp, H/2.0_dp]), 0.0_dp, atol=1.0e-4_dp*H)
+            norm2(center - [0.0_dp, 0.0_dp, H/2.0_dp]), 0.0_dp, atol=1.0e-5_dp*H)
          if (allocated(error)) return
       end do
       do q = 1, 4

@@ -98,7 +98,8 @@ contains
    !>   coarsest run.
    !> Measured: differences 5.4e-4 / 1.34e-4 rad (angle), 1.0 / 0.25 N (piston pin); orders
    !> 2.005 (crank angle), 2.006 (piston pin), 2.002 (crank pin), 2.004 (speed, reported).
-   !> Asserted: each order in [1.8, 2.2] (the issue's band).
+   !> Asserted: each order within 0.05 of 2 (about 10 times the measured deviations; the issue's
+   !> band was [1.8, 2.2]).
    subroutine test_order(error)
       type(error_t), allocatable, intent(out) :: error
       integer, parameter :: levels = 3
@@ -130,13 +131,13 @@ contains
          ', crank pin force ' // to_str(p_crank, 4) // ', all multipliers (kept rows) ' // &
          to_str(p_lambda, 4))
       call check_close(error, 'observed order of the crank angle', p_angle, 2.0_dp, &
-         atol=0.2_dp)
+         atol=0.05_dp)
       if (allocated(error)) return
       call check_close(error, 'observed order of the piston pin force', p_pin, 2.0_dp, &
-         atol=0.2_dp)
+         atol=0.05_dp)
       if (allocated(error)) return
       call check_close(error, 'observed order of the crank pin force', p_crank, 2.0_dp, &
-         atol=0.2_dp)
+         atol=0.05_dp)
    contains
       pure real(dp) function order(coarse, fine)
          real(dp), intent(in) :: coarse, fine

@@ -184,7 +184,8 @@ contains
    !>   positions to the Newton tolerance (newton_atol = 1e-12 here) at any h: 1e-10 relative.
    !> - Velocity and acceleration: index 3 does not enforce the velocity constraints; their error
    !>   is O(h^2) (Arnold & Bruls 2007). Asserted: second order between h = 2e-4 and 1e-4 s
-   !>   (observed order within 0.2 of 2), the error at h = 1e-4 s below 1e-4 relative, and with
+   !>   (observed order within 0.01 of 2; measured 2 - 8.5e-6 velocity, 2 - 3.2e-4 acceleration),
+   !>   the error at h = 1e-4 s below 1e-4 relative, and with
    !>   h = 4e-6 s (from the extrapolation C h^2 = 1e-8) the velocity to 1e-8 relative (measured
    !>   7.3e-9). The acceleration does not follow h^2 that far (measured 7.1e-7 at 4e-6 s where
    !>   h^2 would give 5.5e-8): in index 3, q'' = q''_pred + dq / (beta h^2 c), so the position
@@ -239,9 +240,9 @@ contains
       call report('observed order: velocity ' // to_str(order_v, 4) // ', acceleration ' // &
          to_str(order_a, 4) // '; h for 1e-8 relative velocity error ~ ' // to_str(h_needed, 3) &
          // ' s')
-      call check_close(error, 'velocity order', order_v, 2.0_dp, atol=0.2_dp)
+      call check_close(error, 'velocity order', order_v, 2.0_dp, atol=0.01_dp)
       if (allocated(error)) return
-      call check_close(error, 'acceleration order', order_a, 2.0_dp, atol=0.2_dp)
+      call check_close(error, 'acceleration order', order_a, 2.0_dp, atol=0.01_dp)
       if (allocated(error)) return
       call check_close(error, 'velocity relative error at h = 1e-4', errors(2, 2), 0.0_dp, &
          atol=1.0e-4_dp)
@@ -346,11 +347,12 @@ contains
       call report('order of the momentum drift: p ' // to_str(order_p, 4) // ', L ' // &
          to_str(order_l, 4) // '; h for 1e-9: p ' // to_str(steps(2) * sqrt(1.0e-9_dp / &
          drift_p(2)), 3) // ' s, L ' // to_str(steps(2) * sqrt(1.0e-9_dp / drift_l(2)), 3) // ' s')
+      ! second order (measured 2 - 1.9e-6 for p, 2 - 5.2e-5 for L)
       call check_close(error, 'order of the linear momentum drift', order_p, 2.0_dp, &
-         atol=0.1_dp)
+         atol=1.0e-3_dp)
       if (allocated(error)) return
       call check_close(error, 'order of the angular momentum drift', order_l, 2.0_dp, &
-         atol=0.1_dp)
+         atol=1.0e-3_dp)
       if (allocated(error)) return
       call check_close(error, 'linear momentum drift at h = 2.5e-4', drift_p(2), 0.0_dp, &
          atol=1.0e-6_dp)

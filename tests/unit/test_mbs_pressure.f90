@@ -210,8 +210,9 @@ contains
       call check(error, 'Otto error at 0.5 deg = ' // to_str(errors(1), 3) // ' above 1e-4', &
          errors(1) < 1.0e-4_dp)
       if (allocated(error)) return
+      ! second order in the duration (measured 4 - 2.7e-5)
       call check_close(error, 'Otto error ratio for halved duration', errors(1) / errors(2), &
-         4.0_dp, atol=0.5_dp)
+         4.0_dp, atol=5.0e-4_dp)
    end subroutine test_otto_limit
 
    !> The tuned reference model peaks at 55 bar: the model's own peak to 1e-6 relative, a
@@ -240,8 +241,9 @@ contains
       end do
       call check_close(error, 'sampled peak pressure', sampled, 55.0e5_dp, rtol=1.0e-6_dp)
       if (allocated(error)) return
+      ! the sampling grid is 0.001 deg: the sampled angle is within half of it (measured 9.5e-5)
       call check_close(error, 'peak angle against sampling (deg)', model%peak_angle() / DEG, &
-         at / DEG, atol=0.002_dp)
+         at / DEG, atol=0.0005_dp)
       if (allocated(error)) return
       fine_peak = 0.0_dp
       p_fine = P_IN
@@ -408,7 +410,8 @@ contains
          ' N m, Q = ' // to_str(model%heat_per_cycle(), 10) // ' J, peak ' // &
          to_str(model%peak_pressure(), 10) // ' Pa at ' // &
          to_str(model%peak_angle() / DEG, 8) // ' deg')
-      call check_close(error, 'cycle work', model%cycle_work(), work, rtol=1.0e-6_dp)
+      ! trapezoid at 0.01 deg, O(dtheta^2) at the kinks of p: measured 6.8e-9
+      call check_close(error, 'cycle work', model%cycle_work(), work, rtol=1.0e-7_dp)
       if (allocated(error)) return
       call check_close(error, 'mean indicated torque', model%mean_indicated_torque(), &
          model%cycle_work() / (4.0_dp * pi), rtol=1.0e-15_dp)
@@ -465,8 +468,9 @@ contains
             err_slope <= (h * DEG)**3 * f4 / 24.0_dp)
          if (allocated(error)) return
       end do
+      ! fourth order (measured 16 - 0.085)
       call check_close(error, 'spline error ratio for halved spacing', errors(1) / errors(2), &
-         16.0_dp, atol=4.0_dp)
+         16.0_dp, atol=1.0_dp)
       if (allocated(error)) return
       ! |W_s - W_f| <= max|s - f| * (total variation of V = 4 V_d), plus quadrature round-off
       call check_close(error, 'table work', model%cycle_work(), table_work_reference(model), &

@@ -26,6 +26,8 @@ module test_stability_integrator
    use ffrf_mbs_dae_system, only: dae_system_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
+   use ffrf_test_galpha_reference, only: parameters => galpha_parameters, &
+      characteristic => galpha_characteristic
    implicit none
    private
    public :: collect_stability_integrator
@@ -71,34 +73,6 @@ contains
          new_unittest('stiff_mode_central_difference', test_stiff_central), &
          new_unittest('stiff_mode_trapezoidal', test_stiff_trapezoidal)]
    end subroutine collect_stability_integrator
-
-   !> Chung-Hulbert parameters from rho_inf (theory.md 4.1), written out here.
-   pure subroutine parameters(rho_inf, alpha_m, alpha_f, gamma, beta)
-      real(dp), intent(in) :: rho_inf
-      real(dp), intent(out) :: alpha_m, alpha_f, gamma, beta
-      alpha_m = (2.0_dp * rho_inf - 1.0_dp) / (rho_inf + 1.0_dp)
-      alpha_f = rho_inf / (rho_inf + 1.0_dp)
-      gamma = 0.5_dp + alpha_f - alpha_m
-      beta = 0.25_dp * (gamma + 0.5_dp)**2
-   end subroutine parameters
-
-   !> Coefficients c(0:3) of the characteristic polynomial sum c_k z^k of generalized-alpha on
-   !> x'' + omega^2 x = 0 with Omega = omega h (z-transform of the scheme):
-   !>   [(1 - am) z + am] (z - 1)^2 + Omega^2 [(1 - af) z + af] [beta z^2 + (gamma + 1/2 -
-   !>   2 beta) z + (1/2 + beta - gamma)] = 0.
-   pure function characteristic(rho_inf, omega_h) result(c)
-      real(dp), intent(in) :: rho_inf, omega_h
-      real(dp) :: c(0:3)
-      real(dp) :: am, af, gamma, beta, p, r, o2
-      call parameters(rho_inf, am, af, gamma, beta)
-      o2 = omega_h**2
-      p = gamma + 0.5_dp - 2.0_dp * beta
-      r = 0.5_dp + beta - gamma
-      c(3) = (1.0_dp - am) + o2 * (1.0_dp - af) * beta
-      c(2) = (3.0_dp * am - 2.0_dp) + o2 * ((1.0_dp - af) * p + af * beta)
-      c(1) = (1.0_dp - 3.0_dp * am) + o2 * ((1.0_dp - af) * r + af * p)
-      c(0) = am + o2 * af * r
-   end function characteristic
 
    !> The characteristic polynomial in factored form, accurate near its root cluster at -rho_inf:
    !> with the Chung-Hulbert parameters beta z^2 + (gamma + 1/2 - 2 beta) z + (1/2 + beta -

@@ -75,11 +75,22 @@ contains
       tol = 0.0_dp
       if (present(rtol)) tol = max(tol, rtol * abs(expected))
       if (present(atol)) tol = max(tol, atol)
+      if (audit()) write (output_unit, '(a)') '       audit: ' // what // ' | measured ' // &
+         to_str(abs(actual - expected), 3) // ' | tolerance ' // to_str(tol, 3) // &
+         ' | expected ' // to_str(expected, 3)
       if (.not. ieee_is_finite(actual) .or. abs(actual - expected) > tol) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, what // ' = ' // to_str(actual, 12) // &
             ', expected ' // to_str(expected, 12) // ' within ' // to_str(tol, 3))
       end if
    end subroutine check_close
+
+   !> FFRF_TEST_AUDIT set and not empty: check_close prints every measured difference beside its
+   !> tolerance (the tolerance audit of tests/TOLERANCES.md).
+   logical function audit()
+      integer :: length
+      call get_environment_variable('FFRF_TEST_AUDIT', length=length)
+      audit = length > 0
+   end function audit
 
    !> Passes if `condition` holds.
    subroutine check(error, what, condition)
