@@ -423,7 +423,7 @@ contains
       next_progress = integrator%t + case%mechanism%mechanism%progress_interval
       if (.not. restarting) then
          call balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
-            lambda=integrator%lambda)
+            lambda=integrator%lambda, scheme=integrator)
          if (allocated(error)) return
          call record_step(error)
          if (allocated(error)) return
@@ -450,7 +450,7 @@ contains
          end if
          call integrator%step(mech, error)
          if (.not. allocated(error)) call balance%update(mech, integrator%t, integrator%q, &
-            integrator%v, error, lambda=integrator%lambda)
+            integrator%v, error, lambda=integrator%lambda, scheme=integrator)
          if (.not. allocated(error)) call record_step(error)
          if (allocated(error)) exit
          if (integrator%t >= next_progress - 1.0e-3_dp * integrator%settings%h .or. &
@@ -535,7 +535,8 @@ contains
             end associate
          end do
          call results%record(integrator%t, angle, speed, p, [balance%kinetic, balance%strain, &
-            balance%work, balance%numerical_dissipation], coordinates, reactions, error)
+            balance%work, balance%numerical_dissipation], coordinates, reactions, error, &
+            scheme_dissipation=balance%scheme_dissipation)
          if (allocated(error)) return
          ! Animation history
          n = history%num_steps + 1
