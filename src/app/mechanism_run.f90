@@ -11,7 +11,8 @@
 !> power), and the numerical dissipation D = W - (T + U - T_0 - U_0) - D_damping (D_damping: the
 !> energy taken by modal damping). For the exact solution D = 0; generalized-alpha with
 !> rho_inf < 1 removes energy from the high frequencies, so D grows slowly (and the trapezoidal
-!> quadrature adds O(h^2)).
+!> quadrature adds O(h^2)); the integrator passed to the balance gives also the scheme's own
+!> dissipation D_s (/energy/scheme_dissipation, docs/theory.md 4.4).
 module ffrf_app_mechanism_run
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
