@@ -10,6 +10,10 @@
 // .geo sets the options after the command line):
 //   lc     element size [m], default 0.2 (one element across); a/lc must be an integer
 //   order  element order, default 2 (Tet10); 1 gives Tet4
+//   along_z  1: the same beam with its axis along z (root face at z = 0, tip at z = L, the
+//          section's sides along x and y) for a spin about the beam's own axis (a mechanism's
+//          driving constraint turns a body about z: tests/unit/test_mbs_spin_axis.f90);
+//          default 0 (axis x)
 // Physical groups (only their elements are saved):
 //   Volume  "beam" (1)
 //   Surface "root" (1): the square at x = 0;  "tip" (2): the square at x = L
@@ -19,6 +23,9 @@ EndIf
 If (!Exists(order))
    order = 2;
 EndIf
+If (!Exists(along_z))
+   along_z = 0;
+EndIf
 L = 10.0;
 a = 0.2;
 across = Round(a/lc);
@@ -27,20 +34,32 @@ If (Fabs(across*lc - a) > 1.0e-9 || across < 1)
    Exit;
 EndIf
 
-Point(1) = {0, -a/2, -a/2};
-Point(2) = {0, a/2, -a/2};
-Point(3) = {0, a/2, a/2};
-Point(4) = {0, -a/2, a/2};
+If (along_z)
+   Point(1) = {-a/2, -a/2, 0};
+   Point(2) = {a/2, -a/2, 0};
+   Point(3) = {a/2, a/2, 0};
+   Point(4) = {-a/2, a/2, 0};
+Else
+   Point(1) = {0, -a/2, -a/2};
+   Point(2) = {0, a/2, -a/2};
+   Point(3) = {0, a/2, a/2};
+   Point(4) = {0, -a/2, a/2};
+EndIf
 Line(1) = {1, 2};
 Line(2) = {2, 3};
 Line(3) = {3, 4};
 Line(4) = {4, 1};
 Curve Loop(1) = {1, 2, 3, 4};
-Plane Surface(1) = {1};                                   // normal +x
+Plane Surface(1) = {1};                                   // normal along the beam axis
 Transfinite Curve{1, 2, 3, 4} = across + 1;
 Transfinite Surface{1} = {1, 2, 3, 4} Alternate;
 layers = Round(L/lc);
-out[] = Extrude {L, 0, 0} { Surface{1}; Layers{layers}; };   // out[0] tip face, out[1] volume
+direction[] = {L, 0, 0};
+If (along_z)
+   direction[] = {0, 0, L};
+EndIf
+out[] = Extrude {direction[0], direction[1], direction[2]} { Surface{1}; Layers{layers}; };
+// out[0] tip face, out[1] volume
 
 Physical Volume("beam", 1) = {out[1]};
 Physical Surface("root", 1) = {1};

@@ -11,7 +11,8 @@
 !> power), and the numerical dissipation D = W - (T + U - T_0 - U_0) - D_damping (D_damping: the
 !> energy taken by modal damping). For the exact solution D = 0; generalized-alpha with
 !> rho_inf < 1 removes energy from the high frequencies, so D grows slowly (and the trapezoidal
-!> quadrature adds O(h^2)).
+!> quadrature adds O(h^2)); the integrator passed to the balance gives also the scheme's own
+!> dissipation D_s (/energy/scheme_dissipation, docs/theory.md 4.4).
 module ffrf_app_mechanism_run
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
@@ -423,7 +424,7 @@ contains
       next_progress = integrator%t + case%mechanism%mechanism%progress_interval
       if (.not. restarting) then
          call balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
-            lambda=integrator%lambda)
+            lambda=integrator%lambda, scheme=integrator)
          if (allocated(error)) return
          call record_step(error)
          if (allocated(error)) return
@@ -450,7 +451,7 @@ contains
          end if
          call integrator%step(mech, error)
          if (.not. allocated(error)) call balance%update(mech, integrator%t, integrator%q, &
-            integrator%v, error, lambda=integrator%lambda)
+            integrator%v, error, lambda=integrator%lambda, scheme=integrator)
          if (.not. allocated(error)) call record_step(error)
          if (allocated(error)) exit
          if (integrator%t >= next_progress - 1.0e-3_dp * integrator%settings%h .or. &
@@ -535,7 +536,8 @@ contains
             end associate
          end do
          call results%record(integrator%t, angle, speed, p, [balance%kinetic, balance%strain, &
-            balance%work, balance%numerical_dissipation], coordinates, reactions, error)
+            balance%work, balance%numerical_dissipation], coordinates, reactions, error, &
+            scheme_dissipation=balance%scheme_dissipation)
          if (allocated(error)) return
          ! Animation history
          n = history%num_steps + 1

@@ -9,7 +9,28 @@
 !>     D_p energy dissipated by the physical modal damping of the flexible bodies,
 !>         D_p = int P_d dt, P_d = sum_b zeta_dot_b^T D_ff,b zeta_dot_b >= 0
 !>         (flexible_body_t%damping = diag(2 xi_j omega_j), mass-normalised modes)
-!>     D   numerical dissipation, D = W - (T + U - T_0 - U_0) - D_p.
+!>     D   numerical dissipation, D = W - (T + U - T_0 - U_0) - D_p (the balance's residual)
+!>     D_s numerical dissipation of generalized-alpha from its own per-step energy identity
+!>         (theory.md 4.4), when the integrator is passed to init and update:
+!>         D_s = W_m - D_p,m - C_m - (T + U - T_0 - U_0), with the work of the step-mean
+!>         applied, damping and constraint forces over the step increments,
+!>         W_m = sum dq . (Q_n + Q_(n+1))/2, D_p,m = sum dq . C (v_n + v_(n+1))/2,
+!>         C_m = sum dq . (Phi_q^T lambda)_mean; for a linear system it equals, step by step,
+!>         D_k = sum h (beta - gamma/2) da . M dv + (1 - alpha_m - gamma) dq . M da
+!>               - (1/2 - alpha_f) dq . M dqdd
+!>         (from the increments of q, v, a, q'' alone), which vanishes identically for rho_inf = 1
+!>         (test_mbs_energy: D_s = D_k to 3e-15 E_0; D_s = 0 to 4e-15 E_0 with rho_inf = 1, also
+!>         with modal damping, where the trapezoidal D is -2.4 % of E_0). For a nonlinear system
+!>         D_k (with M_bar = (M_n + M_(n+1))/2) is only an estimate and D_s the scheme's
+!>         quantity.
+!>
+!> D and D_s. D - D_s = (W - W_m) - (D_p - D_p,m) + C_m: the O(h^2) difference between the
+!> trapezoidal rule on the power and the step-mean force times the increment (h/4 dv . dQ per
+!> step) and the work of the constraint forces over the steps. Measured (tests/regression,
+!> h = 1e-4 s, rho_inf = 0.8): the all-rigid engine, 0.3 s, D = 1.76e-4 W, D_s = 8.0e-5 W,
+!> |D - D_s| <= 1.02e-4 W; the flexible crank (RC set 1) and conrod, 0.1 s, D = 6.05e-6 W,
+!> D_s = 4.0e-6 W, |D - D_s| <= 2.15e-6 W; both can dip to round-off-sized negative values at
+!> the start (down to -2.4e-8 W and -4.8e-8 W).
 !>
 !> Exact balance. Along an exact solution of M q'' + Phi_q^T lambda = f_v + Q_e + Q_applied,
 !> Phi(q, t) = 0, d(T + U)/dt = P - P_d + P_c, where P_c = -lambda^T Phi_q v = lambda^T Phi_t is
@@ -39,7 +60,8 @@
 !> O(h^2) over a fixed interval (tests/unit/test_mbs_energy.f90: D / T_0 = 4.7e-10 and
 !> |L - L_0| / |L_0| = 6.8e-10 for a tumbling rigid body, 2 s, h = 2e-4 s, rho_inf = 0.8).
 !> D > 0 is energy removed by the scheme; D < 0 beyond the O(h^2) quadrature part (a damped mode
-!> resolved by 200 steps per period: D = -2.5e-4 D_p) would signal energy created (instability).
+!> resolved by 200 steps per period: D = -2.5e-4 D_p) would signal energy created (instability);
+!> D_s has no quadrature part and is >= 0 up to round-off on every case measured.
 module ffrf_mbs_energy_balance
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp
@@ -47,6 +69,7 @@ module ffrf_mbs_energy_balance
       FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    implicit none
    private
    public :: energy_balance_t
@@ -63,8 +86,27 @@ module ffrf_mbs_energy_balance
       real(dp) :: work = 0.0_dp
       !> Energy D_p dissipated by the physical modal damping since init (J)
       real(dp) :: physical_dissipation = 0.0_dp
-      !> Numerical dissipation D = W - (T + U - T_0 - U_0) - D_p (J)
+      !> Numerical dissipation D = W - (T + U - T_0 - U_0) - D_p (J): the balance's residual
       real(dp) :: numerical_dissipation = 0.0_dp
+      !> Numerical dissipation of generalized-alpha from its per-step energy identity (module
+      !> header), D_s = W_m - D_p,m - C_m - (T + U - T_0 - U_0) (J); zero unless the integrator
+      !> is passed to init and update
+      real(dp) :: scheme_dissipation = 0.0_dp
+      !> Its parts: the work of the step-mean applied forces, damping forces and constraint
+      !> forces over the step increments, W_m, D_p,m, C_m (J)
+      real(dp) :: step_work = 0.0_dp, step_damping = 0.0_dp, constraint_work = 0.0_dp
+      !> The closed form of D_s for constant M from the increments of q, v, a and q'' alone,
+      !> D_k (module header; exact for linear systems, an estimate otherwise) (J)
+      real(dp) :: kinematic_dissipation = 0.0_dp
+      !> D_s is being accumulated (the integrator was passed to init)
+      logical :: has_scheme = .false.
+      !> Parameters of the scheme: alpha_m, alpha_f, gamma, beta (theory.md 4.1)
+      real(dp) :: scheme(4) = 0.0_dp
+      !> At the last update (n each): q, v, a, q'', the applied force Q and the constraint force
+      !> Phi_q^T lambda; the mass matrix there (n x n, recomputed after import_state)
+      real(dp), allocatable :: q_last(:), v_last(:), a_last(:), qdd_last(:), force_last(:)
+      real(dp), allocatable :: reaction_last(:)
+      real(dp), allocatable :: mass_last(:, :)
       !> Power P of the applied loads (and drive) and damping power P_d at the last update (W)
       real(dp) :: power = 0.0_dp, damping_power = 0.0_dp
       !> Number of updates after init
@@ -84,8 +126,9 @@ module ffrf_mbs_energy_balance
 
 contains
 
-   !> Start the balance at (t, q, v): T_0, U_0 and the powers at t; W = D_p = D = 0.
-   subroutine energy_balance_init(self, mech, t, q, v, error, lambda)
+   !> Start the balance at (t, q, v): T_0, U_0 and the powers at t; W = D_p = D = D_s = 0.
+   !> With `scheme` (the integrator after its init) D_s is accumulated too.
+   subroutine energy_balance_init(self, mech, t, q, v, error, lambda, scheme)
       !> The balance
       class(energy_balance_t), intent(out) :: self
       !> The mechanism
@@ -99,6 +142,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> Multipliers, nc (optional): with them the work of a driving constraint enters W
       real(dp), intent(in), optional :: lambda(:)
+      !> The integrator at (t, q, v) (optional): its parameters and algorithmic accelerations a
+      !> give D_s
+      type(galpha_integrator_t), intent(in), optional :: scheme
       call evaluate(mech, t, q, v, self%kinetic, self%strain, self%power, self%damping_power, &
          error, lambda)
       if (allocated(error)) then
@@ -108,11 +154,30 @@ contains
       self%t = t
       self%kinetic_start = self%kinetic
       self%strain_start = self%strain
+      if (.not. present(scheme)) return
+      if (size(scheme%a) /= mech%n) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: the integrator has ' // &
+            to_str(size(scheme%a)) // ' coordinates, the mechanism ' // to_str(mech%n) // &
+            '; pass the integrator of this mechanism after its init')
+         return
+      end if
+      self%has_scheme = .true.
+      self%scheme = [scheme%alpha_m, scheme%alpha_f, scheme%gamma, scheme%beta]
+      self%q_last = q
+      self%v_last = v
+      self%a_last = scheme%a
+      self%qdd_last = scheme%qdd
+      allocate (self%mass_last(mech%n, mech%n), self%force_last(mech%n), &
+         self%reaction_last(mech%n))
+      call mech%mass(q, self%mass_last, error)
+      if (.not. allocated(error)) call step_forces(mech, t, q, v, scheme%lambda, &
+         self%force_last, self%reaction_last, error)
    end subroutine energy_balance_init
 
    !> Advance to the accepted step (t, q, v): new T, U, powers; W and D_p by the trapezoidal rule
-   !> over [t_last, t]; D from the balance (module header).
-   subroutine energy_balance_update(self, mech, t, q, v, error, lambda)
+   !> over [t_last, t]; D from the balance; D_s from the scheme's identity when the integrator
+   !> (at this step) is passed and was passed to init (module header).
+   subroutine energy_balance_update(self, mech, t, q, v, error, lambda, scheme)
       !> The balance (after init)
       class(energy_balance_t), intent(inout) :: self
       !> The mechanism
@@ -126,6 +191,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> Multipliers, nc (optional): with them the work of a driving constraint enters W
       real(dp), intent(in), optional :: lambda(:)
+      !> The integrator at this step (optional): D_s (module header)
+      type(galpha_integrator_t), intent(in), optional :: scheme
       real(dp) :: kinetic, strain, power, damping_power, h
       h = t - self%t
       if (.not. h >= 0.0_dp) then
@@ -151,13 +218,108 @@ contains
       self%steps = self%steps + 1
       self%numerical_dissipation = self%work - (kinetic + strain - self%kinetic_start - &
          self%strain_start) - self%physical_dissipation
-      if (.not. (ieee_is_finite(self%work) .and. ieee_is_finite(self%numerical_dissipation))) &
-         then
+      if (self%has_scheme .and. present(scheme)) then
+         call add_scheme_step(self, mech, t, h, q, v, scheme%a, scheme%qdd, scheme%lambda, &
+            error)
+         if (allocated(error)) return
+      end if
+      if (.not. (ieee_is_finite(self%work) .and. ieee_is_finite(self%numerical_dissipation) &
+         .and. ieee_is_finite(self%scheme_dissipation) .and. &
+         ieee_is_finite(self%kinematic_dissipation))) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'energy balance: NaN or Inf in the work ' &
             // 'or the dissipation at step ' // to_str(self%steps) // ', t = ' // &
             to_str(t, 12) // ' s')
       end if
    end subroutine energy_balance_update
+
+   !> Advance D_s and D_k over the step from the last update to (t, q, v, a, q'', lambda)
+   !> (module header). With the step means x_m = (x_n + x_(n+1)) / 2:
+   !>     W_m += dq . Q_m,  D_p,m += dq . C v_m,  C_m += dq . (Phi_q^T lambda)_m,
+   !>     D_k += h (beta - gamma/2) da . M_bar dv + (1 - alpha_m - gamma) dq . M_bar da
+   !>            - (1/2 - alpha_f) dq . M_bar dqdd,
+   !> M_bar = (M(q_n) + M(q_(n+1))) / 2; the damping's quadratic form comes from the bodies'
+   !> damping power, x . C y = (P_d(x + y) - P_d(x) - P_d(y)) / 2.
+   subroutine add_scheme_step(self, mech, t, h, q, v, a, qdd, lambda, error)
+      type(energy_balance_t), intent(inout) :: self
+      class(mechanism_t), intent(inout) :: mech
+      real(dp), intent(in) :: t, h, q(:), v(:), a(:), qdd(:), lambda(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: mass(:, :), m_bar(:, :), dq(:), dv(:), da(:), dqdd(:), force(:)
+      real(dp), allocatable :: reaction(:), v_m(:)
+      if (size(a) /= mech%n .or. size(qdd) /= mech%n .or. size(lambda) /= mech%nc) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: integrator state of ' // &
+            to_str(size(a)) // ' coordinates and ' // to_str(size(lambda)) // ' multipliers ' &
+            // 'for a mechanism with ' // to_str(mech%n) // ' and ' // to_str(mech%nc) // &
+            '; pass the integrator of this mechanism')
+         return
+      end if
+      allocate (mass(mech%n, mech%n), force(mech%n), reaction(mech%n))
+      if (.not. allocated(self%mass_last)) then
+         allocate (self%mass_last(mech%n, mech%n))
+         call mech%mass(self%q_last, self%mass_last, error)
+         if (allocated(error)) return
+      end if
+      call mech%mass(q, mass, error)
+      if (.not. allocated(error)) call step_forces(mech, t, q, v, lambda, force, reaction, &
+         error)
+      if (allocated(error)) return
+      dq = q - self%q_last
+      dv = v - self%v_last
+      da = a - self%a_last
+      dqdd = qdd - self%qdd_last
+      v_m = 0.5_dp * (v + self%v_last)
+      self%step_work = self%step_work + 0.5_dp * dot_product(dq, force + self%force_last)
+      self%step_damping = self%step_damping + 0.5_dp * (damping_form(mech, dq + v_m) - &
+         damping_form(mech, dq) - damping_form(mech, v_m))
+      self%constraint_work = self%constraint_work + 0.5_dp * dot_product(dq, reaction + &
+         self%reaction_last)
+      m_bar = 0.5_dp * (self%mass_last + mass)
+      associate (alpha_m => self%scheme(1), alpha_f => self%scheme(2), gamma => self%scheme(3), &
+            beta => self%scheme(4))
+         self%kinematic_dissipation = self%kinematic_dissipation + h * (beta - 0.5_dp * gamma) &
+            * dot_product(da, matmul(m_bar, dv)) + (1.0_dp - alpha_m - gamma) * &
+            dot_product(dq, matmul(m_bar, da)) - (0.5_dp - alpha_f) * &
+            dot_product(dq, matmul(m_bar, dqdd))
+      end associate
+      self%scheme_dissipation = self%step_work - self%step_damping - self%constraint_work - &
+         (self%kinetic + self%strain - self%kinetic_start - self%strain_start)
+      self%q_last = q
+      self%v_last = v
+      self%a_last = a
+      self%qdd_last = qdd
+      self%force_last = force
+      self%reaction_last = reaction
+      self%mass_last = mass
+   end subroutine add_scheme_step
+
+   !> The applied force Q(q, v, t) (loads and gravity) and the constraint force Phi_q^T lambda.
+   subroutine step_forces(mech, t, q, v, lambda, force, reaction, error)
+      class(mechanism_t), intent(inout) :: mech
+      real(dp), intent(in) :: t, q(:), v(:), lambda(:)
+      real(dp), intent(out) :: force(:), reaction(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: phi_q(:, :)
+      allocate (phi_q(mech%nc, mech%n))
+      call mech%applied_force(q, v, t, force, error)
+      if (allocated(error)) return
+      call mech%constraint_jacobian(q, t, phi_q, error)
+      if (allocated(error)) return
+      reaction = matmul(lambda, phi_q)
+   end subroutine step_forces
+
+   !> x^T C x of the bodies' own damping: body_t%damping_power of the slices of x.
+   real(dp) function damping_form(mech, x)
+      class(mechanism_t), intent(in) :: mech
+      real(dp), intent(in) :: x(:)
+      integer :: b, k, nb
+      damping_form = 0.0_dp
+      if (.not. allocated(mech%bodies)) return
+      do b = 1, size(mech%bodies)
+         k = mech%bodies(b)%offset
+         nb = mech%bodies(b)%body%num_coordinates
+         damping_form = damping_form + mech%bodies(b)%body%damping_power(x(k + 1:k + nb))
+      end do
+   end function damping_form
 
    !> T + U at the last update (J).
    pure real(dp) function energy_balance_total(self) result(energy)
@@ -218,22 +380,37 @@ contains
       end if
    end subroutine evaluate
 
-   !> Every accumulator of the balance (checkpoint): t, T, U, T_0, U_0, W, D_p, D, P, P_d and
-   !> the number of updates.
+   !> Every accumulator of the balance (checkpoint): t, T, U, T_0, U_0, W, D_p, D, P, P_d, the
+   !> number of updates; D_s, W_m, D_p,m, C_m, D_k, the scheme flag and parameters (4), n; then
+   !> q, v, a, q'', Q and Phi_q^T lambda of the last update (n each; n = 0 without the scheme).
    pure function energy_balance_export_state(self) result(state)
       class(energy_balance_t), intent(in) :: self
-      real(dp) :: state(11)
+      real(dp), allocatable :: state(:)
+      integer :: n
+      n = 0
+      if (self%has_scheme) n = size(self%q_last)
       state = [self%t, self%kinetic, self%strain, self%kinetic_start, self%strain_start, &
          self%work, self%physical_dissipation, self%numerical_dissipation, self%power, &
-         self%damping_power, real(self%steps, dp)]
+         self%damping_power, real(self%steps, dp), self%scheme_dissipation, &
+         self%step_work, self%step_damping, self%constraint_work, &
+         self%kinematic_dissipation, merge(1.0_dp, 0.0_dp, self%has_scheme), self%scheme, &
+         real(n, dp)]
+      if (n > 0) state = [state, self%q_last, self%v_last, self%a_last, self%qdd_last, &
+         self%force_last, self%reaction_last]
    end function energy_balance_export_state
 
-   !> Restore the accumulators of export_state; .false. when `state` has the wrong size.
+   !> Restore the accumulators of export_state; .false. when `state` has the wrong size. The mass
+   !> matrix at the last q is recomputed at the next update.
    subroutine energy_balance_import_state(self, state, ok)
       class(energy_balance_t), intent(inout) :: self
       real(dp), intent(in) :: state(:)
       logical, intent(out) :: ok
-      ok = size(state) == 11
+      integer, parameter :: head = 22
+      integer :: n
+      ok = size(state) >= head
+      if (.not. ok) return
+      n = nint(state(head))
+      ok = n >= 0 .and. size(state) == head + 6 * n
       if (.not. ok) return
       self%t = state(1)
       self%kinetic = state(2)
@@ -246,6 +423,22 @@ contains
       self%power = state(9)
       self%damping_power = state(10)
       self%steps = nint(state(11))
+      self%scheme_dissipation = state(12)
+      self%step_work = state(13)
+      self%step_damping = state(14)
+      self%constraint_work = state(15)
+      self%kinematic_dissipation = state(16)
+      self%has_scheme = state(17) > 0.5_dp .and. n > 0
+      self%scheme = state(18:21)
+      if (allocated(self%mass_last)) deallocate (self%mass_last)
+      if (self%has_scheme) then
+         self%q_last = state(head + 1:head + n)
+         self%v_last = state(head + n + 1:head + 2 * n)
+         self%a_last = state(head + 2 * n + 1:head + 3 * n)
+         self%qdd_last = state(head + 3 * n + 1:head + 4 * n)
+         self%force_last = state(head + 4 * n + 1:head + 5 * n)
+         self%reaction_last = state(head + 5 * n + 1:head + 6 * n)
+      end if
    end subroutine energy_balance_import_state
 
 end module ffrf_mbs_energy_balance

@@ -4,10 +4,18 @@
 - the redundant constraint equations: the count given by --redundant (the Gruebler-Kutzbach
   count of the mechanism, see engine.cmake), and the per-joint flags agree with the list of
   dropped rows;
-- energy (conservation law): the work of the applied loads equals the change of kinetic and
-  strain energy plus a numerical dissipation that is non-negative (generalized-alpha with
-  rho_inf < 1 only removes energy; up to the O(h^2) error of the trapezoidal work, measured
-  -2.6e-7 W, bound -1e-6 W) and small: D <= 1e-3 W at the end (a few 1e-6 W measured);
+- energy (conservation law, ffrf_mbs_energy_balance): the work W of the applied loads equals the
+  change of kinetic and strain energy plus the numerical dissipation; two measures of the latter
+  are in the file: D = W - dT - dU (the balance's residual, W by the trapezoidal rule on the
+  power) and D_s (/energy/scheme_dissipation), computed from generalized-alpha's own per-step
+  identity (work of the step-mean forces over the step increments, minus the change of T + U).
+  Checked: D_s >= 0 up to round-off (rho_inf < 1 only removes energy), D and D_s at the end
+  below their bounds, and the balance W = dT + dU + D_s + r closes with |r| = |D - D_s| below
+  its bound (r is the O(h^2) difference between the trapezoidal work and the step-mean work
+  during combustion, plus the work of the constraint forces over the steps). Every bound is
+  about 10 times the value measured on the case (engine.cmake passes them per case; the
+  defaults are those of the all-rigid engine, h = 1e-4 s, rho_inf = 0.8, 0.3 s: D = 1.76e-4 W,
+  D_s = 8.0e-5 W, |D - D_s| <= 1.02e-4 W, D down to -4.6e-9 W, D_s down to -4.8e-8 W);
 - kinematics: the crank angle never decreases after the start (the engine turns one way) and the
   piston pin stays on the cylinder axis x = z = 0 to 1e-8 m (the prismatic joint);
 - the gmsh animation (--animation): a MSH 2.2 file whose views all have one value per node;
@@ -55,6 +63,12 @@ def main():
     parser.add_argument("--redundant", type=int, help="expected number of redundant equations")
     parser.add_argument("--animation", help="gmsh animation file to check")
     parser.add_argument("--failed", action="store_true", help="the run must have failed")
+    parser.add_argument("--dissipation-max", type=float, default=1.8e-3,
+                        help="bound on D / W at the end (10x the all-rigid engine's 1.76e-4)")
+    parser.add_argument("--scheme-max", type=float, default=8e-4,
+                        help="bound on D_s / W at the end (10x the all-rigid engine's 8.0e-5)")
+    parser.add_argument("--residual-max", type=float, default=1e-3,
+                        help="bound on max |D - D_s| / W (10x the all-rigid engine's 1.02e-4)")
     args = parser.parse_args()
     with h5py.File(args.results, "r") as f:
         status = f.attrs["status"]
@@ -91,19 +105,35 @@ def main():
         strain = f["energy/strain"][()]
         work = f["energy/external_work"][()]
         dissipation = f["energy/numerical_dissipation"][()]
+        scheme = f["energy/scheme_dissipation"][()]
+        if len(scheme) != n:
+            fail(f"energy/scheme_dissipation has {len(scheme)} entries for {n} steps")
         balance = work - (kinetic + strain - kinetic[0] - strain[0]) - dissipation
         if np.max(np.abs(balance)) > 1e-9 * max(np.max(np.abs(work)), 1.0):
             fail(f"energy series inconsistent: W - dT - dU - D up to {np.max(np.abs(balance))}")
-        ratio = dissipation[-1] / work[-1]
-        if not (work[-1] > 0 and -1e-6 <= ratio <= 1e-3):
-            fail(f"numerical dissipation {dissipation[-1]:.6g} J for W = {work[-1]:.6g} J "
-                 f"(ratio {ratio:.3g}), expected 0 <= D <= 1e-3 W")
-        # D carries the O(h^2) error of the trapezoidal work (power integrated step by step):
-        # measured down to -2.6e-7 W (rigid engine, h = 1e-4 s, during combustion).
-        if np.min(dissipation) < -1e-6 * work[-1]:
-            fail(f"energy created: numerical dissipation down to {np.min(dissipation):.6g} J")
-        ok(f"energy: W = {work[-1]:.6g} J, T = {kinetic[-1]:.6g} J, U = {strain[-1]:.3g} J, "
-           f"numerical dissipation {dissipation[-1]:.3g} J ({ratio:.3g} W)")
+        if not work[-1] > 0:
+            fail(f"work of the loads {work[-1]:.6g} J, expected > 0 (the engine is driven)")
+        w = work[-1]
+        # Floors: a few round-off-sized negative values at the start (measured D down to
+        # -2.4e-8 W on engine_lc8_rc1, D_s down to -4.8e-8 W on the all-rigid engine); 10x.
+        if np.min(dissipation) < -2.4e-7 * w:
+            fail(f"energy created: D down to {np.min(dissipation) / w:.3g} W, floor -2.4e-7 W")
+        if np.min(scheme) < -4.8e-7 * w:
+            fail(f"energy created: D_s down to {np.min(scheme) / w:.3g} W, floor -4.8e-7 W")
+        if not (scheme[-1] > 0 and scheme[-1] <= args.scheme_max * w):
+            fail(f"scheme dissipation D_s = {scheme[-1] / w:.3g} W, expected in (0, "
+                 f"{args.scheme_max:.3g} W]")
+        if not dissipation[-1] <= args.dissipation_max * w:
+            fail(f"numerical dissipation D = {dissipation[-1] / w:.3g} W, expected <= "
+                 f"{args.dissipation_max:.3g} W")
+        residual = np.max(np.abs(dissipation - scheme))
+        if residual > args.residual_max * w:
+            fail(f"balance W = dT + dU + D_s + r: |r| = |D - D_s| up to {residual / w:.3g} W, "
+                 f"bound {args.residual_max:.3g} W")
+        ok(f"energy: W = {w:.6g} J, T = {kinetic[-1]:.6g} J, U = {strain[-1]:.3g} J, D = "
+           f"{dissipation[-1] / w:.3g} W (bound {args.dissipation_max:.2g}), D_s = "
+           f"{scheme[-1] / w:.3g} W (bound {args.scheme_max:.2g}), |D - D_s| <= "
+           f"{residual / w:.3g} W (bound {args.residual_max:.2g})")
 
         angle = f["time/crank_angle"][()]
         if np.min(np.diff(angle)) < -1e-9:
