@@ -261,15 +261,17 @@ contains
          93.0_dp/110.0_dp, -14.0_dp/23.0_dp])
    end subroutine test_tri6_consistent
 
-   !> A curved Tri6 face (face B with its mid-side nodes lifted out of the plane): the
-   !> consistent weights sum to the area and their first moment is int x dA (sum N_a = 1 and
-   !> x = sum N_a x_a), both from surface_area_centroid; the corners no longer get 0.
+   !> A curved Tri6 face (face B with its mid-side nodes moved in its plane, so that the area
+   !> element is a quadratic and both quadratures are exact): the consistent weights sum to the
+   !> area and their first moment is int x dA (sum N_a = 1 and x = sum N_a x_a), both from
+   !> surface_area_centroid; the corners no longer get 0.
    subroutine test_curved_tri6(error)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: w(:)
       real(dp) :: xyz(3, 9), area, centroid(3)
       xyz = XYZ_B
-      xyz(3, 5:9) = [0.1_dp, 0.3_dp, -0.05_dp, 0.2_dp, 0.15_dp]
+      xyz(1:2, 5:9) = xyz(1:2, 5:9) + reshape([0.05_dp, 0.1_dp, 0.2_dp, -0.1_dp, -0.15_dp, &
+         0.05_dp, 0.1_dp, 0.1_dp, -0.2_dp, 0.15_dp], [2, 5])
       call nodal_consistent_weights(xyz, TRIS_B, [1, 2, 3, 4, 5, 6, 7, 8, 9], w, error)
       if (allocated(error)) return
       call surface_area_centroid(xyz, TRIS_B, area, centroid, error)
