@@ -96,6 +96,7 @@ contains
       type(interface_t), intent(out) :: iface
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: node_xyz(:, :)
+      real(dp) :: centroid(3)
       integer :: i
 
       iface%name = trim(spec%name)
@@ -108,11 +109,22 @@ contains
       iface%rc = spec%rc
 
       if (allocated(spec%nodes)) then
-         call node_set_interface(body, spec, iface, error)
+         call node_set_interface(body, spec, iface, centroid, error)
       else
-         call surface_interface(body, spec, iface, error)
+         call surface_interface(body, spec, iface, centroid, error)
       end if
       if (allocated(error)) return
+      select case (spec%virtual_node)
+      case (VIRTUAL_NODE_CENTROID)
+         iface%virtual_xyz = centroid
+      case (VIRTUAL_NODE_POSITION)
+         iface%virtual_xyz = spec%position
+      case default
+         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // &
+            '": virtual_node = ' // to_str(spec%virtual_node) // ' is not known; use ' // &
+            'VIRTUAL_NODE_CENTROID or VIRTUAL_NODE_POSITION')
+         return
+      end select
 
       node_xyz = body%xyz(:, iface%nodes)
       iface%length_scale = 0.0_dp
@@ -139,14 +151,14 @@ contains
       if (allocated(error)) call add_context(error, 'interface "' // iface%name // '"')
    end subroutine build_interface
 
-   !> Nodes, area, virtual node and weights of an interface on the physical surface spec%name.
-   subroutine surface_interface(body, spec, iface, error)
+   !> Nodes, area, area centroid and weights of an interface on the physical surface spec%name.
+   subroutine surface_interface(body, spec, iface, centroid, error)
       type(mesh_t), intent(in) :: body
       type(interface_spec_t), intent(in) :: spec
       type(interface_t), intent(inout) :: iface
+      real(dp), intent(out) :: centroid(3)
       type(error_t), allocatable, intent(out) :: error
       integer(ip), allocatable :: triangles(:)
-      real(dp) :: centroid(3)
 
       if (spec%weighting == WEIGHTING_GIVEN .or. allocated(spec%weights)) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // &
@@ -166,16 +178,6 @@ contains
       call surface_area_centroid(body%xyz, body%tris(:, triangles), iface%area, centroid, error)
       if (allocated(error)) return
 
-      select case (spec%virtual_node)
-      case (VIRTUAL_NODE_CENTROID)
-         iface%virtual_xyz = centroid
-      case (VIRTUAL_NODE_POSITION)
-         iface%virtual_xyz = spec%position
-      case default
-         call unknown_virtual_node(iface%name, spec%virtual_node, error)
-         return
-      end select
-
       select case (spec%weighting)
       case (WEIGHTING_UNIFORM)
          allocate (iface%weights(size(iface%nodes)), source=1.0_dp)
@@ -192,12 +194,13 @@ contains
       end select
    end subroutine surface_interface
 
-   !> Nodes (sorted), weights (uniform or given), virtual node (given, or the weighted centroid
-   !> of the nodes) of a node-set interface; its area is 0.
-   subroutine node_set_interface(body, spec, iface, error)
+   !> Nodes (sorted), weights (uniform or given) and weighted centroid of the nodes of a
+   !> node-set interface; its area is 0.
+   subroutine node_set_interface(body, spec, iface, centroid, error)
       type(mesh_t), intent(in) :: body
       type(interface_spec_t), intent(in) :: spec
       type(interface_t), intent(inout) :: iface
+      real(dp), intent(out) :: centroid(3)
       type(error_t), allocatable, intent(out) :: error
       integer(ip), allocatable :: slot(:)
       integer(ip) :: i, n
@@ -264,27 +267,9 @@ contains
          return
       end select
 
-      select case (spec%virtual_node)
-      case (VIRTUAL_NODE_CENTROID)
-         iface%virtual_xyz = matmul(body%xyz(:, iface%nodes), iface%weights) / sum(iface%weights)
-      case (VIRTUAL_NODE_POSITION)
-         iface%virtual_xyz = spec%position
-      case default
-         call unknown_virtual_node(iface%name, spec%virtual_node, error)
-         return
-      end select
+      centroid = matmul(body%xyz(:, iface%nodes), iface%weights) / sum(iface%weights)
       iface%area = 0.0_dp
    end subroutine node_set_interface
-
-   !> The error of an unknown virtual_node choice.
-   subroutine unknown_virtual_node(name, virtual_node, error)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: virtual_node
-      type(error_t), allocatable, intent(out) :: error
-      call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // name // &
-         '": virtual_node = ' // to_str(virtual_node) // ' is not known; use ' // &
-         'VIRTUAL_NODE_CENTROID or VIRTUAL_NODE_POSITION')
-   end subroutine unknown_virtual_node
 
    !> "Tx Ty Tz Rz" for a dof selection ('' if none).
    function dofs_text(dofs) result(text)
