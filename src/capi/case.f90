@@ -320,9 +320,10 @@ contains
    end subroutine case_add_surface
 
    !> An interface of body `body` on its surface `surface` (add_surface): mpc FFRF_RBE2,
-   !> FFRF_RBE3 (uniform weights) or FFRF_RBE3_AREA (area weights), virtual node at `position` (m) or, absent, at the area
-   !> centroid of the surface, reference conditions rc = forbidden virtual-node dofs
-   !> Tx Ty Tz Rx Ry Rz.
+   !> FFRF_RBE3 (uniform weights), FFRF_RBE3_AREA (tributary area weights) or
+   !> FFRF_RBE3_AREA_CONSISTENT (consistent area weights), virtual node at `position` (m) or,
+   !> absent, at the area centroid of the surface, reference conditions rc = forbidden
+   !> virtual-node dofs Tx Ty Tz Rx Ry Rz.
    subroutine case_add_interface(self, body, surface, mpc, rc, error, position)
       class(ffrf_case_t), intent(inout) :: self
       integer, intent(in) :: body

@@ -97,4 +97,5 @@ set_tests_properties(capi_example_c_body_arrays PROPERTIES LABELS "capi;example"
   ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
 
 add_test(NAME capi_node_sets COMMAND test_capi_node_sets)
-set_tests_properties(capi_node_sets PROPERTIES LABELS "capi;rbe3" ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
+set_tests_properties(capi_node_sets PROPERTIES LABELS "capi;rbe3"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1")

@@ -22,6 +22,7 @@ module test_rbe3_weights
       MPC_RBE2, WEIGHTING_UNIFORM, WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN, &
       VIRTUAL_NODE_POSITION, VIRTUAL_NODE_CENTROID
    use ffrf_mpc_rbe3, only: rbe3_matrix
+   use ffrf_la_dense, only: skew
    use ffrf_input_interface, only: interface_input_t
    use ffrf_model_specs, only: interface_spec_of
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
@@ -433,9 +434,9 @@ contains
          1.0_dp, 1.0_dp], x_v, 1.5_dp, G, deficient, axis, error)
       if (allocated(error)) return
       do i = 1, 9
-         q_b(:, i) = t + cross(theta, XYZ_B(:, i))
+         q_b(:, i) = t + matmul(skew(theta), XYZ_B(:, i))
       end do
-      expected(1:3) = t + cross(theta, x_v)
+      expected(1:3) = t + matmul(skew(theta), x_v)
       expected(4:6) = theta
       call check_vector(error, 'signed weights: rigid motion at the virtual node', &
          matmul(G, reshape(q_b, [27])), expected, tight)
@@ -497,16 +498,11 @@ contains
          > 0) deallocate (error)
    end subroutine test_weighting_words
 
-   pure function cross(a, b) result(c)
-      real(dp), intent(in) :: a(3), b(3)
-      real(dp) :: c(3)
-      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-   end function cross
-
 end module test_rbe3_weights
 
 program main_rbe3_weights
    use ffrf_mpc_rbe3, only: rbe3_matrix
+   use ffrf_la_dense, only: skew
    use ffrf_input_interface, only: interface_input_t
    use ffrf_model_specs, only: interface_spec_of
    use ffrf_testing, only: unittest_t, run_suite
