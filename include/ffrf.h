@@ -154,8 +154,10 @@ int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[
 /* ---------------------------------------------------------------- a case from arrays */
 
 /* MPC kinds of an interface (ffrf_case_add_interface): RBE2 (rigid), RBE3 with uniform
- * weights (Nastran's default), RBE3 with area weights. */
-enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3 };
+ * weights (Nastran's default), RBE3 with tributary area weights, RBE3 with consistent area
+ * weights (the integral of each node's shape function; README "RBE3 weights").
+ * ffrf_case_add_interface_nodes takes FFRF_RBE2 or FFRF_RBE3 (weights given per node). */
+enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3, FFRF_RBE3_AREA_CONSISTENT = 4 };
 
 /* An empty modal case to build from arrays; then ffrf_case_run computes the modes of its
  * bodies and the body queries above apply. Nothing is written. */
@@ -172,11 +174,21 @@ int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const doub
 int ffrf_case_add_surface(ffrf_case *c, int body, const char *name, int nodes_per_triangle,
                           int num_triangles, const int *triangles);
 
-/* An interface on a surface: mpc FFRF_RBE2, FFRF_RBE3 or FFRF_RBE3_AREA, virtual node at
- * virtual_node[3] (m; NULL: the area centroid of the surface), reference conditions rc[6]
- * (non-zero: the virtual node's Tx Ty Tz Rx Ry Rz is held; NULL: none). */
+/* An interface on a surface: mpc FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA or
+ * FFRF_RBE3_AREA_CONSISTENT, virtual node at virtual_node[3] (m; NULL: the area centroid of the
+ * surface), reference conditions rc[6] (non-zero: the virtual node's Tx Ty Tz Rx Ry Rz is held;
+ * NULL: none). */
 int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,
                             const double *virtual_node, const int rc[6]);
+
+/* An interface called `name` on a node set of a body: nodes[num_nodes] (node numbers 0-based,
+ * each once, every one a node of a tetrahedron), mpc FFRF_RBE2 or FFRF_RBE3, RBE3 weights
+ * weights[num_nodes] (> 0; NULL: uniform), virtual node at virtual_node[3] (m; NULL: the
+ * weighted centroid of the nodes), reference conditions rc[6] as above. With the nodes and
+ * weights of a surface it is that surface's interface. */
+int ffrf_case_add_interface_nodes(ffrf_case *c, int body, const char *name, int mpc,
+                                  int num_nodes, const int *nodes, const double *weights,
+                                  const double *virtual_node, const int rc[6]);
 
 /* Number of flexible modes per body (default 12; free-free bodies: the rigid modes on top). */
 int ffrf_case_set_num_modes(ffrf_case *c, int num_modes);

@@ -44,7 +44,7 @@ module ffrf
    use ffrf_app_check_case, only: check_case
    use ffrf_app_mechanism_session, only: mechanism_session_t
    use ffrf_capi_case, only: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, &
-      FFRF_RBE3_AREA
+      FFRF_RBE3_AREA, FFRF_RBE3_AREA_CONSISTENT
    use ffrf_core_build_info, only: FFRF_VERSION, FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, &
       FFRF_VERSION_PATCH
    implicit none

@@ -24,6 +24,7 @@ module ffrf_capi
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes
+   public :: ffrf_case_add_interface_nodes
 
    !> What a `ffrf_case *` points to.
    type :: capi_handle_t
@@ -866,6 +867,47 @@ contains
       end if
       stat = status_of(h, error)
    end function ffrf_case_add_interface
+
+   !> int ffrf_case_add_interface_nodes(ffrf_case *c, int body, const char *name, int mpc,
+   !> int num_nodes, const int *nodes, const double *weights, const double *virtual_node,
+   !> const int rc[6])
+   integer(c_int) function ffrf_case_add_interface_nodes(c, body, name, mpc, num_nodes, nodes, &
+         weights, virtual_node, rc) result(stat) bind(c, name='ffrf_case_add_interface_nodes')
+      type(c_ptr), value :: c, name, nodes, weights, virtual_node, rc
+      integer(c_int), value :: body, mpc, num_nodes
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      integer(c_int), pointer :: node_list(:), flags(:)
+      real(c_double), pointer :: w(:), position(:)
+      logical :: forbidden(6)
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. (c_associated(name) .and. c_associated(nodes))) then
+         stat = bad_call(h, 'ffrf_case_add_interface_nodes: name or nodes is NULL')
+         return
+      end if
+      if (num_nodes < 1) then
+         stat = bad_call(h, 'ffrf_case_add_interface_nodes: num_nodes = ' // &
+            to_str(int(num_nodes)) // '; give at least one node')
+         return
+      end if
+      call c_f_pointer(nodes, node_list, [num_nodes])
+      forbidden = .false.
+      if (c_associated(rc)) then
+         call c_f_pointer(rc, flags, [6])
+         forbidden = flags /= 0
+      end if
+      ! a disassociated pointer is an absent optional argument (Fortran 2008)
+      nullify (w, position)
+      if (c_associated(weights)) call c_f_pointer(weights, w, [num_nodes])
+      if (c_associated(virtual_node)) call c_f_pointer(virtual_node, position, [3])
+      call h%case%add_interface_nodes(int(body) + 1, from_c(name), int(mpc), &
+         int(node_list) + 1, forbidden, error, weights=w, position=position)
+      stat = status_of(h, error)
+   end function ffrf_case_add_interface_nodes
 
    !> int ffrf_case_set_num_modes(ffrf_case *c, int num_modes)
    integer(c_int) function ffrf_case_set_num_modes(c, num_modes) result(stat) &

@@ -37,13 +37,24 @@ module ffrf_capi_case
    use ffrf_app_modal_run, only: run_modal
    use ffrf_app_mechanism_run, only: run_mechanism
    use ffrf_app_mechanism_session, only: mechanism_session_t, move_modes
+   use ffrf_mpc_interface, only: interface_spec_t, WEIGHTING_UNIFORM, WEIGHTING_GIVEN
    implicit none
    private
    public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
+   public :: FFRF_RBE3_AREA_CONSISTENT
 
    !> MPC kinds of an interface given from arrays (add_interface): RBE2, RBE3 with uniform
-   !> weights (Nastran's default), RBE3 with area weights
-   integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3
+   !> weights (Nastran's default), RBE3 with tributary area weights ('area'), RBE3 with
+   !> consistent area weights int N_i dA ('area_consistent'; README "RBE3 weights")
+   integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3, &
+      FFRF_RBE3_AREA_CONSISTENT = 4
+
+   !> An interface on a node set (add_interface_nodes): its body and the nodes, in the numbering
+   !> of the body's mesh once cut (compute_body_modes), with their weights
+   type :: node_set_interface_t
+      integer :: body = 0
+      type(interface_spec_t) :: spec
+   end type node_set_interface_t
 
    !> Status of a call out of order, a bad index or argument, a buffer too small (the C API's
    !> FFRF_BAD_CALL); the other codes are those of ffrf_core_error
@@ -73,6 +84,8 @@ module ffrf_capi_case
       !> FFRF inertia invariants of each body, computed on the first request (invariant)
       type(flexible_body_t), allocatable, private :: invariants(:)
       logical, allocatable, private :: have_invariants(:)
+      !> Interfaces on node sets of a case built from arrays (add_interface_nodes)
+      type(node_set_interface_t), allocatable, private :: node_sets(:)
    contains
       !> An FFRF inertia invariant of a body (theory.md 3.2), by name
       procedure :: invariant => case_invariant
@@ -84,6 +97,8 @@ module ffrf_capi_case
       procedure :: add_surface => case_add_surface
       !> An interface on a surface: MPC kind, virtual node, reference conditions
       procedure :: add_interface => case_add_interface
+      !> An interface on a node set: MPC kind, per-node RBE3 weights, virtual node, RCs
+      procedure :: add_interface_nodes => case_add_interface_nodes
       !> Number of modes per body of a case built from arrays
       procedure :: set_num_modes => case_set_num_modes
       !> Read and check a case file
@@ -152,7 +167,7 @@ contains
       self%case%file_name = '(arrays)'
       self%case%name = 'arrays'
       allocate (self%case%bodies(0), self%case%motions(0), self%case%interfaces(0), &
-         self%meshes(0))
+         self%meshes(0), self%node_sets(0))
       self%opened = .true.
       self%from_arrays = .true.
    end subroutine case_new
@@ -305,9 +320,10 @@ contains
    end subroutine case_add_surface
 
    !> An interface of body `body` on its surface `surface` (add_surface): mpc FFRF_RBE2,
-   !> FFRF_RBE3 (uniform weights) or FFRF_RBE3_AREA (area weights), virtual node at `position` (m) or, absent, at the area
-   !> centroid of the surface, reference conditions rc = forbidden virtual-node dofs
-   !> Tx Ty Tz Rx Ry Rz.
+   !> FFRF_RBE3 (uniform weights), FFRF_RBE3_AREA (tributary area weights) or
+   !> FFRF_RBE3_AREA_CONSISTENT (consistent area weights), virtual node at `position` (m) or,
+   !> absent, at the area centroid of the surface, reference conditions rc = forbidden
+   !> virtual-node dofs Tx Ty Tz Rx Ry Rz.
    subroutine case_add_interface(self, body, surface, mpc, rc, error, position)
       class(ffrf_case_t), intent(inout) :: self
       integer, intent(in) :: body
@@ -316,9 +332,6 @@ contains
       logical, intent(in) :: rc(6)
       type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in), optional :: position(3)
-      character(len=2), parameter :: dof_names(6) = ['Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz']
-      type(interface_input_t) :: input
-      integer :: k
       call check_building(self, 'add_interface', error)
       if (.not. allocated(error)) call check_body(self, 'add_interface', body, error)
       if (allocated(error)) return
@@ -327,10 +340,11 @@ contains
             '" has no surface "' // trim(surface) // '"; add it with add_surface first')
          return
       end if
-      if (mpc /= FFRF_RBE2 .and. mpc /= FFRF_RBE3 .and. mpc /= FFRF_RBE3_AREA) then
+      if (mpc < FFRF_RBE2 .or. mpc > FFRF_RBE3_AREA_CONSISTENT) then
          call bad_call(error, 'add_interface: mpc = ' // to_str(mpc) // '; give FFRF_RBE2 (' &
             // to_str(FFRF_RBE2) // '), FFRF_RBE3 (' // to_str(FFRF_RBE3) // &
-            ') or FFRF_RBE3_AREA (' // to_str(FFRF_RBE3_AREA) // ')')
+            '), FFRF_RBE3_AREA (' // to_str(FFRF_RBE3_AREA) // ') or ' // &
+            'FFRF_RBE3_AREA_CONSISTENT (' // to_str(FFRF_RBE3_AREA_CONSISTENT) // ')')
          return
       end if
       if (any(self%case%interfaces%body == self%case%bodies(body)%name .and. &
@@ -339,10 +353,26 @@ contains
             trim(self%case%bodies(body)%name) // '" has an interface already')
          return
       end if
+      call append_interface(self, body, surface, mpc, rc, position)
+   end subroutine case_add_interface
+
+   !> Append the &interface of an interface given from arrays: mpc FFRF_RBE2, FFRF_RBE3,
+   !> FFRF_RBE3_AREA or FFRF_RBE3_AREA_CONSISTENT, virtual node at `position` or the centroid.
+   subroutine append_interface(self, body, name, mpc, rc, position)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: mpc
+      logical, intent(in) :: rc(6)
+      real(dp), intent(in), optional :: position(3)
+      character(len=2), parameter :: dof_names(6) = ['Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz']
+      type(interface_input_t) :: input
+      integer :: k
       input%body = self%case%bodies(body)%name
-      input%name = surface
+      input%name = name
       input%mpc = merge('RBE2', 'RBE3', mpc == FFRF_RBE2)
       if (mpc == FFRF_RBE3_AREA) input%weighting = 'area'
+      if (mpc == FFRF_RBE3_AREA_CONSISTENT) input%weighting = 'area_consistent'
       if (present(position)) then
          input%virtual_node = 'position'
          input%position = position
@@ -353,7 +383,119 @@ contains
       end do
       input%rc = adjustl(input%rc)
       self%case%interfaces = [self%case%interfaces, input]
-   end subroutine case_add_interface
+   end subroutine append_interface
+
+   !> An interface of body `body` on the node set `nodes` (node numbers 1..n of add_body, each
+   !> once, every one a node of a tetrahedron), called `name`: mpc FFRF_RBE2 or FFRF_RBE3, RBE3
+   !> weights w_i > 0 of the nodes (absent: uniform), virtual node at `position` (m) or, absent,
+   !> at the weighted centroid of the nodes, reference conditions rc = forbidden virtual-node
+   !> dofs Tx Ty Tz Rx Ry Rz. Given the same nodes and weights, it is the surface interface.
+   subroutine case_add_interface_nodes(self, body, name, mpc, nodes, rc, error, weights, &
+         position)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: mpc
+      integer, intent(in) :: nodes(:)
+      logical, intent(in) :: rc(6)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(in), optional :: weights(:)
+      real(dp), intent(in), optional :: position(3)
+      type(node_set_interface_t) :: node_set
+      integer(ip), allocatable :: new_index(:)
+      character(len=:), allocatable :: what
+      integer :: j, k
+      call check_building(self, 'add_interface_nodes', error)
+      if (.not. allocated(error)) call check_body(self, 'add_interface_nodes', body, error)
+      if (allocated(error)) return
+      what = 'add_interface_nodes "' // trim(name) // '": '
+      associate (mesh => self%meshes(body), body_name => self%case%bodies(body)%name)
+         if (len_trim(name) == 0 .or. len_trim(name) > 64) then
+            call bad_call(error, 'add_interface_nodes: the name must have 1 to 64 characters')
+         else if (mpc /= FFRF_RBE2 .and. mpc /= FFRF_RBE3) then
+            call bad_call(error, what // 'mpc = ' // to_str(mpc) // '; give FFRF_RBE2 (' // &
+               to_str(FFRF_RBE2) // ') or FFRF_RBE3 (' // to_str(FFRF_RBE3) // '); RBE3 ' // &
+               'weights come with the nodes')
+         else if (size(nodes) < 1) then
+            call bad_call(error, what // 'no nodes; give at least one')
+         else if (any(self%case%interfaces%body == body_name .and. &
+            self%case%interfaces%name == name) .or. mesh%find_group(2_ip, name) > 0) then
+            call bad_call(error, what // 'body "' // trim(body_name) // '" has an interface ' // &
+               'or a surface of that name already')
+         else if (present(weights)) then
+            if (mpc == FFRF_RBE2) then
+               call bad_call(error, what // 'weights are for an RBE3 (mpc = FFRF_RBE3)')
+            else if (size(weights) /= size(nodes)) then
+               call bad_call(error, what // to_str(size(weights)) // ' weights for ' // &
+                  to_str(size(nodes)) // ' nodes')
+            end if
+         end if
+         if (allocated(error)) return
+         ! new_index: 1 for a node of a tetrahedron, -k once listed at position k
+         allocate (new_index(mesh%num_nodes), source=0_ip)
+         do j = 1, size(mesh%tets, 2)
+            do k = 1, size(mesh%tets, 1)
+               new_index(mesh%tets(k, j)) = 1
+            end do
+         end do
+         do k = 1, size(nodes)
+            if (nodes(k) < 1 .or. nodes(k) > mesh%num_nodes) then
+               call fatal_error(error, FFRF_INPUT_ERROR, what // 'node ' // &
+                  to_str(nodes(k) - 1) // ' (position ' // to_str(k - 1) // ') is not in ' // &
+                  '0..' // to_str(mesh%num_nodes - 1) // ' (C, 0-based)')
+            else if (new_index(nodes(k)) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, what // 'node ' // &
+                  to_str(nodes(k) - 1) // ' (C, 0-based) is not a node of any tetrahedron')
+            else if (new_index(nodes(k)) < 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, what // 'node ' // &
+                  to_str(nodes(k) - 1) // ' (C, 0-based) is listed twice, at positions ' // &
+                  to_str(-new_index(nodes(k)) - 1) // ' and ' // to_str(k - 1))
+            else if (present(weights)) then
+               if (.not. (weights(k) > 0.0_dp .and. weights(k) <= huge(1.0_dp))) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, what // 'weight ' // &
+                     to_str(k - 1) // ' (C, 0-based) is ' // to_str(weights(k)) // &
+                     '; RBE3 weights must be positive and finite')
+               end if
+            end if
+            if (allocated(error)) return
+            new_index(nodes(k)) = -k
+         end do
+         ! the body's mesh loses the nodes of no tetrahedron when it is cut (extract_body):
+         ! node i becomes the number of used nodes up to i
+         new_index = merge(1_ip, 0_ip, new_index /= 0)
+         do k = 2, size(new_index)
+            new_index(k) = new_index(k - 1) + new_index(k)
+         end do
+      end associate
+      node_set%body = body
+      node_set%spec%name = name
+      node_set%spec%nodes = new_index(nodes)
+      node_set%spec%weighting = WEIGHTING_UNIFORM
+      if (present(weights)) then
+         node_set%spec%weighting = WEIGHTING_GIVEN
+         node_set%spec%weights = weights
+      end if
+      call append_interface(self, body, name, mpc, rc, position)
+      self%node_sets = [self%node_sets, node_set]
+   end subroutine case_add_interface_nodes
+
+   !> Put the node sets of body `body` (add_interface_nodes) into its resolved interfaces.
+   subroutine attach_node_sets(self, body, specs)
+      class(ffrf_case_t), intent(in) :: self
+      integer, intent(in) :: body
+      type(interface_spec_t), intent(inout) :: specs(:)
+      integer :: i, k
+      do k = 1, size(self%node_sets)
+         if (self%node_sets(k)%body /= body) cycle
+         do i = 1, size(specs)
+            if (specs(i)%name /= self%node_sets(k)%spec%name) cycle
+            specs(i)%nodes = self%node_sets(k)%spec%nodes
+            specs(i)%weighting = self%node_sets(k)%spec%weighting
+            if (allocated(self%node_sets(k)%spec%weights)) &
+               specs(i)%weights = self%node_sets(k)%spec%weights
+         end do
+      end do
+   end subroutine attach_node_sets
 
    !> Number of flexible modes per body (free-free bodies: the six rigid modes come on top).
    subroutine case_set_num_modes(self, num_modes, error)
@@ -436,6 +578,7 @@ contains
                if (model%bodies(k)%rigid) cycle
                associate (body => model%bodies(k))
                   if (self%from_arrays) then
+                     call attach_node_sets(self, k, body%interfaces)
                      call compute_body_modes(self%meshes(k), body%body, body%interfaces, &
                         body%modes, self%log, times, self%modes(k), error)
                   else

@@ -19,10 +19,12 @@ module ffrf_c
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
+   public :: ffrf_case_add_interface_nodes, FFRF_RBE3_AREA_CONSISTENT
    public :: ffrf_c_string
 
    !> MPC kinds of ffrf_case_add_interface
-   integer(c_int), parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3
+   integer(c_int), parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3, &
+      FFRF_RBE3_AREA_CONSISTENT = 4
 
    !> Status codes of include/ffrf.h
    integer(c_int), parameter :: FFRF_OK = 0, FFRF_BAD_CALL = 1, FFRF_INPUT_ERROR = 2, &
@@ -281,6 +283,20 @@ module ffrf_c
          !> c_loc of 3 doubles, or c_null_ptr (centroid); c_loc of 6 ints, or c_null_ptr
          type(c_ptr), value :: virtual_node, rc
       end function ffrf_case_add_interface
+
+      integer(c_int) function ffrf_case_add_interface_nodes(c, body, name, mpc, num_nodes, &
+            nodes, weights, virtual_node, rc) bind(c, name='ffrf_case_add_interface_nodes')
+         import :: c_int, c_ptr, c_char
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: body
+         character(kind=c_char), intent(in) :: name(*)
+         integer(c_int), value :: mpc, num_nodes
+         integer(c_int), intent(in) :: nodes(*)
+         !> c_loc of num_nodes doubles, or c_null_ptr (uniform); c_loc of 3 doubles, or
+         !> c_null_ptr (weighted centroid); c_loc of 6 ints, or c_null_ptr
+         type(c_ptr), value :: weights, virtual_node, rc
+      end function ffrf_case_add_interface_nodes
 
       integer(c_int) function ffrf_case_set_num_modes(c, num_modes) &
             bind(c, name='ffrf_case_set_num_modes')

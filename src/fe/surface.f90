@@ -1,5 +1,5 @@
 !> Surface integrals over Tri3/Tri6 triangles of a body mesh, for interfaces (RBE2/RBE3): area,
-!> area centroid int x dA / A, and nodal area weights.
+!> area centroid int x dA / A, and nodal area weights (tributary and consistent).
 !>
 !> Gmsh node order (1-based), reference triangle {u, v >= 0, u + v <= 1}:
 !>```
@@ -21,7 +21,8 @@ module ffrf_fe_surface
    use ffrf_fe_quadrature, only: TRI3_POINTS, TRI3_WEIGHTS, TRI7_POINTS, TRI7_WEIGHTS
    implicit none
    private
-   public :: tri_shape, surface_area_centroid, nodal_area_weights, surface_nodes
+   public :: tri_shape, surface_area_centroid, nodal_area_weights, nodal_consistent_weights
+   public :: surface_nodes
 
    !> Reference coordinates of the six Tri6 nodes (first three for Tri3)
    real(dp), parameter :: TRI_REFERENCE_NODES(2, 6) = reshape([0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, &
@@ -148,10 +149,11 @@ contains
       centroid = first/area
    end subroutine surface_area_centroid
 
-   !> Area weights of the nodes of a surface, positive and summing to its area: Tri3 gives each
-   !> corner a third of the triangle's area; Tri6 splits each triangle into its four
-   !> sub-triangles (corner-mid-mid and the middle one, in the reference triangle) and gives each
-   !> sub-triangle's vertices a third of its (isoparametric) area.
+   !> Tributary area weights of the nodes of a surface (`weighting = 'area'`), positive and
+   !> summing to its area: Tri3 gives each corner a third of the triangle's area; Tri6 splits
+   !> each triangle into its four sub-triangles (corner-mid-mid and the middle one, in the
+   !> reference triangle) and gives each sub-triangle's vertices a third of its (isoparametric)
+   !> area. For a flat straight-sided Tri6 of area A: corners A/12, mid-side nodes A/4.
    subroutine nodal_area_weights(xyz, tris, nodes, weights, error)
       !> Node coordinates (3, num_nodes) (m)
       real(dp), intent(in) :: xyz(:, :)
@@ -164,25 +166,15 @@ contains
       !> Bad triangle, unsorted node list, triangle node missing from the list
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: xi(2), p(2, 3), da, x(3), sub_area, jac
-      integer(ip) :: k, a, pos
+      integer(ip) :: k, a
       integer :: s, q, v
-      allocate (weights(size(nodes)))
-      weights = 0.0_dp
-      call check_triangles(size(xyz, 2, kind=ip), tris, error)
+      call start_node_weights(xyz, tris, nodes, 'nodal_area_weights', weights, error)
       if (allocated(error)) return
-      do k = 2, size(nodes, kind=ip)
-         if (nodes(k) <= nodes(k - 1)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'nodal_area_weights: the node list is ' // &
-               'not strictly ascending at position ' // to_str(k) // ' (' // &
-               to_str(nodes(k - 1)) // ', ' // to_str(nodes(k)) // '); sort it and drop repeats')
-            return
-         end if
-      end do
       do k = 1, size(tris, 2, kind=ip)
          if (size(tris, 1) == 3) then
             call area_element(xyz(:, tris(:, k)), TRI3_POINTS(:, 1), da, x)
             do a = 1, 3
-               call add_weight(tris(a, k), 0.5_dp*da/3.0_dp)
+               call add_node_weight(nodes, tris(a, k), k, 0.5_dp*da/3.0_dp, weights, error)
                if (allocated(error)) return
             end do
          else
@@ -199,40 +191,132 @@ contains
                   sub_area = sub_area + TRI7_WEIGHTS(q)*da*jac
                end do
                do v = 1, 3
-                  call add_weight(tris(TRI6_SUBTRIANGLES(v, s), k), sub_area/3.0_dp)
+                  call add_node_weight(nodes, tris(TRI6_SUBTRIANGLES(v, s), k), k, &
+                     sub_area/3.0_dp, weights, error)
                   if (allocated(error)) return
                end do
             end do
          end if
       end do
-   contains
-      subroutine add_weight(node, w)
-         integer(ip), intent(in) :: node
-         real(dp), intent(in) :: w
-         integer(ip) :: lo, hi, mid
-         pos = 0
-         lo = 1
-         hi = size(nodes, kind=ip)
-         do while (lo <= hi)
-            mid = lo + (hi - lo)/2
-            if (nodes(mid) == node) then
-               pos = mid
-               exit
-            else if (nodes(mid) < node) then
-               lo = mid + 1
-            else
-               hi = mid - 1
-            end if
+   end subroutine nodal_area_weights
+
+   !> Consistent area weights of the nodes of a surface (`weighting = 'area_consistent'`):
+   !> w_a = int N_a dA, the integral of node a's shape function over the surface, i.e. the
+   !> work-equivalent nodal forces of a unit uniform traction. They sum to the area and their
+   !> first moment is the area's (sum w_a x_a = int x dA, isoparametric). Tri3: A/3 per corner,
+   !> as the tributary weights. Tri6: for a flat straight-sided triangle the corners get 0 and
+   !> the mid-side nodes A/3; on a curved Tri6 the corner integrals are small and of either sign.
+   !> Quadrature: Tri3 3-point (degree 2, exact); Tri6 the 7-point degree-5 rule on each of the
+   !> 16 triangles of a 4 x 4 subdivision of the reference triangle: exact for flat triangles,
+   !> and on curved ones, where N_a |x_u x x_v| is not a polynomial, about 1e-9 of the largest
+   !> weight (the 7-point rule alone errs by 1.3e-5 on the lc = 10 mm crank, whose corner weights
+   !> are 1e-3 of the mid-side ones). A triangle's value below 8 eps of its area (round-off
+   !> of 0) is set to 0.
+   subroutine nodal_consistent_weights(xyz, tris, nodes, weights, error)
+      !> Node coordinates (3, num_nodes) (m)
+      real(dp), intent(in) :: xyz(:, :)
+      !> Triangle node indices (3 or 6, num_tris), Gmsh order
+      integer(ip), intent(in) :: tris(:, :)
+      !> Node indices, strictly ascending, containing every node of tris
+      integer(ip), intent(in) :: nodes(:)
+      !> Weight of nodes(i) (m^2)
+      real(dp), allocatable, intent(out) :: weights(:)
+      !> Bad triangle, unsorted node list, triangle node missing from the list
+      type(error_t), allocatable, intent(out) :: error
+      integer, parameter :: n = 4
+      real(dp), allocatable :: element(:)
+      real(dp) :: N_a(size(tris, 1)), dN(2, size(tris, 1)), da, x(3), corner(2), xi(2), h
+      integer(ip) :: k, a
+      integer :: q, i, j, flip
+      call start_node_weights(xyz, tris, nodes, 'nodal_consistent_weights', weights, error)
+      if (allocated(error)) return
+      allocate (element(size(tris, 1)))
+      h = 1.0_dp/n
+      do k = 1, size(tris, 2, kind=ip)
+         element = 0.0_dp
+         if (size(tris, 1) == 3) then
+            do q = 1, size(TRI3_WEIGHTS)
+               call tri_shape(3, TRI3_POINTS(:, q), N_a, dN)
+               call area_element(xyz(:, tris(:, k)), TRI3_POINTS(:, q), da, x)
+               element = element + (TRI3_WEIGHTS(q)*da)*N_a
+            end do
+         else
+            ! sub-triangle (i, j): upright, corner h (i, j), legs +h u and +h v; flipped,
+            ! corner h (i + 1, j + 1), legs -h u and -h v
+            do flip = 0, 1
+               do j = 0, n - 1 - flip
+                  do i = 0, n - 1 - flip - j
+                     corner = h*[real(i + flip, dp), real(j + flip, dp)]
+                     do q = 1, size(TRI7_WEIGHTS)
+                        xi = corner + (1 - 2*flip)*h*TRI7_POINTS(:, q)
+                        call tri_shape(6, xi, N_a, dN)
+                        call area_element(xyz(:, tris(:, k)), xi, da, x)
+                        element = element + (TRI7_WEIGHTS(q)*da*h*h)*N_a
+                     end do
+                  end do
+               end do
+            end do
+         end if
+         ! round-off of an integral that is 0 (corners of a flat Tri6) is made exactly 0
+         where (abs(element) <= 8.0_dp*epsilon(1.0_dp)*sum(element)) element = 0.0_dp
+         do a = 1, size(tris, 1, kind=ip)
+            call add_node_weight(nodes, tris(a, k), k, element(a), weights, error)
+            if (allocated(error)) return
          end do
-         if (pos == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'nodal_area_weights: node ' // &
-               to_str(node) // ' of triangle ' // to_str(k) // ' is not in the node list; ' // &
-               'pass all nodes of the surface (surface_nodes)')
+      end do
+   end subroutine nodal_consistent_weights
+
+   !> Checks shared by the nodal weights: triangles, strictly ascending node list; zero weights.
+   subroutine start_node_weights(xyz, tris, nodes, what, weights, error)
+      real(dp), intent(in) :: xyz(:, :)
+      integer(ip), intent(in) :: tris(:, :), nodes(:)
+      character(len=*), intent(in) :: what
+      real(dp), allocatable, intent(out) :: weights(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: k
+      allocate (weights(size(nodes)))
+      weights = 0.0_dp
+      call check_triangles(size(xyz, 2, kind=ip), tris, error)
+      if (allocated(error)) return
+      do k = 2, size(nodes, kind=ip)
+         if (nodes(k) <= nodes(k - 1)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, what // ': the node list is ' // &
+               'not strictly ascending at position ' // to_str(k) // ' (' // &
+               to_str(nodes(k - 1)) // ', ' // to_str(nodes(k)) // '); sort it and drop repeats')
             return
          end if
-         weights(pos) = weights(pos) + w
-      end subroutine add_weight
-   end subroutine nodal_area_weights
+      end do
+   end subroutine start_node_weights
+
+   !> weights(i) += w where nodes(i) = node (binary search; node of triangle k).
+   subroutine add_node_weight(nodes, node, k, w, weights, error)
+      integer(ip), intent(in) :: nodes(:), node, k
+      real(dp), intent(in) :: w
+      real(dp), intent(inout) :: weights(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: lo, hi, mid, pos
+      pos = 0
+      lo = 1
+      hi = size(nodes, kind=ip)
+      do while (lo <= hi)
+         mid = lo + (hi - lo)/2
+         if (nodes(mid) == node) then
+            pos = mid
+            exit
+         else if (nodes(mid) < node) then
+            lo = mid + 1
+         else
+            hi = mid - 1
+         end if
+      end do
+      if (pos == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'nodal weights: node ' // &
+            to_str(node) // ' of triangle ' // to_str(k) // ' is not in the node list; ' // &
+            'pass all nodes of the surface (surface_nodes)')
+         return
+      end if
+      weights(pos) = weights(pos) + w
+   end subroutine add_node_weight
 
    !> The sorted, unique node indices of a set of triangles.
    subroutine surface_nodes(tris, nodes)

@@ -17,7 +17,7 @@ module ffrf_input_interface
       character(len=64) :: name = ''
       !> 'RBE2' or 'RBE3'
       character(len=8) :: mpc = 'RBE3'
-      !> RBE3 weights: 'uniform' (Nastran's default, every node weight 1) or 'area'
+      !> RBE3 weights: 'uniform' (Nastran's default, every node weight 1), 'area', 'area_consistent'
       character(len=16) :: weighting = 'uniform'
       !> Virtual node: 'centroid' (area centroid of the face) or 'position'
       character(len=16) :: virtual_node = 'centroid'

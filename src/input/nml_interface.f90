@@ -2,7 +2,8 @@
 !>   body          body name (&body name), required, <= 64 characters
 !>   name          physical surface name in the body's mesh, required, <= 64 characters
 !>   mpc           'RBE3' (default, interpolation) or 'RBE2' (rigid), any case
-!>   weighting     RBE3 node weights: 'uniform' (default, as Nastran) or 'area'
+!>   weighting     RBE3 node weights: 'uniform' (default, as Nastran), 'area' (tributary areas)
+!>                 or 'area_consistent' (int N_i dA; README "RBE3 weights")
 !>   virtual_node  'centroid' (default: area centroid of the face) or 'position'
 !>   position      virtual node position [m] when virtual_node = 'position': 3 finite reals in
 !>                 [-1e4, 1e4] m
@@ -25,7 +26,7 @@ contains
    function interface_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('body', 64), string_key('name', 64), choice_key('mpc', 8, 'RBE2, RBE3'), &
-         choice_key('weighting', 16, 'uniform, area'), &
+         choice_key('weighting', 16, 'uniform, area, area_consistent'), &
          choice_key('virtual_node', 16, 'centroid, position'), &
          real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), string_key('rc', 64)]
    end function interface_keys
@@ -74,9 +75,11 @@ contains
                trim(name) // '": mpc = "' // trim(mpc) // '"; use "RBE2" or "RBE3"')
             return
          end if
-         if (all(to_lower(weighting) /= [character(len=16) :: 'uniform', 'area'])) then
+         if (all(to_lower(weighting) /= [character(len=16) :: 'uniform', 'area', &
+            'area_consistent'])) then
             call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
-               trim(name) // '": weighting = "' // trim(weighting) // '"; use "uniform" or "area"')
+               trim(name) // '": weighting = "' // trim(weighting) // '"; use "uniform", ' // &
+               '"area" or "area_consistent"')
             return
          end if
          if (all(to_lower(virtual_node) /= [character(len=16) :: 'centroid', 'position'])) then

@@ -8,7 +8,7 @@ module ffrf_model_specs
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
    use ffrf_mpc_interface, only: interface_spec_t, MPC_RBE2, MPC_RBE3, WEIGHTING_UNIFORM, &
-      WEIGHTING_AREA, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
+      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
    use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE
    use ffrf_modes_input, only: modes_spec_t, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON
    use ffrf_input_interface, only: interface_input_t, parse_dofs
@@ -52,10 +52,12 @@ contains
          spec%weighting = WEIGHTING_UNIFORM
       case ('area')
          spec%weighting = WEIGHTING_AREA
+      case ('area_consistent')
+         spec%weighting = WEIGHTING_AREA_CONSISTENT
       case default
          call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // trim(input%name) // &
             '": weighting = "' // trim(input%weighting) // '" is not known; use "uniform" ' // &
-            '(Nastran default) or "area"')
+            '(Nastran default), "area" or "area_consistent"')
          return
       end select
       select case (to_lower(trim(input%virtual_node)))

@@ -25,7 +25,7 @@ contains
          undefined_direction, error)
       !> Interface node positions, (3, nB)
       real(dp), intent(in) :: node_xyz(:, :)
-      !> Weights w_i > 0, (nB)
+      !> Weights w_i, (nB): positive sum, zero and small negative ones allowed (rigid_fit)
       real(dp), intent(in) :: weights(:)
       !> Virtual (reference) node position
       real(dp), intent(in) :: virtual_xyz(3)

@@ -6,6 +6,9 @@
 !> Nastran's RBE3 interpolation. Rotations are scaled by a length so that the rank test of the
 !> 6 x 6 normal matrix is dimensionless; a rank-deficient set (collinear nodes) uses the
 !> pseudo-inverse, reports the undefined rotation axis, and that rotation reads zero.
+!> The weights need not all be positive: consistent area weights give the corners of a flat Tri6
+!> face 0 and those of a curved one small values of either sign (theory.md 1.3); G F = I6 holds
+!> for any weights whose normal matrix F^T W F is positive (semi-)definite, which is checked.
 module ffrf_mpc_rigid_fit
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -25,7 +28,7 @@ contains
          undefined_direction, error)
       !> Rigid-motion matrix of the nodes, (3 nB, 6)
       real(dp), intent(in) :: F(:, :)
-      !> Node weights w_i > 0, (nB)
+      !> Node weights w_i, (nB): finite, positive sum (zero and small negative ones allowed)
       real(dp), intent(in) :: weights(:)
       !> Characteristic length that makes rotations comparable with translations (m)
       real(dp), intent(in) :: length_scale
@@ -38,8 +41,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: normal(6, 6), values(6), vectors(6, 6), scale(6), inverse(6, 6)
       integer :: i, k
-      if (any(weights <= 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'rigid fit: weights must be positive')
+      if (.not. (all(abs(weights) <= huge(1.0_dp)) .and. sum(weights) > 0.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'rigid fit: the weights must be finite ' // &
+            'with a positive sum; their sum is ' // to_str(sum(weights)))
          return
       end if
       if (length_scale <= 0.0_dp) then
@@ -62,6 +66,12 @@ contains
       end do
       call symmetric_eigen(normal, values, vectors, error)
       if (allocated(error)) return
+      if (values(1) < -rank_tolerance * values(6)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'rigid fit: the weights make the normal ' // &
+            'matrix indefinite (eigenvalue ' // to_str(values(1) / values(6)) // ' of the ' // &
+            'largest); negative weights outweigh the positive ones')
+         return
+      end if
       rank_deficient = values(1) <= rank_tolerance * values(6)
       undefined_direction = 0.0_dp
       if (rank_deficient) undefined_direction = vectors(4:6, 1) / norm2(vectors(4:6, 1))

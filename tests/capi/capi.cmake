@@ -4,6 +4,9 @@
 #    calls out of order, a missing and a bad case file, small buffers), status and message;
 #    again under AddressSanitizer + UBSan (capi_bad_calls_asan) and valgrind
 #    (capi_bad_calls_valgrind, --leak-check=full, any error fails).
+#  - capi_node_sets: interfaces on node sets (ffrf_case_add_interface_nodes) give the modes of
+#    the surface interfaces with the same nodes and weights (uniform, tributary and consistent
+#    area weights, to 1e-12) on a Tet10 block built from arrays.
 #  - capi_compare_driver: the C API's frequencies (crank lc 8 mm, RC set 2) equal the driver's
 #    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
 #    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
@@ -26,7 +29,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # linked from the fat objects' ordinary code (-fno-lto: no link-time optimisation of the whole
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
-foreach(program test_capi_bad_calls test_capi_run)
+foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -103,4 +106,8 @@ target_compile_options(example_c_body_arrays PRIVATE ${_capi_flags})
 target_link_options(example_c_body_arrays PRIVATE ${_capi_link})
 add_test(NAME capi_example_c_body_arrays COMMAND example_c_body_arrays)
 set_tests_properties(capi_example_c_body_arrays PROPERTIES LABELS "capi;example"
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
+
+add_test(NAME capi_node_sets COMMAND test_capi_node_sets)
+set_tests_properties(capi_node_sets PROPERTIES LABELS "capi;rbe3"
   ENVIRONMENT "OPENBLAS_NUM_THREADS=1")

@@ -165,9 +165,59 @@ int main(int argc, char **argv)
                "give at least one triangle of 3 or 6 nodes");
         EXPECT(arrays, ffrf_case_add_surface(arrays, 0, "face", 3, 1, tri), FFRF_OK, "");
         EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", 7, NULL, NULL), FFRF_BAD_CALL,
-               "mpc = 7; give FFRF_RBE2 (1), FFRF_RBE3 (2) or FFRF_RBE3_AREA (3)");
+               "mpc = 7; give FFRF_RBE2 (1), FFRF_RBE3 (2), FFRF_RBE3_AREA (3) or "
+               "FFRF_RBE3_AREA_CONSISTENT (4)");
         EXPECT(arrays, ffrf_case_add_interface(arrays, 0, "face", FFRF_RBE3, NULL, NULL),
                FFRF_OK, "");
+        /* interfaces on node sets with per-node weights */
+        {
+            const int set[3] = {0, 1, 3}, twice[3] = {0, 1, 0}, outside[2] = {0, 4};
+            const double w[3] = {1.0, 2.0, 0.5}, zero_w[3] = {1.0, 0.0, 1.0},
+                         negative_w[3] = {1.0, 1.0, -1.0};
+            const double xyz5[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 2, 2, 2};
+            CHECK(ffrf_case_add_interface_nodes(NULL, 0, "set", FFRF_RBE3, 3, set, w, NULL,
+                                                NULL) == FFRF_BAD_CALL);
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, NULL, FFRF_RBE3, 3, set, w,
+                   NULL, NULL), FFRF_BAD_CALL, "name or nodes is NULL");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, NULL, w,
+                   NULL, NULL), FFRF_BAD_CALL, "name or nodes is NULL");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 0, set, w,
+                   NULL, NULL), FFRF_BAD_CALL, "num_nodes = 0; give at least one node");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, -2, set,
+                   NULL, NULL, NULL), FFRF_BAD_CALL, "num_nodes = -2");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 1, "set", FFRF_RBE3, 3, set, w,
+                   NULL, NULL), FFRF_BAD_CALL, "body 1 does not exist");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3_AREA, 3, set,
+                   NULL, NULL, NULL), FFRF_BAD_CALL,
+                   "mpc = 3; give FFRF_RBE2 (1) or FFRF_RBE3 (2); RBE3 weights come with the "
+                   "nodes");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "face", FFRF_RBE3, 3, set, w,
+                   NULL, NULL), FFRF_BAD_CALL,
+                   "body \"block\" has an interface or a surface of that name already");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE2, 3, set, w,
+                   NULL, NULL), FFRF_BAD_CALL, "weights are for an RBE3 (mpc = FFRF_RBE3)");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 2, outside,
+                   NULL, NULL, NULL), FFRF_INPUT_ERROR,
+                   "node 4 (position 1) is not in 0..3 (C, 0-based)");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, twice,
+                   NULL, NULL, NULL), FFRF_INPUT_ERROR,
+                   "node 0 (C, 0-based) is listed twice, at positions 0 and 2");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, set,
+                   zero_w, NULL, NULL), FFRF_INPUT_ERROR,
+                   "weight 1 (C, 0-based) is 0; RBE3 weights must be positive and finite");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, set,
+                   negative_w, NULL, NULL), FFRF_INPUT_ERROR, "weight 2 (C, 0-based) is -1");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, set, w,
+                   NULL, NULL), FFRF_OK, "");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 0, "set", FFRF_RBE3, 3, set, w,
+                   NULL, NULL), FFRF_BAD_CALL, "has an interface or a surface of that name");
+            /* a body whose node 4 belongs to no tetrahedron */
+            EXPECT(arrays, ffrf_case_add_body(arrays, "loose", 5, xyz5, 4, 1, tet, 2e11, 0.3,
+                   7850), FFRF_OK, "");
+            EXPECT(arrays, ffrf_case_add_interface_nodes(arrays, 1, "set", FFRF_RBE3, 2, outside,
+                   NULL, NULL, NULL), FFRF_INPUT_ERROR,
+                   "node 4 (C, 0-based) is not a node of any tetrahedron");
+        }
         EXPECT(arrays, ffrf_case_set_num_modes(arrays, 0), FFRF_BAD_CALL,
                "num_modes = 0, must be at least 1");
         EXPECT(arrays, ffrf_body_frequencies(arrays, 0, hz, 4, &count), FFRF_BAD_CALL,

@@ -1,5 +1,6 @@
 !> `use ffrf_c` (the C API's interfaces for Fortran callers): version, a missing case file
-!> (FFRF_FILE_ERROR with its message), a call on the failed handle (FFRF_BAD_CALL), close.
+!> (FFRF_FILE_ERROR with its message), a call on the failed handle (FFRF_BAD_CALL), close; an
+!> interface on a node set of a body that does not exist (FFRF_BAD_CALL with its message).
 program test_ffrf_c
    use, intrinsic :: iso_c_binding
    use ffrf_c
@@ -23,6 +24,15 @@ program test_ffrf_c
    print '(a, i0, a)', 'body_count status ', stat, ': ' // ffrf_c_string(ffrf_last_error(c))
    if (stat /= FFRF_BAD_CALL .or. index(ffrf_c_string(ffrf_last_error(c)), &
       'the case is not open') == 0) error stop 1
+   call ffrf_case_close(c)
+   stat = ffrf_case_new(c)
+   if (stat /= FFRF_OK) error stop 1
+   stat = ffrf_case_add_interface_nodes(c, 0_c_int, 'set' // c_null_char, FFRF_RBE3, 3_c_int, &
+      [0_c_int, 1_c_int, 2_c_int], c_null_ptr, c_null_ptr, c_null_ptr)
+   print '(a, i0, a)', 'add_interface_nodes status ', stat, ': ' // &
+      ffrf_c_string(ffrf_last_error(c))
+   if (stat /= FFRF_BAD_CALL .or. index(ffrf_c_string(ffrf_last_error(c)), &
+      'body 0 does not exist') == 0) error stop 1
    call ffrf_case_close(c)
    if (major < 0 .or. minor < 0 .or. patch < 0) error stop 1
 end program test_ffrf_c
