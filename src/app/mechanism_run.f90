@@ -27,6 +27,7 @@ module ffrf_app_mechanism_run
       check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_input_nml_run, only: log_level_code
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
@@ -36,6 +37,7 @@ module ffrf_app_mechanism_run
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
    use ffrf_app_mechanism_session, only: start_integration, move_modes
+   use ffrf_model_model, only: model_t
    implicit none
    private
    public :: run_mechanism_case, run_mechanism
@@ -104,6 +106,7 @@ contains
       type(stage_timer_t) :: total, timer
       type(history_t) :: history
       type(model_choice_t) :: model
+      type(model_t) :: resolved
       type(error_t), allocatable :: run_error, close_error
       type(output_lock_t) :: lock
       type(restart_state_t) :: restart
@@ -115,7 +118,7 @@ contains
 
       call total%begin()
       case_file = case%file_name
-      call set_log_level(log, options, case%run%log_level)
+      call set_log_level(log, options, log_level_code(case%run%log_level))
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
       echo = case_echo(case)
@@ -159,7 +162,7 @@ contains
 
          ! Bodies (modes of the meshed ones), joints, loads, starting pose, integrator start
          ! (shared with the mechanism session of the C and Fortran API)
-         call start_integration(case, mesh_dir, log, times, mech, bodies, pressure, &
+         call start_integration(case, resolved, mesh_dir, log, times, mech, bodies, pressure, &
             has_pressure, model, integrator, error, timer)
          if (allocated(error)) return
          if (restarting) then
@@ -174,7 +177,8 @@ contains
          call log_mechanism(log, mech, integrator)
 
          temp_file = partial_name(results_file)
-         call open_results(results, temp_file, case, echo, mech, bodies, integrator, error)
+         call open_results(results, temp_file, case, resolved, echo, mech, bodies, integrator, &
+            error)
          if (.not. allocated(error)) call write_model_choice(results, case, model, error)
          if (.not. allocated(error) .and. restarting) then
             call results%append_from(source, restart%num_steps, error)
@@ -303,10 +307,13 @@ contains
    end function row_name
 
    !> Create the results file with its series and the redundant-equation flags.
-   subroutine open_results(results, results_file, case, echo, mech, bodies, integrator, error)
+   subroutine open_results(results, results_file, case, resolved, echo, mech, bodies, &
+         integrator, error)
       type(engine_results_t), intent(inout) :: results
       character(len=*), intent(in) :: results_file, echo
       type(case_input_t), intent(in) :: case
+      !> The case resolved (the crank's MPC label)
+      type(model_t), intent(in) :: resolved
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(galpha_integrator_t), intent(in) :: integrator
@@ -314,7 +321,7 @@ contains
       integer, allocatable :: flags(:)
       integer :: k, j
       call results%create(results_file, case%name, trim(case%run%title), &
-         trim(case%mechanism%mechanism%label), crank_mpc(case), echo, error)
+         trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error)
       do k = 1, size(bodies)
          if (allocated(error)) exit
          call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
@@ -354,29 +361,6 @@ contains
       call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
          basis_name(modes%basis), int(modes%num_static), error)
    end subroutine write_body_modes
-
-   !> MPC kind of the crank's interfaces ('RBE3', 'RBE2', 'rigid'), for labels.
-   function crank_mpc(case) result(mpc)
-      type(case_input_t), intent(in) :: case
-      character(len=:), allocatable :: mpc
-      integer :: k
-      mpc = ''
-      associate (crank => case%mechanism%mechanism%crank)
-         do k = 1, size(case%bodies)
-            if (case%bodies(k)%name /= crank) cycle
-            if (case%motions(k)%type == 'rigid' .or. case%motions(k)%num_modes == 0) then
-               mpc = 'rigid'
-               return
-            end if
-         end do
-         do k = 1, size(case%interfaces)
-            if (case%interfaces(k)%body == crank) then
-               mpc = trim(case%interfaces(k)%mpc)
-               return
-            end if
-         end do
-      end associate
-   end function crank_mpc
 
    !> Step to t_end, recording every step; progress every progress_interval simulated seconds.
    !> After every step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the

@@ -31,6 +31,7 @@ module ffrf_app_mechanism_session
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_engine_auto_model, only: model_choice_t
+   use ffrf_model_model, only: model_t, build_model
    implicit none
    private
    public :: mechanism_session_t, start_integration, move_modes
@@ -52,6 +53,8 @@ module ffrf_app_mechanism_session
       !> Cylinder pressure model (has_pressure: a &load of type pressure exists)
       type(pressure_model_t) :: pressure
       logical :: has_pressure = .false.
+      !> The case resolved (ffrf_model_model)
+      type(model_t) :: resolved
       !> The automatic model's choices (&model)
       type(model_choice_t) :: model
       !> The integrator and its state (t, q, v, lambda)
@@ -95,9 +98,11 @@ contains
    !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
    !> and start its integration: the integrator settings of the case (h of the automatic model
    !> when it chose one), the max_steps check, galpha_init. run_mechanism and prepare share it.
-   subroutine start_integration(case, mesh_dir, log, times, mech, bodies, pressure, &
+   subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, pressure, &
          has_pressure, model, integrator, error, timer)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (build_model), built here
+      type(model_t), intent(out) :: resolved
       !> Folder of relative mesh files
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
@@ -115,24 +120,25 @@ contains
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: case_file
       case_file = case%file_name
-      call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error, model)
+      call build_model(case, resolved, error)
+      if (.not. allocated(error)) call build_mechanism(case, resolved, mesh_dir, log, times, &
+         mech, bodies, q, v, pressure, has_pressure, error, model)
       if (allocated(error)) then
          call add_context(error, case_file)
          return
       end if
       if (present(timer)) call timer%begin()
-      settings = case%mechanism%integrator
+      settings = resolved%mechanism%integrator
       if (model%h > 0.0_dp) settings%h = model%h
-      if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info( &
+      if (.not. model%active .and. .not. resolved%mechanism%h_given) call log%info( &
          'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
       ! The step count of the h chosen here (read_case checked the given or default h)
       if ((settings%t_end - settings%t_start) / settings%h > &
-            real(case%mechanism%max_steps, dp)) then
+            real(resolved%mechanism%max_steps, dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
             'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
             to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
-            'more than max_steps = ' // to_str(case%mechanism%max_steps) // &
+            'more than max_steps = ' // to_str(resolved%mechanism%max_steps) // &
             '; shorten the run, give h, or raise &integrator max_steps on purpose')
          return
       end if
@@ -157,7 +163,7 @@ contains
             'case (no &joint groups): nothing to advance; compute its modes instead')
          return
       end if
-      call start_integration(case, mesh_dir, log, times, self%mech, self%bodies, &
+      call start_integration(case, self%resolved, mesh_dir, log, times, self%mech, self%bodies, &
          self%pressure, self%has_pressure, self%model, self%integrator, error)
       if (allocated(error)) return
       allocate (self%host(0))

@@ -23,7 +23,7 @@ module ffrf_capi_case
    use ffrf_core_kinds, only: ip, i8
    use ffrf_mesh_mesh, only: mesh_t, physical_group_t
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_app_body_modes, only: compute_body_modes_from_file
@@ -436,7 +436,7 @@ contains
                if (model%bodies(k)%rigid) cycle
                associate (body => model%bodies(k))
                   if (self%from_arrays) then
-                     call compute_body_modes(self%meshes(k), body%body, body%interfaces, &
+                     call compute_body_modes(self%meshes(k), body%spec, body%interfaces, &
                         body%modes, self%log, times, self%modes(k), error)
                   else
                      call compute_body_modes_from_file(body%body, body%interfaces, body%modes, &
