@@ -746,11 +746,22 @@ contains
                return
             end if
          end associate
-         call self%session%prepare(self%case, mesh_folder(self), self%log, times, error)
+         if (self%write_output) then
+            ! recorded as the driver's run (ffrf_app_mechanism_session); the session keeps its
+            ! modes for the results file and the animations
+            call self%session%prepare(self%case, mesh_folder(self), self%log, times, error, &
+               options=self%options)
+         else
+            call self%session%prepare(self%case, mesh_folder(self), self%log, times, error)
+         end if
          if (allocated(error)) return
          allocate (self%modes(size(self%session%bodies)))
          do k = 1, size(self%session%bodies)
-            call move_modes(self%session%bodies(k)%modes, self%modes(k))
+            if (self%write_output) then
+               self%modes(k) = self%session%bodies(k)%modes
+            else
+               call move_modes(self%session%bodies(k)%modes, self%modes(k))
+            end if
          end do
          self%have_modes = .true.
       end if
@@ -906,10 +917,17 @@ contains
          moment, error)
    end subroutine case_set_marker_load
 
-   !> Release everything (the object can be opened again).
+   !> Release everything (the object can be opened again); a mechanism advanced with an output
+   !> folder but not to t_end gets its results file first (status "stopped: ...").
    subroutine case_close(self)
-      class(ffrf_case_t), intent(out) :: self
-      self%opened = .false.
+      class(ffrf_case_t), intent(inout) :: self
+      call self%session%finish()
+      call reset(self)
+   contains
+      subroutine reset(self)
+         class(ffrf_case_t), intent(out) :: self
+         self%opened = .false.
+      end subroutine reset
    end subroutine case_close
 
 end module ffrf_capi_case
