@@ -1,16 +1,17 @@
 !> A prepared mechanism case that a host program advances interval by interval (co-simulation):
 !> prepare (modes of the flexible bodies, the mechanism, the consistent start of the
-!> generalized-alpha integrator, exactly as run_mechanism builds them), then advance(t) as
-!> often as wanted, reading the state in between (time, crank angle and speed, body coordinates,
-!> marker positions and velocities, joint reactions) and setting a force or moment at a marker
-!> for the next interval (ffrf_mbs_host_load). The C API (src/capi) and the Fortran API
-!> (`use ffrf`) are thin layers over this type; nothing here stops or prints errors.
+!> generalized-alpha integrator), then advance(t) as often as wanted (run_mechanism, the
+!> driver's run, is prepare and one advance to t_end), reading the state in between (time,
+!> crank angle and speed, body coordinates, marker positions and velocities, joint reactions)
+!> and setting a force or moment at a marker for the next interval (ffrf_mbs_host_load). The
+!> C API (src/capi) and the Fortran API (`use ffrf`) are thin layers over this type; nothing
+!> here stops or prints errors.
 !>
 !> Stepping. advance(t) takes the integrator's own steps h while they end before t (within
-!> 1e-6 h, the same rule as run_mechanism's loop and galpha_step's last step) and one shortened
-!> step min(h, t - t_now) to land on a t between two of them. With every t a multiple of h
-!> (e.g. 1 ms intervals of h = 1e-4 s) the integrator therefore takes the very steps of an
-!> uninterrupted run: the states are bitwise those of run_mechanism at the same times (the
+!> 1e-6 h, the rule of galpha_step's last step) and one shortened step min(h, t - t_now) to
+!> land on a t between two of them. With every t a multiple of h (e.g. 1 ms intervals of
+!> h = 1e-4 s) the integrator therefore takes the very steps of an uninterrupted run: the
+!> states are bitwise those of run_mechanism at the same times (the
 !> last step onto t_end is shortened by galpha_step itself, as in the driver). A t beyond the
 !> case's t_end, or before the current time, is an error (FFRF_INPUT_ERROR).
 !>
@@ -41,7 +42,7 @@ module ffrf_app_mechanism_session
    use ffrf_model_model, only: model_t, build_model
    implicit none
    private
-   public :: mechanism_session_t, start_integration, move_modes
+   public :: mechanism_session_t, move_modes
 
    !> Relative tolerance on times (of the step h): the rule of run_mechanism and galpha_step
    real(dp), parameter :: TIME_RTOL = 1.0e-6_dp
@@ -112,7 +113,7 @@ contains
 
    !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
    !> and start its integration: the integrator settings of the case (h of the automatic model
-   !> when it chose one), the max_steps check, galpha_init. run_mechanism and prepare share it.
+   !> when it chose one), the max_steps check, galpha_init (prepare's first part).
    subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, pressure, &
          has_pressure, model, integrator, error, timer)
       type(case_input_t), intent(in) :: case

@@ -766,7 +766,11 @@ contains
          self%have_modes = .true.
       end if
       call self%session%advance(t, error)
-      if (allocated(error)) call add_context(error, self%case%file_name)
+      if (allocated(error)) then
+         ! (a recorded run's error names the case already)
+         if (index(error%message, self%case%file_name // ':') /= 1) call add_context(error, &
+            self%case%file_name)
+      end if
    end subroutine case_advance
 
    !> Crank angle (rad, unwrapped) and speed (rad/s) of the current state.
