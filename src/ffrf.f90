@@ -26,12 +26,13 @@ module ffrf
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface
-   use ffrf_modes_input, only: body_input_t, modes_spec_t
+   use ffrf_modes_input, only: body_spec_t, modes_spec_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_model_specs, only: interface_spec_of, modes_spec_of, body_interface_specs, &
       body_modes_spec
-   use ffrf_model_model, only: model_t, model_body_t, build_model
+   use ffrf_model_model, only: model_t, model_body_t, build_model, body_spec_of
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_app_run_options, only: run_options_t
    use ffrf_app_body_modes, only: read_body_mesh, compute_body_modes_from_file, &

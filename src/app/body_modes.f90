@@ -9,7 +9,9 @@ module ffrf_app_body_modes
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_mpc_interface, only: interface_spec_t
-   use ffrf_modes_input, only: body_input_t, modes_spec_t
+   use ffrf_modes_input, only: modes_spec_t
+   use ffrf_input_body, only: body_input_t
+   use ffrf_model_model, only: body_spec_of
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_modes, only: modes_input_t
@@ -64,8 +66,8 @@ contains
       type(mesh_t) :: mesh
       call read_body_mesh(body_input, mesh_dir, times, mesh, error)
       if (allocated(error)) return
-      call compute_body_modes(mesh, body_input, interfaces, modes, log, times, body, &
-         error, mass_matrix, stiffness_matrix)
+      call compute_body_modes(mesh, body_spec_of(body_input), interfaces, modes, log, times, &
+         body, error, mass_matrix, stiffness_matrix)
    end subroutine compute_body_modes_from_file
 
    !> The modes of a body from the input as read: its &interface groups (those naming the body,

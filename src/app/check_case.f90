@@ -15,6 +15,7 @@ module ffrf_app_check_case
    use ffrf_mpc_interface, only: interface_t, build_interface
    use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_input_nml_run, only: log_level_code
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model
    implicit none
@@ -39,7 +40,7 @@ contains
       logical :: flexible
       integer :: k, f
 
-      call set_log_level(log, options, case%run%log_level)
+      call set_log_level(log, options, log_level_code(case%run%log_level))
       call build_model(case, model, error)
       if (allocated(error)) then
          call add_context(error, case%file_name)
@@ -66,13 +67,11 @@ contains
             end do
          end associate
       end do
-      if (case%is_mechanism) then
-         if (any(case%mechanism%loads%type == 'pressure')) then
-            call make_pressure_model(case, pressure, error)
-            if (allocated(error)) then
-               call add_context(error, case%file_name)
-               return
-            end if
+      if (model%mechanism%has_pressure) then
+         call make_pressure_model(case, pressure, error)
+         if (allocated(error)) then
+            call add_context(error, case%file_name)
+            return
          end if
       end if
       call log%info('check', case%file_name // ': checked, ' // to_str(size(case%bodies)) // &

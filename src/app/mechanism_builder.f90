@@ -20,6 +20,7 @@
 !> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
 !> (its marker axes are the body axes): this is checked.
 module ffrf_app_mechanism_builder
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
@@ -28,12 +29,15 @@ module ffrf_app_mechanism_builder
    use ffrf_la_sparse, only: csr_t
    use ffrf_input_case, only: case_input_t
    use ffrf_input_nml_body, only: inertia_tensor
-   use ffrf_modes_input, only: body_input_t
-   use ffrf_model_model, only: model_t, model_body_t, build_model
+   use ffrf_modes_input, only: body_spec_t
+   use ffrf_model_model, only: model_t, model_body_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
-   use ffrf_input_mechanism, only: GROUND_NAME, load_input_t
+   use ffrf_input_mechanism, only: GROUND_NAME
+   use ffrf_model_mechanism, only: model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
+      LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
+   use ffrf_mbs_joints, only: JOINT_SPHERICAL, joint_kind_name
    use ffrf_mbs_rotation, only: identity3
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
@@ -88,9 +92,12 @@ contains
    !> Compute the modes of the meshed bodies, build the mechanism and its starting state q, v
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
    !> model when a &load of type pressure exists (has_pressure).
-   subroutine build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error, choice)
+   subroutine build_mechanism(case, resolved, mesh_dir, log, times, mech, bodies, q, v, &
+         pressure, has_pressure, error, choice)
       type(case_input_t), intent(in) :: case
+      !> The case resolved once (build_model): bodies, interfaces as marker handles, modes,
+      !> joints, loads
+      type(model_t), intent(in) :: resolved
       !> Folder of relative mesh files
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
@@ -105,55 +112,49 @@ contains
       !> time step when &integrator gives none (choice%h > 0)
       type(model_choice_t), intent(out), optional :: choice
       type(model_choice_t) :: model
-      type(model_t) :: resolved
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
       integer, allocatable :: ends(:, :)
       integer :: nb, k, ground_index
 
-      ! The case resolved once (ffrf_model_model): bodies, interfaces as marker handles, modes
-      call build_model(case, resolved, error)
-      if (allocated(error)) return
       nb = size(case%bodies)
       allocate (bodies(nb), lists(0:nb))
       do k = 0, nb
          allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0))
       end do
-      has_pressure = any(case%mechanism%loads%type == 'pressure')
+      has_pressure = resolved%mechanism%has_pressure
       if (has_pressure) then
          call make_pressure_model(case, pressure, error)
          if (allocated(error)) return
       end if
-      call start_model_selection(case, pressure, has_pressure, log, model)
+      call start_model_selection(case, resolved, pressure, has_pressure, log, model)
 
       do k = 1, nb
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(case, resolved, lists, ends)
-      call check_interface_markers(case, resolved, error)
+      call resolve_markers(resolved, lists, ends)
+      call check_interface_markers(resolved, error)
       if (allocated(error)) return
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
       do k = 1, nb
-         call add_body(case, k, resolved%bodies(k), mesh_dir, log, times, lists(k), model, mech, &
-            bodies(k), error)
+         call add_body(case, resolved, k, resolved%bodies(k), mesh_dir, log, times, lists(k), &
+            model, mech, bodies(k), error)
          if (allocated(error)) then
             call add_context(error, '&body "' // trim(case%bodies(k)%name) // '"')
             return
          end if
       end do
-      call select_step(case, log, model)
+      call select_step(resolved, log, model)
       if (present(choice)) choice = model
-      call add_joints(case, resolved, bodies, ground_index, ends, mech, error)
-      if (.not. allocated(error)) call add_loads(case, resolved, bodies, ends, mech, pressure, &
-         error)
+      call add_joints(resolved, bodies, ground_index, ends, mech, error)
+      if (.not. allocated(error)) call add_loads(resolved, bodies, ends, mech, pressure, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
-      if (len_trim(case%mechanism%mechanism%crank) > 0) then
-         call mech%set_crank(bodies(resolved%body_index(case%mechanism%mechanism%crank))%index, &
-            error)
+      if (resolved%mechanism%crank > 0) then
+         call mech%set_crank(bodies(resolved%mechanism%crank)%index, error)
          if (allocated(error)) return
       end if
       call starting_state(case, resolved, bodies, mech, q, v, error)
@@ -161,20 +162,19 @@ contains
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the
-   !> model (model_body_t%marker_index). Rigid bodies and the ground: a new marker per distinct
-   !> (point, axis) in `lists`.
-   subroutine resolve_markers(case, resolved, lists, ends)
-      type(case_input_t), intent(in) :: case
-      !> The case resolved (bodies, marker handles)
+   !> model. Rigid bodies and the ground: a new marker per distinct (&marker point, axis) in
+   !> `lists`.
+   subroutine resolve_markers(resolved, lists, ends)
+      !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
       integer, allocatable, intent(out) :: ends(:, :)
       integer :: j, l
-      associate (joints => case%mechanism%joints, loads => case%mechanism%loads)
+      associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
          allocate (ends(3, max(size(joints), size(loads))), source=0)
          do j = 1, size(joints)
-            call marker_of(joints(j)%body1, joints(j)%marker1, joints(j)%axis, ends(1, j))
-            call marker_of(joints(j)%body2, joints(j)%marker2, joints(j)%axis, ends(2, j))
+            call marker_of(joints(j)%body(1), joints(j)%marker(1), joints(j)%axis, ends(1, j))
+            call marker_of(joints(j)%body(2), joints(j)%marker(2), joints(j)%axis, ends(2, j))
          end do
          do l = 1, size(loads)
             call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], ends(3, l))
@@ -183,35 +183,32 @@ contains
 
    contains
 
-      subroutine marker_of(body, name, axis, marker)
-         character(len=*), intent(in) :: body, name
+      !> Marker on model body b (0: ground) of the marker handle `handle` (module
+      !> ffrf_model_mechanism).
+      subroutine marker_of(b, handle, axis, marker)
+         integer, intent(in) :: b, handle
          real(dp), intent(in) :: axis(3)
          integer, intent(out) :: marker
-         integer :: b, k
+         integer :: k
          real(dp) :: frame(3, 3)
-         b = resolved%body_index(body)
          if (b > 0) then
             if (.not. resolved%bodies(b)%rigid) then
-               marker = resolved%bodies(b)%marker_index(name)
+               marker = handle
                return
             end if
          end if
          frame = frame_from_axis(axis)
-         do k = 1, size(lists(b)%names)
-            if (lists(b)%names(k) == name .and. maxval(abs(lists(b)%frames(:, :, k) - frame)) &
-               < 1.0e-12_dp) then
-               marker = k
-               return
-            end if
-         end do
-         do k = 1, size(case%mechanism%markers)
-            if (case%mechanism%markers(k)%body == body .and. &
-               case%mechanism%markers(k)%name == name) exit
-         end do
-         ! (ffrf_input_case checked that the marker exists)
-         lists(b)%names = [character(len=64) :: lists(b)%names, name]
-         lists(b)%xyz = reshape([lists(b)%xyz, case%mechanism%markers(k)%position], &
-            [3, size(lists(b)%names)])
+         associate (point => resolved%mechanism%markers(handle))
+            do k = 1, size(lists(b)%names)
+               if (lists(b)%names(k) == point%name .and. maxval(abs(lists(b)%frames(:, :, k) - &
+                  frame)) < 1.0e-12_dp) then
+                  marker = k
+                  return
+               end if
+            end do
+            lists(b)%names = [character(len=64) :: lists(b)%names, point%name]
+            lists(b)%xyz = reshape([lists(b)%xyz, point%position], [3, size(lists(b)%names)])
+         end associate
          lists(b)%frames = reshape([lists(b)%frames, frame], [3, 3, size(lists(b)%names)])
          marker = size(lists(b)%names)
       end subroutine marker_of
@@ -219,8 +216,11 @@ contains
    end subroutine resolve_markers
 
    !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
-   subroutine add_body(case, k, resolved, mesh_dir, log, times, list, model, mech, built, error)
+   subroutine add_body(case, case_model, k, resolved, mesh_dir, log, times, list, model, mech, &
+         built, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (for the automatic model)
+      type(model_t), intent(in) :: case_model
       integer, intent(in) :: k
       !> Body k resolved: rigid flag, modes to compute, interfaces
       type(model_body_t), intent(in) :: resolved
@@ -243,15 +243,15 @@ contains
       name = trim(resolved%name)
       associate (motion => resolved%motion)
          if (built%meshed) then
-            if (selects_body(case, model, k)) then
+            if (selects_body(case_model, model, k)) then
                if (resolved%body%geometric_stiffness) then
                   call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
                      'num_modes on the &body (the automatic model does not estimate stress ' // &
                      'stiffening)')
                   return
                end if
-               call select_body_model(case, k, mesh_dir, log, times, model, built%modes, &
-                  mass_matrix, error)
+               call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                  built%modes, mass_matrix, error)
             else if (resolved%body%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
                call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
@@ -291,7 +291,7 @@ contains
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
             if (built%num_modes > 0) then
-               call add_geometric_stiffness(resolved%body, built%modes, stiffness_matrix, &
+               call add_geometric_stiffness(resolved%spec, built%modes, stiffness_matrix, &
                   mass_matrix, log, times, flexible, error)
             else
                call log%note('mechanism', name // ': geometric_stiffness ignored: no modes ' // &
@@ -310,8 +310,8 @@ contains
 
    !> The modal geometric stiffness of the centrifugal load cases for a flexible body.
    subroutine add_geometric_stiffness(input, modes, K, M, log, times, flexible, error)
-      !> The &body input (material)
-      type(body_input_t), intent(in) :: input
+      !> The body (material)
+      type(body_spec_t), intent(in) :: input
       !> Its mesh, interfaces, RC set and modes
       type(body_modes_t), intent(in) :: modes
       !> Its FE stiffness and consistent mass matrices (compute_body_modes)
@@ -339,21 +339,20 @@ contains
 
    !> A joint at a flexible body's interface uses the body axes: its axis must be e_z (module
    !> header) unless it is spherical.
-   subroutine check_interface_markers(case, resolved, error)
-      type(case_input_t), intent(in) :: case
-      !> The case resolved (rigid flags)
+   subroutine check_interface_markers(resolved, error)
+      !> The case resolved (joints, rigid flags)
       type(model_t), intent(in) :: resolved
       type(error_t), allocatable, intent(out) :: error
       integer :: j
-      associate (joints => case%mechanism%joints)
+      associate (joints => resolved%mechanism%joints)
          do j = 1, size(joints)
-            if (joints(j)%type == 'spherical') cycle
-            if (.not. (is_flexible(joints(j)%body1) .or. is_flexible(joints(j)%body2))) cycle
+            if (joints(j)%kind == JOINT_SPHERICAL) cycle
+            if (.not. (is_flexible(joints(j)%body(1)) .or. is_flexible(joints(j)%body(2)))) cycle
             if (abs(joints(j)%axis(3)) < 1.0_dp - 1.0e-12_dp) then
                call fatal_error(error, FFRF_INPUT_ERROR, '&joint "' // trim(joints(j)%name) // &
-                  '": a ' // trim(joints(j)%type) // ' joint at an interface of a flexible ' // &
-                  'body turns about the body z axis (its marker axes are the body axes), ' // &
-                  'but axis = (' // to_str(joints(j)%axis(1)) // ', ' // &
+                  '": a ' // joint_kind_name(joints(j)%kind) // ' joint at an interface of a ' &
+                  // 'flexible body turns about the body z axis (its marker axes are the ' // &
+                  'body axes), but axis = (' // to_str(joints(j)%axis(1)) // ', ' // &
                   to_str(joints(j)%axis(2)) // ', ' // to_str(joints(j)%axis(3)) // &
                   '); mesh the body with the joint axis along z')
                return
@@ -363,19 +362,17 @@ contains
 
    contains
 
-      logical function is_flexible(name)
-         character(len=*), intent(in) :: name
-         integer :: k
-         k = resolved%body_index(name)
+      !> Model body k (0: ground) is flexible.
+      logical function is_flexible(k)
+         integer, intent(in) :: k
          is_flexible = .false.
          if (k > 0) is_flexible = .not. resolved%bodies(k)%rigid
       end function is_flexible
 
    end subroutine check_interface_markers
 
-   subroutine add_joints(case, resolved, bodies, ground_index, ends, mech, error)
-      type(case_input_t), intent(in) :: case
-      !> The case resolved (body indices)
+   subroutine add_joints(resolved, bodies, ground_index, ends, mech, error)
+      !> The case resolved (joints: kinds and model body indices)
       type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ground_index
@@ -383,11 +380,11 @@ contains
       type(mechanism_t), intent(inout) :: mech
       type(error_t), allocatable, intent(out) :: error
       integer :: j
-      associate (joints => case%mechanism%joints)
+      associate (joints => resolved%mechanism%joints)
          do j = 1, size(joints)
-            call mech%add_joint(trim(joints(j)%type), trim(joints(j)%name), &
-               mechanism_index(joints(j)%body1), ends(1, j), &
-               mechanism_index(joints(j)%body2), ends(2, j), error)
+            call mech%add_joint(joints(j)%kind, trim(joints(j)%name), &
+               mechanism_index(joints(j)%body(1)), ends(1, j), &
+               mechanism_index(joints(j)%body(2)), ends(2, j), error)
             if (allocated(error)) then
                call add_context(error, '&joint "' // trim(joints(j)%name) // '"')
                return
@@ -397,19 +394,17 @@ contains
 
    contains
 
-      integer function mechanism_index(name)
-         character(len=*), intent(in) :: name
-         integer :: k
-         k = resolved%body_index(name)
+      !> Mechanism index of model body k (0: the ground).
+      integer function mechanism_index(k)
+         integer, intent(in) :: k
          mechanism_index = ground_index
          if (k > 0) mechanism_index = bodies(k)%index
       end function mechanism_index
 
    end subroutine add_joints
 
-   subroutine add_loads(case, resolved, bodies, ends, mech, pressure, error)
-      type(case_input_t), intent(in) :: case
-      !> The case resolved (body indices)
+   subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
+      !> The case resolved (loads: kinds, parameters, model body indices)
       type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ends(:, :)
@@ -422,27 +417,27 @@ contains
       type(drag_torque_t) :: drag
       type(constant_load_t) :: constant
       integer :: l
-      do l = 1, size(case%mechanism%loads)
-         associate (input => case%mechanism%loads(l))
-            select case (trim(input%type))
-            case ('pressure')
+      do l = 1, size(resolved%mechanism%loads)
+         associate (input => resolved%mechanism%loads(l))
+            select case (input%kind)
+            case (LOAD_PRESSURE)
                gas%model = pressure
                call fill(gas, input, LOAD_FORCE, ends(3, l))
                call mech%add_load(gas, error)
-            case ('starter')
+            case (LOAD_STARTER)
                starter%stall_torque = input%stall_torque
                starter%free_speed = input%free_speed
                starter%switch_off = input%switch_off
                call fill(starter, input, LOAD_TORQUE, ends(3, l))
                call mech%add_load(starter, error)
-            case ('drag')
+            case (LOAD_DRAG)
                drag%coefficient = input%coefficient
                call fill(drag, input, LOAD_TORQUE, ends(3, l))
                call mech%add_load(drag, error)
-            case ('force', 'torque')
+            case (LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE)
                constant%value = input%value
-               call fill(constant, input, merge(LOAD_FORCE, LOAD_TORQUE, input%type == 'force'), &
-                  ends(3, l))
+               call fill(constant, input, merge(LOAD_FORCE, LOAD_TORQUE, &
+                  input%kind == LOAD_CONSTANT_FORCE), ends(3, l))
                call mech%add_load(constant, error)
             end select
             if (allocated(error)) then
@@ -454,13 +449,13 @@ contains
 
    contains
 
-      !> The load_t part of a load from its &load group.
+      !> The load_t part of a load from its resolved &load group.
       subroutine fill(load, input, kind, marker)
          class(load_t), intent(inout) :: load
-         type(load_input_t), intent(in) :: input
+         type(model_load_t), intent(in) :: input
          integer, intent(in) :: kind, marker
          load%kind = kind
-         load%body = bodies(resolved%body_index(input%body))%index
+         load%body = bodies(input%body)%index
          load%marker = marker
          load%direction = input%direction
          load%name = input%name(:len(load%name))
@@ -492,8 +487,11 @@ contains
       where = '&pressure table_file "' // file_name // '"'
       call check_input_file(file_name, '&pressure table_file', MAX_TABLE_BYTES, error)
       if (allocated(error)) return
+      ! one unit per file in the process (Fortran 2008, 9.5.4): threads reading it take turns
+      call enter_serial_section(SECTION_FILES)
       open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
       if (stat /= 0) then
+         call leave_serial_section(SECTION_FILES)
          call fatal_error(error, FFRF_IO_ERROR, where // ': ' // trim(msg))
          return
       end if
@@ -536,6 +534,7 @@ contains
          if (allocated(error)) exit
       end do
       close (unit)
+      call leave_serial_section(SECTION_FILES)
       if (allocated(error)) return
       call pressure%init_from_table(case%mechanism%pressure, angles, values, error)
       if (allocated(error)) call add_context(error, where)
@@ -564,7 +563,7 @@ contains
       ! The joints close to the integrator's constraint tolerance: a mesh's virtual nodes are
       ! off their ideal places by round-off of the mesh (~1e-8 m on the crank), which a few
       ! modes cannot always absorb exactly (a 1e-11 m misfit was seen on the reference engine).
-      tolerance = case%mechanism%integrator%newton_atol
+      tolerance = resolved%mechanism%integrator%newton_atol
       if (mech%crank > 0) then
          call mech%assemble(q, 0.0_dp, error, crank_angle=angle, tolerance=tolerance)
          if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error, &

@@ -1,27 +1,35 @@
 !> A prepared mechanism case that a host program advances interval by interval (co-simulation):
 !> prepare (modes of the flexible bodies, the mechanism, the consistent start of the
-!> generalized-alpha integrator, exactly as run_mechanism builds them), then advance(t) as
-!> often as wanted, reading the state in between (time, crank angle and speed, body coordinates,
-!> marker positions and velocities, joint reactions) and setting a force or moment at a marker
-!> for the next interval (ffrf_mbs_host_load). The C API (src/capi) and the Fortran API
-!> (`use ffrf`) are thin layers over this type; nothing here stops or prints errors.
+!> generalized-alpha integrator), then advance(t) as often as wanted (run_mechanism, the
+!> driver's run, is prepare and one advance to t_end), reading the state in between (time,
+!> crank angle and speed, body coordinates, marker positions and velocities, joint reactions)
+!> and setting a force or moment at a marker for the next interval (ffrf_mbs_host_load). The
+!> C API (src/capi) and the Fortran API (`use ffrf`) are thin layers over this type; nothing
+!> here stops or prints errors.
 !>
 !> Stepping. advance(t) takes the integrator's own steps h while they end before t (within
-!> 1e-6 h, the same rule as run_mechanism's loop and galpha_step's last step) and one shortened
-!> step min(h, t - t_now) to land on a t between two of them. With every t a multiple of h
-!> (e.g. 1 ms intervals of h = 1e-4 s) the integrator therefore takes the very steps of an
-!> uninterrupted run: the states are bitwise those of run_mechanism at the same times (the
+!> 1e-6 h, the rule of galpha_step's last step) and one shortened step min(h, t - t_now) to
+!> land on a t between two of them. With every t a multiple of h (e.g. 1 ms intervals of
+!> h = 1e-4 s) the integrator therefore takes the very steps of an uninterrupted run: the
+!> states are bitwise those of run_mechanism at the same times (the
 !> last step onto t_end is shortened by galpha_step itself, as in the driver). A t beyond the
 !> case's t_end, or before the current time, is an error (FFRF_INPUT_ERROR).
 !>
-!> Not here (see run_mechanism): the results file, checkpoints, --restart and animations.
+!> Output. Prepared with run options (an output folder), the session records the run as the
+!> driver does (ffrf_app_mechanism_output: results file, progress lines, checkpoints, --restart,
+!> animations): run_mechanism is prepare + advance(t_end), and a host advancing in chunks gets
+!> the same file. The file is flushed after every advance and put in place, complete, by the
+!> advance that reaches t_end (or that fails); close_output (ffrf_case_close) ends a run
+!> stopped before t_end with status "stopped: ...". Without run options nothing is written.
 module ffrf_app_mechanism_session
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
       FFRF_INTERRUPTED
    use ffrf_core_posix, only: pending_signal, signal_name
    use ffrf_core_strings, only: to_str
-   use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t
+   use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t, wall_time
+   use ffrf_app_run_options, only: run_options_t
+   use ffrf_app_mechanism_output, only: mechanism_output_t
    use ffrf_input_case, only: case_input_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
@@ -31,9 +39,10 @@ module ffrf_app_mechanism_session
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_engine_auto_model, only: model_choice_t
+   use ffrf_model_model, only: model_t, build_model
    implicit none
    private
-   public :: mechanism_session_t, start_integration, move_modes
+   public :: mechanism_session_t, move_modes
 
    !> Relative tolerance on times (of the step h): the rule of run_mechanism and galpha_step
    real(dp), parameter :: TIME_RTOL = 1.0e-6_dp
@@ -52,6 +61,8 @@ module ffrf_app_mechanism_session
       !> Cylinder pressure model (has_pressure: a &load of type pressure exists)
       type(pressure_model_t) :: pressure
       logical :: has_pressure = .false.
+      !> The case resolved (ffrf_model_model)
+      type(model_t) :: resolved
       !> The automatic model's choices (&model)
       type(model_choice_t) :: model
       !> The integrator and its state (t, q, v, lambda)
@@ -60,6 +71,12 @@ module ffrf_app_mechanism_session
       logical :: prepared = .false.
       !> Markers with host loads
       type(host_marker_t), allocatable :: host(:)
+      !> The run is recorded (prepared with run options) and its file not finished yet
+      logical :: recording = .false.
+      !> The recording (ffrf_app_mechanism_output)
+      type(mechanism_output_t) :: output
+      !> The progress log of the run (prepare's)
+      type(logger_t) :: log
    contains
       !> Modes, mechanism, start of the integration
       procedure :: prepare => session_prepare
@@ -86,6 +103,8 @@ module ffrf_app_mechanism_session
       procedure :: joint_reaction => session_joint_reaction
       !> Set the host force and moment at a marker for the following intervals
       procedure :: set_marker_load => session_set_marker_load
+      !> End the recording of a run stopped before t_end (nothing when not recording)
+      procedure :: close_output => session_close_output
       !> Release everything
       procedure :: finish => session_finish
    end type mechanism_session_t
@@ -94,10 +113,12 @@ contains
 
    !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
    !> and start its integration: the integrator settings of the case (h of the automatic model
-   !> when it chose one), the max_steps check, galpha_init. run_mechanism and prepare share it.
-   subroutine start_integration(case, mesh_dir, log, times, mech, bodies, pressure, &
+   !> when it chose one), the max_steps check, galpha_init (prepare's first part).
+   subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, pressure, &
          has_pressure, model, integrator, error, timer)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (build_model), built here
+      type(model_t), intent(out) :: resolved
       !> Folder of relative mesh files
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
@@ -115,24 +136,25 @@ contains
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: case_file
       case_file = case%file_name
-      call build_mechanism(case, mesh_dir, log, times, mech, bodies, q, v, pressure, &
-         has_pressure, error, model)
+      call build_model(case, resolved, error)
+      if (.not. allocated(error)) call build_mechanism(case, resolved, mesh_dir, log, times, &
+         mech, bodies, q, v, pressure, has_pressure, error, model)
       if (allocated(error)) then
          call add_context(error, case_file)
          return
       end if
       if (present(timer)) call timer%begin()
-      settings = case%mechanism%integrator
+      settings = resolved%mechanism%integrator
       if (model%h > 0.0_dp) settings%h = model%h
-      if (.not. model%active .and. .not. case%mechanism%model%h_given) call log%info( &
+      if (.not. model%active .and. .not. resolved%mechanism%h_given) call log%info( &
          'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
       ! The step count of the h chosen here (read_case checked the given or default h)
       if ((settings%t_end - settings%t_start) / settings%h > &
-            real(case%mechanism%max_steps, dp)) then
+            real(resolved%mechanism%max_steps, dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
             'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
             to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
-            'more than max_steps = ' // to_str(case%mechanism%max_steps) // &
+            'more than max_steps = ' // to_str(resolved%mechanism%max_steps) // &
             '; shorten the run, give h, or raise &integrator max_steps on purpose')
          return
       end if
@@ -140,8 +162,9 @@ contains
       if (allocated(error)) call add_context(error, case_file // ': starting the integration')
    end subroutine start_integration
 
-   !> Prepare a mechanism case read by read_case: modes, mechanism, integrator at t_start.
-   subroutine session_prepare(self, case, mesh_dir, log, times, error)
+   !> Prepare a mechanism case read by read_case: modes, mechanism, integrator at t_start. With
+   !> `options` the run is recorded in options%output_dir (module header), --restart included.
+   subroutine session_prepare(self, case, mesh_dir, log, times, error, options)
       class(mechanism_session_t), intent(out) :: self
       !> The case (a mechanism case: with &joint groups)
       type(case_input_t), intent(in) :: case
@@ -152,15 +175,40 @@ contains
       !> Stage times, appended to
       type(stage_times_t), intent(inout) :: times
       type(error_t), allocatable, intent(out) :: error
+      !> Folders, overwrite rule, restart file: record the run (absent: nothing written)
+      type(run_options_t), intent(in), optional :: options
+      type(stage_timer_t) :: timer
+      type(error_t), allocatable :: run_error
       if (.not. case%is_mechanism) then
          call fatal_error(error, FFRF_INPUT_ERROR, case%file_name // ': not a mechanism ' // &
             'case (no &joint groups): nothing to advance; compute its modes instead')
          return
       end if
-      call start_integration(case, mesh_dir, log, times, self%mech, self%bodies, &
-         self%pressure, self%has_pressure, self%model, self%integrator, error)
-      if (allocated(error)) return
+      self%log = log
+      if (present(options)) then
+         ! one run per output, checked before anything is computed
+         call self%output%reserve(case, options, error)
+         if (allocated(error)) then
+            call self%output%release()
+            return
+         end if
+      end if
+      call start_integration(case, self%resolved, mesh_dir, log, times, self%mech, self%bodies, &
+         self%pressure, self%has_pressure, self%model, self%integrator, error, timer)
+      if (.not. allocated(error) .and. present(options)) then
+         call self%output%start_recording(self%resolved, self%mech, self%bodies, &
+            self%integrator, self%model, log, times, timer, error)
+         if (.not. allocated(error)) call self%output%record_first(self%mech, self%bodies, &
+            self%integrator, self%pressure, self%has_pressure, error)
+      end if
+      if (allocated(error)) then
+         ! the file of a started recording is closed with the error (status "error: ...")
+         call move_alloc(error, run_error)
+         call self%output%finish(self%mech, self%bodies, self%integrator, log, run_error, error)
+         return
+      end if
       allocate (self%host(0))
+      self%recording = present(options)
       self%prepared = .true.
    end subroutine session_prepare
 
@@ -171,28 +219,57 @@ contains
       !> Time to reach (s), at most the case's t_end
       real(dp), intent(in) :: t
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: tolerance, t_end
-      integer :: signal
+      type(error_t), allocatable :: run_error
+      real(dp) :: tolerance, t_end, wall_start
       if (.not. self%prepared) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance before prepare')
          return
       end if
+      tolerance = TIME_RTOL * self%integrator%settings%h
+      t_end = self%integrator%settings%t_end
+      if (.not. (t <= t_end + tolerance)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance to t = ' // &
+            to_str(t, 12) // ' s, beyond the case''s t_end = ' // to_str(t_end, 12) // &
+            ' s; raise &integrator t_end')
+         return
+      end if
+      if (t < self%integrator%t - tolerance) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance to t = ' // &
+            to_str(t, 12) // ' s, before the current time ' // to_str(self%integrator%t, 12) &
+            // ' s; time only goes forward')
+         return
+      end if
+      wall_start = wall_time()
+      call step_to(self, t, t_end, tolerance, run_error)
+      if (.not. self%recording) then
+         if (allocated(run_error)) call move_alloc(run_error, error)
+         return
+      end if
+      self%output%integration_seconds = self%output%integration_seconds + wall_time() - &
+         wall_start
+      if (.not. allocated(run_error) .and. self%integrator%t < t_end - tolerance) then
+         ! between two advances the file holds every step so far (under its partial name)
+         call self%output%flush(run_error)
+         if (.not. allocated(run_error)) return
+      end if
+      ! t_end reached, or the run failed: the file goes into place
+      self%recording = .false.
+      call self%output%finish(self%mech, self%bodies, self%integrator, self%log, run_error, &
+         error)
+   end subroutine session_advance
+
+   !> The steps of advance (module header), recorded when the session records: after every
+   !> step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the run with
+   !> FFRF_INTERRUPTED, and a due restart checkpoint is written.
+   subroutine step_to(self, t, t_end, tolerance, error)
+      class(mechanism_session_t), intent(inout) :: self
+      !> Time to reach, the case's t_end, the time tolerance (s)
+      real(dp), intent(in) :: t, t_end, tolerance
+      type(error_t), allocatable, intent(out) :: error
+      integer :: signal
       associate (integrator => self%integrator)
-         tolerance = TIME_RTOL * integrator%settings%h
-         t_end = integrator%settings%t_end
-         if (.not. (t <= t_end + tolerance)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance to t = ' // &
-               to_str(t, 12) // ' s, beyond the case''s t_end = ' // to_str(t_end, 12) // &
-               ' s; raise &integrator t_end')
-            return
-         end if
-         if (t < integrator%t - tolerance) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance to t = ' // &
-               to_str(t, 12) // ' s, before the current time ' // to_str(integrator%t, 12) // &
-               ' s; time only goes forward')
-            return
-         end if
          do while (integrator%t < min(t, t_end) - tolerance)
+            if (self%recording) call self%output%before_step(self%mech, integrator, t_end)
             if (t < t_end - tolerance .and. t - integrator%t < integrator%h * &
                (1.0_dp - TIME_RTOL)) then
                ! land on t: galpha_step shortens the step that reaches its t_end
@@ -202,16 +279,45 @@ contains
             else
                call integrator%step(self%mech, error)
             end if
+            if (.not. allocated(error) .and. self%recording) call self%output%after_step( &
+               self%mech, self%bodies, integrator, self%pressure, self%has_pressure, t_end, &
+               self%log, error)
             if (allocated(error)) return
             signal = pending_signal()
             if (signal /= 0) then
-               call fatal_error(error, FFRF_INTERRUPTED, 'mechanism: interrupted by ' // &
-                  signal_name(signal) // ' at t = ' // to_str(integrator%t, 8) // ' s')
+               if (self%recording) then
+                  call fatal_error(error, FFRF_INTERRUPTED, 'interrupted by ' // &
+                     signal_name(signal) // ' at t = ' // to_str(integrator%t, 8) // &
+                     ' s (step ' // to_str(integrator%stats%steps) // '): results file "' // &
+                     self%output%results_file // '" holds every step so far and ' // &
+                     '/final_state, status "interrupted: ' // signal_name(signal) // &
+                     '"; continue with --restart ' // self%output%results_file)
+               else
+                  call fatal_error(error, FFRF_INTERRUPTED, 'mechanism: interrupted by ' // &
+                     signal_name(signal) // ' at t = ' // to_str(integrator%t, 8) // ' s')
+               end if
                return
+            end if
+            if (self%recording .and. integrator%t < t_end - tolerance) then
+               call self%output%checkpoint(self%mech, self%bodies, integrator, error)
+               if (allocated(error)) return
             end if
          end do
       end associate
-   end subroutine session_advance
+   end subroutine step_to
+
+   !> End the recording of a run stopped before t_end: its file goes into place with every
+   !> recorded step, /final_state and status "stopped: ..." (nothing when not recording).
+   subroutine session_close_output(self, error)
+      class(mechanism_session_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: run_error
+      if (.not. self%recording) return
+      self%recording = .false.
+      call self%output%finish(self%mech, self%bodies, self%integrator, self%log, run_error, &
+         error, stopped='stopped: closed at t = ' // to_str(self%integrator%t, 8) // &
+         ' s, before t_end = ' // to_str(self%integrator%settings%t_end, 8) // ' s')
+   end subroutine session_close_output
 
    !> Time of the current state (s).
    pure real(dp) function session_time(self)
@@ -434,10 +540,18 @@ contains
       if (allocated(from%residual)) call move_alloc(from%residual, to%residual)
    end subroutine move_modes
 
-   !> Release the mechanism, bodies and integrator (the session can be prepared again).
+   !> Release the mechanism, bodies and integrator (the session can be prepared again); a run
+   !> still recorded is ended first (close_output).
    subroutine session_finish(self)
-      class(mechanism_session_t), intent(out) :: self
-      self%prepared = .false.
+      class(mechanism_session_t), intent(inout) :: self
+      type(error_t), allocatable :: ignored
+      call self%close_output(ignored)
+      call reset(self)
+   contains
+      subroutine reset(self)
+         class(mechanism_session_t), intent(out) :: self
+         self%prepared = .false.
+      end subroutine reset
    end subroutine session_finish
 
 end module ffrf_app_mechanism_session

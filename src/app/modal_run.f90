@@ -12,6 +12,7 @@ module ffrf_app_modal_run
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_input_nml_run, only: log_level_code
    use ffrf_input_case, only: case_input_t, read_case, case_echo
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_io_results, only: results_create, results_write_body, results_finish, &
@@ -64,7 +65,7 @@ contains
 
       call total%begin()
       case_file = case%file_name
-      call set_log_level(log, options, case%run%log_level)
+      call set_log_level(log, options, log_level_code(case%run%log_level))
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case_file)
       echo = case_echo(case)

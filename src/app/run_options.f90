@@ -1,7 +1,7 @@
 !> Run options shared by the modal and the mechanism run: where inputs come from and results go,
 !> how much to log, overwrite and restart (the driver fills them from its command line).
 module ffrf_app_run_options
-   use ffrf_core_log, only: logger_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
+   use ffrf_core_log, only: logger_t
    implicit none
    private
    public :: run_options_t, set_log_level
@@ -24,22 +24,15 @@ module ffrf_app_run_options
 
 contains
 
-   !> The log level of the command line options, else that of the case ('quiet', 'info',
-   !> 'debug').
+   !> The log level of the command line options, else that of the case (LOG_* of ffrf_core_log;
+   !> the &run log_level word is mapped by ffrf_input_nml_run log_level_code).
    subroutine set_log_level(log, options, case_level)
       type(logger_t), intent(inout) :: log
       type(run_options_t), intent(in) :: options
-      character(len=*), intent(in) :: case_level
+      !> The case's level (LOG_QUIET, LOG_INFO or LOG_DEBUG)
+      integer, intent(in) :: case_level
       log%level = options%log_level
-      if (log%level >= 0) return
-      select case (trim(case_level))
-      case ('quiet')
-         log%level = LOG_QUIET
-      case ('debug')
-         log%level = LOG_DEBUG
-      case default
-         log%level = LOG_INFO
-      end select
+      if (log%level < 0) log%level = case_level
    end subroutine set_log_level
 
 end module ffrf_app_run_options

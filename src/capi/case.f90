@@ -23,7 +23,7 @@ module ffrf_capi_case
    use ffrf_core_kinds, only: ip, i8
    use ffrf_mesh_mesh, only: mesh_t, physical_group_t
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, compute_body_modes
    use ffrf_app_body_modes, only: compute_body_modes_from_file
@@ -579,7 +579,7 @@ contains
                associate (body => model%bodies(k))
                   if (self%from_arrays) then
                      call attach_node_sets(self, k, body%interfaces)
-                     call compute_body_modes(self%meshes(k), body%body, body%interfaces, &
+                     call compute_body_modes(self%meshes(k), body%spec, body%interfaces, &
                         body%modes, self%log, times, self%modes(k), error)
                   else
                      call compute_body_modes_from_file(body%body, body%interfaces, body%modes, &
@@ -889,16 +889,31 @@ contains
                return
             end if
          end associate
-         call self%session%prepare(self%case, mesh_folder(self), self%log, times, error)
+         if (self%write_output) then
+            ! recorded as the driver's run (ffrf_app_mechanism_session); the session keeps its
+            ! modes for the results file and the animations
+            call self%session%prepare(self%case, mesh_folder(self), self%log, times, error, &
+               options=self%options)
+         else
+            call self%session%prepare(self%case, mesh_folder(self), self%log, times, error)
+         end if
          if (allocated(error)) return
          allocate (self%modes(size(self%session%bodies)))
          do k = 1, size(self%session%bodies)
-            call move_modes(self%session%bodies(k)%modes, self%modes(k))
+            if (self%write_output) then
+               self%modes(k) = self%session%bodies(k)%modes
+            else
+               call move_modes(self%session%bodies(k)%modes, self%modes(k))
+            end if
          end do
          self%have_modes = .true.
       end if
       call self%session%advance(t, error)
-      if (allocated(error)) call add_context(error, self%case%file_name)
+      if (allocated(error)) then
+         ! (a recorded run's error names the case already)
+         if (index(error%message, self%case%file_name // ':') /= 1) call add_context(error, &
+            self%case%file_name)
+      end if
    end subroutine case_advance
 
    !> Crank angle (rad, unwrapped) and speed (rad/s) of the current state.
@@ -1049,10 +1064,17 @@ contains
          moment, error)
    end subroutine case_set_marker_load
 
-   !> Release everything (the object can be opened again).
+   !> Release everything (the object can be opened again); a mechanism advanced with an output
+   !> folder but not to t_end gets its results file first (status "stopped: ...").
    subroutine case_close(self)
-      class(ffrf_case_t), intent(out) :: self
-      self%opened = .false.
+      class(ffrf_case_t), intent(inout) :: self
+      call self%session%finish()
+      call reset(self)
+   contains
+      subroutine reset(self)
+         class(ffrf_case_t), intent(out) :: self
+         self%opened = .false.
+      end subroutine reset
    end subroutine case_close
 
 end module ffrf_capi_case

@@ -9,7 +9,7 @@ module ffrf_input_case
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text

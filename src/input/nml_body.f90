@@ -24,7 +24,7 @@ module ffrf_input_nml_body
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_modes_input, only: body_input_t, MAX_VOLUMES
+   use ffrf_input_body, only: body_input_t, MAX_VOLUMES
    use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &

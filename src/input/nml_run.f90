@@ -11,11 +11,12 @@
 module ffrf_input_nml_run
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
+   use ffrf_core_log, only: LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key
    implicit none
    private
-   public :: run_input_t, read_run_group, run_keys
+   public :: run_input_t, read_run_group, run_keys, log_level_code
 
    !> Resolved &run input.
    type :: run_input_t
@@ -64,5 +65,19 @@ contains
       end if
       input = run_input_t(title, output, mode_shapes_msh, log_level)
    end subroutine read_run_group
+
+   !> The logger level (LOG_QUIET, LOG_INFO, LOG_DEBUG of ffrf_core_log) of a &run log_level
+   !> word ('quiet', 'info', 'debug'; any case); LOG_INFO for any other word.
+   pure integer function log_level_code(word)
+      character(len=*), intent(in) :: word
+      select case (to_lower(trim(adjustl(word))))
+      case ('quiet')
+         log_level_code = LOG_QUIET
+      case ('debug')
+         log_level_code = LOG_DEBUG
+      case default
+         log_level_code = LOG_INFO
+      end select
+   end function log_level_code
 
 end module ffrf_input_nml_run

@@ -51,7 +51,7 @@
 module ffrf_mbs_joints
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_strings, only: to_str
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_dae_system, only: fd_step
    implicit none
@@ -59,7 +59,8 @@ module ffrf_mbs_joints
    public :: joint_t, table_joint_t
    public :: spherical_joint_t, revolute_joint_t, universal_joint_t, prismatic_joint_t
    public :: fixed_joint_t
-   public :: new_joint, joint_reaction, joint_kinds
+   public :: new_joint, joint_reaction, joint_kinds, joint_kind_name
+   public :: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
    public :: EQ_POSITION, EQ_LATERAL, EQ_PERPENDICULAR
 
    !> Equation kind: a global component of d = r_b - r_a
@@ -72,7 +73,12 @@ module ffrf_mbs_joints
    !> Largest number of equations of a table joint
    integer, parameter :: max_table_equations = 6
 
-   !> The valid joint kinds, as new_joint takes them
+   !> Joint kinds, as new_joint and mechanism_t%add_joint take them (the model maps the &joint
+   !> type words onto them: ffrf_model_mechanism)
+   integer, parameter :: JOINT_SPHERICAL = 1, JOINT_REVOLUTE = 2, JOINT_UNIVERSAL = 3, &
+      JOINT_PRISMATIC = 4, JOINT_FIXED = 5
+
+   !> The names of the joint kinds (joint_kind_name), for messages
    character(len=*), parameter :: joint_kinds = 'revolute, prismatic, spherical, universal, fixed'
 
    !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
@@ -83,8 +89,8 @@ module ffrf_mbs_joints
       !> Marker of body a and of body b (set by connect)
       integer :: marker_a = 0, marker_b = 0
    contains
-      !> The kind, as new_joint takes it ('revolute', ...)
-      procedure(joint_kind_name), deferred :: kind_name
+      !> The name of its kind ('revolute', ...: joint_kind_name of its JOINT_* kind)
+      procedure(joint_kind_name_interface), deferred :: kind_name
       !> Phi(q_a, q_b)
       procedure(joint_residual), deferred :: residual
       !> dPhi/dq_a, dPhi/dq_b
@@ -101,13 +107,13 @@ module ffrf_mbs_joints
 
    abstract interface
       !> Name of the joint kind.
-      pure function joint_kind_name(self) result(name)
+      pure function joint_kind_name_interface(self) result(name)
          import :: joint_t
          implicit none
          !> The joint
          class(joint_t), intent(in) :: self
          character(len=:), allocatable :: name
-      end function joint_kind_name
+      end function joint_kind_name_interface
 
       !> Constraint residuals.
       pure subroutine joint_residual(self, body_a, q_a, body_b, q_b, phi)
@@ -237,29 +243,29 @@ contains
    ! ----------------------------------------------------------------------------------------------
    ! Factory and common procedures
 
-   !> Allocate a joint by kind ('revolute', 'prismatic', 'spherical', 'universal', 'fixed'; any
-   !> case). An unknown kind is an FFRF_INPUT_ERROR listing the valid ones. The joint still has to
-   !> be connected to its markers (connect).
+   !> Allocate a joint of `kind` (JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL,
+   !> JOINT_PRISMATIC or JOINT_FIXED). Any other value is an FFRF_INPUT_ERROR listing the valid
+   !> kinds. The joint still has to be connected to its markers (connect).
    subroutine new_joint(kind, joint, error)
-      !> Joint kind
-      character(len=*), intent(in) :: kind
+      !> Joint kind (JOINT_*)
+      integer, intent(in) :: kind
       !> The new joint
       class(joint_t), allocatable, intent(out) :: joint
       type(error_t), allocatable, intent(out) :: error
-      select case (to_lower(trim(adjustl(kind))))
-      case ('spherical')
+      select case (kind)
+      case (JOINT_SPHERICAL)
          allocate (spherical_joint_t :: joint)
-      case ('revolute')
+      case (JOINT_REVOLUTE)
          allocate (revolute_joint_t :: joint)
-      case ('universal')
+      case (JOINT_UNIVERSAL)
          allocate (universal_joint_t :: joint)
-      case ('prismatic')
+      case (JOINT_PRISMATIC)
          allocate (prismatic_joint_t :: joint)
-      case ('fixed')
+      case (JOINT_FIXED)
          allocate (fixed_joint_t :: joint)
       case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind "' // trim(kind) // &
-            '" is unknown; valid kinds: ' // joint_kinds)
+         call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind ' // to_str(kind) // &
+            ' is unknown; valid kinds: JOINT_* of ffrf_mbs_joints (' // joint_kinds // ')')
          return
       end select
       select type (joint)
@@ -267,6 +273,28 @@ contains
          joint%num_equations = table_size(joint%equation_table())
       end select
    end subroutine new_joint
+
+   !> The name of joint kind `kind` ('revolute', ...; 'unknown' for a value that is no kind),
+   !> for messages and results.
+   pure function joint_kind_name(kind) result(name)
+      !> Joint kind (JOINT_*)
+      integer, intent(in) :: kind
+      character(len=:), allocatable :: name
+      select case (kind)
+      case (JOINT_SPHERICAL)
+         name = 'spherical'
+      case (JOINT_REVOLUTE)
+         name = 'revolute'
+      case (JOINT_UNIVERSAL)
+         name = 'universal'
+      case (JOINT_PRISMATIC)
+         name = 'prismatic'
+      case (JOINT_FIXED)
+         name = 'fixed'
+      case default
+         name = 'unknown'
+      end select
+   end function joint_kind_name
 
    !> Attach the joint to marker marker_a of body a and marker_b of body b; checks that the
    !> markers exist.

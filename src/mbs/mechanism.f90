@@ -190,14 +190,14 @@ module ffrf_mbs_mechanism
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_add_body
 
-      !> Add a joint of `kind` (new_joint: revolute, prismatic, spherical, universal, fixed) between
-      !> marker_a of body a and marker_b of body b (mechanism indices).
+      !> Add a joint of `kind` (JOINT_* of ffrf_mbs_joints: new_joint) between marker_a of body a
+      !> and marker_b of body b (mechanism indices).
       module subroutine mechanism_add_joint(self, kind, name, body_a, marker_a, body_b, &
          marker_b, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Joint kind
-         character(len=*), intent(in) :: kind
+         !> Joint kind (JOINT_REVOLUTE, ... of ffrf_mbs_joints)
+         integer, intent(in) :: kind
          !> Name for messages
          character(len=*), intent(in) :: name
          !> Mechanism index of body a

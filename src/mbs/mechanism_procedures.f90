@@ -53,8 +53,8 @@ contains
       call update_layout(self)
    end procedure mechanism_add_body
 
-   !> Add a joint of `kind` (new_joint: revolute, prismatic, spherical, universal, fixed) between
-   !> marker_a of body a and marker_b of body b (mechanism indices).
+   !> Add a joint of `kind` (JOINT_* of ffrf_mbs_joints: new_joint) between marker_a of body a
+   !> and marker_b of body b (mechanism indices).
    module procedure mechanism_add_joint
       type(mechanism_joint_t), allocatable :: grown(:)
       class(joint_t), allocatable :: joint

@@ -5,24 +5,31 @@
 !> resolved (interface_spec_t) in the order that makes an interface's marker handle its index:
 !> body_modes_t%interfaces(k), the k-th virtual node of the mode shapes and the flexible body's
 !> marker k are the body's k-th interface. Names become indices here (body_index, marker_index),
-!> so nothing downstream recounts the case's &interface groups.
+!> so nothing downstream recounts the case's &interface groups. The mechanism groups (joints,
+!> loads, markers, crank, selection, integrator) are resolved into model_t%mechanism
+!> (ffrf_model_mechanism) with their bodies as model body indices and markers as handles.
 module ffrf_model_model
-   use ffrf_core_error, only: error_t, add_context
-   use ffrf_mpc_interface, only: interface_spec_t
-   use ffrf_modes_input, only: body_input_t, modes_spec_t
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_mpc_interface, only: interface_spec_t, mpc_name
+   use ffrf_modes_input, only: body_spec_t, modes_spec_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
-   use ffrf_input_mechanism, only: body_motion_input_t
+   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME
+   use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
+      load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
    implicit none
    private
-   public :: model_body_t, model_t, build_model
+   public :: model_body_t, model_t, build_model, body_spec_of
 
    !> One body of the case, resolved.
    type :: model_body_t
       !> Body name (&body name)
       character(len=64) :: name = ''
-      !> Material, volumes and mesh file (&body)
+      !> The &body as read (mesh file, material, volumes, geometric_stiffness)
       type(body_input_t) :: body
+      !> What the numerics take of it (compute_body_modes): name, volumes, material
+      type(body_spec_t) :: spec
       !> Mechanism keys of the &body (mass properties of a rigid body without a mesh, modal
       !> damping, start position, coarse meshes)
       type(body_motion_input_t) :: motion
@@ -47,9 +54,13 @@ module ffrf_model_model
    !> A case resolved for the applications.
    type :: model_t
       type(model_body_t), allocatable :: bodies(:)
+      !> Joints, loads, markers, crank, model selection, integrator (empty for a modal case)
+      type(mechanism_model_t) :: mechanism
    contains
       !> Index of the body called name, 0 if none (e.g. the ground)
       procedure :: body_index => model_body_index
+      !> MPC of the crank's interfaces ('RBE2', 'RBE3', 'rigid'; '' without crank), a label
+      procedure :: crank_mpc => model_crank_mpc
    end type model_t
 
 contains
@@ -66,6 +77,7 @@ contains
          associate (b => model%bodies(k))
             b%name = case%bodies(k)%name
             b%body = case%bodies(k)
+            b%spec = body_spec_of(case%bodies(k))
             b%motion = case%motions(k)
             b%rigid = case%motions(k)%type == 'rigid'
             b%meshed = len_trim(case%bodies(k)%mesh_file) > 0
@@ -80,7 +92,142 @@ contains
             b%interface_groups = body_interface_indices(case%interfaces, b%name)
          end associate
       end do
+      call build_mechanism_model(case, model, error)
    end subroutine build_model
+
+   !> The body to cut from its mesh (compute_body_modes) of a &body as read: name, volumes and
+   !> material (the mesh file stays with the application that reads it).
+   pure function body_spec_of(body) result(spec)
+      type(body_input_t), intent(in) :: body
+      type(body_spec_t) :: spec
+      spec = body_spec_t(body%name, body%volumes, body%young, body%poisson, body%density)
+   end function body_spec_of
+
+   !> Resolve the mechanism groups of `case` into model%mechanism (ffrf_model_mechanism); the
+   !> bodies of `model` are resolved already.
+   subroutine build_mechanism_model(case, model, error)
+      type(case_input_t), intent(in) :: case
+      type(model_t), intent(inout) :: model
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      if (.not. case%is_mechanism) then
+         allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
+            model%mechanism%loads(0))
+         return
+      end if
+      associate (input => case%mechanism, m => model%mechanism)
+         allocate (m%markers(size(input%markers)), m%joints(size(input%joints)), &
+            m%loads(size(input%loads)))
+         do k = 1, size(input%markers)
+            m%markers(k) = model_marker_t(model%body_index(input%markers(k)%body), &
+               input%markers(k)%name, input%markers(k)%position)
+         end do
+         do k = 1, size(input%joints)
+            associate (joint => m%joints(k), given => input%joints(k))
+               joint%name = given%name
+               joint%axis = given%axis
+               call joint_kind_of(given%type, joint%kind, error)
+               if (.not. allocated(error)) call resolve_end(given%body1, given%marker1, &
+                  joint%body(1), joint%marker(1), error)
+               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
+                  joint%body(2), joint%marker(2), error)
+               if (allocated(error)) then
+                  call add_context(error, '&joint "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+         do k = 1, size(input%loads)
+            associate (load => m%loads(k), given => input%loads(k))
+               load%name = given%name
+               load%direction = given%direction
+               load%value = given%value
+               load%stall_torque = given%stall_torque
+               load%free_speed = given%free_speed
+               load%switch_off = given%switch_off
+               load%coefficient = given%coefficient
+               call load_kind_of(given%type, load%kind, error)
+               if (.not. allocated(error)) call resolve_end(given%body, given%marker, &
+                  load%body, load%marker, error)
+               if (.not. allocated(error) .and. load%body == 0) call fatal_error(error, &
+                  FFRF_INPUT_ERROR, 'body = "' // trim(given%body) // '": a load needs a ' // &
+                  'moving body (a &body)')
+               if (allocated(error)) then
+                  call add_context(error, '&load "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+         m%has_pressure = any(m%loads%kind == LOAD_PRESSURE)
+         m%crank = 0
+         if (len_trim(input%mechanism%crank) > 0) then
+            m%crank = model%body_index(input%mechanism%crank)
+            if (m%crank == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: crank = "' // &
+                  trim(input%mechanism%crank) // '" is not a &body')
+               return
+            end if
+         end if
+         call selection_of(input%model%selection, m%selection, error)
+         if (allocated(error)) return
+         m%h_given = input%model%h_given
+         m%integrator = input%integrator
+         m%max_steps = input%max_steps
+      end associate
+
+   contains
+
+      !> Model body index (0: ground) and marker handle of the marker `marker` of body `body`.
+      subroutine resolve_end(body, marker, index, handle, error)
+         character(len=*), intent(in) :: body, marker
+         integer, intent(out) :: index, handle
+         type(error_t), allocatable, intent(out) :: error
+         integer :: k
+         index = model%body_index(body)
+         handle = 0
+         if (index == 0 .and. body /= GROUND_NAME) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'body "' // trim(body) // '" is neither ' &
+               // 'a &body nor the ground ("' // GROUND_NAME // '")')
+            return
+         end if
+         if (index > 0) then
+            if (.not. model%bodies(index)%rigid) then
+               handle = model%bodies(index)%marker_index(marker)
+               if (handle == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // &
+                  trim(marker) // '" is not an &interface of the flexible body "' // &
+                  trim(body) // '"')
+               return
+            end if
+         end if
+         do k = 1, size(model%mechanism%markers)
+            if (model%mechanism%markers(k)%body == index .and. &
+               model%mechanism%markers(k)%name == marker) then
+               handle = k
+               return
+            end if
+         end do
+         call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // trim(marker) // '" of body "' &
+            // trim(body) // '" is not a &marker group')
+      end subroutine resolve_end
+
+   end subroutine build_mechanism_model
+
+   !> MPC of the crank's interfaces, a label for charts and results: 'rigid' for a rigid crank or
+   !> one without modes (num_modes = 0 on its &body), else mpc_name of its first interface; ''
+   !> without crank or interfaces.
+   function model_crank_mpc(self) result(mpc)
+      class(model_t), intent(in) :: self
+      character(len=:), allocatable :: mpc
+      mpc = ''
+      if (self%mechanism%crank == 0) return
+      associate (crank => self%bodies(self%mechanism%crank))
+         if (crank%rigid .or. (crank%num_modes_given .and. crank%modes%num_modes == 0)) then
+            mpc = 'rigid'
+         else if (size(crank%interfaces) > 0) then
+            mpc = trim(mpc_name(crank%interfaces(1)%mpc))
+         end if
+      end associate
+   end function model_crank_mpc
 
    !> Index of the body called name, 0 if none.
    pure integer function model_body_index(self, name) result(k)

@@ -20,7 +20,7 @@ module ffrf_modes_modal_analysis
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors, &
       FORMULATION_NONE, formulation_name
-   use ffrf_modes_input, only: body_input_t, modes_spec_t, BASIS_NONE, BASIS_CRAIG_BAMPTON
+   use ffrf_modes_input, only: body_spec_t, modes_spec_t, BASIS_NONE, BASIS_CRAIG_BAMPTON
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_craig_bampton, only: cb_result_t, craig_bampton_modes
    implicit none
@@ -100,14 +100,14 @@ contains
    !> mesh's exact mass, e.g. a rigid reference in a mechanism run).
    !>
    !> `mesh` is the mesh as read (from a Gmsh file by the caller, or built in memory); the body is
-   !> cut from it here by body_input%volumes (extract_body), so a mesh holding several bodies can
+   !> cut from it here by body_spec%volumes (extract_body), so a mesh holding several bodies can
    !> be passed as it is. Messages name the mesh by mesh%file_name when it is set.
-   subroutine compute_body_modes(mesh, body_input, interfaces, modes, log, times, &
+   subroutine compute_body_modes(mesh, body_spec, interfaces, modes, log, times, &
          body, error, mass_matrix, stiffness_matrix)
       !> The mesh as read: nodes, tetrahedra, physical groups
       type(mesh_t), intent(in) :: mesh
-      !> Body: name, volumes, material (body_input%mesh_file is not used here)
-      type(body_input_t), intent(in) :: body_input
+      !> Body: name, volumes, material
+      type(body_spec_t), intent(in) :: body_spec
       !> The body's interfaces, resolved; body%interfaces(k) and the k-th virtual node of the
       !> mode shapes are interfaces(k) (the marker handle of the interface is k)
       type(interface_spec_t), intent(in) :: interfaces(:)
@@ -131,9 +131,9 @@ contains
       character(len=:), allocatable :: tag, mesh_name
       integer :: i_if, n_if
 
-      body%name = trim(body_input%name)
+      body%name = trim(body_spec%name)
       tag = body%name
-      material = material_t(body_input%young, body_input%poisson, body_input%density, &
+      material = material_t(body_spec%young, body_spec%poisson, body_spec%density, &
          body%name)
       call check_material(material, error)
       if (allocated(error)) return
@@ -143,7 +143,7 @@ contains
       mesh_name = '(in memory)'
       if (allocated(mesh%file_name)) mesh_name = mesh%file_name
       call extract_body(mesh, &
-         pack(body_input%volumes, len_trim(body_input%volumes) > 0), body%mesh, error)
+         pack(body_spec%volumes, len_trim(body_spec%volumes) > 0), body%mesh, error)
       if (allocated(error)) return
       call times%add(tag // ': mesh', timer%seconds())
       call log%info('mesh', tag // ': ' // mesh_name // ', ' // to_str(body%mesh%num_nodes) // &

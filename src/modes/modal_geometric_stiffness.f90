@@ -38,7 +38,7 @@ module ffrf_modes_modal_geometric_stiffness
    use ffrf_fe_geometric_stiffness, only: tet_geometric_stiffness, centrifugal_case_matrix, &
       NUM_CENTRIFUGAL_CASES
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_modes_input, only: body_spec_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    implicit none
    private
@@ -53,11 +53,11 @@ module ffrf_modes_modal_geometric_stiffness
 contains
 
    !> The modal geometric stiffness K_G^(c) (m x m x 6) of `body` (its mesh, interfaces, RC set
-   !> and modes from compute_body_modes) with the material of `body_input` (module header).
-   subroutine compute_modal_geometric_stiffness(body_input, body, log, times, &
+   !> and modes from compute_body_modes) with the material of `body_spec` (module header).
+   subroutine compute_modal_geometric_stiffness(body_spec, body, log, times, &
          geometric_stiffness, error, static_displacement, stiffness_matrix, mass_matrix)
       !> The &body input (material)
-      type(body_input_t), intent(in) :: body_input
+      type(body_spec_t), intent(in) :: body_spec
       !> Mesh, interfaces, reference conditions and mass-normalised modes of the body
       type(body_modes_t), intent(in) :: body
       !> Progress log
@@ -95,7 +95,7 @@ contains
          return
       end if
       call timer%begin()
-      material = material_t(body_input%young, body_input%poisson, body_input%density, tag)
+      material = material_t(body_spec%young, body_spec%poisson, body_spec%density, tag)
       call check_material(material, error)
       if (.not. allocated(error)) then
          if (present(stiffness_matrix) .and. present(mass_matrix)) then

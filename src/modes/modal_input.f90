@@ -1,11 +1,12 @@
-!> Plain types of the modal pipeline: a body's material and volumes (&body) and the resolved
-!> modes specification (no strings for choices: the model maps &modes onto it).
+!> Plain types of the modal pipeline: a body to cut from a mesh (its volume group names and
+!> material; no file names: the mesh comes as an object) and the resolved modes specification
+!> (no strings for choices: the model maps &body and &modes onto them, ffrf_model_model).
 module ffrf_modes_input
    use ffrf_core_kinds, only: dp
    use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS
    implicit none
    private
-   public :: body_input_t, modes_spec_t, MAX_VOLUMES, BASIS_NONE, BASIS_RC_NORMAL, &
+   public :: body_spec_t, modes_spec_t, MAX_VOLUMES, BASIS_NONE, BASIS_RC_NORMAL, &
       BASIS_CRAIG_BAMPTON, basis_name
 
    integer, parameter :: MAX_VOLUMES = 16
@@ -13,13 +14,12 @@ module ffrf_modes_input
    !> Craig-Bampton (src/modes/craig_bampton.f90)
    integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
 
-   !> A flexible body: mesh, physical volumes and material (&body).
-   type :: body_input_t
-      !> Body name, used by &interface and in the results
+   !> A body to cut from a mesh (compute_body_modes): its name, the physical volumes that make
+   !> it up and its isotropic material.
+   type :: body_spec_t
+      !> Body name, for the log and the results
       character(len=64) :: name = ''
-      !> Gmsh mesh file (MSH 4.1 or 2.2); relative paths are taken from the mesh directory
-      character(len=256) :: mesh_file = ''
-      !> Physical volume names that make up the body
+      !> Physical volume names that make up the body (blank entries unused)
       character(len=64) :: volumes(MAX_VOLUMES) = ''
       !> Young's modulus (Pa)
       real(dp) :: young = 210.0e9_dp
@@ -27,10 +27,7 @@ module ffrf_modes_input
       real(dp) :: poisson = 0.3_dp
       !> Density (kg/m^3)
       real(dp) :: density = 7850.0_dp
-      !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal
-      !> load cases (stress stiffening of a spinning body, ffrf_modes_modal_geometric_stiffness)
-      logical :: geometric_stiffness = .false.
-   end type body_input_t
+   end type body_spec_t
 
    !> Constrained normal modes of a body, as the model resolved them (from &modes, the body's
    !> num_modes and the automatic model: ffrf_model_specs).

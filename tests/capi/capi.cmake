@@ -11,6 +11,8 @@
 #    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
 #    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
 #    1e-10 (compare_driver.py reads the driver's HDF5 results).
+#  - capi_record_driver: that engine advanced in 1 ms chunks with an output folder writes the
+#    driver's results file and animations, bitwise apart from the timings (compare_record.py).
 set(_capi_out "${PROJECT_BINARY_DIR}/tests/capi")
 file(MAKE_DIRECTORY "${_capi_out}")
 
@@ -29,7 +31,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # linked from the fat objects' ordinary code (-fno-lto: no link-time optimisation of the whole
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
-foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets)
+foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -77,6 +79,18 @@ add_test(NAME capi_threads COMMAND test_capi_threads
   "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}")
 set_tests_properties(capi_threads PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# The same engine advanced in 1 ms chunks with an output folder writes the driver's results
+# file (bitwise, timings apart); a run closed at t_end / 2 leaves a complete file
+# (compare_record.py)
+add_test(NAME capi_record_driver
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/capi/compare_record.py $<TARGET_FILE:ffrf>
+    $<TARGET_FILE:test_capi_record> "${_capi_out}/capi_engine.nml" "${PROJECT_BINARY_DIR}/meshes"
+    "${_capi_out}/record" 1.0e-3)
+set_tests_properties(capi_record_driver PROPERTIES LABELS "capi;regression"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+file(MAKE_DIRECTORY "${_capi_out}/record")
 
 # examples/fortran_host built against the build tree (PACK's ctest builds it against the
 # installed package): the host-torque loop matches the drag run within its derived bound

@@ -9,6 +9,7 @@ module ffrf_test_rigid_engine
    use ffrf_mbs_rotation, only: euler_from_axis_angle, identity3
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_joints, only: JOINT_PRISMATIC, JOINT_REVOLUTE
    use ffrf_mbs_mechanism_loads, only: starter_torque_t, drag_torque_t, LOAD_FORCE, LOAD_TORQUE
    use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_app_engine_pressure, only: pressure_input_t
@@ -138,14 +139,14 @@ contains
       if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
       if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
       if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
-      if (.not. allocated(error) .and. two_bearings) call mech%add_joint('revolute', 'B3', &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'B1', ig, 1, ic, 1, error)
+      if (.not. allocated(error) .and. two_bearings) call mech%add_joint(JOINT_REVOLUTE, 'B3', &
          ig, 3, ic, 3, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'crank pin', ic, 2, ir, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'piston pin', ir, 2, ip_, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
       if (.not. allocated(error)) call mech%set_crank(ic, error)
    end subroutine build_slider_crank

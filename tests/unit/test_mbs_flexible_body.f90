@@ -14,7 +14,7 @@ module test_mbs_flexible_body
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_la_sparse, only: csr_t, csr_matvec, csr_from_coo
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes

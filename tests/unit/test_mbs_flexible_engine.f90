@@ -47,7 +47,7 @@ module test_mbs_flexible_engine
    use ffrf_fe_assembly, only: assemble_stiffness_mass
    use ffrf_la_sparse, only: csr_t
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes
@@ -56,6 +56,7 @@ module test_mbs_flexible_engine
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_joints, only: JOINT_FIXED, JOINT_PRISMATIC, JOINT_REVOLUTE
    use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, parallel_axis, rod_length, &
       flywheel_mass, flywheel_com, flywheel_inertia, rod_mass, rod_com, rod_inertia, &
       piston_mass, piston_inertia
@@ -169,14 +170,14 @@ contains
       if (.not. allocated(error)) call mech%add_body(flywheel, 'flywheel', iw, error)
       if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
       if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B3', ig, 3, ic, 3, error)
-      if (.not. allocated(error)) call mech%add_joint('fixed', 'flywheel', ic, 3, iw, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'B1', ig, 1, ic, 1, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'B3', ig, 3, ic, 3, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_FIXED, 'flywheel', ic, 3, iw, 1, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'crank pin', ic, 2, ir, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'piston pin', ir, 2, ip_, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
       if (.not. allocated(error)) call mech%set_crank(ic, error)
       if (allocated(error)) return

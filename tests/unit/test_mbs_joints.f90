@@ -16,7 +16,7 @@ module test_mbs_joints
    use ffrf_la_sparse, only: csr_t, csr_from_coo
    use ffrf_la_dense, only: singular_values, numerical_rank
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes
@@ -25,7 +25,8 @@ module test_mbs_joints
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
-   use ffrf_mbs_joints, only: joint_t, new_joint, joint_reaction
+   use ffrf_mbs_joints, only: joint_t, new_joint, joint_reaction, joint_kind_name, &
+      JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
    use ffrf_mbs_galpha_linalg, only: find_redundant_rows
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
    implicit none
@@ -54,6 +55,9 @@ module test_mbs_joints
    real(dp), parameter :: young = 210.0e9_dp, poisson = 0.3_dp, density = 7850.0_dp
    character(len=9), parameter :: kinds(5) = [character(len=9) :: 'spherical', 'revolute', &
       'universal', 'prismatic', 'fixed']
+   !> Their kinds (new_joint), in the order of `kinds`
+   integer, parameter :: kind_codes(5) = [JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
+      JOINT_PRISMATIC, JOINT_FIXED]
    !> Slider-crank of scene.md: crank radius and conrod length (m)
    real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
 
@@ -475,8 +479,8 @@ contains
    ! ----------------------------------------------------------------------------------------------
    ! Joints
 
-   !> new_joint: every kind by name (any case) with its number of equations; an unknown kind
-   !> lists the valid ones; connect refuses a marker the body does not have.
+   !> new_joint: every kind with its number of equations and name; an unknown kind lists the
+   !> valid ones; connect refuses a marker the body does not have.
    subroutine test_factory(error)
       type(error_t), allocatable, intent(out) :: error
       class(joint_t), allocatable :: joint
@@ -486,29 +490,31 @@ contains
       integer, parameter :: expected(5) = [3, 5, 4, 5, 6]
       integer :: i
       do i = 1, 5
-         call new_joint(kinds(i), joint, error)
+         call new_joint(kind_codes(i), joint, error)
          if (allocated(error)) return
          call check(error, trim(kinds(i)) // ': ' // to_str(joint%num_equations) // &
             ' equations, expected ' // to_str(expected(i)) // '; kind_name ' // joint%kind_name(), &
-            joint%num_equations == expected(i) .and. joint%kind_name() == trim(kinds(i)))
+            joint%num_equations == expected(i) .and. joint%kind_name() == trim(kinds(i)) .and. &
+            joint_kind_name(kind_codes(i)) == trim(kinds(i)))
          if (allocated(error)) return
       end do
-      call new_joint('  Revolute', joint, error)
-      if (allocated(error)) return
-      call new_joint('hinge', joint, failure)
+      call new_joint(0, joint, failure)
       call check(error, 'unknown kind refused', allocated(failure))
       if (allocated(error)) return
       call report(failure%message)
       call check(error, 'message lists the kinds: ' // failure%message, index(failure%message, &
-         'hinge') > 0 .and. index(failure%message, 'revolute, prismatic, spherical, universal, ' &
-         // 'fixed') > 0)
+         'joint kind 0') > 0 .and. index(failure%message, 'revolute, prismatic, spherical, ' // &
+         'universal, fixed') > 0)
+      if (allocated(error)) return
+      call check(error, 'joint_kind_name of no kind: ' // joint_kind_name(99), &
+         joint_kind_name(99) == 'unknown')
       if (allocated(error)) return
       deallocate (failure)
       call test_rigid_body(4, body, error)
       if (allocated(error)) return
       call ground%init(reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), axes(1), error)
       if (allocated(error)) return
-      call new_joint('spherical', joint, error)
+      call new_joint(JOINT_SPHERICAL, joint, error)
       if (allocated(error)) return
       call joint%connect(ground, 1, body, 3, failure)
       call check(error, 'marker 3 of a 2-marker body refused', allocated(failure))
@@ -544,7 +550,7 @@ contains
       worst_free = 0.0_dp
       least_forbidden = huge(1.0_dp)
       do i = 1, 5
-         call new_joint(kinds(i), joint, error)
+         call new_joint(kind_codes(i), joint, error)
          if (.not. allocated(error)) call joint%connect(body_a, 1, body_b, 2, error)
          if (allocated(error)) return
          call expect_zero('assembled', q_a, q_b)
@@ -679,7 +685,7 @@ contains
       real(dp), allocatable :: phi_p(:), phi_m(:), dq(:)
       real(dp) :: scale
       integer :: j, ne
-      call new_joint(kind, joint, error)
+      call new_joint(kind_code(kind), joint, error)
       if (.not. allocated(error)) call joint%connect(body_a, marker_a, body_b, marker_b, error)
       if (allocated(error)) return
       ne = joint%num_equations
@@ -745,7 +751,7 @@ contains
       real(dp), allocatable :: lambda(:)
       real(dp) :: force(3, 2), moment(3, 2), power(2), expected(2), size_terms(2)
       integer :: ne
-      call new_joint(kind, joint, error)
+      call new_joint(kind_code(kind), joint, error)
       if (.not. allocated(error)) call joint%connect(body_a, marker_a, body_b, marker_b, error)
       if (allocated(error)) return
       ne = joint%num_equations
@@ -1009,12 +1015,18 @@ contains
       class(body_t), intent(in) :: body_a, body_b
       integer, intent(in) :: marker_a, marker_b, a, b
       type(error_t), allocatable, intent(out) :: error
-      call new_joint(kind, box%joint, error)
+      call new_joint(kind_code(kind), box%joint, error)
       if (.not. allocated(error)) call box%joint%connect(body_a, marker_a, body_b, marker_b, &
          error)
       box%a = a
       box%b = b
    end subroutine make_joint
+
+   !> The kind (new_joint) of the joint kind called `name` (one of `kinds`).
+   pure integer function kind_code(name)
+      character(len=*), intent(in) :: name
+      kind_code = kind_codes(findloc(kinds, name, dim=1))
+   end function kind_code
 
 end module test_mbs_joints
 

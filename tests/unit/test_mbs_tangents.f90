@@ -40,6 +40,8 @@ module test_mbs_tangents
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_joints, only: JOINT_FIXED, JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_SPHERICAL, &
+      JOINT_UNIVERSAL
    use ffrf_mbs_mechanism_loads, only: polynomial_drive_t
    use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, crank_radius, rod_length
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
@@ -138,14 +140,14 @@ contains
       if (.not. allocated(error)) call mech%add_body(flywheel, 'flywheel', iw, error)
       if (.not. allocated(error)) call mech%add_body(rod, 'conrod', ir, error)
       if (.not. allocated(error)) call mech%add_body(piston, 'piston', ip_, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B1', ig, 1, ic, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'B3', ig, 3, ic, 3, error)
-      if (.not. allocated(error)) call mech%add_joint('fixed', 'flywheel', ic, 3, iw, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'crank pin', ic, 2, ir, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'B1', ig, 1, ic, 1, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'B3', ig, 3, ic, 3, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_FIXED, 'flywheel', ic, 3, iw, 1, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'crank pin', ic, 2, ir, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('revolute', 'piston pin', ir, 2, ip_, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'piston pin', ir, 2, ip_, 1, &
          error)
-      if (.not. allocated(error)) call mech%add_joint('prismatic', 'cylinder', ig, 2, ip_, 2, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
       if (.not. allocated(error)) call mech%set_crank(ic, error)
       if (allocated(error)) return
@@ -419,8 +421,8 @@ contains
       call mech%add_body(ground, 'ground', ig, error)
       if (.not. allocated(error)) call mech%add_body(shaft, 'shaft', i1, error)
       if (.not. allocated(error)) call mech%add_body(yoke, 'yoke', i2, error)
-      if (.not. allocated(error)) call mech%add_joint('spherical', 'ball', ig, 1, i1, 1, error)
-      if (.not. allocated(error)) call mech%add_joint('universal', 'cardan', i1, 2, i2, 1, &
+      if (.not. allocated(error)) call mech%add_joint(JOINT_SPHERICAL, 'ball', ig, 1, i1, 1, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_UNIVERSAL, 'cardan', i1, 2, i2, 1, &
          error)
       if (allocated(error)) return
       call compare_tangents(mech, 'universal/spherical', 31, error)

@@ -10,7 +10,8 @@ module test_model_specs
    use ffrf_mpc_interface, only: interface_spec_t, MPC_RBE2, MPC_RBE3, WEIGHTING_AREA, &
       WEIGHTING_UNIFORM, VIRTUAL_NODE_POSITION, VIRTUAL_NODE_CENTROID
    use ffrf_mpc_reduction, only: FORMULATION_NULL_SPACE, FORMULATION_MULTIPLIERS
-   use ffrf_modes_input, only: modes_spec_t, body_input_t, BASIS_CRAIG_BAMPTON, BASIS_RC_NORMAL
+   use ffrf_modes_input, only: modes_spec_t, BASIS_CRAIG_BAMPTON, BASIS_RC_NORMAL
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_input_mechanism, only: body_motion_input_t

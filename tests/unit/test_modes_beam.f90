@@ -18,7 +18,7 @@ module test_modes_beam
    use ffrf_la_sparse, only: csr_t, csr_from_coo
    use ffrf_input_interface, only: interface_input_t
    use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t, sigma_of_shift
    use ffrf_app_body_modes, only: compute_input_body_modes

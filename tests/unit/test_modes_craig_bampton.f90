@@ -29,7 +29,7 @@ module test_modes_craig_bampton
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, &
       FORMULATION_MULTIPLIERS
    use ffrf_model_specs, only: interface_spec_of
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_modal_analysis, only: body_modes_t

@@ -14,7 +14,7 @@ module test_modes_crank
    use ffrf_input_interface, only: interface_input_t
    use ffrf_mpc_interface, only: MPC_RBE3
    use ffrf_mpc_rbe2, only: rbe2_matrix
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes

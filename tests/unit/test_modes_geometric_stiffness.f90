@@ -24,10 +24,11 @@ module test_modes_geometric_stiffness
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_la_sparse, only: csr_t
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes
+   use ffrf_model_model, only: body_spec_of
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_mbs_rotation, only: euler_g_bar
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -109,7 +110,7 @@ contains
       call flexible%init(M, body%mesh%xyz, body%shape, (2.0_dp * pi * body%frequency_hz)**2, &
          body%virtual_node_shape, virtual_xyz, error)
       if (allocated(error)) return
-      call compute_modal_geometric_stiffness(beam, body, log, times, K_G, error, &
+      call compute_modal_geometric_stiffness(body_spec_of(beam), body, log, times, K_G, error, &
          static_displacement=u)
       if (allocated(error)) return
       if (stiffening) call flexible%set_geometric_stiffness(K_G, error)

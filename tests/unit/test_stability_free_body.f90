@@ -29,7 +29,7 @@ module test_stability_free_body
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_input_interface, only: interface_input_t
-   use ffrf_modes_input, only: body_input_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_input_body_modes

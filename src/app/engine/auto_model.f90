@@ -12,14 +12,16 @@ module ffrf_app_engine_auto_model
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET
    use ffrf_la_sparse, only: csr_t
-   use ffrf_input_case, only: case_input_t, body_index, vector_text
+   use ffrf_input_case, only: case_input_t, vector_text
    use ffrf_app_engine_results, only: engine_results_t
-   use ffrf_modes_input, only: modes_spec_t, body_input_t
+   use ffrf_modes_input, only: modes_spec_t
+   use ffrf_input_body, only: body_input_t
    use ffrf_mpc_interface, only: interface_spec_t
-   use ffrf_model_specs, only: modes_spec_of, body_interface_specs
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_body_modes_from_file
-   use ffrf_input_mechanism, only: GROUND_NAME
+   use ffrf_model_model, only: model_t
+   use ffrf_model_mechanism, only: LOAD_PRESSURE, LOAD_DRAG, SELECTION_AUTO
+   use ffrf_mbs_joints, only: JOINT_PRISMATIC
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
       mode_effect_t, select_modes, mesh_frequency_error, select_time_step, step_errors
@@ -64,8 +66,10 @@ module ffrf_app_engine_auto_model
 contains
 
    !> Decide whether the selection runs; if so, the excitation at the regime speed.
-   subroutine start_model_selection(case, pressure, has_pressure, log, choice)
+   subroutine start_model_selection(case, model, pressure, has_pressure, log, choice)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (selection, loads, rigid flags)
+      type(model_t), intent(in) :: model
       type(pressure_model_t), intent(in) :: pressure
       logical, intent(in) :: has_pressure
       type(logger_t), intent(in) :: log
@@ -75,24 +79,22 @@ contains
       allocate (choice%bodies(0))
       allocate (choice%mesh_mass(size(case%bodies)), source=-1.0_dp)
       choice%reason = ''
-      if (case%mechanism%model%selection /= 'auto') then
+      if (model%mechanism%selection /= SELECTION_AUTO) then
          choice%reason = '&model selection = ''manual'''
          return
       end if
       drag = 0.0_dp
       piston_mass = 0.0_dp
-      do l = 1, size(case%mechanism%loads)
-         associate (load => case%mechanism%loads(l))
-            if (load%type == 'drag') drag = load%coefficient
-            if (load%type == 'pressure') then
-               piston = body_index(case, load%body)
-               if (piston > 0) then
-                  if (case%motions(piston)%type == 'rigid') piston_mass = case%motions(piston)%mass
-               end if
+      do l = 1, size(model%mechanism%loads)
+         associate (load => model%mechanism%loads(l))
+            if (load%kind == LOAD_DRAG) drag = load%coefficient
+            if (load%kind == LOAD_PRESSURE) then
+               piston = load%body
+               if (model%bodies(piston)%rigid) piston_mass = model%bodies(piston)%motion%mass
             end if
          end associate
       end do
-      if (len_trim(case%mechanism%mechanism%crank) == 0 .or. .not. has_pressure) then
+      if (model%mechanism%crank == 0 .or. .not. has_pressure) then
          choice%reason = 'not an engine (no crank or no pressure load)'
       else if (.not. (drag > 0.0_dp)) then
          choice%reason = 'no drag load to set the regime speed'
@@ -124,20 +126,23 @@ contains
    end subroutine start_model_selection
 
    !> .true. when the selection chooses body k's mesh and modes (flexible, num_modes not given).
-   pure function selects_body(case, choice, k) result(selects)
-      type(case_input_t), intent(in) :: case
+   pure function selects_body(model, choice, k) result(selects)
+      !> The case resolved (rigid flags, num_modes given, meshes)
+      type(model_t), intent(in) :: model
       type(model_choice_t), intent(in) :: choice
       integer, intent(in) :: k
       logical :: selects
-      selects = choice%active .and. case%motions(k)%type == 'flexible' .and. &
-         case%motions(k)%num_modes < 0 .and. len_trim(case%bodies(k)%mesh_file) > 0
+      selects = choice%active .and. .not. model%bodies(k)%rigid .and. &
+         .not. model%bodies(k)%num_modes_given .and. model%bodies(k)%meshed
    end function selects_body
 
    !> Modes of body k on its candidate meshes, coarse to fine, until one meets the mesh budget
    !> (ffrf_app_engine_model_selection, 3); the kept modes of that mesh in `modes`, its mass matrix.
-   subroutine select_body_model(case, k, mesh_dir, log, times, choice, modes, mass_matrix, &
-         error)
+   subroutine select_body_model(case, model, k, mesh_dir, log, times, choice, modes, &
+         mass_matrix, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (joints with model body indices and marker handles)
+      type(model_t), intent(in) :: model
       integer, intent(in) :: k
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
@@ -166,10 +171,9 @@ contains
       meshes = [pack(case%motions(k)%coarse_meshes, len_trim(case%motions(k)%coarse_meshes) &
          > 0), input%mesh_file]
       body%name = input%name
-      call modes_spec_of(case%modes, spec, error)
-      if (.not. allocated(error)) call body_interface_specs(case%interfaces, input%name, &
-         interfaces, error)
-      if (allocated(error)) return
+      ! the model's modes and interfaces of the body, with the count of this use
+      spec = model%bodies(k)%modes
+      interfaces = model%bodies(k)%interfaces
       spec%num_modes = case%mechanism%model%candidate_modes
       allocate (body%meshes_tried(0), body%mesh_errors(0))
       do i = 1, size(meshes)
@@ -182,8 +186,8 @@ contains
          end if
          if (i == 1) then
             choice%mesh_mass(k) = current%mass
-            grounded = grounded_interfaces(case, k, current)
-            call attached_masses(case, k, current, mesh_dir, log, choice, attached, error)
+            grounded = grounded_interfaces(model, k, current)
+            call attached_masses(case, model, k, current, mesh_dir, log, choice, attached, error)
             if (allocated(error)) return
             where (grounded) attached = 0.0_dp
          end if
@@ -283,21 +287,21 @@ contains
 
    !> .true. for each interface of body k held to the ground by a joint that fixes its
    !> translations (revolute, spherical, universal, fixed).
-   function grounded_interfaces(case, k, modes) result(grounded)
-      type(case_input_t), intent(in) :: case
+   pure function grounded_interfaces(model, k, modes) result(grounded)
+      !> The case resolved (joints with model body indices and marker handles)
+      type(model_t), intent(in) :: model
       integer, intent(in) :: k
       type(body_modes_t), intent(in) :: modes
       logical :: grounded(size(modes%interfaces))
       integer :: i, j
       grounded = .false.
       do i = 1, size(modes%interfaces)
-         do j = 1, size(case%mechanism%joints)
-            associate (joint => case%mechanism%joints(j))
-               if (joint%type == 'prismatic') cycle
-               if ((joint%body1 == GROUND_NAME .and. joint%body2 == case%bodies(k)%name .and. &
-                  joint%marker2 == modes%interfaces(i)%name) .or. (joint%body2 == GROUND_NAME &
-                  .and. joint%body1 == case%bodies(k)%name .and. joint%marker1 == &
-                  modes%interfaces(i)%name)) grounded(i) = .true.
+         ! the body's interface i is its marker handle i (ffrf_model_model)
+         do j = 1, size(model%mechanism%joints)
+            associate (joint => model%mechanism%joints(j))
+               if (joint%kind == JOINT_PRISMATIC) cycle
+               if (all(joint%body == [0, k]) .and. joint%marker(2) == i .or. &
+                  all(joint%body == [k, 0]) .and. joint%marker(1) == i) grounded(i) = .true.
             end associate
          end do
       end do
@@ -330,8 +334,10 @@ contains
    !> each joint on that interface (a rigid &body's mass key, or the mass of a meshed body's
    !> coarsest mesh); the ground adds nothing (its joints act where the reference conditions
    !> already hold the virtual node, or they stiffen the mode: leaving them out overestimates).
-   subroutine attached_masses(case, k, modes, mesh_dir, log, choice, mass, error)
+   subroutine attached_masses(case, model, k, modes, mesh_dir, log, choice, mass, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (joints with model body indices and marker handles)
+      type(model_t), intent(in) :: model
       integer, intent(in) :: k
       type(body_modes_t), intent(in) :: modes
       character(len=*), intent(in) :: mesh_dir
@@ -344,24 +350,23 @@ contains
       character(len=64) :: name
       real(dp) :: other_mass
       allocate (mass(size(modes%interfaces)), source=0.0_dp)
-      name = case%bodies(k)%name
+      name = model%bodies(k)%name
       do i = 1, size(modes%interfaces)
-         do j = 1, size(case%mechanism%joints)
-            associate (joint => case%mechanism%joints(j))
+         do j = 1, size(model%mechanism%joints)
+            associate (joint => model%mechanism%joints(j))
                other = 0
-               if (joint%body1 == name .and. joint%marker1 == modes%interfaces(i)%name) &
-                  other = body_index(case, joint%body2)
-               if (joint%body2 == name .and. joint%marker2 == modes%interfaces(i)%name) &
-                  other = body_index(case, joint%body1)
+               if (joint%body(1) == k .and. joint%marker(1) == i) other = joint%body(2)
+               if (joint%body(2) == k .and. joint%marker(2) == i) other = joint%body(1)
                if (other <= 0) cycle
-               if (len_trim(case%bodies(other)%mesh_file) > 0) then
+               if (model%bodies(other)%meshed) then
                   if (choice%mesh_mass(other) < 0.0_dp) then
-                     call mesh_mass(case, other, mesh_dir, log, choice%mesh_mass(other), error)
+                     call mesh_mass(case, model, other, mesh_dir, log, &
+                        choice%mesh_mass(other), error)
                      if (allocated(error)) return
                   end if
                   other_mass = choice%mesh_mass(other)
                else
-                  other_mass = case%motions(other)%mass
+                  other_mass = model%bodies(other)%motion%mass
                end if
                mass(i) = mass(i) + other_mass
             end associate
@@ -372,8 +377,10 @@ contains
    end subroutine attached_masses
 
    !> Mass of body k's coarsest mesh (kg), from its consistent mass matrix.
-   subroutine mesh_mass(case, k, mesh_dir, log, mass, error)
+   subroutine mesh_mass(case, model, k, mesh_dir, log, mass, error)
       type(case_input_t), intent(in) :: case
+      !> The case resolved (modes and interfaces of body k)
+      type(model_t), intent(in) :: model
       integer, intent(in) :: k
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
@@ -388,10 +395,9 @@ contains
       input = case%bodies(k)
       if (len_trim(case%motions(k)%coarse_meshes(1)) > 0) input%mesh_file = &
          case%motions(k)%coarse_meshes(1)
-      call modes_spec_of(case%modes, spec, error)
-      if (.not. allocated(error)) call body_interface_specs(case%interfaces, input%name, &
-         interfaces, error)
-      if (allocated(error)) return
+      ! the model's modes and interfaces of the body, with the count of this use
+      spec = model%bodies(k)%modes
+      interfaces = model%bodies(k)%interfaces
       spec%num_modes = 0
       quiet = log
       quiet%level = LOG_QUIET
@@ -412,8 +418,9 @@ contains
 
    !> The step from the harmonics and the kept modes of every selected body
    !> (ffrf_app_engine_model_selection, 4); h = 0 when &integrator gives it.
-   subroutine select_step(case, log, choice)
-      type(case_input_t), intent(in) :: case
+   subroutine select_step(model, log, choice)
+      !> The case resolved (h given, integrator settings)
+      type(model_t), intent(in) :: model
       type(logger_t), intent(in) :: log
       type(model_choice_t), intent(inout) :: choice
       real(dp), allocatable :: mode_hz(:)
@@ -428,14 +435,14 @@ contains
             effect = [effect, s%effect(s%kept)]
          end associate
       end do
-      if (case%mechanism%model%h_given) then
-         call log%info('model', 'time step h = ' // to_str(case%mechanism%integrator%h, 3) // &
+      if (model%mechanism%h_given) then
+         call log%info('model', 'time step h = ' // to_str(model%mechanism%integrator%h, 3) // &
             ' s given by &integrator')
          return
       end if
       call log_step_ladder()
       call select_time_step(choice%excitation, mode_hz, effect, &
-         case%mechanism%integrator%rho_inf, choice%force_budget, choice%speed_budget, choice%h, &
+         model%mechanism%integrator%rho_inf, choice%force_budget, choice%speed_budget, choice%h, &
          choice%step_error)
       call log%info('model', 'time step h = ' // to_str(choice%h, 3) // ' s (' // &
          to_str(choice%excitation%regime_speed * choice%h * 180.0_dp / pi, 3) // &
@@ -453,7 +460,7 @@ contains
          integer :: i
          do i = 1, size(steps)
             step_effect = step_errors(choice%excitation, mode_hz, effect, steps(i), &
-               case%mechanism%integrator%rho_inf)
+               model%mechanism%integrator%rho_inf)
             call log%debug('model', 'step ' // to_str(steps(i), 3) // ' s: force ' // &
                to_str(step_effect%force, 3) // ', speed ' // to_str(step_effect%speed, 3))
          end do

@@ -4,7 +4,7 @@
 program modes_app
    use ffrf, only: dp, error_t, logger_t, stage_times_t, case_input_t, read_case, body_modes_t, &
       compute_body_modes, mesh_t, read_gmsh, interface_spec_t, modes_spec_t, &
-      body_interface_specs, modes_spec_of, LOG_QUIET
+      body_interface_specs, modes_spec_of, body_spec_of, LOG_QUIET
    implicit none
    type(case_input_t) :: case
    type(mesh_t) :: mesh
@@ -25,8 +25,8 @@ program modes_app
    if (.not. allocated(error)) call body_interface_specs(case%interfaces, case%bodies(1)%name, &
       interfaces, error)
    if (.not. allocated(error)) call modes_spec_of(case%modes, modes, error)
-   if (.not. allocated(error)) call compute_body_modes(mesh, case%bodies(1), interfaces, modes, &
-      log, times, body, error)
+   if (.not. allocated(error)) call compute_body_modes(mesh, body_spec_of(case%bodies(1)), &
+      interfaces, modes, log, times, body, error)
    if (allocated(error)) then
       print '(a)', 'modes_app: ' // error%message
       error stop 1

@@ -1,0 +1,921 @@
+!> The results of a mechanism run, recorded step by step (ffrf_app_mechanism_session calls it
+!> from prepare and advance when the run has an output folder): the results file
+!> (ffrf_app_engine_results) with the time histories, the energy balance, the redundant
+!> constraint equations, the automatic model's choice, the integrator's counters, the final
+!> state, restart checkpoints, --restart, and a Gmsh animation of each flexible body's elastic
+!> deformation over the last 720 deg of the crank. The driver's run (run_mechanism) and the C
+!> and Fortran API's advance with an output folder both go through it, so a run advanced in
+!> chunks writes the file of a run made in one go (apart from the timings).
+!>
+!> The file is written under a partial name (ffrf_io_results partial_name), flushed after every
+!> advance, and put in place (complete, status "complete") when the run reaches t_end; a run
+!> that fails, is interrupted or is closed before t_end still gets its file with every recorded
+!> step, /final_state and status = what happened.
+!>
+!> Energy balance per step (issue 3, part 5; ffrf_mbs_energy_balance): kinetic energy T, strain
+!> energy U of the modal coordinates, work of the applied loads W (trapezoidal rule on their
+!> power), and the numerical dissipation D = W - (T + U - T_0 - U_0) - D_damping (D_damping: the
+!> energy taken by modal damping). For the exact solution D = 0; generalized-alpha with
+!> rho_inf < 1 removes energy from the high frequencies, so D grows slowly (and the trapezoidal
+!> quadrature adds O(h^2)); the integrator passed to the balance gives also the scheme's own
+!> dissipation D_s (/energy/scheme_dissipation, docs/theory.md 4.4).
+module ffrf_app_mechanism_output
+   use ffrf_core_kinds, only: dp, i8, pi
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
+      FFRF_IO_ERROR, FFRF_INTERRUPTED
+   use ffrf_core_posix, only: pending_signal, signal_name, copy_file, rename_file, remove_file
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_paths, only: join_path, insert_suffix
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
+   use ffrf_input_case, only: case_input_t, case_echo
+   use ffrf_app_engine_results, only: engine_results_t
+   use ffrf_io_hdf5, only: h5_file_t, H5_READ_ONLY
+   use ffrf_io_results, only: output_lock_t, partial_name, commit_file, abandon_file, &
+      check_no_overwrite
+   use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
+   use ffrf_app_run_options, only: run_options_t
+   use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_modes_input, only: basis_name
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_app_engine_pressure, only: pressure_model_t
+   use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
+   use ffrf_mbs_energy_balance, only: energy_balance_t
+   use ffrf_app_mechanism_builder, only: built_body_t
+   use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
+   use ffrf_model_model, only: model_t
+   implicit none
+   private
+   public :: mechanism_output_t
+
+   !> Rows of a joint reaction record: force and moment on body 1, then on body 2
+   integer, parameter :: REACTION_ROWS = 12
+
+   !> The restart state read from an earlier run's results (--restart).
+   type :: restart_state_t
+      !> Integrator state (galpha_export_state)
+      real(dp), allocatable :: reals(:)
+      integer(i8), allocatable :: ints(:)
+      !> Energy balance accumulators, crank-angle unwrapping reference (1)
+      real(dp), allocatable :: balance(:), crank_reference(:)
+      !> Recorded steps that belong to the state, coordinates of the system
+      integer :: num_steps = 0, num_coordinates = 0
+      !> Names and modes of the bodies of the results
+      character(len=:), allocatable :: bodies(:)
+      integer(i8), allocatable :: body_modes(:)
+   end type restart_state_t
+
+   !> Crank angle and modal coordinates of every step, kept for the animation.
+   type :: history_t
+      integer :: num_steps = 0
+      real(dp), allocatable :: t(:), angle(:)
+      !> Modal coordinates of all flexible bodies, stacked (sum of modes, steps)
+      real(dp), allocatable :: zeta(:, :)
+   end type history_t
+
+   !> The results of a run being recorded (module header).
+   type :: mechanism_output_t
+      !> reserve succeeded (lock held); start succeeded (file open, steps recorded)
+      logical :: reserved = .false., started = .false.
+      !> Folders, overwrite rule, restart file
+      type(run_options_t) :: options
+      !> The case (names, labels, animation, progress interval)
+      type(case_input_t), allocatable :: case
+      !> Final and partial names of the results file
+      character(len=:), allocatable :: results_file, temp_file
+      type(output_lock_t) :: lock
+      !> --restart: the earlier run's results and its restart state
+      logical :: restarting = .false.
+      type(h5_file_t) :: source
+      type(restart_state_t) :: restart
+      type(engine_results_t) :: results
+      type(energy_balance_t) :: balance
+      type(history_t) :: history
+      !> Stage times of the run and its total time
+      type(stage_times_t) :: times
+      type(stage_timer_t) :: total
+      !> Wall time of the integration (s), over every advance
+      real(dp) :: integration_seconds = 0.0_dp
+      !> Progress, checkpoints
+      real(dp) :: start = 0.0_dp, next_progress = 0.0_dp, last_checkpoint = 0.0_dp
+      real(dp) :: checkpoint_seconds = 0.0_dp, last_cost = 0.0_dp
+      integer :: num_checkpoints = 0
+      integer(i8) :: steps_at_checkpoint = 0_i8
+      !> The state before the step that ends on t_end (its restart state)
+      logical :: have_before_last = .false.
+      type(galpha_integrator_t) :: before_last
+      type(energy_balance_t) :: balance_before_last
+      real(dp) :: reference_before_last = 0.0_dp
+      integer :: rows_before_last = 0
+      !> Joint reactions of a step (REACTION_ROWS, joints)
+      real(dp), allocatable :: reactions(:, :)
+   contains
+      !> Before the run is built: lock the output, check overwrite, read --restart
+      procedure :: reserve => output_reserve
+      !> After the start of the integration: restart, results file, first step
+      procedure :: start_recording => output_start
+      !> Record the first state (after start_recording)
+      procedure :: record_first => output_first_record
+      !> Before a step (keeps the state before the one that ends on t_end)
+      procedure :: before_step => output_before_step
+      !> After a step: energy balance, record, progress line
+      procedure :: after_step => output_after_step
+      !> Write the restart checkpoint when it is due
+      procedure :: checkpoint => output_checkpoint
+      !> Flush the file (after an advance)
+      procedure :: flush => output_flush
+      !> Counters, final state, animations; the file in place; the lock released
+      procedure :: finish => output_finish
+      !> Release the lock and the restart source of a run that did not start
+      procedure :: release => output_release
+   end type mechanism_output_t
+
+contains
+
+   !> Before anything is computed: one run per output (ffrf_io_results lock), no overwrite when
+   !> refused, and the restart state of --restart read.
+   subroutine output_reserve(self, case, options, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(case_input_t), intent(in) :: case
+      type(run_options_t), intent(in) :: options
+      type(error_t), allocatable, intent(out) :: error
+      call self%total%begin()
+      self%options = options
+      self%case = case
+      self%results_file = join_path(options%output_dir, trim(case%run%output))
+      call self%lock%acquire(self%results_file, error)
+      if (allocated(error)) return
+      self%reserved = .true.
+      if (.not. options%overwrite) then
+         call check_no_overwrite(self%results_file, error)
+         if (allocated(error)) return
+      end if
+      self%restarting = .false.
+      if (allocated(options%restart_file)) self%restarting = len(options%restart_file) > 0
+      if (self%restarting) call read_restart(options%restart_file, self%source, self%restart, &
+         error)
+   end subroutine output_reserve
+
+   !> Release the lock and the restart source (a run that failed before or while starting).
+   subroutine output_release(self)
+      class(mechanism_output_t), intent(inout) :: self
+      type(error_t), allocatable :: ignored
+      if (.not. self%reserved) return
+      call self%source%close(ignored)
+      call self%lock%release()
+      self%reserved = .false.
+   end subroutine output_release
+
+   !> The run is built and its integration started: apply --restart, open the results file
+   !> (series, modes, redundant equations, the automatic model's choice, the earlier run's
+   !> steps) and record the first state. `times` holds the stages so far.
+   subroutine output_start(self, resolved, mech, bodies, integrator, choice, log, times, &
+         timer, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(model_t), intent(in) :: resolved
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(inout) :: integrator
+      type(model_choice_t), intent(in) :: choice
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(in) :: times
+      !> Started at the start of the integration
+      type(stage_timer_t), intent(in) :: timer
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: close_error
+      character(len=:), allocatable :: echo
+      self%times = times
+      associate (case => self%case, options => self%options)
+         if (self%restarting) then
+            call apply_restart(options%restart_file, self%restart, mech, bodies, integrator, &
+               self%balance, error)
+            if (allocated(error)) return
+            call log%info('restart', options%restart_file // ': continuing from t = ' // &
+               to_str(integrator%t, 8) // ' s, step ' // to_str(integrator%stats%steps) // &
+               ', to t_end = ' // to_str(integrator%settings%t_end, 8) // ' s')
+         end if
+         call self%times%add('start of the integration', timer%seconds())
+         call log_mechanism(log, mech, integrator)
+
+         echo = case_echo(case)
+         self%temp_file = partial_name(self%results_file)
+         call open_results(self%results, self%temp_file, case, resolved, echo, mech, bodies, &
+            integrator, error)
+         if (.not. allocated(error)) call write_model_choice(self%results, case, choice, error)
+         if (.not. allocated(error) .and. self%restarting) then
+            call self%results%append_from(self%source, self%restart%num_steps, error)
+            if (.not. allocated(error)) call history_from(self%source, self%restart%num_steps, &
+               bodies, mech, self%history, error)
+            if (.not. allocated(error)) call self%source%close(error)
+         end if
+         if (allocated(error)) then
+            call self%results%finish('error: ' // error%message, [character(len=1) ::], &
+               [real(dp) ::], close_error)
+            call abandon_file(self%temp_file)
+            call add_context(error, 'results file "' // self%results_file // '"')
+            return
+         end if
+         call log%info('output', 'results (written when complete, checkpoints in ' // &
+            checkpoint_name(self%results_file) // '): ' // self%results_file)
+
+         self%start = wall_time()
+         if (.not. allocated(self%history%t)) allocate (self%history%t(1024), &
+            self%history%angle(1024), self%history%zeta(sum(bodies%num_modes), 1024))
+         allocate (self%reactions(REACTION_ROWS, size(mech%joints)))
+         self%next_progress = integrator%t + case%mechanism%mechanism%progress_interval
+         self%started = .true.
+         if (.not. self%restarting) then
+            call self%balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
+               lambda=integrator%lambda, scheme=integrator)
+            if (allocated(error)) return
+         end if
+      end associate
+      self%last_checkpoint = wall_time()
+      self%steps_at_checkpoint = integrator%stats%steps
+      self%have_before_last = .false.
+      self%rows_before_last = 0
+      self%reference_before_last = 0.0_dp
+      self%checkpoint_seconds = 0.0_dp
+      self%last_cost = 0.0_dp
+      self%num_checkpoints = 0
+   end subroutine output_start
+
+   !> Record the first state (not when restarting: the results hold it). Separate from start so
+   !> that a failure here still closes the file through finish.
+   subroutine output_first_record(self, mech, bodies, integrator, pressure, has_pressure, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(pressure_model_t), intent(in) :: pressure
+      logical, intent(in) :: has_pressure
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. self%restarting) call record_step(self, mech, bodies, integrator, pressure, &
+         has_pressure, error)
+   end subroutine output_first_record
+
+   !> Before a step: when it is the step galpha_step shortens to end on t_end, keep the state
+   !> before it (its restart state: a restart to a later t_end then takes the same steps as a
+   !> run straight to it).
+   subroutine output_before_step(self, mech, integrator, t_end)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      !> The case's t_end (s)
+      real(dp), intent(in) :: t_end
+      if (t_end - integrator%t <= integrator%h * (1.0_dp + 1.0e-6_dp)) then
+         self%before_last = integrator
+         self%balance_before_last = self%balance
+         self%reference_before_last = mech%crank_reference
+         self%rows_before_last = self%results%num_steps()
+         self%have_before_last = .true.
+      end if
+   end subroutine output_before_step
+
+   !> After a step: energy balance, the step recorded (results file and animation history), a
+   !> progress line every progress_interval simulated seconds and at t_end.
+   subroutine output_after_step(self, mech, bodies, integrator, pressure, has_pressure, t_end, &
+         log, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(pressure_model_t), intent(in) :: pressure
+      logical, intent(in) :: has_pressure
+      !> The case's t_end (s)
+      real(dp), intent(in) :: t_end
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: wall
+      call self%balance%update(mech, integrator%t, integrator%q, integrator%v, error, &
+         lambda=integrator%lambda, scheme=integrator)
+      if (.not. allocated(error)) call record_step(self, mech, bodies, integrator, pressure, &
+         has_pressure, error)
+      if (allocated(error)) return
+      associate (h => integrator%settings%h, interval => &
+            self%case%mechanism%mechanism%progress_interval)
+         if (integrator%t >= self%next_progress - 1.0e-3_dp * h .or. &
+            integrator%t >= t_end - 1.0e-6_dp * h) then
+            wall = wall_time() - self%start
+            call log%info('run', 't = ' // to_str(integrator%t, 5) // ' s, ' // &
+               to_str(integrator%stats%steps) // ' steps (' // &
+               to_str(integrator%stats%rejected_steps) // ' rejected), ' // &
+               to_str(integrator%stats%newton_iterations) // ' Newton iterations, crank ' // &
+               to_str(mech%crank_speed(integrator%q, integrator%v), 6) // ' rad/s, wall ' // &
+               to_str(wall, 4) // ' s (' // to_str(integrator%t / max(wall, 1.0e-9_dp), 3) // &
+               ' x real time)')
+            do while (self%next_progress <= integrator%t + 1.0e-3_dp * h)
+               self%next_progress = self%next_progress + interval
+            end do
+         end if
+      end associate
+   end subroutine output_after_step
+
+   !> Write the restart checkpoint (write_checkpoint_file) after checkpoint_steps steps or
+   !> checkpoint_seconds of wall time (at least 20 times the cost of the last checkpoint: a
+   !> checkpoint copies the whole file, so checkpoints never take more than 5 % of the run).
+   subroutine output_checkpoint(self, mech, bodies, integrator, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: checkpoint_start
+      logical :: due
+      associate (s => integrator%settings)
+         due = .false.
+         if (s%checkpoint_steps > 0) due = integrator%stats%steps - self%steps_at_checkpoint &
+            >= s%checkpoint_steps
+         if (s%checkpoint_seconds > 0.0_dp) due = due .or. wall_time() - &
+            self%last_checkpoint >= max(s%checkpoint_seconds, 20.0_dp * self%last_cost)
+      end associate
+      if (.not. due) return
+      checkpoint_start = wall_time()
+      call write_restart_state(self%results, integrator, self%balance, &
+         self%results%num_steps(), mech%crank_reference, mech, bodies, error)
+      if (.not. allocated(error)) call write_checkpoint_file(self%results_file, error)
+      if (allocated(error)) return
+      self%last_checkpoint = wall_time()
+      self%steps_at_checkpoint = integrator%stats%steps
+      self%num_checkpoints = self%num_checkpoints + 1
+      self%last_cost = self%last_checkpoint - checkpoint_start
+      self%checkpoint_seconds = self%checkpoint_seconds + self%last_cost
+   end subroutine output_checkpoint
+
+   !> Flush the results file (consistent on disk under its partial name).
+   subroutine output_flush(self, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      call self%results%flush(error)
+   end subroutine output_flush
+
+   !> End the recording, whatever happened (run_error: the failure or interruption of the
+   !> run, if any; `stopped`: the status of a run ended before t_end without an error): the
+   !> restart state, the integrator's counters and last converged state, the animations (not
+   !> after a signal: the job must end soon; the continued run writes them), the stage times;
+   !> then the file goes into place when it could be closed, the checkpoint is removed and the
+   !> lock released. `error` is run_error, else the error of writing.
+   subroutine output_finish(self, mech, bodies, integrator, log, run_error, error, stopped)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(inout) :: run_error
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: stopped
+      type(error_t), allocatable :: state_error, close_error
+      type(stage_timer_t) :: timer
+      character(len=:), allocatable :: status
+      logical :: closed
+      if (.not. self%started) then
+         call self%release()
+         if (allocated(run_error)) call move_alloc(run_error, error)
+         return
+      end if
+      self%started = .false.
+      associate (case => self%case, results => self%results, results_file => self%results_file)
+         ! The restart state of the results file
+         if (self%have_before_last .and. integrator%t == integrator%settings%t_end) then
+            call write_restart_state(results, self%before_last, self%balance_before_last, &
+               self%rows_before_last, self%reference_before_last, mech, bodies, state_error)
+         else
+            call write_restart_state(results, integrator, self%balance, results%num_steps(), &
+               mech%crank_reference, mech, bodies, state_error)
+         end if
+         if (self%num_checkpoints > 0) call log%info('run', to_str(self%num_checkpoints) // &
+            ' restart checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &
+            to_str(self%checkpoint_seconds, 3) // ' s (' // to_str(100.0_dp * &
+            self%checkpoint_seconds / max(self%integration_seconds, 1.0e-9_dp), 2) // &
+            ' % of the integration)')
+         call self%times%add('integration', self%integration_seconds)
+         call log_statistics(log, integrator, mech)
+
+         if (.not. allocated(run_error) .and. allocated(state_error)) &
+            call move_alloc(state_error, run_error)
+         call timer%begin()
+         call write_run_information(results, mech, integrator, error)
+         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
+            .not. interrupted(run_error)) call write_animations(case, self%options, bodies, &
+            self%history, log, error)
+         call self%times%add('output', timer%seconds())
+         call self%times%add('total', self%total%seconds())
+         ! A failed, interrupted or stopped run: its file goes into place when it could be closed
+         if (allocated(run_error) .or. allocated(error) .or. present(stopped)) then
+            if (allocated(run_error)) then
+               if (run_error%code /= FFRF_INTERRUPTED) then
+                  if (run_error%code == FFRF_IO_ERROR) call add_context(run_error, &
+                     'results file "' // results_file // '"')
+                  call add_context(run_error, case%file_name)
+                  status = 'error: ' // run_error%message
+               else
+                  status = 'interrupted: ' // signal_name(pending_signal())
+               end if
+               if (allocated(error)) status = 'error: ' // error%message
+               call move_alloc(run_error, error)
+            else if (allocated(error)) then
+               status = 'error: ' // error%message
+            else
+               status = stopped
+            end if
+            call results%finish(status, self%times%names, self%times%seconds, close_error, &
+               self%times%peak_mib, closed)
+            if (closed) then
+               call commit_file(self%temp_file, results_file, close_error)
+            else
+               call abandon_file(self%temp_file)
+            end if
+            if (.not. allocated(close_error)) call remove_checkpoint(results_file)
+            call self%release()
+            return
+         end if
+         call results%finish('complete', self%times%names, self%times%seconds, error, &
+            self%times%peak_mib)
+         if (.not. allocated(error)) call commit_file(self%temp_file, results_file, error)
+         if (allocated(error)) then
+            call abandon_file(self%temp_file)
+            call add_context(error, 'results file "' // results_file // '"')
+            call self%release()
+            return
+         end if
+         call remove_checkpoint(results_file)
+         call log%info('output', 'results written: ' // results_file)
+         call log%info('done', case%name // ': ' // to_str(self%total%seconds(), 3) // ' s, ' &
+            // 'peak memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+      end associate
+      call self%release()
+   end subroutine output_finish
+
+   !> Record the current state (results file and animation history).
+   subroutine record_step(self, mech, bodies, integrator, pressure, has_pressure, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(pressure_model_t), intent(in) :: pressure
+      logical, intent(in) :: has_pressure
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
+      real(dp), allocatable :: coordinates(:)
+      integer :: j, k, first, n
+      angle = mech%crank_angle(integrator%q)
+      speed = mech%crank_speed(integrator%q, integrator%v)
+      p = 0.0_dp
+      if (has_pressure) p = pressure%pressure(angle)
+      do j = 1, size(mech%joints)
+         call mech%reaction(j, integrator%q, integrator%lambda, force, moment)
+         self%reactions(:, j) = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]
+      end do
+      coordinates = [real(dp) ::]
+      do k = 1, size(bodies)
+         associate (b => mech%bodies(bodies(k)%index))
+            coordinates = [coordinates, integrator%q(b%offset + 1:b%offset + 7 + &
+               bodies(k)%num_modes)]
+         end associate
+      end do
+      associate (balance => self%balance, history => self%history)
+         call self%results%record(integrator%t, angle, speed, p, [balance%kinetic, &
+            balance%strain, balance%work, balance%numerical_dissipation], coordinates, &
+            self%reactions, error, scheme_dissipation=balance%scheme_dissipation)
+         if (allocated(error)) return
+         ! Animation history
+         n = history%num_steps + 1
+         if (n > size(history%t)) call grow(history)
+         history%t(n) = integrator%t
+         history%angle(n) = angle
+         first = 0
+         do k = 1, size(bodies)
+            if (bodies(k)%num_modes == 0) cycle
+            associate (b => mech%bodies(bodies(k)%index))
+               history%zeta(first + 1:first + bodies(k)%num_modes, n) = &
+                  integrator%q(b%offset + 8:b%offset + 7 + bodies(k)%num_modes)
+            end associate
+            first = first + bodies(k)%num_modes
+         end do
+         history%num_steps = n
+      end associate
+   end subroutine record_step
+
+   !> True when `error` is the end of a run by a signal.
+   pure logical function interrupted(error)
+      type(error_t), allocatable, intent(in) :: error
+      interrupted = .false.
+      if (allocated(error)) interrupted = error%code == FFRF_INTERRUPTED
+   end function interrupted
+
+   !> Sizes and the redundant constraint equations found at the start.
+   subroutine log_mechanism(log, mech, integrator)
+      type(logger_t), intent(in) :: log
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      integer :: k
+      call log%info('mechanism', to_str(size(mech%bodies) - 1) // ' moving bodies, ' // &
+         to_str(size(mech%joints)) // ' joints, ' // to_str(size(mech%loads)) // ' loads; ' // &
+         to_str(mech%num_coordinates()) // ' coordinates, ' // to_str(mech%num_constraints()) // &
+         ' constraint equations')
+      if (size(integrator%dropped) == 0) then
+         call log%info('mechanism', 'no redundant constraint equations')
+         return
+      end if
+      call log%note('mechanism', to_str(size(integrator%dropped)) // ' redundant constraint ' // &
+         'equation(s) found by rank-revealing QR and dropped (their reactions are reported ' // &
+         'as zero: the split of a redundant reaction is not unique for rigid bodies):')
+      do k = 1, size(integrator%dropped)
+         call log%note('mechanism', '  ' // row_name(mech, integrator%dropped(k)))
+      end do
+   end subroutine log_mechanism
+
+   !> "joint 'B3', equation 2 of 5" for a constraint row.
+   function row_name(mech, row) result(name)
+      type(mechanism_t), intent(in) :: mech
+      integer, intent(in) :: row
+      character(len=:), allocatable :: name
+      integer :: j, b
+      do j = 1, size(mech%joints)
+         associate (joint => mech%joints(j))
+            if (row > joint%offset .and. row <= joint%offset + joint%joint%num_equations) then
+               name = 'joint ''' // joint%name // ''' (' // joint%joint%kind_name() // &
+                  '), equation ' // to_str(row - joint%offset) // ' of ' // &
+                  to_str(joint%joint%num_equations)
+               return
+            end if
+         end associate
+      end do
+      do b = 1, size(mech%bodies)
+         if (mech%bodies(b)%euler_row == row) then
+            name = 'Euler-parameter normalisation of ''' // mech%bodies(b)%name // ''''
+            return
+         end if
+      end do
+      name = 'driving constraint (row ' // to_str(row) // ')'
+   end function row_name
+
+   !> Create the results file with its series and the redundant-equation flags.
+   subroutine open_results(results, results_file, case, resolved, echo, mech, bodies, &
+         integrator, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: results_file, echo
+      type(case_input_t), intent(in) :: case
+      !> The case resolved (the crank's MPC label)
+      type(model_t), intent(in) :: resolved
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      integer, allocatable :: flags(:)
+      integer :: k, j
+      call results%create(results_file, case%name, trim(case%run%title), &
+         trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error)
+      do k = 1, size(bodies)
+         if (allocated(error)) exit
+         call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
+            error)
+         if (allocated(error) .or. bodies(k)%num_modes == 0) cycle
+         call write_body_modes(results, mech%bodies(bodies(k)%index)%name, bodies(k)%modes, error)
+      end do
+      do j = 1, size(mech%joints)
+         if (allocated(error)) exit
+         call results%add_joint_series(mech%joints(j)%name, error)
+         if (allocated(error)) exit
+         associate (joint => mech%joints(j))
+            flags = [(merge(1, 0, any(integrator%dropped == joint%offset + k)), &
+               k=1, joint%joint%num_equations)]
+            call results%write_int('/joints/' // joint%name // '/redundant_equations', flags, &
+               error)
+         end associate
+      end do
+      if (allocated(error)) call add_context(error, 'results file "' // results_file // '"')
+   end subroutine open_results
+
+   !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
+   !> virtual-node rows, basis, interfaces), engine_results_write_modes.
+   subroutine write_body_modes(results, name, modes, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
+      type(body_modes_t), intent(in) :: modes
+      type(error_t), allocatable, intent(out) :: error
+      character(len=64), allocatable :: names(:)
+      real(dp), allocatable :: xyz(:, :)
+      integer :: i
+      allocate (names(size(modes%interfaces)), xyz(3, size(modes%interfaces)))
+      do i = 1, size(modes%interfaces)
+         names(i) = modes%interfaces(i)%name
+         xyz(:, i) = modes%interfaces(i)%virtual_xyz
+      end do
+      call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
+         basis_name(modes%basis), int(modes%num_static), error)
+   end subroutine write_body_modes
+
+   !> Double the history's capacity.
+   subroutine grow(history)
+      type(history_t), intent(inout) :: history
+      real(dp), allocatable :: t(:), angle(:), zeta(:, :)
+      integer :: n
+      n = size(history%t)
+      allocate (t(2 * n), angle(2 * n), zeta(size(history%zeta, 1), 2 * n))
+      t(:n) = history%t
+      angle(:n) = history%angle
+      zeta(:, :n) = history%zeta
+      call move_alloc(t, history%t)
+      call move_alloc(angle, history%angle)
+      call move_alloc(zeta, history%zeta)
+   end subroutine grow
+
+   subroutine log_statistics(log, integrator, mech)
+      type(logger_t), intent(in) :: log
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(mechanism_t), intent(in) :: mech
+      associate (s => integrator%stats)
+         call log%info('run', to_str(s%steps) // ' steps, ' // to_str(s%rejected_steps) // &
+            ' rejected, ' // to_str(s%newton_iterations) // ' Newton iterations, ' // &
+            to_str(s%factorizations) // ' Jacobian factorisations (' // to_str(s%tangents) // &
+            ' with new tangents), smallest step ' // &
+            to_str(s%h_min, 3) // ' s, ' // to_str(s%wall_seconds, 4) // ' s (' // &
+            to_str(1.0e3_dp * s%wall_seconds / real(max(s%steps, 1_i8), dp), 3) // &
+            ' ms/step), largest constraint violation ' // to_str(s%max_constraint_violation, 3))
+         call log%info('run', 'integration time: residuals ' // to_str(s%residual_seconds, 3) &
+            // ' s (' // to_str(s%residual_evaluations) // '), tangents ' // &
+            to_str(s%tangent_seconds, 3) // ' s, factorisations ' // &
+            to_str(s%factor_seconds, 3) // ' s, solves ' // to_str(s%solve_seconds, 3) // &
+            ' s, other (predictor, output hook) ' // to_str(s%wall_seconds - &
+            s%residual_seconds - s%tangent_seconds - s%factor_seconds - s%solve_seconds, 3) // &
+            ' s')
+         call log%info('run', 'final crank angle ' // to_str(mech%crank_angle(integrator%q) * &
+            180.0_dp / pi, 8) // ' deg, speed ' // &
+            to_str(mech%crank_speed(integrator%q, integrator%v), 8) // ' rad/s')
+      end associate
+   end subroutine log_statistics
+
+   !> Integrator counters and the last converged state (also after a failure).
+   subroutine write_run_information(results, mech, integrator, error)
+      type(engine_results_t), intent(inout) :: results
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      associate (s => integrator%stats)
+         call results%write_real('/integrator/counters', real([s%steps, s%rejected_steps, &
+            s%newton_iterations, s%factorizations, s%residual_evaluations], dp), '1', error)
+         if (.not. allocated(error)) call results%write_real('/integrator/wall_seconds', &
+            [s%wall_seconds], 's', error)
+         if (.not. allocated(error)) call results%write_real( &
+            '/integrator/max_constraint_violation', [s%max_constraint_violation], 'm', error)
+         if (.not. allocated(error)) call results%write_int('/integrator/dropped_rows', &
+            integrator%dropped, error)
+      end associate
+      if (.not. allocated(error)) call results%write_real('/final_state/t', [integrator%t], 's', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/q', integrator%q, '1', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/v', integrator%v, '1', &
+         error)
+      if (.not. allocated(error)) call results%write_real('/final_state/lambda', &
+         integrator%lambda, '1', error)
+      if (.not. allocated(error)) call results%write_real('/final_state/crank_angle', &
+         [mech%crank_angle(integrator%q)], 'rad', error)
+   end subroutine write_run_information
+
+   !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
+   !> Psi zeta (body frame) at animation_frames instants evenly spread over the last 720 deg of
+   !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle.
+   subroutine write_animations(case, options, bodies, history, log, error)
+      type(case_input_t), intent(in) :: case
+      type(run_options_t), intent(in) :: options
+      type(built_body_t), intent(in) :: bodies(:)
+      type(history_t), intent(in) :: history
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      integer :: frames, f, k, first, n, s
+      integer, allocatable :: steps(:)
+      real(dp) :: angle_end, angle_start, target
+      real(dp), allocatable :: fields(:, :)
+      character(len=:), allocatable :: file_name
+      n = history%num_steps
+      if (n < 2 .or. .not. any(bodies%num_modes > 0)) return
+      frames = case%mechanism%mechanism%animation_frames
+      angle_end = history%angle(n)
+      angle_start = max(history%angle(1), angle_end - 4.0_dp * pi)
+      allocate (steps(frames))
+      s = 1
+      do f = 1, frames
+         target = angle_start + (angle_end - angle_start) * real(f - 1, dp) / real(max(frames - &
+            1, 1), dp)
+         do while (s < n)
+            if (abs(history%angle(s + 1) - target) > abs(history%angle(s) - target)) exit
+            s = s + 1
+         end do
+         steps(f) = s
+      end do
+      first = 0
+      do k = 1, size(bodies)
+         if (bodies(k)%num_modes == 0) cycle
+         associate (modes => bodies(k)%modes, m => bodies(k)%num_modes)
+            fields = matmul(modes%shape, history%zeta(first + 1:first + m, steps))
+            file_name = insert_suffix(join_path(options%output_dir, trim(case%run%output)), &
+               '_' // modes%name // '_animation')
+            file_name = file_name(:index(file_name, '.', back=.true.)) // 'msh'
+            call write_displacement_frames_msh(file_name, modes%mesh%xyz, modes%mesh%tets, &
+               fields, history%t(steps), error)
+            if (allocated(error)) return
+            call log%info('output', modes%name // ': elastic deformation over the last ' // &
+               'cycle for gmsh: ' // file_name)
+            first = first + m
+         end associate
+      end do
+   end subroutine write_animations
+
+   ! ------------------------------------------------------------------ restart
+
+   !> `<results file>.checkpoint`: the copy of the results file at the last checkpoint.
+   pure function checkpoint_name(results_file) result(name)
+      character(len=*), intent(in) :: results_file
+      character(len=:), allocatable :: name
+      name = results_file // '.checkpoint'
+   end function checkpoint_name
+
+   !> Remove the checkpoint of a run whose results file is in place (it holds the same state).
+   subroutine remove_checkpoint(results_file)
+      character(len=*), intent(in) :: results_file
+      type(error_t), allocatable :: ignored
+      call remove_file(checkpoint_name(results_file), ignored)
+   end subroutine remove_checkpoint
+
+   !> The restart state in the results file being written (/checkpoint): the integrator's
+   !> whole state (galpha_export_state), the energy balance, the mechanism's crank-angle
+   !> unwrapping reference (the pressure cycle follows the unwrapped angle), the number of
+   !> recorded steps that belong to it and what identifies the system (coordinates, bodies,
+   !> modes); then the file is flushed, so that it is consistent on disk.
+   subroutine write_restart_state(results, integrator, balance, num_steps, crank_reference, &
+         mech, bodies, error)
+      type(engine_results_t), intent(inout) :: results
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(energy_balance_t), intent(in) :: balance
+      !> Recorded steps (rows of the series) up to this state
+      integer, intent(in) :: num_steps
+      !> mechanism_t%crank_reference at this state (rad)
+      real(dp), intent(in) :: crank_reference
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: reals(:)
+      integer(i8), allocatable :: ints(:)
+      character(len=64), allocatable :: names(:)
+      integer :: k
+      call results%flush(error)
+      if (allocated(error)) return
+      call integrator%export_state(reals, ints)
+      allocate (names(size(bodies)))
+      do k = 1, size(bodies)
+         names(k) = mech%bodies(bodies(k)%index)%name
+      end do
+      call results%write_real('/checkpoint/integrator_reals', reals, '1', error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/integrator_ints', ints, &
+         error)
+      if (.not. allocated(error)) call results%write_real('/checkpoint/energy_balance', &
+         balance%export_state(), '1', error)
+      if (.not. allocated(error)) call results%write_real('/checkpoint/crank_reference', &
+         [crank_reference], 'rad', error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/num_steps', &
+         [int(num_steps, i8)], error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/num_coordinates', &
+         [int(mech%num_coordinates(), i8)], error)
+      if (.not. allocated(error)) call results%write_strings('/checkpoint/bodies', names, error)
+      if (.not. allocated(error)) call results%write_long('/checkpoint/body_modes', &
+         int(bodies%num_modes, i8), error)
+      if (.not. allocated(error)) call results%flush(error)
+   end subroutine write_restart_state
+
+   !> Copy the results file being written (consistent after write_restart_state) to
+   !> `<results file>.checkpoint`: through a temporary name, forced to the device, renamed, so
+   !> that a kill -9 at any moment leaves the previous or the new checkpoint, whole.
+   subroutine write_checkpoint_file(results_file, error)
+      character(len=*), intent(in) :: results_file
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: ignored
+      character(len=:), allocatable :: checkpoint
+      checkpoint = checkpoint_name(results_file)
+      call copy_file(partial_name(results_file), partial_name(checkpoint), error)
+      if (.not. allocated(error)) call rename_file(partial_name(checkpoint), checkpoint, error)
+      if (allocated(error)) then
+         call remove_file(partial_name(checkpoint), ignored)
+         call add_context(error, 'checkpoint "' // checkpoint // '"')
+      end if
+   end subroutine write_checkpoint_file
+
+   !> Open the results or checkpoint file of an earlier run (--restart) and read its restart
+   !> state: FFRF_IO_ERROR when it cannot be read, FFRF_INPUT_ERROR when it holds none.
+   subroutine read_restart(file_name, source, restart, error)
+      character(len=*), intent(in) :: file_name
+      type(h5_file_t), intent(inout) :: source
+      type(restart_state_t), intent(out) :: restart
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8), allocatable :: counts(:)
+      call source%open(file_name, H5_READ_ONLY, error)
+      if (allocated(error)) then
+         call add_context(error, '--restart')
+         return
+      end if
+      if (.not. source%exists('/checkpoint/integrator_ints')) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": no ' // &
+            'restart state (/checkpoint) in it; give the results file (.h5) or the ' // &
+            '.checkpoint file of an earlier run of this mechanism case')
+         return
+      end if
+      call source%read_real('/checkpoint/integrator_reals', restart%reals, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/integrator_ints', &
+         restart%ints, error)
+      if (.not. allocated(error)) call source%read_real('/checkpoint/energy_balance', &
+         restart%balance, error)
+      if (.not. allocated(error)) call source%read_real('/checkpoint/crank_reference', &
+         restart%crank_reference, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/num_steps', counts, error)
+      if (.not. allocated(error)) restart%num_steps = int(counts(1))
+      if (.not. allocated(error)) call source%read_int('/checkpoint/num_coordinates', counts, &
+         error)
+      if (.not. allocated(error)) restart%num_coordinates = int(counts(1))
+      if (.not. allocated(error)) call source%read_string_list('/checkpoint/bodies', &
+         restart%bodies, error)
+      if (.not. allocated(error)) call source%read_int('/checkpoint/body_modes', &
+         restart%body_modes, error)
+      if (allocated(error)) then
+         error%code = FFRF_INPUT_ERROR
+         call add_context(error, '--restart "' // file_name // '": unreadable restart state')
+      end if
+   end subroutine read_restart
+
+   !> Check that the restart state belongs to this case (coordinates, bodies, modes) and
+   !> restore it into the integrator and the energy balance; FFRF_INPUT_ERROR otherwise.
+   subroutine apply_restart(file_name, restart, mech, bodies, integrator, balance, error)
+      character(len=*), intent(in) :: file_name
+      type(restart_state_t), intent(in) :: restart
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(inout) :: integrator
+      type(energy_balance_t), intent(inout) :: balance
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: here, there
+      logical :: ok
+      integer :: k
+      here = ''
+      do k = 1, size(bodies)
+         here = here // ' ' // mech%bodies(bodies(k)%index)%name // '(' // &
+            to_str(bodies(k)%num_modes) // ' modes)'
+      end do
+      there = ''
+      do k = 1, size(restart%bodies)
+         there = there // ' ' // trim(restart%bodies(k))
+         if (k <= size(restart%body_modes)) there = there // '(' // &
+            to_str(int(restart%body_modes(k))) // ' modes)'
+      end do
+      if (restart%num_coordinates /= mech%num_coordinates() .or. here /= there) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": its ' // &
+            'run had ' // to_str(restart%num_coordinates) // ' coordinates and bodies' // &
+            there // '; this case has ' // to_str(mech%num_coordinates()) // &
+            ' coordinates and bodies' // here // '; restart only from a run of the same ' // &
+            'case (t_end may differ)')
+         return
+      end if
+      call integrator%import_state(restart%reals, restart%ints, error)
+      if (allocated(error)) then
+         call add_context(error, '--restart "' // file_name // '"')
+         return
+      end if
+      call balance%import_state(restart%balance, ok)
+      if (.not. ok .or. size(restart%crank_reference) /= 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // &
+            '": its energy balance or crank reference state has the wrong size')
+         return
+      end if
+      mech%crank_reference = restart%crank_reference(1)
+   end subroutine apply_restart
+
+   !> The animation history (time, crank angle, modal coordinates) of the first num_steps
+   !> steps of an earlier run's results.
+   subroutine history_from(source, num_steps, bodies, mech, history, error)
+      type(h5_file_t), intent(in) :: source
+      integer, intent(in) :: num_steps
+      type(built_body_t), intent(in) :: bodies(:)
+      type(mechanism_t), intent(in) :: mech
+      type(history_t), intent(inout) :: history
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: t(:), angle(:), zeta(:, :)
+      integer :: k, first, capacity
+      capacity = max(1024, 2 * num_steps)
+      allocate (history%t(capacity), history%angle(capacity), &
+         history%zeta(sum(bodies%num_modes), capacity))
+      call source%read_real('/time/t', t, error)
+      if (.not. allocated(error)) call source%read_real('/time/crank_angle', angle, error)
+      if (allocated(error)) return
+      history%t(:num_steps) = t(:num_steps)
+      history%angle(:num_steps) = angle(:num_steps)
+      first = 0
+      do k = 1, size(bodies)
+         if (bodies(k)%num_modes == 0) cycle
+         call source%read_real('/bodies/' // mech%bodies(bodies(k)%index)%name // &
+            '/modal_coordinates', zeta, error)
+         if (allocated(error)) return
+         history%zeta(first + 1:first + bodies(k)%num_modes, :num_steps) = zeta(:, :num_steps)
+         first = first + bodies(k)%num_modes
+      end do
+      history%num_steps = num_steps
+   end subroutine history_from
+
+end module ffrf_app_mechanism_output

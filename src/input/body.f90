@@ -1,0 +1,30 @@
+!> Plain input type of a &body group's mesh and material (reader: src/input/nml_body.f90; its
+!> motion keys are body_motion_input_t of ffrf_input_mechanism). The model turns it into the
+!> numerics' body_spec_t (ffrf_model_model body_spec_of) and resolves its mesh file.
+module ffrf_input_body
+   use ffrf_core_kinds, only: dp
+   use ffrf_modes_input, only: MAX_VOLUMES
+   implicit none
+   private
+   public :: body_input_t, MAX_VOLUMES
+
+   !> A body: mesh file, physical volumes and material (&body).
+   type :: body_input_t
+      !> Body name, used by &interface and in the results
+      character(len=64) :: name = ''
+      !> Gmsh mesh file (MSH 4.1 or 2.2); relative paths are taken from the mesh directory
+      character(len=256) :: mesh_file = ''
+      !> Physical volume names that make up the body
+      character(len=64) :: volumes(MAX_VOLUMES) = ''
+      !> Young's modulus (Pa)
+      real(dp) :: young = 210.0e9_dp
+      !> Poisson's ratio
+      real(dp) :: poisson = 0.3_dp
+      !> Density (kg/m^3)
+      real(dp) :: density = 7850.0_dp
+      !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal
+      !> load cases (stress stiffening of a spinning body, ffrf_modes_modal_geometric_stiffness)
+      logical :: geometric_stiffness = .false.
+   end type body_input_t
+
+end module ffrf_input_body
