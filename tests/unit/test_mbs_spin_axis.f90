@@ -62,6 +62,7 @@ module test_mbs_spin_axis
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, wall_time
    use ffrf_input_case, only: case_input_t, read_case
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
+   use ffrf_model_model, only: model_t, build_model
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -125,6 +126,7 @@ contains
    subroutine get_model(error)
       type(error_t), allocatable, intent(out) :: error
       type(case_input_t) :: case
+      type(model_t) :: resolved
       type(logger_t) :: log
       type(stage_times_t) :: times
       type(built_body_t), allocatable :: bodies(:)
@@ -136,9 +138,11 @@ contains
       if (allocated(error)) return
       call read_case(file_name, case, error)
       if (allocated(error)) return
+      call build_model(case, resolved, error)
+      if (allocated(error)) return
       log%level = LOG_QUIET
-      call build_mechanism(case, test_mesh_dir(), log, times, model%mech, bodies, model%q, &
-         model%v, pressure, has_pressure, error)
+      call build_mechanism(case, resolved, test_mesh_dir(), log, times, model%mech, bodies, &
+         model%q, model%v, pressure, has_pressure, error)
       if (allocated(error)) return
       model%beam = bodies(1)%index
       model%offset = model%mech%bodies(model%beam)%offset
