@@ -4,7 +4,7 @@
 !> namelist's own message after the override's origin), sweep table rows, output templates and
 !> the task index. Reads no mesh; well under a second.
 module test_input_overrides
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_input_nml_source, only: nml_source_t
    use ffrf_input_case, only: case_groups
    use ffrf_input_overrides, only: override_t, parse_override, apply_overrides, overrides_echo
@@ -71,12 +71,7 @@ contains
          character(len=*), intent(in) :: text, start
          type(error_t), allocatable :: got
          call parse_override(text, ov, got)
-         if (.not. allocated(got)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, text // ': accepted')
-         else if (index(got%message, start) /= 1 .or. got%code /= FFRF_INPUT_ERROR) then
-            call fatal_error(error, FFRF_INPUT_ERROR, text // ': "' // got%message // &
-               '", expected "' // start // '..."')
-         end if
+         call expect_message(got, text, start, error)
       end subroutine expect_error
    end subroutine test_override_syntax
 
@@ -272,6 +267,8 @@ contains
    subroutine test_sweep_errors(error)
       type(error_t), allocatable, intent(out) :: error
       character(len=*), parameter :: file = 'test_input_overrides_errors.csv'
+      type(override_t), allocatable :: rows(:)
+      type(error_t), allocatable :: got
       call write_file(file, 'modes.num_modes' // NL // '4' // NL // '6' // NL)
       call expect(file, 3, file // ': row 3 asked (the task index), the table has 2 rows (1..2)')
       if (allocated(error)) return
@@ -288,7 +285,11 @@ contains
       call write_file(file, '# nothing' // NL)
       call expect(file, 1, file // ': an empty sweep table')
       if (allocated(error)) return
-      call expect('test_input_overrides_missing.csv', 1, 'cannot open the sweep table')
+      call read_sweep_row('test_input_overrides_missing.csv', 1, rows, got)
+      call check(error, 'a missing table: a file error', allocated(got))
+      if (allocated(error)) return
+      call check(error, 'missing: ' // got%message, got%code == FFRF_IO_ERROR .and. &
+         index(got%message, 'cannot open the sweep table') == 1)
    contains
       subroutine expect(name, row, start)
          character(len=*), intent(in) :: name, start
@@ -296,12 +297,7 @@ contains
          type(override_t), allocatable :: rows(:)
          type(error_t), allocatable :: got
          call read_sweep_row(name, row, rows, got)
-         if (.not. allocated(got)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, name // ' row accepted')
-         else if (index(got%message, start) /= 1) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '"' // got%message // '", expected "' // &
-               start // '..."')
-         end if
+         call expect_message(got, name, start, error)
       end subroutine expect
    end subroutine test_sweep_errors
 
@@ -367,13 +363,21 @@ contains
       call src%parse('c.nml', CASE_TEXT, case_groups(), error)
       if (allocated(error)) return
       call apply_overrides(src, [set(text)], got)
+      call expect_message(got, text, start, error)
+   end subroutine expect_set_error
+
+   !> `got` is an input error whose message starts with `start`; `what` names the case.
+   subroutine expect_message(got, what, start, error)
+      type(error_t), allocatable, intent(in) :: got
+      character(len=*), intent(in) :: what, start
+      type(error_t), allocatable, intent(out) :: error
       if (.not. allocated(got)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, text // ': accepted')
+         call fatal_error(error, FFRF_INPUT_ERROR, what // ': accepted')
       else if (index(got%message, start) /= 1 .or. got%code /= FFRF_INPUT_ERROR) then
-         call fatal_error(error, FFRF_INPUT_ERROR, text // ': "' // got%message // &
+         call fatal_error(error, FFRF_INPUT_ERROR, what // ': "' // got%message // &
             '", expected "' // start // '..."')
       end if
-   end subroutine expect_set_error
+   end subroutine expect_message
 
    subroutine write_file(name, text)
       character(len=*), intent(in) :: name, text
