@@ -10,7 +10,7 @@ program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
    use ffrf, only: error_t, logger_t, run_options_t, run_modal, run_mechanism, check_case, &
-      case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
+      case_input_t, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
       FFRF_INTERRUPTED, LOG_QUIET, LOG_DEBUG, install_signal_handlers, signals_restart_calls, &
       ignore_file_size_signal, override_t, parse_override, batch_overrides, NO_TASK, &
       read_case_with_overrides, case_echo, case_name_of, set_blas_threads, build_versions
@@ -120,7 +120,7 @@ program ffrf_driver
    if (.not. allocated(error) .and. threads > 0) then
       call set_blas_threads(threads, threads_used, error)
       if (.not. allocated(error) .and. options%log_level /= LOG_QUIET) write (output_unit, &
-         '(a)') 'BLAS threads: ' // itoa(threads_used)
+         '(a, i0)') 'BLAS threads: ', threads_used
    end if
    if (.not. allocated(error)) then
       if (check_only) then
@@ -158,14 +158,6 @@ contains
          read (text, *, iostat=stat) n
       if (n < 0) call bad_usage(option // ' ' // text // ': not a whole number')
    end function whole_number
-
-   pure function itoa(n) result(text)
-      integer, intent(in) :: n
-      character(len=:), allocatable :: text
-      character(len=12) :: buffer
-      write (buffer, '(i0)') n
-      text = trim(buffer)
-   end function itoa
 
    function argument(k) result(text)
       integer, intent(in) :: k

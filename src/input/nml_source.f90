@@ -16,6 +16,9 @@
 !> The validated text is then handed to the namelist reads in a canonical form (one key per
 !> line, strings re-quoted, numbers as written, so the values read are bitwise those of the
 !> file); `where` gives the readers FILE:LINE of a key for their cross-key checks.
+!> Overrides from outside the text (command line --set, a sweep table row) are set into the
+!> parsed source with `set` (ffrf_input_overrides): the same value checks and messages, their
+!> origin ("--set interface[B2].rc") in place of FILE:LINE, also in `where` and `at`.
 !> Array elements (`position(2) = ...`), null values (`, ,`) and `&end` are not accepted: give
 !> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals. A string may not
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
