@@ -83,3 +83,22 @@ add_test(NAME batch_error_slurm_not_index
     -DEXIT_CODE=2 "-DMESSAGE=SLURM_ARRAY_TASK_ID = \"1-3\": not a task index" -P ${_expect})
 set_tests_properties(batch_error_slurm_not_index PROPERTIES LABELS "regression;errors;batch"
   TIMEOUT 30 ENVIRONMENT "OPENBLAS_NUM_THREADS=1;SLURM_ARRAY_TASK_ID=1-3")
+# a cross-key check of a group reader (h against the run) names the override; a named joint
+set(_engine "${PROJECT_SOURCE_DIR}/input/engine_rigid.nml")
+add_test(NAME batch_error_cross_key
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=$<TARGET_FILE:ffrf>;${_engine};--check;--set;integrator.h=5"
+    -DEXIT_CODE=2 "-DMESSAGE=--set integrator.h = 5: longer than the run, t_end - t_start = 2 s"
+    -P ${_expect})
+add_test(NAME batch_error_joint_not_found
+  COMMAND ${CMAKE_COMMAND}
+    "-DCOMMAND=$<TARGET_FILE:ffrf>;${_engine};--check;--set;joint[crank_main].body1=crank"
+    -DEXIT_CODE=2 "-DMESSAGE=--set joint\\[crank_main\\].body1: no &joint named \"crank_main\" in .*engine_rigid\\.nml \\(names: main_bearing_B1, main_bearing_B3, flywheel"
+    -P ${_expect})
+# --help names the batch options
+add_test(NAME batch_help
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=$<TARGET_FILE:ffrf>;--help" -DWORKING_DIRECTORY=${_batch}
+    "-DREGEX=--set G\\[NAME\\]\\.KEY=V.*--sweep TABLE\\.csv.*--task N.*--output NAME.*--threads N.*--print-input.*--version"
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_output.cmake)
+set_tests_properties(batch_error_cross_key batch_error_joint_not_found PROPERTIES
+  LABELS "regression;errors;batch" TIMEOUT 30 ENVIRONMENT OPENBLAS_NUM_THREADS=1)
+set_tests_properties(batch_help PROPERTIES LABELS "regression;batch" TIMEOUT 30)
