@@ -7,10 +7,12 @@ independent references:
     fixing more dofs raises every eigenvalue), the lowest strictly;
   --sweep TABLE --task 1 / SLURM_ARRAY_TASK_ID=2: bitwise the equivalent --set runs, written to
     the --output '{case}_{task}.h5' names;
-  the overrides in the results' /input/namelist; --threads 2 reported by OpenBLAS itself and the
+  the overrides in the results' /input/namelist, gathered by postprocess/gather_results.py into
+    one CSV (override columns, frequencies bitwise the files') and a chart (a real PNG); --threads 2 reported by OpenBLAS itself and the
   frequencies of the 1-thread run within 1e-9; --print-input and --version exit 0 and write
   nothing."""
 import argparse
+import csv
 import os
 import re
 import subprocess
@@ -119,6 +121,25 @@ def main():
        np.array_equal(frequencies(name2), frc))
     ok("sweep origin in /input/namelist", "! table.csv:4 interface[B2].rc = Tx Ty Tz" in
        echo(name2), echo(name2).splitlines()[-2:])
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    gather = os.path.join(here, "..", "..", "postprocess", "gather_results.py")
+    run([sys.executable, gather, "base.h5", name1, name2, "--modes", "8", "--csv", "sweep.csv",
+         "--chart", "sweep.png", "--markdown", "sweep.md"])
+    with open("sweep.csv", newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    ok("gathered: 3 rows with the override columns", len(rows) == 3 and
+       [r["modes.num_modes"] for r in rows] == ["", "4", "8"] and
+       [r["interface[B2].rc"] for r in rows] == ["", "Tx", rc] and
+       all(r["status"] == "complete" for r in rows), str(rows[2])[:120])
+    got = [float(rows[2][f"f{k + 1} [Hz]"]) for k in range(8)]
+    ok("gathered frequencies bitwise the file's", np.array_equal(got, frequencies(name2)))
+    ok("gathered row 1: 4 frequencies, the others empty",
+       rows[1]["f4 [Hz]"] != "" and rows[1]["f5 [Hz]"] == "")
+    sys.path.insert(0, here)
+    import check_outputs  # noqa: E402  (the PNG check of the regression plots)
+    check_outputs.check_png("sweep.png")
+    ok("gathered chart: a PNG", True)
 
     out = run(ffrf + ["--output", "{case}_{task}.h5", "--print-input"],
               env_extra={"PBS_ARRAY_INDEX": "5"})
