@@ -577,11 +577,15 @@ contains
       if (len(name) == 0) name = 'none'
    end function msh_name
 
-   !> "input/crank_rc1.nml" -> "crank_rc1".
+   !> "input/crank_rc1.nml" -> "crank_rc1"; "-" (standard input) -> "stdin".
    pure function case_name_of(file_name) result(name)
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable :: name
       integer :: slash, dot
+      if (file_name == '-') then
+         name = 'stdin'
+         return
+      end if
       slash = index(file_name, '/', back=.true.)
       name = file_name(slash + 1:)
       dot = index(name, '.', back=.true.)

@@ -22,13 +22,14 @@ import h5py
 import numpy as np
 
 
-def run(args, env_extra=None, expect_files=()):
+def run(args, env_extra=None, expect_files=(), stdin=None):
     env = dict(os.environ)
     for name in ("SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "LSB_JOBINDEX"):
         env.pop(name, None)
     env.setdefault("OPENBLAS_NUM_THREADS", "1")
     env.update(env_extra or {})
-    done = subprocess.run(args, env=env, capture_output=True, text=True, timeout=120)
+    done = subprocess.run(args, env=env, capture_output=True, text=True, timeout=120,
+                          input=stdin)
     if done.returncode != 0:
         sys.exit(f"FAIL {' '.join(args)}: exit {done.returncode}\n{done.stdout}\n{done.stderr}")
     for name in expect_files:
@@ -147,6 +148,9 @@ def main():
     out = run(ffrf + ["--output", "{case}_{task}.h5", "--print-input"],
               env_extra={"LSB_JOBINDEX": "6"})
     ok("LSB_JOBINDEX gives {task}", f"output = '{stem}_6.h5'" in out)
+    out = run([a.ffrf, "-", "--output", "{case}_{task}.h5", "--task", "3", "--print-input"],
+              stdin=case_text)
+    ok("{case} of a case on standard input: stdin", "output = 'stdin_3.h5'" in out)
     out = run(ffrf + ["--set", "modes.num_modes=3", "--set", f"interface[B2].rc={rc}",
                       "--print-input"])
     ok("--print-input: the resolved case with the overrides, nothing written",
