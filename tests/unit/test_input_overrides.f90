@@ -261,6 +261,7 @@ contains
       if (allocated(error)) return
       call check(error, 'row 1 quoted comma: ' // rows(3)%value, rows(3)%value == 'a, b' .and. &
          rows(1)%value == '4')
+      call remove_file(file)
    end subroutine test_sweep_rows
 
    !> Row out of range, a wrong column count, a bad header key, an empty table, a missing file.
@@ -290,6 +291,7 @@ contains
       if (allocated(error)) return
       call check(error, 'missing: ' // got%message, got%code == FFRF_IO_ERROR .and. &
          index(got%message, 'cannot open the sweep table') == 1)
+      call remove_file(file)
    contains
       subroutine expect(name, row, start)
          character(len=*), intent(in) :: name, start
@@ -324,6 +326,7 @@ contains
       if (allocated(error)) return
       call check(error, 'message: ' // got%message, index(got%message, '--sweep ' // file // &
          ': which row? give --task N or run as a job array') == 1)
+      call remove_file(file)
    end subroutine test_batch_order
 
    ! ---------------------------------------------------------------------------------------------
@@ -378,6 +381,13 @@ contains
             '", expected "' // start // '..."')
       end if
    end subroutine expect_message
+
+   subroutine remove_file(name)
+      character(len=*), intent(in) :: name
+      integer :: unit, stat
+      open (newunit=unit, file=name, status='old', iostat=stat)
+      if (stat == 0) close (unit, status='delete')
+   end subroutine remove_file
 
    subroutine write_file(name, text)
       character(len=*), intent(in) :: name, text
