@@ -1,5 +1,8 @@
 !> ffrf batch driver: `ffrf CASE.nml|- [--check] [--mesh-dir DIR] [--output-dir DIR]
-!> [--quiet|--debug] [--no-overwrite] [--restart RESULTS]`.
+!> [--quiet|--debug] [--no-overwrite] [--restart RESULTS] [--set GROUP[NAME].KEY=VALUE]...
+!> [--sweep TABLE.csv] [--task N] [--output NAME] [--threads N] [--print-input]`,
+!> `ffrf --version`. Overrides, sweep rows and output names are made by the input layer
+!> (src/input/overrides.f90, src/input/sweep.f90).
 !> Reads the arguments, runs the case, prints an error and exits non-zero on failure:
 !> 2 bad input, 3 file input/output, 4 numerical failure, 5 interrupted by a signal,
 !> 1 bad command line.
@@ -7,9 +10,10 @@ program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
    use ffrf, only: error_t, logger_t, run_options_t, run_modal, run_mechanism, check_case, &
-      case_input_t, read_case, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
+      case_input_t, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
       FFRF_INTERRUPTED, LOG_QUIET, LOG_DEBUG, install_signal_handlers, signals_restart_calls, &
-      ignore_file_size_signal
+      ignore_file_size_signal, override_t, parse_override, batch_overrides, NO_TASK, &
+      read_case_with_overrides, case_echo, case_name_of, set_blas_threads, build_versions
    implicit none
    interface
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
@@ -23,15 +27,24 @@ program ffrf_driver
    type(run_options_t) :: options
    type(logger_t) :: log
    type(case_input_t) :: case
-   character(len=:), allocatable :: case_file, arg
-   logical :: check_only
-   integer :: i
+   character(len=:), allocatable :: case_file, arg, sweep_file, output_template
+   type(override_t), allocatable :: sets(:), overrides(:)
+   type(override_t) :: one
+   logical :: check_only, print_input
+   integer :: i, task, threads, threads_used, k
+   character(len=120) :: versions(8)
 
    options%mesh_dir = ''
    options%output_dir = ''
    options%restart_file = ''
    case_file = ''
    check_only = .false.
+   print_input = .false.
+   sweep_file = ''
+   output_template = ''
+   task = NO_TASK
+   threads = 0
+   allocate (sets(0))
    i = 0
    do while (i < command_argument_count())
       i = i + 1
@@ -57,6 +70,32 @@ program ffrf_driver
          options%log_level = LOG_DEBUG
       case ('--check')
          check_only = .true.
+      case ('--print-input')
+         print_input = .true.
+      case ('--version')
+         versions = build_versions()
+         do k = 1, size(versions)
+            write (output_unit, '(a)') trim(versions(k))
+         end do
+         stop
+      case ('--set', '--sweep', '--output', '--task', '--threads')
+         if (i == command_argument_count()) call bad_usage(arg // ' needs a value')
+         i = i + 1
+         select case (arg)
+         case ('--set')
+            call parse_override(argument(i), one, error)
+            if (allocated(error)) call fail(error)
+            sets = [sets, one]
+         case ('--sweep')
+            sweep_file = argument(i)
+         case ('--output')
+            output_template = argument(i)
+         case ('--task')
+            task = whole_number(arg, argument(i))
+         case ('--threads')
+            threads = whole_number(arg, argument(i))
+            if (threads < 1) call bad_usage('--threads ' // argument(i) // ': give 1 or more')
+         end select
       case default
          if (index(arg, '-') == 1 .and. arg /= '-') call bad_usage('unknown option ' // arg)
          if (len(case_file) > 0) call bad_usage('one case file only (got ' // case_file // &
@@ -71,7 +110,18 @@ program ffrf_driver
    if (.not. allocated(error)) call signals_restart_calls(error)
    if (.not. allocated(error)) call ignore_file_size_signal()
    log%unit = output_unit
-   if (.not. allocated(error)) call read_case(case_file, case, error)
+   if (.not. allocated(error)) call batch_overrides(case_name_of(case_file), sweep_file, task, &
+      sets, output_template, overrides, error)
+   if (.not. allocated(error)) call read_case_with_overrides(case_file, overrides, case, error)
+   if (.not. allocated(error) .and. print_input) then
+      write (output_unit, '(a)', advance='no') case_echo(case)
+      stop
+   end if
+   if (.not. allocated(error) .and. threads > 0) then
+      call set_blas_threads(threads, threads_used, error)
+      if (.not. allocated(error) .and. options%log_level /= LOG_QUIET) write (output_unit, &
+         '(a, i0)') 'BLAS threads: ', threads_used
+   end if
    if (.not. allocated(error)) then
       if (check_only) then
          call check_case(case, options, log, error)
@@ -81,7 +131,13 @@ program ffrf_driver
          call run_modal(case, options, log, error)
       end if
    end if
-   if (allocated(error)) then
+   if (allocated(error)) call fail(error)
+
+contains
+
+   !> Print the error and exit with its code.
+   subroutine fail(error)
+      type(error_t), intent(in) :: error
       write (error_unit, '(a)') 'ffrf: error: ' // error%message
       flush (output_unit)
       flush (error_unit)
@@ -91,9 +147,17 @@ program ffrf_driver
       case default
          call c_exit(1_c_int)
       end select
-   end if
+   end subroutine fail
 
-contains
+   !> The non-negative whole number after `option` (bad command line otherwise).
+   integer function whole_number(option, text) result(n)
+      character(len=*), intent(in) :: option, text
+      integer :: stat
+      n = -1
+      if (len(text) > 0 .and. len(text) <= 9 .and. verify(text, '0123456789') == 0) &
+         read (text, *, iostat=stat) n
+      if (n < 0) call bad_usage(option // ' ' // text // ': not a whole number')
+   end function whole_number
 
    function argument(k) result(text)
       integer, intent(in) :: k
@@ -108,6 +172,9 @@ contains
       integer, intent(in) :: unit
       write (unit, '(a)') 'usage: ffrf CASE.nml|- [--check] [--mesh-dir DIR] ' // &
          '[--output-dir DIR] [--quiet|--debug] [--no-overwrite] [--restart RESULTS]'
+      write (unit, '(a)') '            [--set GROUP[NAME].KEY=VALUE]... [--sweep TABLE.csv] ' // &
+         '[--task N] [--output NAME] [--threads N] [--print-input]'
+      write (unit, '(a)') '       ffrf --version'
       write (unit, '(a)') '  A modal case computes the constrained normal modes of the ' // &
          'bodies of CASE.nml'
       write (unit, '(a)') '  and writes <output>.h5 (HDF5 results) and <output>_modes.msh (gmsh).'
@@ -126,6 +193,22 @@ contains
          '(default: replace it when the run has finished)'
       write (unit, '(a)') '  --restart FILE    continue the mechanism run whose results (or ' // &
          '.checkpoint) file is FILE to the case''s t_end'
+      write (unit, '(a)') '  --set G.KEY=V      set KEY of the single group &G to V (repeatable), ' &
+         // 'e.g. --set modes.num_modes=12'
+      write (unit, '(a)') '  --set G[NAME].KEY=V  the same for the repeatable group &G named ' // &
+         'NAME, e.g. --set interface[B2].rc=Tx; V as in the namelist (a string may be unquoted)'
+      write (unit, '(a)') '  --sweep TABLE.csv  apply row N of TABLE (header: override keys ' // &
+         'G.KEY or G[NAME].KEY; one row of values per task), N the task index'
+      write (unit, '(a)') '  --task N          the task index (default: SLURM_ARRAY_TASK_ID, ' // &
+         'PBS_ARRAY_INDEX or LSB_JOBINDEX)'
+      write (unit, '(a)') '  --output NAME     results file, relative to --output-dir; ' // &
+         '{case}: the case name, {task}: the task index (e.g. ''{case}_{task}.h5'')'
+      write (unit, '(a)') '  --threads N       BLAS (OpenBLAS) threads (default: ' // &
+         'OPENBLAS_NUM_THREADS, else every core)'
+      write (unit, '(a)') '  --print-input     print the resolved case (overrides applied), ' // &
+         'then stop'
+      write (unit, '(a)') '  --version         print the versions of ffrf and its libraries, ' // &
+         'then stop'
       write (unit, '(a)') '  Exit codes: 0 done, 1 bad command line, 2 bad input, 3 file ' // &
          'input/output (disk full, output locked by another run), 4 numerical failure, ' // &
          '5 interrupted by a signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU)'

@@ -38,7 +38,11 @@ module ffrf
    use ffrf_app_body_modes, only: read_body_mesh, compute_body_modes_from_file, &
       compute_input_body_modes
    use ffrf_app_modal_run, only: run_modal_case, run_modal
-   use ffrf_input_case, only: case_input_t, read_case
+   use ffrf_input_case, only: case_input_t, read_case, read_case_with_overrides, case_echo, &
+      case_name_of
+   use ffrf_input_overrides, only: override_t, parse_override
+   use ffrf_input_sweep, only: batch_overrides, NO_TASK
+   use ffrf_la_blas_threads, only: set_blas_threads, blas_threads
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_app_mechanism_run, only: run_mechanism_case, run_mechanism
@@ -47,7 +51,7 @@ module ffrf
    use ffrf_capi_case, only: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, &
       FFRF_RBE3_AREA, FFRF_RBE3_AREA_CONSISTENT
    use ffrf_core_build_info, only: FFRF_VERSION, FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, &
-      FFRF_VERSION_PATCH
+      FFRF_VERSION_PATCH, build_versions
    implicit none
    public
 end module ffrf

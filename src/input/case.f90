@@ -19,12 +19,13 @@ module ffrf_input_case
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
+   use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
    implicit none
    private
    public :: case_input_t, read_case, case_echo, body_index, vector_text, case_groups
-   public :: check_output_path
+   public :: check_output_path, read_case_with_overrides, case_name_of
 
    !> Everything a modal or mechanism run needs.
    type :: case_input_t
@@ -42,6 +43,9 @@ module ffrf_input_case
       logical :: is_mechanism = .false.
       !> Markers, joints, loads, pressure, integrator (mechanism runs)
       type(mechanism_case_input_t) :: mechanism
+      !> The overrides the case was read with (command line, sweep table) as namelist comment
+      !> lines, appended to the echo; unallocated or '' for none
+      character(len=:), allocatable :: overrides
    end type case_input_t
 
 contains
@@ -81,6 +85,20 @@ contains
       character(len=*), intent(in) :: file_name
       type(case_input_t), intent(out) :: case
       type(error_t), allocatable, intent(out) :: error
+      type(override_t), allocatable :: none(:)
+      allocate (none(0))
+      call read_case_with_overrides(file_name, none, case, error)
+   end subroutine read_case
+
+   !> read_case with `overrides` (ffrf_input_overrides: --set, a sweep row, --output) set into
+   !> the checked text before the groups are read: a bad value gets the namelist's message with
+   !> the override's origin. When run.output is overridden and &run gives no mode_shapes_msh,
+   !> the mode shapes go to <output stem>_modes.msh (each task of a job array its own file).
+   subroutine read_case_with_overrides(file_name, overrides, case, error)
+      character(len=*), intent(in) :: file_name
+      type(override_t), intent(in) :: overrides(:)
+      type(case_input_t), intent(out) :: case
+      type(error_t), allocatable, intent(out) :: error
       type(nml_source_t) :: src
       character(len=:), allocatable :: text
       integer :: unit, stat, k
@@ -97,6 +115,9 @@ contains
       call src%parse(case%file_name, text, case_groups(), error)
       if (allocated(error)) return
       deallocate (text)
+      call apply_overrides(src, overrides, error)
+      if (allocated(error)) return
+      case%overrides = overrides_echo(overrides)
       ! The checked groups go to the namelist reads through a scratch file, in canonical form
       open (newunit=unit, status='scratch', action='readwrite', form='formatted', iostat=stat, &
          iomsg=msg)
@@ -117,7 +138,7 @@ contains
       end if
       close (unit)
       if (allocated(error)) then
-         if (index(error%message, case%file_name // ':') /= 1) call add_context(error, &
+         if (.not. located(error%message)) call add_context(error, &
             case%file_name)
          return
       end if
@@ -140,7 +161,7 @@ contains
          call check_mechanism_names(src, case, error)
          if (.not. allocated(error)) call check_step_count(src, case, error)
          if (allocated(error)) then
-            if (index(error%message, case%file_name // ':') /= 1) call add_context(error, &
+            if (.not. located(error%message)) call add_context(error, &
                case%file_name)
             return
          end if
@@ -150,12 +171,27 @@ contains
          'mode_shapes_msh'), case%run%mode_shapes_msh, error)
       if (allocated(error)) return
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
-      if (len_trim(case%run%mode_shapes_msh) == 0) then
+      if (len_trim(case%run%mode_shapes_msh) == 0 .and. overrides_set(overrides, 'run', &
+         'output')) then
+         case%run%mode_shapes_msh = case_name_of(trim(case%run%output)) // '_modes.msh'
+         k = index(trim(case%run%output), '/', back=.true.)
+         if (k > 0) case%run%mode_shapes_msh = case%run%output(:k) // case%run%mode_shapes_msh
+      else if (len_trim(case%run%mode_shapes_msh) == 0) then
          case%run%mode_shapes_msh = case%name // '_modes.msh'
       else if (to_lower(trim(case%run%mode_shapes_msh)) == 'none') then
          case%run%mode_shapes_msh = ''
       end if
-   end subroutine read_case
+   contains
+      !> The message starts with its place: FILE: or an override's origin.
+      logical function located(message)
+         character(len=*), intent(in) :: message
+         integer :: o
+         located = index(message, case%file_name // ':') == 1
+         do o = 1, size(overrides)
+            if (index(message, overrides(o)%origin) == 1) located = .true.
+         end do
+      end function located
+   end subroutine read_case_with_overrides
 
    !> An output named in a case stays inside the output directory: a relative path without a
    !> '..' component ('' is the default name). `where` starts the message (FILE:LINE: &run key).
@@ -258,6 +294,7 @@ contains
          to_str(case%modes%lanczos_vectors) // ', basis = ''' // trim(case%modes%basis) // &
          ''' /' // nl
       if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
+      if (allocated(case%overrides)) text = text // case%overrides
    end function case_echo
 
    !> The mechanism keys of a &body.
@@ -540,11 +577,15 @@ contains
       if (len(name) == 0) name = 'none'
    end function msh_name
 
-   !> "input/crank_rc1.nml" -> "crank_rc1".
+   !> "input/crank_rc1.nml" -> "crank_rc1"; "-" (standard input) -> "stdin".
    pure function case_name_of(file_name) result(name)
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable :: name
       integer :: slash, dot
+      if (file_name == '-') then
+         name = 'stdin'
+         return
+      end if
       slash = index(file_name, '/', back=.true.)
       name = file_name(slash + 1:)
       dot = index(name, '.', back=.true.)

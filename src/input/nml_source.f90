@@ -16,6 +16,9 @@
 !> The validated text is then handed to the namelist reads in a canonical form (one key per
 !> line, strings re-quoted, numbers as written, so the values read are bitwise those of the
 !> file); `where` gives the readers FILE:LINE of a key for their cross-key checks.
+!> Overrides from outside the text (command line --set, a sweep table row) are set into the
+!> parsed source with `set` (ffrf_input_overrides): the same value checks and messages, their
+!> origin ("--set interface[B2].rc") in place of FILE:LINE, also in `where` and `at`.
 !> Array elements (`position(2) = ...`), null values (`, ,`) and `&end` are not accepted: give
 !> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals. A string may not
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
@@ -81,6 +84,9 @@ module ffrf_input_nml_source
       character(len=:), allocatable :: raw
       !> The value text handed to the namelist read
       character(len=:), allocatable :: canonical
+      !> Set by an override (set): where it came from, e.g. "--set interface[B2].rc", used in
+      !> messages instead of FILE:LINE; unallocated for a key of the text
+      character(len=:), allocatable :: origin
    end type entry_t
 
    !> One occurrence of a group.
@@ -112,6 +118,8 @@ module ffrf_input_nml_source
       procedure :: at => source_at
       procedure :: integer_value => source_integer_value
       procedure :: write_namelist => source_write_namelist
+      procedure :: set => source_set
+      procedure :: names => source_names
    end type nml_source_t
 
    !> Scanner state over the whole text.
@@ -806,9 +814,17 @@ contains
       call find(self, group, number, key, o, e)
       if (e > 0) then
          associate (entry => self%occurrences(o)%entries(e))
-            text = self%file_name // ':' // to_str(entry%line) // ': &' // group // ' ' // &
-               key // ' = ' // quote(entry%raw)
+            if (allocated(entry%origin)) then
+               text = entry%origin // ' = ' // quote(entry%raw)
+            else
+               text = self%file_name // ':' // to_str(entry%line) // ': &' // group // ' ' // &
+                  key // ' = ' // quote(entry%raw)
+            end if
          end associate
+      else if (o > 0 .and. self%occurrences(max(o, 1))%line == 0) then
+         ! a group made by an override
+         text = self%file_name // ': &' // group
+         if (len(key) > 0) text = text // ' (' // key // ' not given)'
       else if (o > 0) then
          text = self%file_name // ':' // to_str(self%occurrences(o)%line) // ': &' // group
          if (self%groups(self%occurrences(o)%group)%repeatable) text = text // ' #' // &
@@ -829,7 +845,13 @@ contains
       integer :: o, e
       call find(self, group, number, key, o, e)
       if (e > 0) then
-         text = self%file_name // ':' // to_str(self%occurrences(o)%entries(e)%line)
+         if (allocated(self%occurrences(o)%entries(e)%origin)) then
+            text = self%occurrences(o)%entries(e)%origin
+         else
+            text = self%file_name // ':' // to_str(self%occurrences(o)%entries(e)%line)
+         end if
+      else if (o > 0 .and. self%occurrences(max(o, 1))%line == 0) then
+         text = self%file_name
       else if (o > 0) then
          text = self%file_name // ':' // to_str(self%occurrences(o)%line)
       else
@@ -877,6 +899,175 @@ contains
       if (stat /= 0) call fatal_error(error, FFRF_IO_ERROR, self%file_name // &
          ': cannot write the checked case to a scratch file: ' // trim(msg))
    end subroutine source_write_namelist
+
+   ! ---------------------------------------------------------------------------------------------
+   ! Overrides
+
+   !> Set `key` of group `group` to `value` after the parse (a command-line override), with the
+   !> checks and messages of a key of the text; `origin` (e.g. "--set interface[B2].rc") takes
+   !> the place of FILE:LINE in messages. A repeatable group is chosen by its `name` key
+   !> (`name` /= ''; exactly one occurrence must carry it), a single group by `name` = '' (made
+   !> when the text has none). `value` is namelist value text (`4`, `1, 0, 0`, `'Tx'`); a
+   !> string key also takes a bare value, the whole of `value` then being the string.
+   subroutine source_set(self, group, name, key, value, origin, error)
+      class(nml_source_t), intent(inout) :: self
+      character(len=*), intent(in) :: group, name, key, value, origin
+      type(error_t), allocatable, intent(out) :: error
+      type(scanner_t) :: s
+      type(item_t), allocatable :: items(:)
+      type(occurrence_t) :: occ
+      type(entry_t) :: entry
+      character(len=:), allocatable :: raw, problem, gname
+      integer :: g, k, o, e, matches
+      g = 0
+      do k = 1, size(self%groups)
+         if (trim(self%groups(k)%name) == to_lower(group)) g = k
+      end do
+      if (g == 0) then
+         call fail(origin // ': unknown namelist group &' // group // '; groups are &' // &
+            join_words(self%groups%name, ', &'))
+         return
+      end if
+      gname = '&' // trim(self%groups(g)%name)
+      k = 0
+      do e = 1, size(self%groups(g)%keys)
+         if (trim(self%groups(g)%keys(e)%name) == to_lower(key)) k = e
+      end do
+      if (k == 0) then
+         call fail(origin // ': unknown key ' // key // ' of ' // gname // '; the keys of ' // &
+            gname // ' are ' // join_words(self%groups(g)%keys%name, ', '))
+         return
+      end if
+      ! the group occurrence
+      o = 0
+      if (self%groups(g)%repeatable) then
+         if (len(name) == 0) then
+            call fail(origin // ': ' // gname // ' is a repeatable group; choose one by its ' // &
+               'name, ' // trim(self%groups(g)%name) // '[NAME].' // to_lower(key) // &
+               '=VALUE (names: ' // self%names(trim(self%groups(g)%name)) // ')')
+            return
+         end if
+         matches = 0
+         do e = 1, self%used
+            if (self%occurrences(e)%group /= g) cycle
+            if (occurrence_name(self, e) /= name) cycle
+            matches = matches + 1
+            o = e
+         end do
+         if (matches /= 1) then
+            if (matches == 0) then
+               problem = 'no ' // gname // ' named "' // name // '" in ' // self%file_name
+            else
+               problem = to_str(matches) // ' ' // gname // ' groups are named "' // name // &
+                  '" in ' // self%file_name // '; rename one to choose it'
+            end if
+            call fail(origin // ': ' // problem // ' (names: ' // &
+               self%names(trim(self%groups(g)%name)) // ')')
+            return
+         end if
+      else
+         if (len(name) > 0) then
+            call fail(origin // ': ' // gname // ' is a single group, chosen without a ' // &
+               'name: ' // trim(self%groups(g)%name) // '.' // to_lower(key) // '=VALUE')
+            return
+         end if
+         do e = 1, self%used
+            if (self%occurrences(e)%group == g) o = e
+         end do
+         if (o == 0) then
+            ! a single group the text leaves out: made here, defaults for its other keys
+            occ%group = g
+            occ%number = 1
+            occ%line = 0
+            allocate (occ%entries(0))
+            call append_occurrence(self, occ)
+            o = self%used
+         end if
+      end if
+      ! the value, as the parse reads it
+      if (is_bare_string(self%groups(g)%keys(k), value)) then
+         allocate (items(0))
+         call append_item(items, .true., value)
+         raw = value
+      else
+         call parse_items(value, s, items, raw, problem)
+         if (len(problem) == 0 .and. s%pos <= len(value)) problem = 'unexpected "' // &
+            quote(value(s%pos:)) // '" after the value'
+         if (len(problem) > 0) then
+            call fail(origin // ' = ' // quote(value) // ': ' // problem)
+            return
+         end if
+      end if
+      entry%key = k
+      entry%line = 0
+      entry%raw = raw
+      entry%origin = origin
+      call check_value(self%groups(g)%keys(k), items, entry%canonical, problem)
+      if (len(problem) > 0) then
+         call fail(origin // ' = ' // quote(raw) // ': ' // problem)
+         return
+      end if
+      associate (occ_o => self%occurrences(o))
+         do e = 1, size(occ_o%entries)
+            if (occ_o%entries(e)%key == k) then
+               occ_o%entries(e) = entry
+               return
+            end if
+         end do
+         occ_o%entries = [occ_o%entries, entry]
+      end associate
+   contains
+      subroutine fail(message)
+         character(len=*), intent(in) :: message
+         call fatal_error(error, FFRF_INPUT_ERROR, message)
+      end subroutine fail
+   end subroutine source_set
+
+   !> A string key's value written without quotes (`rc=Tx` on a command line): one string.
+   pure logical function is_bare_string(key, value) result(bare)
+      type(key_spec_t), intent(in) :: key
+      character(len=*), intent(in) :: value
+      bare = key%kind == KEY_STRING .and. len(value) > 0
+      if (bare) bare = value(1:1) /= '''' .and. value(1:1) /= '"'
+   end function is_bare_string
+
+   !> "a, b, c": the names (key `name`) of the occurrences of group `group`, 'none' if none.
+   function source_names(self, group) result(text)
+      class(nml_source_t), intent(in) :: self
+      character(len=*), intent(in) :: group
+      character(len=:), allocatable :: text
+      integer :: o
+      text = ''
+      do o = 1, self%used
+         if (trim(self%groups(self%occurrences(o)%group)%name) /= group) cycle
+         if (len(text) > 0) text = text // ', '
+         text = text // occurrence_name(self, o)
+      end do
+      if (len(text) == 0) text = 'none'
+   end function source_names
+
+   !> The string of key `name` of occurrence o (quotes undone), '' if not given.
+   function occurrence_name(self, o) result(name)
+      type(nml_source_t), intent(in) :: self
+      integer, intent(in) :: o
+      character(len=:), allocatable :: name
+      character(len=:), allocatable :: quoted
+      integer :: e, k
+      name = ''
+      associate (occ => self%occurrences(o))
+         do e = 1, size(occ%entries)
+            if (trim(self%groups(occ%group)%keys(occ%entries(e)%key)%name) /= 'name') cycle
+            quoted = occ%entries(e)%canonical
+            ! canonical strings are 'text' with inner quotes doubled
+            k = 2
+            do while (k < len(quoted))
+               name = name // quoted(k:k)
+               if (quoted(k:k) == '''') k = k + 1
+               k = k + 1
+            end do
+         end do
+      end associate
+   end function occurrence_name
 
    ! ---------------------------------------------------------------------------------------------
    ! Helpers
