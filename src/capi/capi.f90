@@ -26,6 +26,9 @@ module ffrf_capi
       ffrf_case_set_num_modes
    public :: ffrf_case_add_interface_nodes
 
+   !> The arrays of a body (body_array)
+   integer, parameter :: BODY_NODES = 1, BODY_MODE_SHAPES = 2, BODY_VIRTUAL_NODE_SHAPES = 3
+
    !> What a `ffrf_case *` points to.
    type :: capi_handle_t
       !> The case
@@ -409,9 +412,11 @@ contains
       stat = status_of(h, error)
    end function ffrf_body_sizes
 
-   !> Common part of the array queries of a body: `which` selects the array.
-   integer(c_int) function body_array(c, body, which, array, capacity, count) result(stat)
+   !> Common part of the array queries of a body: `kind` (BODY_NODES, BODY_MODE_SHAPES or
+   !> BODY_VIRTUAL_NODE_SHAPES) selects the array, `which` names the entry point in messages.
+   integer(c_int) function body_array(c, body, kind, which, array, capacity, count) result(stat)
       type(c_ptr), intent(in) :: c, array, count
+      integer, intent(in) :: kind
       integer(c_int), intent(in) :: body
       character(len=*), intent(in) :: which
       integer(c_size_t), intent(in) :: capacity
@@ -431,10 +436,10 @@ contains
       end if
       call c_f_pointer(count, out)
       out = 0
-      select case (which)
-      case ('ffrf_body_nodes')
+      select case (kind)
+      case (BODY_NODES)
          call h%case%nodes(int(body) + 1, values, error)
-      case ('ffrf_body_mode_shapes')
+      case (BODY_MODE_SHAPES)
          call h%case%mode_shapes(int(body) + 1, values, error)
       case default
          call h%case%virtual_node_shapes(int(body) + 1, values, error)
@@ -452,7 +457,7 @@ contains
       type(c_ptr), value :: c, xyz, count
       integer(c_int), value :: body
       integer(c_size_t), value :: capacity
-      stat = body_array(c, body, 'ffrf_body_nodes', xyz, capacity, count)
+      stat = body_array(c, body, BODY_NODES, 'ffrf_body_nodes', xyz, capacity, count)
    end function ffrf_body_nodes
 
    !> int ffrf_body_mode_shapes(const ffrf_case *c, int body, double *shape, size_t capacity,
@@ -462,7 +467,7 @@ contains
       type(c_ptr), value :: c, shape, count
       integer(c_int), value :: body
       integer(c_size_t), value :: capacity
-      stat = body_array(c, body, 'ffrf_body_mode_shapes', shape, capacity, count)
+      stat = body_array(c, body, BODY_MODE_SHAPES, 'ffrf_body_mode_shapes', shape, capacity, count)
    end function ffrf_body_mode_shapes
 
    !> int ffrf_body_virtual_node_shapes(const ffrf_case *c, int body, double *rows,
@@ -472,7 +477,8 @@ contains
       type(c_ptr), value :: c, rows, count
       integer(c_int), value :: body
       integer(c_size_t), value :: capacity
-      stat = body_array(c, body, 'ffrf_body_virtual_node_shapes', rows, capacity, count)
+      stat = body_array(c, body, BODY_VIRTUAL_NODE_SHAPES, &
+         'ffrf_body_virtual_node_shapes', rows, capacity, count)
    end function ffrf_body_virtual_node_shapes
 
    !> int ffrf_body_mass_properties(const ffrf_case *c, int body, double *mass,

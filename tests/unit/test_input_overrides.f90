@@ -239,7 +239,8 @@ contains
    subroutine test_sweep_rows(error)
       type(error_t), allocatable, intent(out) :: error
       type(override_t), allocatable :: rows(:)
-      character(len=*), parameter :: file = 'test_input_overrides_rows.csv'
+      character(len=:), allocatable :: file
+      file = own_name('rows.csv')
       call write_file(file, '# a sweep' // NL // 'modes.num_modes, interface[B2].rc, ' // &
          'run.title' // NL // NL // '4,Tx,"a, b"' // NL // ' 6 , Tx Ty , "say ""hi"""' // &
          achar(13) // NL)
@@ -267,9 +268,10 @@ contains
    !> Row out of range, a wrong column count, a bad header key, an empty table, a missing file.
    subroutine test_sweep_errors(error)
       type(error_t), allocatable, intent(out) :: error
-      character(len=*), parameter :: file = 'test_input_overrides_errors.csv'
+      character(len=:), allocatable :: file
       type(override_t), allocatable :: rows(:)
       type(error_t), allocatable :: got
+      file = own_name('errors.csv')
       call write_file(file, 'modes.num_modes' // NL // '4' // NL // '6' // NL)
       call expect(file, 3, file // ': row 3 asked (the task index), the table has 2 rows (1..2)')
       if (allocated(error)) return
@@ -308,7 +310,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(override_t), allocatable :: all(:)
       type(error_t), allocatable :: got
-      character(len=*), parameter :: file = 'test_input_overrides_batch.csv'
+      character(len=:), allocatable :: file
+      file = own_name('batch.csv')
       call write_file(file, 'modes.num_modes' // NL // '4' // NL // '6' // NL)
       call batch_overrides('crank', file, 2, [set('modes.num_modes=9')], '{case}_{task}.h5', &
          all, error)
@@ -397,6 +400,16 @@ contains
       write (unit) text
       close (unit)
    end subroutine write_file
+
+   !> A file name of this test program's own (the plain and the _checked executables run at
+   !> the same time and must not share a file): <executable>_<suffix>.
+   function own_name(suffix) result(name)
+      character(len=*), intent(in) :: suffix
+      character(len=:), allocatable :: name
+      character(len=512) :: program
+      call get_command_argument(0, program)
+      name = trim(program(index(program, '/', back=.true.) + 1:)) // '_' // suffix
+   end function own_name
 
 end module test_input_overrides
 
