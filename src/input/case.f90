@@ -6,6 +6,7 @@
 !> output paths of &run (relative, no '..': outputs stay inside --output-dir) and the number of
 !> integration steps (t_end - t_start)/h against &integrator max_steps.
 module ffrf_input_case
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
@@ -94,7 +95,21 @@ contains
    !> the checked text before the groups are read: a bad value gets the namelist's message with
    !> the override's origin. When run.output is overridden and &run gives no mode_shapes_msh,
    !> the mode shapes go to <output stem>_modes.msh (each task of a job array its own file).
+   !> One case read at a time in the process: two handles reading their cases at once in two
+   !> threads made gfortran 12's namelist read fail ("Invalid string input"; ctest capi_threads),
+   !> so the parse and the namelist reads run in the input-file serial section.
    subroutine read_case_with_overrides(file_name, overrides, case, error)
+      character(len=*), intent(in) :: file_name
+      type(override_t), intent(in) :: overrides(:)
+      type(case_input_t), intent(out) :: case
+      type(error_t), allocatable, intent(out) :: error
+      call enter_serial_section(SECTION_FILES)
+      call read_case_in_section(file_name, overrides, case, error)
+      call leave_serial_section(SECTION_FILES)
+   end subroutine read_case_with_overrides
+
+   !> read_case_with_overrides inside the input-file serial section.
+   subroutine read_case_in_section(file_name, overrides, case, error)
       character(len=*), intent(in) :: file_name
       type(override_t), intent(in) :: overrides(:)
       type(case_input_t), intent(out) :: case
@@ -191,7 +206,7 @@ contains
             if (index(message, overrides(o)%origin) == 1) located = .true.
          end do
       end function located
-   end subroutine read_case_with_overrides
+   end subroutine read_case_in_section
 
    !> An output named in a case stays inside the output directory: a relative path without a
    !> '..' component ('' is the default name). `where` starts the message (FILE:LINE: &run key).

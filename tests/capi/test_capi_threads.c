@@ -2,7 +2,9 @@
  * cases (one writing its results, one writing nothing) and two mechanisms advanced in 1 ms
  * chunks run at the same time, started together at a barrier. Each result must equal, bitwise,
  * the same computation done alone beforehand: frequencies of every body, crank angle and speed
- * after every chunk. ARPACK (SAVEd reverse-communication state) and HDF5 (a serial build) are
+ * after every chunk. Meanwhile OPENERS more threads open and close both cases OPENINGS times each
+ * (reading and checking a case: namelists, meshes are read later), every one with status FFRF_OK.
+ * ARPACK (SAVEd reverse-communication state) and HDF5 (a serial build) are
  * entered one thread at a time inside ffrf; everything else lives in the handles.
  * Usage: test_capi_threads MODAL_CASE MECHANISM_CASE MESH_DIR OUTPUT_DIR */
 #define _POSIX_C_SOURCE 200809L
@@ -14,7 +16,7 @@
 
 #include "ffrf.h"
 
-enum { MAX_VALUES = 256, CHUNKS = 5, THREADS = 4 };
+enum { MAX_VALUES = 256, CHUNKS = 5, THREADS = 4, OPENERS = 4, OPENINGS = 25 };
 
 typedef struct {
     const char *case_file, *mesh_dir, *output_dir; /* output_dir NULL: nothing written */
@@ -77,10 +79,35 @@ static void *thread_main(void *argument)
     return NULL;
 }
 
+/* An opener: both cases opened and closed OPENINGS times; the first failure is kept. */
+typedef struct {
+    const char *case_files[2], *mesh_dir;
+    int status;
+    char message[512];
+} opener;
+
+static void *open_main(void *argument)
+{
+    opener *o = argument;
+    pthread_barrier_wait(&start_line);
+    for (int k = 0; k < 2 * OPENINGS && o->status == FFRF_OK; k++) {
+        ffrf_case *c = NULL;
+        int status = ffrf_case_open(o->case_files[k % 2], o->mesh_dir, NULL, &c);
+        if (status != FFRF_OK) {
+            snprintf(o->message, sizeof o->message, "open %d of %s: status %d: %s", k,
+                     o->case_files[k % 2], status, ffrf_last_error(c));
+            o->status = status;
+        }
+        ffrf_case_close(c);
+    }
+    return NULL;
+}
+
 int main(int argc, char **argv)
 {
     job alone[2], jobs[THREADS];
-    pthread_t threads[THREADS];
+    opener openers[OPENERS];
+    pthread_t threads[THREADS], opener_threads[OPENERS];
     char written[1024];
     int failures = 0;
 
@@ -106,9 +133,14 @@ int main(int argc, char **argv)
         jobs[t] = alone[t / 2];
         jobs[t].output_dir = t == 0 ? written : NULL;
     }
-    pthread_barrier_init(&start_line, NULL, THREADS);
+    for (int t = 0; t < OPENERS; t++)
+        openers[t] = (opener){.case_files = {argv[1], argv[2]}, .mesh_dir = argv[3]};
+    pthread_barrier_init(&start_line, NULL, THREADS + OPENERS);
     for (int t = 0; t < THREADS; t++) pthread_create(&threads[t], NULL, thread_main, &jobs[t]);
+    for (int t = 0; t < OPENERS; t++)
+        pthread_create(&opener_threads[t], NULL, open_main, &openers[t]);
     for (int t = 0; t < THREADS; t++) pthread_join(threads[t], NULL);
+    for (int t = 0; t < OPENERS; t++) pthread_join(opener_threads[t], NULL);
     pthread_barrier_destroy(&start_line);
 
     for (int t = 0; t < THREADS; t++) {
@@ -130,6 +162,13 @@ int main(int argc, char **argv)
                t == 0 ? ", results written" : "", jobs[t].count, differ, worst);
         if (jobs[t].count != ref->count || differ) failures++;
     }
+    for (int t = 0; t < OPENERS; t++)
+        if (openers[t].status != FFRF_OK) {
+            fprintf(stderr, "FAIL opener %d: %s\n", t, openers[t].message);
+            failures++;
+        }
+    printf("%d openers, %d case openings each: %s\n", OPENERS, 2 * OPENINGS,
+           failures ? "see above" : "all FFRF_OK");
     if (failures) fprintf(stderr, "%d failure(s)\n", failures);
     return failures ? 1 : 0;
 }
