@@ -23,7 +23,8 @@
 !> whole arrays. Repeat counts `r*value` are accepted for numbers and logicals. A string may not
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
 module ffrf_input_nml_source
-   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
+   use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_TOO_LARGE, &
+      READ_NO_MEMORY, READ_FAILED
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -212,7 +213,7 @@ contains
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      integer :: unit, stat
+      integer :: step
       integer(i8) :: size_bytes
       character(len=512) :: msg
       if (file_name == '-') then
@@ -225,33 +226,22 @@ contains
             ' (or - to read the case from standard input)'
          return
       end if
-      ! one unit per file in the process (Fortran 2008, 9.5.4): threads reading it take turns
-      call enter_serial_section(SECTION_FILES)
-      open (newunit=unit, file=file_name, status='old', action='read', access='stream', &
-         form='unformatted', iostat=stat, iomsg=msg)
-      if (stat /= 0) then
+      call read_whole_file(file_name, text, step, size_bytes, msg, MAX_CASE_BYTES)
+      select case (step)
+      case (READ_OPEN_FAILED)
          call fatal_error(error, FFRF_IO_ERROR, 'cannot open case file "' // file_name // &
             '": ' // trim(msg))
-         call leave_serial_section(SECTION_FILES)
-         return
-      end if
-      inquire (unit=unit, size=size_bytes)
-      if (size_bytes < 0 .or. size_bytes > MAX_CASE_BYTES) then
-         close (unit)
+      case (READ_TOO_LARGE)
          call fatal_error(error, FFRF_IO_ERROR, 'case file "' // file_name // '": size ' // &
             to_str(size_bytes) // ' bytes, unknown or above the ' // to_str(MAX_CASE_BYTES) // &
             ' allowed')
-         call leave_serial_section(SECTION_FILES)
-         return
-      end if
-      allocate (character(len=size_bytes) :: text)
-      if (size_bytes > 0) read (unit, iostat=stat, iomsg=msg) text
-      close (unit)
-      call leave_serial_section(SECTION_FILES)
-      if (stat /= 0) then
+      case (READ_NO_MEMORY)
+         call fatal_error(error, FFRF_IO_ERROR, 'case file "' // file_name // '": out of ' // &
+            'memory for ' // to_str(size_bytes) // ' bytes')
+      case (READ_FAILED)
          call fatal_error(error, FFRF_IO_ERROR, 'cannot read case file "' // file_name // &
             '": ' // trim(msg))
-      end if
+      end select
    end subroutine read_case_text
 
    !> Standard input to its end, at most MAX_CASE_BYTES, lines joined by new-line characters.

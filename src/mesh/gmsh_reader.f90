@@ -46,7 +46,7 @@
 !> missing value is reported where it is missing); a physical name appears once per dimension;
 !> an element block's type matches its entity's dimension.
 module ffrf_mesh_gmsh
-   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
+   use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_NO_MEMORY, READ_FAILED
    use ffrf_core_error, only: error_t
    use ffrf_mesh_mesh, only: mesh_t
    implicit none
@@ -1497,7 +1497,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=512) :: message
       integer(i8) :: file_size
-      integer :: unit, stat, kind
+      integer :: step, kind
       c%file_name = file_name
       c%section = 'start of file'
       ! A FIFO or device would block or never end, a folder cannot be read: only a regular file
@@ -1511,39 +1511,18 @@ contains
          call check_input_file(file_name, 'mesh file', MAX_MESH_BYTES, error)
          if (allocated(error)) return
       end if
-      ! a file may be connected to one unit at a time in the process (Fortran 2008, 9.5.4):
-      ! two handles reading the same mesh in two threads take turns
-      call enter_serial_section(SECTION_FILES)
-      open (newunit=unit, file=file_name, access='stream', form='unformatted', status='old', &
-         action='read', iostat=stat, iomsg=message)
-      if (stat /= 0) then
+      call read_whole_file(file_name, c%text, step, file_size, message)
+      select case (step)
+      case (READ_OPEN_FAILED)
          call fatal_error(error, FFRF_IO_ERROR, 'mesh ''' // file_name // ''': cannot open: ' // &
             trim(message) // '; build the mesh first (gmsh -3 ... -o ' // file_name // ')')
-         call leave_serial_section(SECTION_FILES)
-         return
-      end if
-      inquire (unit=unit, size=file_size)
-      if (file_size < 0) file_size = 0
-      allocate (character(len=file_size) :: c%text, stat=stat)
-      if (stat /= 0) then
+      case (READ_NO_MEMORY)
          call fatal_error(error, FFRF_IO_ERROR, 'mesh ''' // file_name // ''': out of memory ' // &
             'for ' // to_str(file_size) // ' bytes')
-         close (unit)
-         call leave_serial_section(SECTION_FILES)
-         return
-      end if
-      if (file_size > 0) then
-         read (unit, iostat=stat, iomsg=message) c%text
-         if (stat /= 0) then
-            call fatal_error(error, FFRF_IO_ERROR, 'mesh ''' // file_name // ''': cannot ' // &
-               'read: ' // trim(message))
-            close (unit)
-            call leave_serial_section(SECTION_FILES)
-            return
-         end if
-      end if
-      close (unit, iostat=stat)
-      call leave_serial_section(SECTION_FILES)
+      case (READ_FAILED)
+         call fatal_error(error, FFRF_IO_ERROR, 'mesh ''' // file_name // ''': cannot ' // &
+            'read: ' // trim(message))
+      end select
    end subroutine load_file
 
    !> Skip blanks and line ends, counting lines.
