@@ -54,6 +54,9 @@ endforeach()
 if(EXISTS "${PROJECT_SOURCE_DIR}/include/ffrf.h")
   install(FILES "${PROJECT_SOURCE_DIR}/include/ffrf.h" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endif()
+if(FFRF_MPI)   # the MPI_Comm convenience of the C API (MPI host programs)
+  install(FILES "${PROJECT_SOURCE_DIR}/include/ffrf_mpi.h" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endif()
 
 # CMake package
 install(FILES cmake/FindMUMPS.cmake cmake/FindARPACK.cmake cmake/FindMETIS.cmake
