@@ -20,12 +20,16 @@ import sys
 SKIP = 77
 
 
-def mpirun_prefix(mpi_build, ranks):
+def mpirun_prefix(a, ranks):
     info = {}
-    with open(os.path.join(mpi_build, 'mpi_build_status.txt')) as f:
-        for line in f:
-            key, _, value = line.strip().partition('=')
-            info[key] = value
+    if a.mpi_build:
+        with open(os.path.join(a.mpi_build, 'mpi_build_status.txt')) as f:
+            for line in f:
+                key, _, value = line.strip().partition('=')
+                info[key] = value
+    else:   # inside the MPI build's own ctest (tests/mpi/CMakeLists.txt)
+        info = dict(status='built', mpirun=a.mpirun, driver=a.mpi_driver,
+                    host_program=a.host_program)
     if info.get('status') != 'built':
         print(f"skipped: {info.get('reason', 'the MPI build was not made')}")
         sys.exit(SKIP)
@@ -59,8 +63,12 @@ def frequencies(h5_file):
 def main():
     p = argparse.ArgumentParser()
     p.add_argument('kind', choices=['modes', 'engine', 'host'])
-    p.add_argument('--mpi-build', required=True)
-    p.add_argument('--driver', required=True, help='the sequential ffrf')
+    p.add_argument('--mpi-build', help='the MPI build made by build_mpi.py')
+    p.add_argument('--mpirun', help='without --mpi-build: mpirun')
+    p.add_argument('--mpi-driver', help='without --mpi-build: the MPI ffrf')
+    p.add_argument('--host-program', help='without --mpi-build: mpi_host_program')
+    p.add_argument('--driver', required=True,
+                   help='the reference ffrf: the sequential build (or the MPI one, one process)')
     p.add_argument('--case', required=True)
     p.add_argument('--mesh-dir', required=True)
     p.add_argument('--out', required=True)
@@ -68,7 +76,7 @@ def main():
     p.add_argument('--rtol', type=float, default=1e-9)
     p.add_argument('--set', action='append', default=[])
     a = p.parse_args()
-    mpirun, info = mpirun_prefix(a.mpi_build, a.ranks)
+    mpirun, info = mpirun_prefix(a, a.ranks)
     env = dict(os.environ, OPENBLAS_NUM_THREADS='1', OMP_NUM_THREADS='1')
     if os.geteuid() == 0:
         env.update(OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1')
