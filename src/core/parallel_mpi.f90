@@ -7,7 +7,7 @@
 !> rank 0 (the root) alone logs and writes files (README "MPI build and runs").
 module ffrf_core_parallel
    use mpi
-   use ffrf_core_kinds, only: dp
+   use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    implicit none
@@ -19,6 +19,8 @@ module ffrf_core_parallel
    logical, parameter :: FFRF_MPI_BUILD = .true.
    !> A parallel_t without communicator: one process (MUMPS on MPI_COMM_SELF)
    integer, parameter :: NO_COMMUNICATOR = -987654
+   !> Values per message of the collective operations on arrays (1 GiB of doubles)
+   integer(i8), parameter :: CHUNK = 2_i8**27
 
    !> The ranks of a run: communicator (Fortran handle, MPI_Fint), this rank, their number.
    type :: parallel_t
@@ -105,27 +107,39 @@ contains
       parallel_is_root = self%rank == 0
    end function parallel_is_root
 
-   !> x summed over the ranks, the same bits on every rank (reduced on the root, broadcast).
+   !> x summed over the ranks, the same bits on every rank (reduced on the root in place,
+   !> broadcast), in pieces of at most CHUNK values (no message above 1 GiB).
    subroutine parallel_sum_reals(self, x)
       class(parallel_t), intent(in) :: self
       real(dp), intent(inout) :: x(:)
-      real(dp), allocatable :: total(:)
+      integer(i8) :: first, last
       integer :: ierr
       if (self%num_ranks == 1) return
-      allocate (total(size(x)))
-      call MPI_Reduce(x, total, size(x), MPI_DOUBLE_PRECISION, MPI_SUM, 0, self%comm, ierr)
-      if (self%rank == 0) x = total
-      deallocate (total)
-      call MPI_Bcast(x, size(x), MPI_DOUBLE_PRECISION, 0, self%comm, ierr)
+      do first = 1, size(x, kind=i8), CHUNK
+         last = min(first + CHUNK - 1, size(x, kind=i8))
+         if (self%rank == 0) then
+            call MPI_Reduce(MPI_IN_PLACE, x(first:last), int(last - first + 1), &
+               MPI_DOUBLE_PRECISION, MPI_SUM, 0, self%comm, ierr)
+         else
+            call MPI_Reduce(x(first:last), x(first:last), int(last - first + 1), &
+               MPI_DOUBLE_PRECISION, MPI_SUM, 0, self%comm, ierr)
+         end if
+      end do
+      call self%broadcast_reals(x)
    end subroutine parallel_sum_reals
 
-   !> x of the root on every rank.
+   !> x of the root on every rank (in pieces of at most CHUNK values).
    subroutine parallel_broadcast_reals(self, x)
       class(parallel_t), intent(in) :: self
       real(dp), intent(inout) :: x(:)
+      integer(i8) :: first, last
       integer :: ierr
       if (self%num_ranks == 1) return
-      call MPI_Bcast(x, size(x), MPI_DOUBLE_PRECISION, 0, self%comm, ierr)
+      do first = 1, size(x, kind=i8), CHUNK
+         last = min(first + CHUNK - 1, size(x, kind=i8))
+         call MPI_Bcast(x(first:last), int(last - first + 1), MPI_DOUBLE_PRECISION, 0, &
+            self%comm, ierr)
+      end do
    end subroutine parallel_broadcast_reals
 
    !> The largest `value` over the ranks.
