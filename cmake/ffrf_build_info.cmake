@@ -2,7 +2,7 @@
 set(FFRF_MUMPS_VERSION "unknown")
 set(FFRF_MUMPS_KIND "sequential")
 if(FFRF_MPI)
-  set(FFRF_MUMPS_KIND "MPI, MPI ${MPI_Fortran_VERSION}")
+  set(FFRF_MUMPS_KIND "MPI build, MPI standard ${MPI_Fortran_VERSION}")
 endif()
 if(EXISTS "${MUMPS_INCLUDE_DIR}/dmumps_c.h")
   file(STRINGS "${MUMPS_INCLUDE_DIR}/dmumps_c.h" _line REGEX "#define MUMPS_VERSION \"")
