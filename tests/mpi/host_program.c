@@ -3,8 +3,10 @@
  * through the C API (include/ffrf_mpi.h), so the library must work on the communicator it is
  * given, not on MPI_COMM_WORLD. Each group's rank 0 writes the frequencies of every body to
  * OUT_DIR/group<G>.txt, one "%.17g" per line, for run_mpi_case.py to compare with the
- * sequential driver's. The library writes nothing (no output folder).
- * Usage: mpirun -np 3 mpi_host_program CASE.nml MESH_DIR OUT_DIR */
+ * sequential driver's. The library writes nothing (no output folder). With ENGINE.nml, each
+ * group also advances that mechanism case to its t_end in two halves and writes the final
+ * "time angle speed" to OUT_DIR/group<G>_engine.txt.
+ * Usage: mpirun -np 3 mpi_host_program CASE.nml MESH_DIR OUT_DIR [ENGINE.nml] */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -15,15 +17,15 @@
 int main(int argc, char **argv)
 {
     int world_rank, group_rank, group_size, group, n, b, k, count, status = 0;
-    double hz[64];
+    double hz[64], t, t_end, angle, speed;
     char path[4096];
-    ffrf_case *c = NULL;
+    ffrf_case *c = NULL, *engine = NULL;
     MPI_Comm comm;
     FILE *out;
 
     MPI_Init(&argc, &argv);
-    if (argc != 4) {
-        fprintf(stderr, "usage: mpi_host_program CASE.nml MESH_DIR OUT_DIR\n");
+    if (argc != 4 && argc != 5) {
+        fprintf(stderr, "usage: mpi_host_program CASE.nml MESH_DIR OUT_DIR [ENGINE.nml]\n");
         MPI_Finalize();
         return 1;
     }
@@ -63,6 +65,30 @@ int main(int argc, char **argv)
         }
     }
     ffrf_case_close(c);
+    if (status == 0 && argc == 5) {
+        if (ffrf_case_open(argv[4], argv[2], NULL, &engine) != FFRF_OK ||
+            ffrf_case_set_mpi_comm(engine, comm) != FFRF_OK ||
+            ffrf_mechanism_advance(engine, 0.0) != FFRF_OK ||
+            ffrf_mechanism_time(engine, &t, &t_end) != FFRF_OK ||
+            ffrf_mechanism_advance(engine, 0.5 * t_end) != FFRF_OK ||
+            ffrf_mechanism_advance(engine, t_end) != FFRF_OK ||
+            ffrf_mechanism_time(engine, &t, &t_end) != FFRF_OK ||
+            ffrf_crank_state(engine, &angle, &speed) != FFRF_OK) {
+            fprintf(stderr, "mpi_host_program: rank %d, engine: %s\n", world_rank,
+                    ffrf_last_error(engine));
+            status = 1;
+        } else if (group_rank == 0) {
+            snprintf(path, sizeof path, "%s/group%d_engine.txt", argv[3], group);
+            out = fopen(path, "w");
+            if (!out) {
+                status = 1;
+            } else {
+                fprintf(out, "%.17g %.17g %.17g\n", t, angle, speed);
+                fclose(out);
+            }
+        }
+        ffrf_case_close(engine);
+    }
     MPI_Comm_free(&comm);
     MPI_Finalize();
     return status;

@@ -11,7 +11,9 @@
 #    of their largest value.
 #  - mpi_host_program: a C MPI host (host_program.c) on 3 ranks split into communicators of 2
 #    and 1 ranks, each running crank lc 8 mm RC set 2 through ffrf_case_set_mpi_comm:
-#    frequencies of both groups equal the sequential driver's to 1e-9.
+#    frequencies of both groups equal the sequential driver's to 1e-9; both groups also advance
+#    the mpi_engine case through the C API in two halves: final time, crank angle and speed
+#    equal the sequential driver's last step to 1e-9.
 set(_mpi_build "${PROJECT_BINARY_DIR}/mpi")
 set(_mpi_out "${PROJECT_BINARY_DIR}/tests/mpi")
 add_test(NAME mpi_build
@@ -38,6 +40,7 @@ set_tests_properties(mpi_engine PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
 add_test(NAME mpi_host_program
   COMMAND ${_mpi_run} host --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
     --case ${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml
+    --engine ${PROJECT_BINARY_DIR}/tests/capi/capi_engine.nml
     --mesh-dir ${PROJECT_BINARY_DIR}/meshes --out ${_mpi_out}/host --ranks 3 --rtol 1e-9)
 set_tests_properties(mpi_host_program PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
-  FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+  FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh;conrod_lc8_mesh" PROCESSORS 2)

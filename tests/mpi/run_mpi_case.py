@@ -8,8 +8,11 @@ that the fixture mpi_build made (build_mpi.py). Exit 77 (ctest SKIP_RETURN_CODE)
           hold /timings/peak_memory_mib_per_rank with one value per rank.
   engine: the same for a mechanism case: the crank angle and speed histories must agree to
           --rtol (relative to the largest |value|), and only rank 0 writes files.
-  host:   `mpirun -np 3 mpi_host_program CASE MESH_DIR OUT`: groups of 2 and 1 ranks run the case
-          on their own communicators; both groups' frequencies against the sequential driver's.
+  host:   `mpirun -np 3 mpi_host_program CASE MESH_DIR OUT [ENGINE]`: groups of 2 and 1 ranks run
+          the case on their own communicators; both groups' frequencies against the sequential
+          driver's; with --engine both groups' final time, crank angle and speed of the mechanism
+          advanced through the C API in two halves against the driver's last step (--rtol of
+          the value).
 """
 import argparse
 import os
@@ -75,6 +78,7 @@ def main():
     p.add_argument('--ranks', type=int, default=2)
     p.add_argument('--rtol', type=float, default=1e-9)
     p.add_argument('--set', action='append', default=[])
+    p.add_argument('--engine', help='host: also this mechanism case')
     a = p.parse_args()
     mpirun, info = mpirun_prefix(a, a.ranks)
     env = dict(os.environ, OPENBLAS_NUM_THREADS='1', OMP_NUM_THREADS='1')
@@ -91,7 +95,23 @@ def main():
     run([a.driver] + common + ['--output-dir', seq_dir], env=env)
     failures = []
     if a.kind == 'host':
-        run(mpirun + [info['host_program'], a.case, a.mesh_dir, mpi_dir], env=env)
+        engine = [a.engine] if a.engine else []
+        run(mpirun + [info['host_program'], a.case, a.mesh_dir, mpi_dir] + engine, env=env)
+        if a.engine:
+            import h5py
+            run([a.driver, a.engine, '--mesh-dir', a.mesh_dir, '--output', 'engine.h5',
+                 '--output-dir', seq_dir, '--quiet'], env=env)
+            with h5py.File(os.path.join(seq_dir, 'engine.h5'), 'r') as f:
+                ref_state = [f['/time/t'][-1], f['/time/crank_angle'][-1],
+                             f['/time/crank_speed'][-1]]
+            for group in ('group0_engine.txt', 'group1_engine.txt'):
+                with open(os.path.join(mpi_dir, group)) as f:
+                    state = [float(x) for x in f.read().split()]
+                diff = max(abs(x - y) / abs(y) for x, y in zip(state, ref_state))
+                print(f'{group}: t, crank angle, speed {state}, largest relative difference '
+                      f'from the driver {diff:.3g} (tolerance {a.rtol:g})')
+                if diff > a.rtol:
+                    failures.append(f'{group}: final state differs by {diff:.3g}')
         reference = frequencies(os.path.join(seq_dir, 'result.h5'))
         ref = [x for body in reference for x in reference[body]]
         for group, ranks in (('group0.txt', 2), ('group1.txt', a.ranks - 2)):
