@@ -19,7 +19,8 @@ set(_mpi_out "${PROJECT_BINARY_DIR}/tests/mpi")
 add_test(NAME mpi_build
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/mpi/build_mpi.py
     --source ${PROJECT_SOURCE_DIR} --build ${_mpi_build} --cmake ${CMAKE_COMMAND})
-set_tests_properties(mpi_build PROPERTIES FIXTURES_SETUP mpi_build LABELS mpi TIMEOUT 900)
+set_tests_properties(mpi_build PROPERTIES FIXTURES_SETUP mpi_build LABELS mpi TIMEOUT 900
+  PROCESSORS 2)
 
 set(_mpi_run ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/mpi/run_mpi_case.py)
 foreach(_case crank_rc1 crank_rc2 crank_rc3 crank_rc1_rbe2 crank_rc2_rbe2 crank_rc3_rbe2)
