@@ -123,6 +123,11 @@ program ffrf_driver
       if (options%parallel%is_root()) write (output_unit, '(a)', advance='no') case_echo(case)
       call finish(0)
    end if
+   ! MPI: one BLAS thread per rank unless asked otherwise (ranks x threads would oversubscribe)
+   if (options%parallel%num_ranks > 1 .and. threads == 0) then
+      call get_environment_variable('OPENBLAS_NUM_THREADS', length=k)
+      if (k == 0) threads = 1
+   end if
    if (.not. allocated(error) .and. threads > 0) then
       call set_blas_threads(threads, threads_used, error)
       if (.not. allocated(error) .and. options%log_level /= LOG_QUIET .and. &
