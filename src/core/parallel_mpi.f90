@@ -6,6 +6,7 @@
 !> only the element assembly (ffrf_fe_assembly) and MUMPS (ffrf_la_mumps) share work, and
 !> rank 0 (the root) alone logs and writes files (README "MPI build and runs").
 module ffrf_core_parallel
+   use, intrinsic :: iso_c_binding, only: c_int
    use mpi
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -21,6 +22,17 @@ module ffrf_core_parallel
    integer, parameter :: NO_COMMUNICATOR = -987654
    !> Values per message of the collective operations on arrays (1 GiB of doubles)
    integer(i8), parameter :: CHUNK = 2_i8**27
+   !> Microseconds a rank sleeps between tests while it waits for the others in `agree`
+   integer(c_int), parameter :: WAIT_POLL_US = 200_c_int
+
+   interface
+      !> POSIX usleep: give the core away while waiting
+      integer(c_int) function usleep(microseconds) bind(c, name='usleep')
+         import :: c_int
+         implicit none
+         integer(c_int), value :: microseconds
+      end function usleep
+   end interface
 
    !> The ranks of a run: communicator (Fortran handle, MPI_Fint), this rank, their number.
    type :: parallel_t
@@ -174,6 +186,7 @@ contains
       integer :: failing, code, length, ierr
       character(len=:), allocatable :: message
       if (self%num_ranks == 1) return
+      call wait_for_all(self)
       failing = self%num_ranks
       if (allocated(error)) failing = self%rank
       call MPI_Allreduce(MPI_IN_PLACE, failing, 1, MPI_INTEGER, MPI_MIN, self%comm, ierr)
@@ -193,5 +206,20 @@ contains
       if (allocated(error)) deallocate (error)
       call fatal_error(error, code, message)
    end subroutine parallel_agree
+
+   !> A barrier that sleeps while it waits (MPI_Ibarrier tested every WAIT_POLL_US): a rank
+   !> waiting for rank 0's METIS ordering or its output gives its core away instead of spinning
+   !> in the MPI library (which slows rank 0 down on a busy machine).
+   subroutine wait_for_all(self)
+      type(parallel_t), intent(in) :: self
+      integer :: request, ierr
+      logical :: done
+      call MPI_Ibarrier(self%comm, request, ierr)
+      do
+         call MPI_Test(request, done, MPI_STATUS_IGNORE, ierr)
+         if (done .or. ierr /= MPI_SUCCESS) exit
+         ierr = int(usleep(WAIT_POLL_US))
+      end do
+   end subroutine wait_for_all
 
 end module ffrf_core_parallel
