@@ -1,5 +1,9 @@
 # Versions of the libraries this build found, for the results files (/build/versions).
 set(FFRF_MUMPS_VERSION "unknown")
+set(FFRF_MUMPS_KIND "sequential")
+if(FFRF_MPI)
+  set(FFRF_MUMPS_KIND "MPI build, MPI standard ${MPI_Fortran_VERSION}")
+endif()
 if(EXISTS "${MUMPS_INCLUDE_DIR}/dmumps_c.h")
   file(STRINGS "${MUMPS_INCLUDE_DIR}/dmumps_c.h" _line REGEX "#define MUMPS_VERSION \"")
   string(REGEX MATCH "[0-9.]+" FFRF_MUMPS_VERSION "${_line}")

@@ -54,6 +54,9 @@ endforeach()
 if(EXISTS "${PROJECT_SOURCE_DIR}/include/ffrf.h")
   install(FILES "${PROJECT_SOURCE_DIR}/include/ffrf.h" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endif()
+if(FFRF_MPI)   # the MPI_Comm convenience of the C API (MPI host programs)
+  install(FILES "${PROJECT_SOURCE_DIR}/include/ffrf_mpi.h" DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endif()
 
 # CMake package
 install(FILES cmake/FindMUMPS.cmake cmake/FindARPACK.cmake cmake/FindMETIS.cmake
@@ -97,7 +100,8 @@ if(CMAKE_C_IMPLICIT_LINK_LIBRARIES)
 endif()
 ffrf_link_flags(FFRF_PC_DEPENDENCIES ${HDF5_Fortran_LIBRARIES} ${HDF5_LIBRARIES}
   ${MUMPS_DMUMPS_LIBRARY} ${MUMPS_COMMON_LIBRARY} ${MUMPS_PORD_LIBRARY} ${MUMPS_MPISEQ_LIBRARY}
-  ${ARPACK_LIBRARY} ${METIS_LIBRARY} ${LAPACK_LIBRARIES} ${_fortran_runtime})
+  ${ARPACK_LIBRARY} ${METIS_LIBRARY} ${LAPACK_LIBRARIES} ${_fortran_runtime}
+  ${MPI_Fortran_LIBRARIES} ${MPI_C_LIBRARIES})     # (MPI: only in the MPI build)
 # A shared libffrf records its dependencies itself: `--libs` is -lffrf and `--static` adds the
 # rest. A static-only install has no .so, so `--libs` must carry every library.
 if(BUILD_SHARED_LIBS)

@@ -6,6 +6,9 @@
 !> Reads the arguments, runs the case, prints an error and exits non-zero on failure:
 !> 2 bad input, 3 file input/output, 4 numerical failure, 5 interrupted by a signal,
 !> 1 bad command line.
+!> MPI build: `mpirun -np N ffrf CASE.nml`; every rank parses the same command line and runs the
+!> case on MPI_COMM_WORLD, rank 0 alone prints and writes, and every rank exits with the same
+!> code (the error of the lowest failing rank; ffrf_driver_ranks).
 program ffrf_driver
    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
    use, intrinsic :: iso_c_binding, only: c_int
@@ -14,6 +17,7 @@ program ffrf_driver
       FFRF_INTERRUPTED, LOG_QUIET, LOG_DEBUG, install_signal_handlers, signals_restart_calls, &
       ignore_file_size_signal, override_t, parse_override, batch_overrides, NO_TASK, &
       read_case_with_overrides, case_echo, case_name_of, set_blas_threads, build_versions
+   use ffrf_driver_ranks, only: start_ranks, end_ranks
    implicit none
    interface
       !> C's exit(): ends the run with a status and no runtime banner (ERROR STOP prints one).
@@ -34,6 +38,8 @@ program ffrf_driver
    integer :: i, task, threads, threads_used, k
    character(len=120) :: versions(8)
 
+   call start_ranks(options%parallel, error)
+   if (allocated(error)) call fail(error)
    options%mesh_dir = ''
    options%output_dir = ''
    options%restart_file = ''
@@ -51,8 +57,8 @@ program ffrf_driver
       arg = argument(i)
       select case (arg)
       case ('-h', '--help')
-         call usage(output_unit)
-         stop
+         if (options%parallel%is_root()) call usage(output_unit)
+         call finish(0)
       case ('--mesh-dir', '--output-dir')
          if (i == command_argument_count()) call bad_usage(arg // ' needs a folder')
          i = i + 1
@@ -75,9 +81,9 @@ program ffrf_driver
       case ('--version')
          versions = build_versions()
          do k = 1, size(versions)
-            write (output_unit, '(a)') trim(versions(k))
+            if (options%parallel%is_root()) write (output_unit, '(a)') trim(versions(k))
          end do
-         stop
+         call finish(0)
       case ('--set', '--sweep', '--output', '--task', '--threads')
          if (i == command_argument_count()) call bad_usage(arg // ' needs a value')
          i = i + 1
@@ -114,13 +120,18 @@ program ffrf_driver
       sets, output_template, overrides, error)
    if (.not. allocated(error)) call read_case_with_overrides(case_file, overrides, case, error)
    if (.not. allocated(error) .and. print_input) then
-      write (output_unit, '(a)', advance='no') case_echo(case)
-      stop
+      if (options%parallel%is_root()) write (output_unit, '(a)', advance='no') case_echo(case)
+      call finish(0)
+   end if
+   ! MPI: one BLAS thread per rank unless asked otherwise (ranks x threads would oversubscribe)
+   if (options%parallel%num_ranks > 1 .and. threads == 0) then
+      call get_environment_variable('OPENBLAS_NUM_THREADS', length=k)
+      if (k == 0) threads = 1
    end if
    if (.not. allocated(error) .and. threads > 0) then
       call set_blas_threads(threads, threads_used, error)
-      if (.not. allocated(error) .and. options%log_level /= LOG_QUIET) write (output_unit, &
-         '(a, i0)') 'BLAS threads: ', threads_used
+      if (.not. allocated(error) .and. options%log_level /= LOG_QUIET .and. &
+         options%parallel%is_root()) write (output_unit, '(a, i0)') 'BLAS threads: ', threads_used
    end if
    if (.not. allocated(error)) then
       if (check_only) then
@@ -131,23 +142,34 @@ program ffrf_driver
          call run_modal(case, options, log, error)
       end if
    end if
+   ! every rank leaves with the same error, if any (one process: nothing to agree)
+   call options%parallel%agree(error)
    if (allocated(error)) call fail(error)
+   call finish(0)
 
 contains
 
-   !> Print the error and exit with its code.
+   !> Print the error (rank 0) and exit with its code.
    subroutine fail(error)
       type(error_t), intent(in) :: error
-      write (error_unit, '(a)') 'ffrf: error: ' // error%message
-      flush (output_unit)
-      flush (error_unit)
+      if (options%parallel%is_root()) write (error_unit, '(a)') 'ffrf: error: ' // &
+         error%message
       select case (error%code)
       case (FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED)
-         call c_exit(int(error%code, c_int))
+         call finish(error%code)
       case default
-         call c_exit(1_c_int)
+         call finish(1)
       end select
    end subroutine fail
+
+   !> End the run with exit status `code` (MPI build: after MPI_Finalize).
+   subroutine finish(code)
+      integer, intent(in) :: code
+      flush (output_unit)
+      flush (error_unit)
+      call end_ranks()
+      call c_exit(int(code, c_int))
+   end subroutine finish
 
    !> The non-negative whole number after `option` (bad command line otherwise).
    integer function whole_number(option, text) result(n)
@@ -216,9 +238,9 @@ contains
 
    subroutine bad_usage(message)
       character(len=*), intent(in) :: message
-      write (error_unit, '(a)') 'ffrf: error: ' // message // ' (ffrf --help for usage)'
-      flush (error_unit)
-      call c_exit(1_c_int)
+      if (options%parallel%is_root()) write (error_unit, '(a)') 'ffrf: error: ' // message // &
+         ' (ffrf --help for usage)'
+      call finish(1)
    end subroutine bad_usage
 
 end program ffrf_driver

@@ -193,6 +193,14 @@ int ffrf_case_add_interface_nodes(ffrf_case *c, int body, const char *name, int 
 /* Number of flexible modes per body (default 12; free-free bodies: the rigid modes on top). */
 int ffrf_case_set_num_modes(ffrf_case *c, int num_modes);
 
+/* MPI build (-DFFRF_MPI=ON): run the case on the ranks of the communicator whose Fortran
+ * handle is fortran_comm (an MPI_Fint: MPI_Comm_c2f(comm); include/ffrf_mpi.h has
+ * ffrf_case_set_mpi_comm taking an MPI_Comm). Call it on every rank of the communicator before
+ * ffrf_case_run / ffrf_mechanism_advance; every rank then calls the library with the same
+ * case and gets the same modes; rank 0 alone writes the results. MPI must be initialised by
+ * the host. The sequential build returns FFRF_INPUT_ERROR (rebuild with -DFFRF_MPI=ON). */
+int ffrf_case_set_communicator(ffrf_case *c, int fortran_comm);
+
 #ifdef __cplusplus
 }
 #endif

@@ -2,7 +2,13 @@
 """Benchmark of the modal pipeline on the reference crank: for each mesh size, mesh crank.geo
 with gmsh, run ffrf on a case (default: RC set 1, RBE3, 12 modes) and print one CSV row with the
 mesh size and the wall time and peak memory of every stage, read from the results file.
-Not a test: timings depend on the machine; report them with the machine named."""
+Not a test: timings depend on the machine; report them with the machine named.
+
+--ranks N runs `mpirun -np N FFRF` (FFRF the MPI build's ffrf, -DFFRF_MPI=ON); the last columns
+give the ranks, the wall time of the whole ffrf run (mpirun included) and the largest peak
+memory of one rank (/timings/peak_memory_mib_per_rank; one process: /timings/peak_memory_mib).
+--mesh FILE[,FILE...] takes existing meshes instead of meshing (lc read from a name like
+crank_lc0.002.msh, else from --lc in the same order)."""
 import argparse
 import csv
 import os
@@ -29,7 +35,24 @@ def main():
                         help="comma-separated mesh sizes in metres")
     parser.add_argument("--work", default="benchmark", help="folder for meshes and results")
     parser.add_argument("--csv", default=None, help="also write the CSV here")
+    parser.add_argument("--ranks", type=int, default=1,
+                        help="MPI ranks: mpirun -np RANKS FFRF (FFRF: the MPI build)")
+    parser.add_argument("--mpirun", default="mpirun", help="the mpirun program")
+    parser.add_argument("--mesh", default=None,
+                        help="comma-separated existing mesh files (no gmsh run)")
     args = parser.parse_args()
+    meshes = args.mesh.split(",") if args.mesh else None
+    lcs = [float(x) for x in args.lc.split(",")]
+    if meshes:
+        lcs = []
+        for k, name in enumerate(meshes):
+            found = re.search(r"lc([0-9.]*[0-9])", os.path.basename(name))
+            lcs.append(float(found.group(1)) if found else float(args.lc.split(",")[k]))
+    launcher = []
+    if args.ranks > 1:
+        launcher = [args.mpirun, "-np", str(args.ranks)]
+        if os.geteuid() == 0:
+            launcher.append("--allow-run-as-root")
 
     os.makedirs(args.work, exist_ok=True)
     with open(args.case) as f:
@@ -37,17 +60,23 @@ def main():
     columns = ["lc_mm", "nodes", "dofs", "nnz_K", "reduced", "constraints", "gmsh_s", "read_s",
                "assembly_s", "rc_matrix_s", "ordering_s", "factorisation_s", "eigen_loop_s",
                "output_s", "ffrf_total_s", "peak_memory_mib", "factor_entries",
-               "f1_hz", "f12_hz"]
+               "f1_hz", "f12_hz", "ranks", "wall_s", "peak_memory_per_rank_max_mib"]
     rows = []
     writer = csv.writer(sys.stdout)
     writer.writerow(columns)
-    for lc in [float(x) for x in args.lc.split(",")]:
+    for k, lc in enumerate(lcs):
         tag = f"crank_lc{lc * 1000:g}mm"
-        mesh = os.path.join(args.work, tag + ".msh")
-        t0 = time.perf_counter()
-        subprocess.run([args.gmsh, "-3", "-setnumber", "lc", str(lc), "-format", "msh41",
-                        "-o", mesh, args.geo], check=True, stdout=subprocess.DEVNULL)
-        gmsh_s = time.perf_counter() - t0
+        if args.ranks > 1:
+            tag += f"_np{args.ranks}"
+        gmsh_s = 0.0
+        if meshes:
+            mesh = meshes[k]
+        else:
+            mesh = os.path.join(args.work, tag + ".msh")
+            t0 = time.perf_counter()
+            subprocess.run([args.gmsh, "-3", "-setnumber", "lc", str(lc), "-format", "msh41",
+                            "-o", mesh, args.geo], check=True, stdout=subprocess.DEVNULL)
+            gmsh_s = time.perf_counter() - t0
         case = os.path.join(args.work, tag + ".nml")
         text = re.sub(r"mesh_file\s*=\s*'[^']*'", f"mesh_file = '{os.path.abspath(mesh)}'",
                       case_text)
@@ -56,8 +85,10 @@ def main():
         with open(case, "w") as f:
             f.write(text)
         env = dict(os.environ, OPENBLAS_NUM_THREADS=os.environ.get("OPENBLAS_NUM_THREADS", "1"))
-        subprocess.run([args.ffrf, case, "--output-dir", args.work, "--quiet"], check=True,
-                       env=env)
+        t0 = time.perf_counter()
+        subprocess.run(launcher + [args.ffrf, case, "--output-dir", args.work, "--quiet"],
+                       check=True, env=env)
+        wall_s = time.perf_counter() - t0
         with h5py.File(os.path.join(args.work, tag + ".h5"), "r") as h5:
             names = [n.decode().strip() for n in h5["/timings/stage"][()]]
             seconds = list(h5["/timings/seconds"][()])
@@ -77,8 +108,12 @@ def main():
                                      + stage_seconds(names, seconds, ": analysis"), 3))
                     continue
                 row.append(round(stage_seconds(names, seconds, suffix), 3))
+            rank_peak = peak
+            if "/timings/peak_memory_mib_per_rank" in h5:
+                rank_peak = float(max(h5["/timings/peak_memory_mib_per_rank"][()]))
             row += [round(peak, 1), factor_entries, round(float(freq[0]), 4),
-                    round(float(freq[-1]), 4)]
+                    round(float(freq[-1]), 4), args.ranks, round(wall_s, 3),
+                    round(rank_peak, 1)]
         rows.append(row)
         writer.writerow(row)
         sys.stdout.flush()

@@ -50,6 +50,7 @@ module ffrf
    use ffrf_app_mechanism_session, only: mechanism_session_t
    use ffrf_capi_case, only: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, &
       FFRF_RBE3_AREA, FFRF_RBE3_AREA_CONSISTENT
+   use ffrf_core_parallel, only: parallel_t, parallel_of_communicator, FFRF_MPI_BUILD
    use ffrf_core_build_info, only: FFRF_VERSION, FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, &
       FFRF_VERSION_PATCH, build_versions
    implicit none

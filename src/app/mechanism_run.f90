@@ -16,6 +16,7 @@ module ffrf_app_mechanism_run
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_mechanism_session, only: mechanism_session_t, move_modes
+   use ffrf_core_parallel, only: use_ranks
    implicit none
    private
    public :: run_mechanism_case, run_mechanism
@@ -63,7 +64,15 @@ contains
       call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
       ! prepare records the run (lock, restart, results file, first state); the advance to t_end
       ! puts the file in place, also when the run fails
-      call session%prepare(case, run_options%mesh_dir, log, times, error, options=run_options)
+      ! MPI build: every rank computes the modes together and integrates the (small) mechanism
+      ! itself; rank 0 alone records the run (the others write nothing)
+      call use_ranks(options%parallel)
+      if (options%parallel%is_root()) then
+         call session%prepare(case, run_options%mesh_dir, log, times, error, &
+            options=run_options)
+      else
+         call session%prepare(case, run_options%mesh_dir, log, times, error)
+      end if
       if (.not. allocated(error)) call session%advance(session%end_time(), error)
       if (present(modes) .and. allocated(session%bodies)) then
          allocate (modes(size(session%bodies)))

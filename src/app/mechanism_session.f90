@@ -40,6 +40,7 @@ module ffrf_app_mechanism_session
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_engine_auto_model, only: model_choice_t
    use ffrf_model_model, only: model_t, build_model
+   use ffrf_core_parallel, only: parallel_t, current_ranks
    implicit none
    private
    public :: mechanism_session_t, move_modes
@@ -179,6 +180,7 @@ contains
       type(run_options_t), intent(in), optional :: options
       type(stage_timer_t) :: timer
       type(error_t), allocatable :: run_error
+      type(parallel_t) :: ranks
       if (.not. case%is_mechanism) then
          call fatal_error(error, FFRF_INPUT_ERROR, case%file_name // ': not a mechanism ' // &
             'case (no &joint groups): nothing to advance; compute its modes instead')
@@ -188,11 +190,12 @@ contains
       if (present(options)) then
          ! one run per output, checked before anything is computed
          call self%output%reserve(case, options, error)
-         if (allocated(error)) then
-            call self%output%release()
-            return
-         end if
+         if (allocated(error)) call self%output%release()
       end if
+      ! MPI build: a rank 0 that cannot record the run stops every rank before the modes
+      ranks = current_ranks()
+      call ranks%agree(error)
+      if (allocated(error)) return
       call start_integration(case, self%resolved, mesh_dir, log, times, self%mech, self%bodies, &
          self%pressure, self%has_pressure, self%model, self%integrator, error, timer)
       if (.not. allocated(error) .and. present(options)) then

@@ -12,6 +12,7 @@ module ffrf_app_modal_run
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_core_parallel, only: parallel_t, use_ranks
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_input_case, only: case_input_t, read_case, case_echo
    use ffrf_io_hdf5, only: h5_file_t
@@ -62,8 +63,13 @@ contains
       character(len=:), allocatable :: mesh_dir, results_file, msh_file, echo
       type(output_lock_t) :: lock
       integer :: k
+      real(dp), allocatable :: rank_peak_mib(:)
+      type(parallel_t) :: ranks
 
       call total%begin()
+      ranks = options%parallel
+      ! MPI build: every rank computes the modes, rank 0 alone writes (README "MPI build")
+      call use_ranks(options%parallel)
       case_file = case%file_name
       call set_log_level(log, options, log_level_code(case%run%log_level))
       mesh_dir = options%mesh_dir
@@ -73,10 +79,11 @@ contains
       call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
 
       results_file = join_path(options%output_dir, trim(case%run%output))
-      call lock%acquire(results_file, error)
+      if (ranks%is_root()) call lock%acquire(results_file, error)
+      call ranks%agree(error)
       if (allocated(error)) return
       call compute_and_write(error)
-      call lock%release()
+      if (ranks%is_root()) call lock%release()
       if (present(modes) .and. allocated(bodies)) call move_alloc(bodies, modes)
 
    contains
@@ -98,10 +105,10 @@ contains
                return
             end if
          end if
-         if (.not. options%overwrite) then
+         if (.not. options%overwrite .and. ranks%is_root()) &
             call check_no_overwrite(results_file, error)
-            if (allocated(error)) return
-         end if
+         call ranks%agree(error)
+         if (allocated(error)) return
          ! The case resolved once: every body's rigid flag, interfaces and modes to compute
          call build_model(case, model, error)
          if (allocated(error)) then
@@ -109,7 +116,10 @@ contains
             return
          end if
          temp_file = partial_name(results_file)
-         call results_create(temp_file, case%name, trim(case%run%title), echo, h5, error)
+         if (ranks%is_root()) call results_create(temp_file, case%name, &
+            trim(case%run%title), echo, h5, error)
+         call ranks%agree(error)
+         if (allocated(error) .and. .not. ranks%is_root()) return
          if (allocated(error)) then
             call h5%close(close_error)
             call abandon_file(temp_file)
@@ -130,12 +140,13 @@ contains
                   mesh_dir, log, times, bodies(k), error)
             end associate
             call output_timer%begin()
-            if (.not. allocated(error)) then
+            if (.not. allocated(error) .and. ranks%is_root()) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)
                if (allocated(error)) call add_context(error, 'results file "' // &
                   results_file // '"')
             end if
-            if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0) then
+            if (.not. allocated(error) .and. len_trim(case%run%mode_shapes_msh) > 0 .and. &
+               ranks%is_root()) then
                msh_file = join_path(options%output_dir, trim(case%run%mode_shapes_msh))
                if (size(case%bodies) > 1) msh_file = insert_suffix(msh_file, '_' // &
                   bodies(k)%name)
@@ -144,11 +155,12 @@ contains
                if (.not. allocated(error)) call log%info('output', 'mode shapes for gmsh ' // &
                   'written: ' // msh_file)
             end if
+            call ranks%agree(error)
             if (allocated(error)) exit
             call times%add(bodies(k)%name // ': output', output_timer%seconds())
             call log_frequency_table(log, bodies(k), trim(case%modes%rc_label))
             ! A signal (SIGTERM, ...) ends the run between bodies, with what is done
-            signal = pending_signal()
+            signal = ranks%max_int(pending_signal())
             if (signal /= 0 .and. k < size(case%bodies)) then
                call fatal_error(error, FFRF_INTERRUPTED, case_file // ': interrupted by ' // &
                   signal_name(signal) // ' after body "' // bodies(k)%name // '"; results ' // &
@@ -158,6 +170,12 @@ contains
             end if
          end do
          call times%add('total', total%seconds())
+         if (ranks%num_ranks > 1) then
+            ! every rank's peak memory, in the results (/timings/peak_memory_mib_per_rank)
+            rank_peak_mib = ranks%gather_real(peak_memory_mib())
+            times%rank_peak_mib = rank_peak_mib
+         end if
+         if (.not. ranks%is_root()) return
 
          if (allocated(error)) then
             if (error%code /= FFRF_INTERRUPTED) call add_context(error, case_file)
@@ -182,8 +200,15 @@ contains
             return
          end if
          call log%info('output', 'results written: ' // results_file)
-         call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s, peak ' &
-            // 'memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+         if (ranks%num_ranks > 1) then
+            call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s on ' &
+               // to_str(ranks%num_ranks) // ' MPI ranks, peak memory per rank max ' // &
+               to_str(maxval(rank_peak_mib), 4) // ' MiB (rank 0 ' // &
+               to_str(rank_peak_mib(1), 4) // ' MiB)')
+         else
+            call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // &
+               ' s, peak memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
+         end if
       end subroutine compute_and_write
 
    end subroutine run_modal

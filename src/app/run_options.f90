@@ -1,7 +1,8 @@
 !> Run options shared by the modal and the mechanism run: where inputs come from and results go,
 !> how much to log, overwrite and restart (the driver fills them from its command line).
 module ffrf_app_run_options
-   use ffrf_core_log, only: logger_t
+   use ffrf_core_log, only: logger_t, LOG_QUIET
+   use ffrf_core_parallel, only: parallel_t
    implicit none
    private
    public :: run_options_t, set_log_level
@@ -20,6 +21,9 @@ module ffrf_app_run_options
       !> Results (or checkpoint) file of an earlier run of the case to continue from
       !> (--restart FILE; '' = start from t_start)
       character(len=:), allocatable :: restart_file
+      !> The ranks of the run (MPI build: the driver's MPI_COMM_WORLD, the API's communicator;
+      !> default one process); only rank 0 logs and writes files
+      type(parallel_t) :: parallel
    end type run_options_t
 
 contains
@@ -33,6 +37,7 @@ contains
       integer, intent(in) :: case_level
       log%level = options%log_level
       if (log%level < 0) log%level = case_level
+      if (.not. options%parallel%is_root()) log%level = LOG_QUIET
    end subroutine set_log_level
 
 end module ffrf_app_run_options

@@ -24,7 +24,7 @@ module ffrf_capi
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes
-   public :: ffrf_case_add_interface_nodes
+   public :: ffrf_case_add_interface_nodes, ffrf_case_set_communicator
 
    !> The arrays of a body (body_array)
    integer, parameter :: BODY_NODES = 1, BODY_MODE_SHAPES = 2, BODY_VIRTUAL_NODE_SHAPES = 3
@@ -930,5 +930,21 @@ contains
       call h%case%set_num_modes(int(num_modes), error)
       stat = status_of(h, error)
    end function ffrf_case_set_num_modes
+
+   !> int ffrf_case_set_communicator(ffrf_case *c, int fortran_comm)
+   integer(c_int) function ffrf_case_set_communicator(c, fortran_comm) result(stat) &
+         bind(c, name='ffrf_case_set_communicator')
+      type(c_ptr), value :: c
+      integer(c_int), value :: fortran_comm
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      call h%case%set_communicator(int(fortran_comm), error)
+      stat = status_of(h, error)
+   end function ffrf_case_set_communicator
 
 end module ffrf_capi

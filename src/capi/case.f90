@@ -34,6 +34,7 @@ module ffrf_capi_case
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_core_kinds, only: pi
    use ffrf_app_run_options, only: run_options_t
+   use ffrf_core_parallel, only: parallel_of_communicator, use_ranks
    use ffrf_app_modal_run, only: run_modal
    use ffrf_app_mechanism_run, only: run_mechanism
    use ffrf_app_mechanism_session, only: mechanism_session_t, move_modes
@@ -101,6 +102,8 @@ module ffrf_capi_case
       procedure :: add_interface_nodes => case_add_interface_nodes
       !> Number of modes per body of a case built from arrays
       procedure :: set_num_modes => case_set_num_modes
+      !> MPI build: the communicator the case runs on (before run/advance)
+      procedure :: set_communicator => case_set_communicator
       !> Read and check a case file
       procedure :: open => case_open
       !> Modes (and motion to t_end for a mechanism case)
@@ -512,6 +515,23 @@ contains
       self%case%modes%num_modes = num_modes
    end subroutine case_set_num_modes
 
+   !> MPI build: run the case on the ranks of `comm` (a Fortran communicator handle, from C
+   !> MPI_Comm_c2f), which every rank of it then calls with the same case; before run or
+   !> advance. The sequential build refuses it (FFRF_INPUT_ERROR: rebuild with -DFFRF_MPI=ON).
+   subroutine case_set_communicator(self, comm, error)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: comm
+      type(error_t), allocatable, intent(out) :: error
+      call check_open(self, 'set_communicator', error)
+      if (allocated(error)) return
+      if (self%ran .or. self%session%prepared) then
+         call bad_call(error, 'set_communicator: the case has run already; set the ' // &
+            'communicator before ffrf_case_run and ffrf_mechanism_advance')
+         return
+      end if
+      call parallel_of_communicator(comm, self%options%parallel, error)
+   end subroutine case_set_communicator
+
    !> Raise FFRF_BAD_CALL with `message`.
    subroutine bad_call(error, message)
       type(error_t), allocatable, intent(out) :: error
@@ -563,6 +583,7 @@ contains
          return
       end if
       self%ran = .true.
+      call use_ranks(self%options%parallel)
       if (.not. self%case%is_mechanism) then
          if (self%write_output) then
             call run_modal(self%case, self%options, self%log, error, self%modes)
@@ -889,9 +910,10 @@ contains
                return
             end if
          end associate
-         if (self%write_output) then
+         call use_ranks(self%options%parallel)
+         if (self%write_output .and. self%options%parallel%is_root()) then
             ! recorded as the driver's run (ffrf_app_mechanism_session); the session keeps its
-            ! modes for the results file and the animations
+            ! modes for the results file and the animations (MPI: rank 0 records)
             call self%session%prepare(self%case, mesh_folder(self), self%log, times, error, &
                options=self%options)
          else

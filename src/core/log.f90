@@ -42,6 +42,8 @@ module ffrf_core_log
       real(dp), allocatable :: seconds(:)
       !> Peak resident memory of the process at the end of each stage (MiB)
       real(dp), allocatable :: peak_mib(:)
+      !> Peak resident memory of every MPI rank at the end of the run (MiB; MPI runs only)
+      real(dp), allocatable :: rank_peak_mib(:)
    contains
       procedure :: add => stage_times_add
    end type stage_times_t

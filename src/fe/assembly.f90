@@ -7,6 +7,8 @@
 !> its diagonal entries c = d, so the pattern of M is a subset of the pattern of K. Element
 !> matrices are then scattered straight into the values (binary search of the node in the sorted
 !> node row; no COO list, no sort of the entries).
+!> With several ranks (MPI build) each rank integrates a contiguous block of the elements into
+!> the same pattern and the values are summed over the ranks (the same on every rank).
 module ffrf_fe_assembly
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -14,6 +16,7 @@ module ffrf_fe_assembly
    use ffrf_la_sparse, only: csr_t, csr_transpose, csr_matmul
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_tet, only: tet_stiffness_mass
+   use ffrf_core_parallel, only: parallel_t
    implicit none
    private
    public :: assemble_stiffness_mass, body_mass_properties, node_graph
@@ -23,7 +26,7 @@ contains
    !> Assemble K (N/m) and M (kg), each 3 num_nodes square, both triangles stored. Checks the
    !> material, the element node indices and every element's det J (tetrahedron tag in the
    !> message).
-   subroutine assemble_stiffness_mass(xyz, tets, tet_tags, material, K, M, error)
+   subroutine assemble_stiffness_mass(xyz, tets, tet_tags, material, K, M, error, parallel)
       !> Node coordinates (3, num_nodes) (m)
       real(dp), intent(in) :: xyz(:, :)
       !> Element node indices (nen, num_tets), nen = 4 or 10, 1..num_nodes, Gmsh node order
@@ -38,7 +41,10 @@ contains
       type(csr_t), intent(out) :: M
       !> Bad material, node index out of range, inverted element, too many entries
       type(error_t), allocatable, intent(out) :: error
+      !> The ranks sharing the element loop (MPI build); default one process
+      type(parallel_t), intent(in), optional :: parallel
       type(csr_t) :: G
+      type(parallel_t) :: ranks
       real(dp), allocatable :: ke(:, :), me(:, :), xe(:, :)
       integer(ip), allocatable :: offset(:, :)
       integer(ip) :: nen, num_nodes, num_tets, e, a, b, c, d, i, rk, rm, kb, deg, off, stat
@@ -113,10 +119,12 @@ contains
       M%val = 0.0_dp
 
       allocate (ke(3*nen, 3*nen), me(nen, nen), xe(3, nen), offset(nen, nen))
-      do e = 1, num_tets
+      if (present(parallel)) ranks = parallel
+      do e = int(int(num_tets, i8)*ranks%rank/ranks%num_ranks, ip) + 1, &
+            int(int(num_tets, i8)*(ranks%rank + 1)/ranks%num_ranks, ip)
          xe = xyz(:, tets(:, e))
          call tet_stiffness_mass(xe, material, tet_tags(e), ke, me, error)
-         if (allocated(error)) return
+         if (allocated(error)) exit
          ! offset(a, b): position (0-based) of node b in the sorted node row of node a
          do a = 1, nen
             i = tets(a, e)
@@ -140,6 +148,13 @@ contains
             end do
          end do
       end do
+      if (ranks%num_ranks > 1) then
+         ! an inverted element found by one rank stops every rank
+         call ranks%agree(error)
+         if (allocated(error)) return
+         call ranks%sum_reals(K%val)
+         call ranks%sum_reals(M%val)
+      end if
    end subroutine assemble_stiffness_mass
 
    !> Node graph G (num_nodes square, sorted columns, diagonal included): G(i, j) /= 0 iff nodes

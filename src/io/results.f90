@@ -281,6 +281,8 @@ contains
                times%peak_mib, 'MiB', error)
          end if
       end if
+      if (allocated(times%rank_peak_mib) .and. .not. allocated(error)) call h5%write_real( &
+         '/timings/peak_memory_mib_per_rank', times%rank_peak_mib, 'MiB', error)
       if (.not. allocated(error)) call h5%set_status(status, error)
       if (allocated(error)) call h5%set_status('error: ' // error%message, ignored)
       call h5%close(close_error)

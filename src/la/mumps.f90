@@ -11,6 +11,12 @@
 !>
 !> The sequential library needs no MPI_Init: its stub MPI_INITIALIZED returns .true. and ignores
 !> the communicator, so COMM is set to the stub's MPI_COMM_WORLD value without including mpif.h.
+!> In the MPI build (-DFFRF_MPI=ON, Debian's MPI MUMPS) COMM is the run's communicator
+!> (ffrf_core_parallel, given to `init`): on more than one rank every rank gives its share of
+!> the entries (distributed assembled input, ICNTL(18) = 3: a contiguous slice of the arrays,
+!> which every rank holds whole), PERM_IN and the right-hand sides are given on the host
+!> (rank 0), and the solution is broadcast so every rank leaves `solve` with the same x.
+!> INFOG (status, inertia, sizes) is global: every rank takes the same branches.
 !> OpenBLAS threads are left as the environment sets them (OPENBLAS_NUM_THREADS).
 module ffrf_la_mumps
    use ffrf_core_kinds, only: dp, ip, i8
@@ -20,6 +26,7 @@ module ffrf_la_mumps
    use ffrf_core_log, only: wall_time
    use ffrf_la_metis, only: pattern_nested_dissection
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_MUMPS
+   use ffrf_core_parallel, only: parallel_t, solver_communicator, check_solver_ready
    implicit none
    private
    public :: mumps_solver_t, mumps_ordering_name
@@ -34,8 +41,6 @@ module ffrf_la_mumps
 
    integer, parameter :: phase_empty = 0, phase_initialised = 1, phase_analysed = 2, &
                          phase_factorised = 3
-   !> MPI_COMM_WORLD of the libseq stub mpif.h (/usr/include/mumps_seq); the stub ignores it
-   integer, parameter :: sequential_comm = 9
    !> Workspace relaxation retries on INFOG(1) = -8/-9, each doubling ICNTL(14)
    integer, parameter :: max_workspace_retries = 2
 
@@ -100,6 +105,10 @@ module ffrf_la_mumps
       !> Last INFOG(1): 0 success, > 0 warning (MUMPS user guide, section 8)
       integer(ip) :: status = 0
       integer, private :: phase = phase_empty
+      !> The ranks MUMPS runs on (one process unless given to init)
+      type(parallel_t), private :: parallel
+      !> This rank's slice first:last of the entries (distributed input, more than one rank)
+      integer(i8), private :: first_entry = 1, last_entry = 0
       type(dmumps_struc), allocatable, private :: id
    contains
       procedure :: init => mumps_solver_init
@@ -116,7 +125,7 @@ contains
 
    !> Start a MUMPS instance (JOB = -1) for a symmetric matrix, silenced, exact inertia on.
    subroutine mumps_solver_init(self, sym, error, null_pivot_detection, null_pivot_threshold, &
-                                workspace_percent)
+                                workspace_percent, parallel)
       class(mumps_solver_t), intent(out) :: self
       !> MUMPS_SYM_SPD (1) or MUMPS_SYM_INDEFINITE (2)
       integer(ip), intent(in) :: sym
@@ -128,16 +137,21 @@ contains
       real(dp), intent(in), optional :: null_pivot_threshold
       !> Workspace relaxation ICNTL(14) in percent; default MUMPS's (20, or 5 for SPD)
       integer(ip), intent(in), optional :: workspace_percent
+      !> The ranks to factorise and solve on (MPI build); default one process
+      type(parallel_t), intent(in), optional :: parallel
 
       if (sym /= MUMPS_SYM_SPD .and. sym /= MUMPS_SYM_INDEFINITE) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS init: sym = ' // to_str(sym) // &
             ', must be 1 (symmetric positive definite) or 2 (symmetric indefinite)')
          return
       end if
+      call check_solver_ready(error)
+      if (allocated(error)) return
+      if (present(parallel)) self%parallel = parallel
       allocate (self%id)
       associate (id => self%id)
          call nullify_user_pointers(id)
-         id%comm = sequential_comm
+         id%comm = solver_communicator(self%parallel)
          id%par = 1
          id%sym = sym
          id%job = -1
@@ -215,16 +229,26 @@ contains
          end if
          iperm = perm
          self%metis_ordering = .false.
-      else
+      else if (self%parallel%is_root()) then
+         ! (more than one rank: only the host's PERM_IN is read)
          t0 = wall_time()
          allocate (order(n))
          call pattern_nested_dissection(n, irn, jcn, order, iperm, error)
          if (allocated(error)) then
             call add_context(error, 'MUMPS analyse, METIS ordering')
+            call self%parallel%agree(error)
             return
          end if
          self%time_ordering = wall_time() - t0
          self%metis_ordering = .true.
+      else
+         self%metis_ordering = .true.
+      end if
+      if (self%parallel%num_ranks > 1) then
+         call self%parallel%agree(error)
+         if (allocated(error)) return
+         call analyse_distributed(self, n, irn, jcn, iperm, error)
+         return
       end if
 
       associate (id => self%id)
@@ -284,7 +308,9 @@ contains
       end if
       self%phase = phase_analysed
       associate (id => self%id)
-         if (.not. associated(id%a)) then
+         if (self%parallel%num_ranks > 1) call set_local_values(self, values, error)
+         if (allocated(error)) return
+         if (.not. associated(id%a) .and. self%parallel%num_ranks == 1) then
             allocate (id%a(self%nnz), stat=stat)
             if (stat /= 0) then
                call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorise: cannot allocate ' &
@@ -292,7 +318,7 @@ contains
                return
             end if
          end if
-         id%a = values
+         if (self%parallel%num_ranks == 1) id%a = values
          id%job = 2
          self%num_workspace_retries = 0
          t0 = wall_time()
@@ -432,7 +458,8 @@ contains
          if (associated(id%rhs)) then
             if (size(id%rhs, kind=i8) /= size(b, kind=i8)) deallocate (id%rhs)
          end if
-         if (.not. associated(id%rhs)) then
+         ! centralised right-hand sides and solution: on the host only (ICNTL(20) = ICNTL(21) = 0)
+         if (.not. associated(id%rhs) .and. self%parallel%is_root()) then
             allocate (id%rhs(size(b)), stat=stat)
             if (stat /= 0) then
                call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS solve: cannot allocate ' // &
@@ -440,7 +467,7 @@ contains
                return
             end if
          end if
-         id%rhs = b
+         if (self%parallel%is_root()) id%rhs = b
          id%nrhs = nrhs
          id%lrhs = self%n
          id%job = 3
@@ -453,7 +480,9 @@ contains
                describe_status(id%infog(1), id%infog(2)))
             return
          end if
-         b = id%rhs
+         if (self%parallel%is_root()) b = id%rhs
+         ! every rank continues with the same solution (the Lanczos state stays identical)
+         call self%parallel%broadcast_reals(b)
       end associate
       self%num_solves = self%num_solves + nrhs
    end subroutine solve_columns
@@ -560,7 +589,76 @@ contains
       if (associated(id%a)) deallocate (id%a)
       if (associated(id%perm_in)) deallocate (id%perm_in)
       if (associated(id%rhs)) deallocate (id%rhs)
+      if (associated(id%irn_loc)) deallocate (id%irn_loc)
+      if (associated(id%jcn_loc)) deallocate (id%jcn_loc)
+      if (associated(id%a_loc)) deallocate (id%a_loc)
    end subroutine release_user_arrays
+
+   !> Analysis (JOB = 1) with distributed assembled input (ICNTL(18) = 3) on more than one
+   !> rank: this rank's contiguous slice of the entries; n and PERM_IN (ICNTL(7) = 1) on the
+   !> host. Entries of one (i, j) on several ranks are summed by MUMPS, as within one rank.
+   subroutine analyse_distributed(self, n, irn, jcn, iperm, error)
+      type(mumps_solver_t), intent(inout) :: self
+      integer(ip), intent(in) :: n, irn(:), jcn(:), iperm(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: nnz
+      integer :: stat
+      real(dp) :: t0
+      nnz = size(irn, kind=i8)
+      self%first_entry = nnz * self%parallel%rank / self%parallel%num_ranks + 1
+      self%last_entry = nnz * (self%parallel%rank + 1) / self%parallel%num_ranks
+      associate (id => self%id, first => self%first_entry, last => self%last_entry)
+         call release_user_arrays(id)
+         allocate (id%irn_loc(last - first + 1), id%jcn_loc(last - first + 1), stat=stat)
+         if (stat == 0 .and. self%parallel%is_root()) allocate (id%perm_in(n), stat=stat)
+         if (stat /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analyse: cannot ' &
+            // 'allocate the index arrays of ' // to_str(last - first + 1) // ' entries')
+         call self%parallel%agree(error)
+         if (allocated(error)) return
+         id%irn_loc = irn(first:last)
+         id%jcn_loc = jcn(first:last)
+         id%nnz_loc = last - first + 1
+         id%n = n
+         id%nnz = nnz
+         if (self%parallel%is_root()) id%perm_in = iperm
+         id%icntl(18) = 3
+         id%icntl(7) = 1
+         id%job = 1
+         t0 = wall_time()
+         call serial_dmumps(id)
+         self%time_analysis = wall_time() - t0
+         self%status = id%infog(1)
+         if (id%infog(1) < 0) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
+               ', ' // to_str(nnz) // ' entries on ' // to_str(self%parallel%num_ranks) // &
+               ' ranks): ' // describe_status(id%infog(1), id%infog(2)))
+            self%phase = phase_initialised
+            return
+         end if
+         self%ordering_used = id%infog(7)
+         self%estimated_factor_entries = mumps_count(id%infog(20))
+      end associate
+      self%n = n
+      self%nnz = nnz
+      self%phase = phase_analysed
+   end subroutine analyse_distributed
+
+   !> Distributed input: this rank's slice of `values` as A_loc (ICNTL(18) = 3).
+   subroutine set_local_values(self, values, error)
+      type(mumps_solver_t), intent(inout) :: self
+      real(dp), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
+      associate (id => self%id, first => self%first_entry, last => self%last_entry)
+         stat = 0
+         if (.not. associated(id%a_loc)) allocate (id%a_loc(last - first + 1), stat=stat)
+         if (stat /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorise: ' // &
+            'cannot allocate ' // to_str(last - first + 1) // ' matrix values')
+         call self%parallel%agree(error)
+         if (allocated(error)) return
+         id%a_loc = values(first:last)
+      end associate
+   end subroutine set_local_values
 
    !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
    !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each

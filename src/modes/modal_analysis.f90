@@ -15,6 +15,7 @@ module ffrf_modes_modal_analysis
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_assembly, only: assemble_stiffness_mass, body_mass_properties
    use ffrf_la_sparse, only: csr_t
+   use ffrf_core_parallel, only: parallel_t, current_ranks
    use ffrf_mpc_interface, only: interface_spec_t, interface_t, build_interface, mpc_name, &
       dofs_text
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
@@ -102,8 +103,12 @@ contains
    !> `mesh` is the mesh as read (from a Gmsh file by the caller, or built in memory); the body is
    !> cut from it here by body_spec%volumes (extract_body), so a mesh holding several bodies can
    !> be passed as it is. Messages name the mesh by mesh%file_name when it is set.
+   !>
+   !> MPI build: every rank of `parallel` (default: the ranks of the run, current_ranks) calls
+   !> with the same arguments; the element loop and MUMPS are shared, and every rank returns
+   !> the same body (README "MPI build and runs").
    subroutine compute_body_modes(mesh, body_spec, interfaces, modes, log, times, &
-         body, error, mass_matrix, stiffness_matrix)
+         body, error, mass_matrix, stiffness_matrix, parallel)
       !> The mesh as read: nodes, tetrahedra, physical groups
       type(mesh_t), intent(in) :: mesh
       !> Body: name, volumes, material
@@ -124,6 +129,9 @@ contains
       type(csr_t), intent(out), optional :: mass_matrix
       !> The FE stiffness matrix of the body (for its geometric stiffness: no second assembly)
       type(csr_t), intent(out), optional :: stiffness_matrix
+      !> The ranks sharing the work (MPI build); default current_ranks()
+      type(parallel_t), intent(in), optional :: parallel
+      type(parallel_t) :: ranks
       type(material_t) :: material
       type(csr_t) :: K, M, K_r, M_r
       type(reduction_t) :: red
@@ -133,6 +141,11 @@ contains
 
       body%name = trim(body_spec%name)
       tag = body%name
+      if (present(parallel)) then
+         ranks = parallel
+      else
+         ranks = current_ranks()
+      end if
       material = material_t(body_spec%young, body_spec%poisson, body_spec%density, &
          body%name)
       call check_material(material, error)
@@ -153,7 +166,7 @@ contains
       ! Stiffness and mass
       call timer%begin()
       call assemble_stiffness_mass(body%mesh%xyz, body%mesh%tets, body%mesh%tet_tags, material, &
-         K, M, error)
+         K, M, error, ranks)
       if (allocated(error)) then
          call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
          return
@@ -245,17 +258,17 @@ contains
 
       if (red%is_identity) then
          call solve_modes(body, modes, red, K, M, automatic_shift_hz(body%mesh%xyz, &
-            material), log, times, error)
+            material), log, times, error, ranks)
       else
          call solve_modes(body, modes, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
-            material), log, times, error)
+            material), log, times, error, ranks)
       end if
       if (allocated(error)) call add_context(error, 'body "' // body%name // '", mesh "' // &
          mesh_name // '"')
    end subroutine compute_body_modes
 
    !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.
-   subroutine solve_modes(body, modes, red, K_r, M_r, auto_shift_hz, log, times, error)
+   subroutine solve_modes(body, modes, red, K_r, M_r, auto_shift_hz, log, times, error, ranks)
       type(body_modes_t), intent(inout) :: body
       type(modes_spec_t), intent(in) :: modes
       type(reduction_t), intent(in) :: red
@@ -265,6 +278,8 @@ contains
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
       type(error_t), allocatable, intent(out) :: error
+      !> The ranks MUMPS runs on
+      type(parallel_t), intent(in) :: ranks
       type(eigen_options_t) :: options
       type(stage_timer_t) :: timer
       real(dp), allocatable :: psi(:, :)
@@ -285,6 +300,7 @@ contains
       end if
       options%tolerance = modes%tolerance
       options%ncv = int(modes%lanczos_vectors, kind(options%ncv))
+      options%parallel = ranks
       if (body%basis == BASIS_CRAIG_BAMPTON) then
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return

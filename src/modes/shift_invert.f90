@@ -21,6 +21,7 @@ module ffrf_modes_shift_invert
    use ffrf_core_error, only: error_t
    use ffrf_core_log, only: logger_t
    use ffrf_la_sparse, only: csr_t
+   use ffrf_core_parallel, only: parallel_t
    implicit none
    private
    public :: eigen_options_t, eigen_result_t, solve_shift_invert, project_null_space
@@ -43,6 +44,9 @@ module ffrf_modes_shift_invert
       !> Null-pivot threshold relative to the norm of the scaled KKT matrix (MUMPS CNTL(3));
       !> a pivot below it means sigma is an eigenvalue or the constraints are dependent
       real(dp) :: null_pivot_threshold = 1.0e-12_dp
+      !> The ranks MUMPS factorises and solves on (MPI build; default one process). Every rank
+      !> calls with the same K, M, C and gets the same result.
+      type(parallel_t) :: parallel
    end type eigen_options_t
 
    !> Eigenpairs and statistics of one `solve_shift_invert` call.

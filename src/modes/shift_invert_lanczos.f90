@@ -435,7 +435,8 @@ contains
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
       call solver%init(sym, error, null_pivot_detection=.true., &
-                       null_pivot_threshold=options%null_pivot_threshold)
+                       null_pivot_threshold=options%null_pivot_threshold, &
+                       parallel=options%parallel)
       if (allocated(error)) return
       call solver%analyse(kkt%n + kkt%num_constraints, kkt%irn, kkt%jcn, error=error)
       if (allocated(error)) then

@@ -30,6 +30,7 @@ int main(int argc, char **argv)
     CHECK(strstr(ffrf_last_error(NULL), "NULL case handle") != NULL);
     EXPECT(NULL, ffrf_case_run(NULL), FFRF_BAD_CALL, "NULL");
     EXPECT(NULL, ffrf_body_count(NULL, &n), FFRF_BAD_CALL, "NULL");
+    EXPECT(NULL, ffrf_case_set_communicator(NULL, 0), FFRF_BAD_CALL, "NULL");
     EXPECT(NULL, ffrf_body_name(NULL, 0, name, sizeof name), FFRF_BAD_CALL, "NULL");
     EXPECT(NULL, ffrf_body_frequencies(NULL, 0, hz, 4, &count), FFRF_BAD_CALL, "NULL");
     EXPECT(NULL, ffrf_mechanism_advance(NULL, 1.0e-3), FFRF_BAD_CALL, "NULL");
@@ -222,6 +223,9 @@ int main(int argc, char **argv)
                "num_modes = 0, must be at least 1");
         EXPECT(arrays, ffrf_body_frequencies(arrays, 0, hz, 4, &count), FFRF_BAD_CALL,
                "no modes yet");
+        /* the sequential build has no MPI: a communicator is refused with the remedy */
+        EXPECT(arrays, ffrf_case_set_communicator(arrays, 0), FFRF_INPUT_ERROR,
+               "an MPI host code needs the MPI build: configure with -DFFRF_MPI=ON");
         ffrf_case_close(arrays);
         EXPECT(modal, ffrf_case_open(argv[1], argv[3], NULL, &modal), FFRF_OK, "");
         EXPECT(modal, ffrf_case_add_body(modal, "block", 4, xyz, 4, 1, tet, 2e11, 0.3, 7850),

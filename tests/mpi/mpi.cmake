@@ -1,0 +1,47 @@
+# MPI build tests (issue 12), run by the sequential build's ctest (label mpi):
+#  - mpi_build (fixture): builds the MPI variant of this tree (-DFFRF_MPI=ON, no LTO, only the
+#    library, the driver and the host program) into <build>/mpi with build_mpi.py; when mpicc,
+#    mpif90, mpirun or Debian's MPI MUMPS are missing it records why and the tests below print
+#    "skipped: <why>" (exit 77, ctest reports them as skipped). `.ci/install-deps --mpi`.
+#  - mpi_modes_crank_rc{1,2,3}[_rbe2]: input/crank_rc*.nml on the lc 8 mm mesh, the sequential
+#    driver and `mpirun -np 2` of the MPI driver: frequencies equal to 1e-9 (relative), the MPI
+#    run writes the same files once, its results hold the peak memory of both ranks.
+#  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)
+#    under mpirun -np 2 against the sequential driver: crank angle and speed histories to 1e-9
+#    of their largest value.
+#  - mpi_host_program: a C MPI host (host_program.c) on 3 ranks split into communicators of 2
+#    and 1 ranks, each running crank lc 8 mm RC set 2 through ffrf_case_set_mpi_comm:
+#    frequencies of both groups equal the sequential driver's to 1e-9; both groups also advance
+#    the mpi_engine case through the C API in two halves: final time, crank angle and speed
+#    equal the sequential driver's last step to 1e-9.
+set(_mpi_build "${PROJECT_BINARY_DIR}/mpi")
+set(_mpi_out "${PROJECT_BINARY_DIR}/tests/mpi")
+add_test(NAME mpi_build
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/mpi/build_mpi.py
+    --source ${PROJECT_SOURCE_DIR} --build ${_mpi_build} --cmake ${CMAKE_COMMAND})
+set_tests_properties(mpi_build PROPERTIES FIXTURES_SETUP mpi_build LABELS mpi TIMEOUT 900
+  PROCESSORS 2)
+
+set(_mpi_run ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/mpi/run_mpi_case.py)
+foreach(_case crank_rc1 crank_rc2 crank_rc3 crank_rc1_rbe2 crank_rc2_rbe2 crank_rc3_rbe2)
+  add_test(NAME mpi_modes_${_case}
+    COMMAND ${_mpi_run} modes --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+      --case ${PROJECT_SOURCE_DIR}/input/${_case}.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --set body[crank].mesh_file=crank_lc8.msh --out ${_mpi_out}/${_case} --ranks 2
+      --rtol 1e-9)
+  set_tests_properties(mpi_modes_${_case} PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
+    FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+endforeach()
+add_test(NAME mpi_engine
+  COMMAND ${_mpi_run} engine --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+    --case ${PROJECT_BINARY_DIR}/tests/capi/capi_engine.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --out ${_mpi_out}/engine --ranks 2 --rtol 1e-9)
+set_tests_properties(mpi_engine PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
+  FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh;conrod_lc8_mesh" PROCESSORS 2)
+add_test(NAME mpi_host_program
+  COMMAND ${_mpi_run} host --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+    --case ${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml
+    --engine ${PROJECT_BINARY_DIR}/tests/capi/capi_engine.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --out ${_mpi_out}/host --ranks 3 --rtol 1e-9)
+set_tests_properties(mpi_host_program PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
+  FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh;conrod_lc8_mesh" PROCESSORS 2)

@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""MPI tests of the sequential build's ctest (tests/mpi/mpi.cmake), run against the MPI build
+that the fixture mpi_build made (build_mpi.py). Exit 77 (ctest SKIP_RETURN_CODE) with
+"skipped: <why>" when that build was skipped (no MPI or no MPI MUMPS on this machine).
+
+  modes:  the sequential driver and `mpirun -np RANKS` MPI driver on the same modal case;
+          every body's frequencies must agree to --rtol (relative); the MPI results file must
+          hold /timings/peak_memory_mib_per_rank with one value per rank.
+  engine: the same for a mechanism case: the crank angle and speed histories must agree to
+          --rtol (relative to the largest |value|), and only rank 0 writes files.
+  host:   `mpirun -np 3 mpi_host_program CASE MESH_DIR OUT [ENGINE]`: groups of 2 and 1 ranks run
+          the case on their own communicators; both groups' frequencies against the sequential
+          driver's; with --engine both groups' final time, crank angle and speed of the mechanism
+          advanced through the C API in two halves against the driver's last step (--rtol of
+          the value).
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+
+SKIP = 77
+
+
+def mpirun_prefix(a, ranks):
+    info = {}
+    if a.mpi_build:
+        with open(os.path.join(a.mpi_build, 'mpi_build_status.txt')) as f:
+            for line in f:
+                key, _, value = line.strip().partition('=')
+                info[key] = value
+    else:   # inside the MPI build's own ctest (tests/mpi/CMakeLists.txt)
+        info = dict(status='built', mpirun=a.mpirun, driver=a.mpi_driver,
+                    host_program=a.host_program)
+    if info.get('status') != 'built':
+        print(f"skipped: {info.get('reason', 'the MPI build was not made')}")
+        sys.exit(SKIP)
+    cmd = [info['mpirun'], '-np', str(ranks), '--oversubscribe']
+    if os.geteuid() == 0:
+        cmd.append('--allow-run-as-root')
+    return cmd, info
+
+
+def run(cmd, env=None, cwd=None):
+    print('+ ' + ' '.join(cmd), flush=True)
+    done = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
+    sys.stdout.write(done.stdout[-4000:])
+    sys.stderr.write(done.stderr[-4000:])
+    if done.returncode != 0:
+        print(f'FAIL: exit code {done.returncode}')
+        sys.exit(1)
+    return done
+
+
+def frequencies(h5_file):
+    import h5py
+    out = {}
+    with h5py.File(h5_file, 'r') as f:
+        for body in f['/bodies']:
+            if 'modes' in f[f'/bodies/{body}']:
+                out[body] = f[f'/bodies/{body}/modes/frequency'][()]
+    return out
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument('kind', choices=['modes', 'engine', 'host'])
+    p.add_argument('--mpi-build', help='the MPI build made by build_mpi.py')
+    p.add_argument('--mpirun', help='without --mpi-build: mpirun')
+    p.add_argument('--mpi-driver', help='without --mpi-build: the MPI ffrf')
+    p.add_argument('--host-program', help='without --mpi-build: mpi_host_program')
+    p.add_argument('--driver', required=True,
+                   help='the reference ffrf: the sequential build (or the MPI one, one process)')
+    p.add_argument('--case', required=True)
+    p.add_argument('--mesh-dir', required=True)
+    p.add_argument('--out', required=True)
+    p.add_argument('--ranks', type=int, default=2)
+    p.add_argument('--rtol', type=float, default=1e-9)
+    p.add_argument('--set', action='append', default=[])
+    p.add_argument('--engine', help='host: also this mechanism case')
+    a = p.parse_args()
+    mpirun, info = mpirun_prefix(a, a.ranks)
+    env = dict(os.environ, OPENBLAS_NUM_THREADS='1', OMP_NUM_THREADS='1')
+    if os.geteuid() == 0:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1')
+    shutil.rmtree(a.out, ignore_errors=True)
+    seq_dir, mpi_dir = os.path.join(a.out, 'sequential'), os.path.join(a.out, 'mpi')
+    os.makedirs(seq_dir)
+    os.makedirs(mpi_dir)
+    sets = []
+    for s in a.set:
+        sets += ['--set', s]
+    common = [a.case, '--mesh-dir', a.mesh_dir, '--output', 'result.h5'] + sets
+    run([a.driver] + common + ['--output-dir', seq_dir], env=env)
+    failures = []
+    if a.kind == 'host':
+        engine = [a.engine] if a.engine else []
+        run(mpirun + [info['host_program'], a.case, a.mesh_dir, mpi_dir] + engine, env=env)
+        if a.engine:
+            import h5py
+            run([a.driver, a.engine, '--mesh-dir', a.mesh_dir, '--output', 'engine.h5',
+                 '--output-dir', seq_dir, '--quiet'], env=env)
+            with h5py.File(os.path.join(seq_dir, 'engine.h5'), 'r') as f:
+                ref_state = [f['/time/t'][-1], f['/time/crank_angle'][-1],
+                             f['/time/crank_speed'][-1]]
+            for group in ('group0_engine.txt', 'group1_engine.txt'):
+                with open(os.path.join(mpi_dir, group)) as f:
+                    state = [float(x) for x in f.read().split()]
+                diff = max(abs(x - y) / abs(y) for x, y in zip(state, ref_state))
+                print(f'{group}: t, crank angle, speed {state}, largest relative difference '
+                      f'from the driver {diff:.3g} (tolerance {a.rtol:g})')
+                if diff > a.rtol:
+                    failures.append(f'{group}: final state differs by {diff:.3g}')
+        reference = frequencies(os.path.join(seq_dir, 'result.h5'))
+        ref = [x for body in reference for x in reference[body]]
+        for group, ranks in (('group0.txt', 2), ('group1.txt', a.ranks - 2)):
+            with open(os.path.join(mpi_dir, group)) as f:
+                lines = f.read().split('\n')
+            values = [float(x) for x in lines[1:] if x.strip()]
+            if lines[0] != f'# ranks {ranks}' or len(values) != len(ref):
+                failures.append(f'{group}: header {lines[0]!r}, {len(values)} frequencies, '
+                                f'expected ranks {ranks} and {len(ref)}')
+                continue
+            diff = max(abs(x - y) / abs(y) for x, y in zip(values, ref))
+            print(f'{group} ({ranks} ranks): {len(values)} frequencies, largest relative '
+                  f'difference from the sequential driver {diff:.3g} (tolerance {a.rtol:g})')
+            if diff > a.rtol:
+                failures.append(f'{group}: frequencies differ by {diff:.3g}')
+    else:
+        run(mpirun + [info['driver']] + common + ['--output-dir', mpi_dir], env=env)
+        import h5py
+        written = sorted(os.listdir(mpi_dir))
+        expected = sorted(os.listdir(seq_dir))
+        if written != expected:
+            failures.append(f'files written by the MPI run {written}, sequential {expected}: '
+                            'results must be written once, by rank 0')
+        seq_h5, mpi_h5 = os.path.join(seq_dir, 'result.h5'), os.path.join(mpi_dir, 'result.h5')
+        reference, result = frequencies(seq_h5), frequencies(mpi_h5)
+        for body in reference:
+            x, y = result.get(body), reference[body]
+            if x is None or len(x) != len(y):
+                failures.append(f'{body}: no or other modes in the MPI results')
+                continue
+            diff = max(abs(x - y) / abs(y))
+            print(f'{body}: {len(y)} frequencies {y[0]:.6f} .. {y[-1]:.6f} Hz, largest relative '
+                  f'difference MPI ({a.ranks} ranks) - sequential {diff:.3g} '
+                  f'(tolerance {a.rtol:g})')
+            if a.kind == 'modes' and diff > a.rtol:
+                failures.append(f'{body}: frequencies differ by {diff:.3g} > {a.rtol:g}')
+        with h5py.File(mpi_h5, 'r') as f:
+            status = f.attrs.get('status', b'')
+            if a.kind == 'modes':
+                peaks = f['/timings/peak_memory_mib_per_rank'][()]
+                print(f'peak memory per rank (MiB): {", ".join(f"{x:.1f}" for x in peaks)}')
+                if len(peaks) != a.ranks or min(peaks) <= 0:
+                    failures.append(f'/timings/peak_memory_mib_per_rank = {peaks}')
+            else:
+                with h5py.File(seq_h5, 'r') as g:
+                    for name in ('crank_angle', 'crank_speed'):
+                        x, y = f[f'/time/{name}'][()], g[f'/time/{name}'][()]
+                        if len(x) != len(y):
+                            failures.append(f'{name}: {len(x)} steps, sequential {len(y)}')
+                            continue
+                        diff = max(abs(x - y)) / max(abs(y))
+                        print(f'{name}: {len(y)} steps, largest difference MPI - sequential '
+                              f'{diff:.3g} of the largest |value| (tolerance {a.rtol:g})')
+                        if diff > a.rtol:
+                            failures.append(f'{name} differs by {diff:.3g} > {a.rtol:g}')
+    for f in failures:
+        print('FAIL: ' + f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == '__main__':
+    main()
