@@ -175,8 +175,16 @@ contains
             if (all(a%entries == b%entries)) cycle
          end if
          same = .false.
-         difference = 'the ' // trim(COMPONENT_NAMES(c)) // ' differ'
-         if (c == 1) difference = 'the mesh differs'
+         select case (c)
+         case (1)
+            difference = 'the mesh differs'
+         case (2)
+            difference = 'the material differs'
+         case (3)
+            difference = 'the interfaces differ'
+         case default
+            difference = 'the modes specification differs'
+         end select
          ! the first entry of `here` that `there` has otherwise (or not at all)
          do k = 1, size(a%entries)
             label = label_of(a%entries(k))
