@@ -20,6 +20,7 @@ module ffrf_app_body_modes
    use ffrf_model_specs, only: body_interface_specs, modes_spec_of
    use ffrf_modes_fingerprint, only: modes_fingerprint_t, make_fingerprint, compare_fingerprints
    use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
+   use ffrf_modes_reused_modes, only: body_without_modes
    implicit none
    private
    public :: read_body_mesh, compute_body_modes_from_file, compute_input_body_modes, &
@@ -144,6 +145,7 @@ contains
       type(modes_fingerprint_t) :: here
       type(stage_timer_t) :: timer
       type(logger_t) :: quiet
+      type(csr_t) :: unused_mass
       character(len=:), allocatable :: file_name, difference, where
       logical :: same
 
@@ -158,10 +160,19 @@ contains
       geometry_only%num_modes = 0
       call read_body_mesh(body_input, mesh_dir, times, mesh, error)
       if (allocated(error)) return
-      quiet = log
-      quiet%level = LOG_QUIET
-      call compute_body_modes(mesh, body_spec_of(body_input), interfaces, geometry_only, quiet, &
-         times, body, error, mass_matrix, stiffness_matrix)
+      if (present(stiffness_matrix)) then
+         ! K for the geometric stiffness: the assembly of computed modes, without modes
+         quiet = log
+         quiet%level = LOG_QUIET
+         call compute_body_modes(mesh, body_spec_of(body_input), interfaces, geometry_only, &
+            quiet, times, body, error, mass_matrix, stiffness_matrix)
+      else if (present(mass_matrix)) then
+         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+            mass_matrix, error)
+      else
+         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+            unused_mass, error)
+      end if
       if (allocated(error)) return
       asked = modes
       if (.not. num_modes_given) asked%num_modes = size(stored%frequency_hz)
