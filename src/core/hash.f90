@@ -20,6 +20,7 @@ module ffrf_core_hash
    type :: hash_t
       integer(i8) :: state(2) = [2166136261_i8, 3735928559_i8]
    contains
+      procedure :: add_bytes => hash_add_bytes
       procedure :: add_text => hash_add_text
       procedure :: add_reals => hash_add_reals
       procedure :: add_reals_2d => hash_add_reals_2d
@@ -30,9 +31,10 @@ module ffrf_core_hash
 
 contains
 
-   !> Mix bytes into both states (FNV-1a: h = (h xor byte) * prime mod 2^32).
-   pure subroutine add_bytes(self, bytes)
-      type(hash_t), intent(inout) :: self
+   !> Mix bytes into both states (FNV-1a: h = (h xor byte) * prime mod 2^32), as they are (no
+   !> length): the first 8 hex digits of hex() are then the standard 32-bit FNV-1a of the bytes.
+   pure subroutine hash_add_bytes(self, bytes)
+      class(hash_t), intent(inout) :: self
       integer(int8), intent(in) :: bytes(:)
       integer(i8) :: a, b, byte
       integer :: i
@@ -44,15 +46,15 @@ contains
          b = iand(ieor(b, byte) * FNV_PRIME, MASK32)
       end do
       self%state = [a, b]
-   end subroutine add_bytes
+   end subroutine hash_add_bytes
 
    !> Add a text, with its length first (so that 'ab' + 'c' differs from 'a' + 'bc').
    pure subroutine hash_add_text(self, text)
       class(hash_t), intent(inout) :: self
       character(len=*), intent(in) :: text
       integer(int8), parameter :: mold(1) = 0_int8
-      call add_bytes(self, transfer(int(len(text), i8), mold))
-      if (len(text) > 0) call add_bytes(self, transfer(text, mold))
+      call self%add_bytes(transfer(int(len(text), i8), mold))
+      if (len(text) > 0) call self%add_bytes(transfer(text, mold))
    end subroutine hash_add_text
 
    !> Add the bytes of reals (with the count first).
@@ -60,8 +62,8 @@ contains
       class(hash_t), intent(inout) :: self
       real(dp), intent(in) :: values(:)
       integer(int8), parameter :: mold(1) = 0_int8
-      call add_bytes(self, transfer(int(size(values), i8), mold))
-      if (size(values) > 0) call add_bytes(self, transfer(values, mold))
+      call self%add_bytes(transfer(int(size(values), i8), mold))
+      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
    end subroutine hash_add_reals
 
    !> Add the bytes of a real matrix (its two sizes first).
@@ -69,8 +71,8 @@ contains
       class(hash_t), intent(inout) :: self
       real(dp), intent(in) :: values(:, :)
       integer(int8), parameter :: mold(1) = 0_int8
-      call add_bytes(self, transfer(int(shape(values), i8), mold))
-      if (size(values) > 0) call add_bytes(self, transfer(values, mold))
+      call self%add_bytes(transfer(int(shape(values), i8), mold))
+      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
    end subroutine hash_add_reals_2d
 
    !> Add integers (with the count first).
@@ -78,8 +80,8 @@ contains
       class(hash_t), intent(inout) :: self
       integer(ip), intent(in) :: values(:)
       integer(int8), parameter :: mold(1) = 0_int8
-      call add_bytes(self, transfer(int(size(values), i8), mold))
-      if (size(values) > 0) call add_bytes(self, transfer(values, mold))
+      call self%add_bytes(transfer(int(size(values), i8), mold))
+      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
    end subroutine hash_add_ints
 
    !> Add an integer matrix (its two sizes first).
@@ -87,8 +89,8 @@ contains
       class(hash_t), intent(inout) :: self
       integer(ip), intent(in) :: values(:, :)
       integer(int8), parameter :: mold(1) = 0_int8
-      call add_bytes(self, transfer(int(shape(values), i8), mold))
-      if (size(values) > 0) call add_bytes(self, transfer(values, mold))
+      call self%add_bytes(transfer(int(shape(values), i8), mold))
+      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
    end subroutine hash_add_ints_2d
 
    !> The hash as 16 lower-case hexadecimal digits.

@@ -60,7 +60,8 @@ module ffrf_modes_fingerprint
 contains
 
    !> The fingerprint of modes computed on `mesh` (the body as cut from its mesh file) with
-   !> `interfaces`, material `body` and `modes` (num_modes: the number of modes stored).
+   !> `interfaces`, material `body` and `modes` (num_modes: the number of modes asked, the
+   !> flexible modes of rc_normal, the fixed-interface modes of craig_bampton).
    subroutine make_fingerprint(mesh, interfaces, body, modes, num_modes, fingerprint)
       type(mesh_t), intent(in) :: mesh
       type(interface_t), intent(in) :: interfaces(:)
@@ -328,7 +329,7 @@ contains
       allocate (kept%entries(0))
       do k = 1, size(list%entries)
          if (any(label_of(list%entries(k)) == labels)) cycle
-         kept%entries = [kept%entries, list%entries(k)]
+         kept%entries = [character(len=ENTRY_LENGTH) :: kept%entries, list%entries(k)]
       end do
    end function without
 

@@ -259,8 +259,9 @@ contains
          call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
          return
       end if
-      call make_fingerprint(body%mesh, body%interfaces, body_spec, modes, &
-         size(body%frequency_hz), body%fingerprint)
+      ! num_modes as asked (Craig-Bampton stores the static modes on top)
+      call make_fingerprint(body%mesh, body%interfaces, body_spec, modes, modes%num_modes, &
+         body%fingerprint)
    end subroutine compute_body_modes
 
    !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.
