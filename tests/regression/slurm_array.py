@@ -14,6 +14,8 @@ array task (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_JOB_ID, SLURM_JOB_ID) with stub `sc
    --restart and completes; no further requeue.
 4. Its results equal the reference bit for bit: the time series (t, crank angle and speed,
    pressure), every body's and joint's series and /final_state, and the number of steps.
+5. With `scontrol` refusing (exit 1), the interrupted task submits itself again:
+   `sbatch --array=1 --export=ALL SCRIPT`.
 Any failure exits 1.
 """
 import os
@@ -37,9 +39,11 @@ def check(condition, what):
 
 
 def write_stub(folder, name, log):
+    """A scheduler command that records its arguments; exits 1 when STUB_REFUSE names it."""
     path = os.path.join(folder, name)
     with open(path, 'w') as f:
-        f.write(f'#!/bin/sh\necho "{name} $*" >> "{log}"\nexit 0\n')
+        f.write(f'#!/bin/sh\necho "{name} $*" >> "{log}"\n'
+                f'[ "${{STUB_REFUSE:-}}" = "{name}" ] && exit 1\nexit 0\n')
     os.chmod(path, os.stat(path).st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
 
 
@@ -96,21 +100,7 @@ def main(argv):
     results = os.path.join(out, 'sweep', 'engine_lc8_rc1_1.h5')
 
     # 2. the task, signalled mid-run
-    stdout_path = os.path.join(work, 'task.out')
-    stderr_path = os.path.join(work, 'task.err')
-    with open(stdout_path, 'w') as so, open(stderr_path, 'w') as se:
-        task = subprocess.Popen(['bash', script], stdout=so, stderr=se, env=task_env)
-        started = False
-        end = time.time() + 300
-        while time.time() < end and task.poll() is None:
-            if re.search(r'\[run\] t = 0\.0[5-9]', open(stdout_path).read()):
-                started = True
-                break
-            time.sleep(0.01)
-        check(started, 'the task integrates (progress line at t = 0.05 s)')
-        task.send_signal(signal.SIGUSR1)
-        code = task.wait(timeout=300)
-    stderr = open(stderr_path).read()
+    code, stderr = signalled_task(script, task_env, work)
     check(code == 0, f'interrupted task: the script exits 0 after asking for a requeue (got {code})')
     check(re.search(r'ffrf: error: .*interrupted by SIGUSR1', stderr) is not None,
           'ffrf reports the interruption by SIGUSR1')
@@ -146,8 +136,35 @@ def main(argv):
     check(set(got) == set(want) and not differ,
           f'{len(want)} series and final-state datasets bitwise equal to the uninterrupted run'
           + (f'; differ: {differ[:6]}' if differ else ''))
+
+    # 5. a cluster that refuses requeues: the script submits the task again with sbatch
+    os.remove(results)
+    os.remove(log)
+    code, stderr = signalled_task(script, dict(task_env, STUB_REFUSE='scontrol'), work)
+    calls = open(log).read().splitlines() if os.path.exists(log) else []
+    check(code == 0 and calls == ['scontrol requeue 4242_1', f'sbatch --array=1 --export=ALL {script}'],
+          f'requeue refused: the task is submitted again (exit {code}, calls {calls})')
     print(f'{len(FAILURES)} failure(s)')
     return 1 if FAILURES else 0
+
+
+def signalled_task(script, task_env, work):
+    """Run the script as a task and send SIGUSR1 to its shell once ffrf integrates."""
+    stdout_path = os.path.join(work, 'task.out')
+    stderr_path = os.path.join(work, 'task.err')
+    with open(stdout_path, 'w') as so, open(stderr_path, 'w') as se:
+        task = subprocess.Popen(['bash', script], stdout=so, stderr=se, env=task_env)
+        started = False
+        end = time.time() + 300
+        while time.time() < end and task.poll() is None:
+            if re.search(r'\[run\] t = 0\.0[5-9]', open(stdout_path).read()):
+                started = True
+                break
+            time.sleep(0.01)
+        check(started, 'the task integrates (progress line at t = 0.05 s)')
+        task.send_signal(signal.SIGUSR1)
+        code = task.wait(timeout=300)
+    return code, open(stderr_path).read()
 
 
 if __name__ == '__main__':
