@@ -5,8 +5,9 @@
 !>   /bodies/<body>/modes/fingerprint/hash      'mesh <hex>', ..., 'modes <hex>', 'total <hex>'
 !>
 !> and the reader of a body's stored modes (frequencies, shapes, virtual-node rows, basis,
-!> fingerprint). A file that cannot be opened as HDF5 is FFRF_IO_ERROR; a readable file without
-!> the body's modes or fingerprint, or with inconsistent sizes, FFRF_INPUT_ERROR.
+!> fingerprint). A file that cannot be opened as HDF5 or whose datasets cannot be read is
+!> FFRF_IO_ERROR; a readable file without the body's modes or fingerprint, or with inconsistent
+!> sizes, FFRF_INPUT_ERROR.
 module ffrf_io_modes_file
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
@@ -133,7 +134,7 @@ contains
             end if
          end if
          if (allocated(error)) then
-            error%code = FFRF_INPUT_ERROR
+            ! a dataset that cannot be read: a damaged file (FFRF_IO_ERROR as HDF5 gave it)
             call add_context(error, where // ', body "' // body_name // '"')
             exit section
          end if

@@ -11,7 +11,8 @@ TEST is one of
             for byte), and computes no modes; likewise with the crank's modes from a modal run
             of the crank alone (same interfaces, 10 modes) and the conrod's computed
   errors    bad uses, each exit 2 (input) or 3 (file) with one stderr line matching a regex:
-            a missing file, a file that is not HDF5, a file without the body's modes, and a
+            a missing file, a file that is not HDF5, a truncated one, a file without the
+            body's modes, and a
             file whose modes were computed for another mesh, material, interface RC or number
             of modes; modes_file in a modal run and on a rigid body
 CASE_DIR holds engine_lc8_rc1.nml (tests/engine of the build). Any failure exits 1.
@@ -133,12 +134,17 @@ def error_cases(work):
     with open(not_hdf5, 'w') as f:
         f.write('this is not an HDF5 file\n')
     crank_only = os.path.join(work, 'crank_modal.h5')
+    truncated = os.path.join(work, 'truncated.h5')
+    with open(source, 'rb') as f, open(truncated, 'wb') as g:
+        g.write(f.read()[:os.path.getsize(source) // 2])
     return [
         ('missing file', [f'body[crank].modes_file={work}/missing.h5'], 3,
          r'&body "crank": modes_file ".*missing\.h5" does not exist$'),
         ('not HDF5', [f'body[crank].modes_file={not_hdf5}'], 3,
          r'&body "crank": modes_file ".*not_hdf5\.h5": not readable as HDF5 .*give the results '
          r'file \(\.h5\) of an earlier run'),
+        ('truncated file', [f'body[crank].modes_file={truncated}'], 3,
+         r'&body "crank": modes_file ".*truncated\.h5": not readable as HDF5'),
         ('no modes of the body', [f'body[conrod].modes_file={crank_only}'], 2,
          r'&body "conrod": modes_file ".*crank_modal\.h5": no mode shapes of body "conrod" in it '
          r'\(it holds the modes of "crank"\)'),
