@@ -1,7 +1,7 @@
 # Mode reuse (&body modes_file, issue 12 part 4), by mode_reuse.py on the lc 8 mm engine of
 # engine.cmake (tests/engine of the build), 20 ms: the engine with both bodies' modes read back
 # from a computed run's results file (and the crank's from a modal run) equals the computed run
-# bit for bit; the bad uses (missing file, not HDF5, no modes of the body, another mesh,
+# bit for bit; the bad uses (missing file, not HDF5, truncated, no modes of the body, another mesh,
 # material, interface RC or number of modes, a rigid body, a modal run) stop with exit 3 or 2 and
 # one line matching a regex.
 foreach(test bitwise errors)
