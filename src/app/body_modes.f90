@@ -1,6 +1,7 @@
 !> The application side of compute_body_modes: a body's Gmsh file is read here (its path taken
 !> from the mesh folder when relative), then ffrf_modes_modal_analysis computes the modes of the
-!> mesh object; modes/ sees no file names.
+!> mesh object; modes/ sees no file names. reuse_body_modes takes them from an earlier results
+!> file instead (&body modes_file), checked against their fingerprint.
 module ffrf_app_body_modes
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -205,9 +206,9 @@ contains
       body%fingerprint = stored%fingerprint
       call log%info('modes', trim(body_input%name) // ': ' // trim(body_input%mesh_file) // &
          ', ' // to_str(body%mesh%num_nodes) // ' nodes, mass ' // to_str(body%mass, 6) // &
-         ' kg; ' // to_str(size(body%frequency_hz)) // ' modes from ' // where // ' (fingerprint ' // &
-         stored%fingerprint%total_hash() // ' matches)' // frequency_range(body%frequency_hz) // &
-         ' ... ' // to_str(timer%seconds(), 3) // ' s')
+         ' kg; ' // to_str(size(body%frequency_hz)) // ' modes from ' // where // &
+         ' (fingerprint ' // stored%fingerprint%total_hash() // ' matches)' // &
+         frequency_range(body%frequency_hz) // ' ... ' // to_str(timer%seconds(), 3) // ' s')
    end subroutine reuse_body_modes
 
    function frequency_range(frequency_hz) result(text)
