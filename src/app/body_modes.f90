@@ -1,9 +1,12 @@
 !> The application side of compute_body_modes: a body's Gmsh file is read here (its path taken
 !> from the mesh folder when relative), then ffrf_modes_modal_analysis computes the modes of the
-!> mesh object; modes/ sees no file names.
+!> mesh object; modes/ sees no file names. reuse_body_modes takes them from an earlier results
+!> file instead (&body modes_file), checked against their fingerprint.
 module ffrf_app_body_modes
-   use ffrf_core_error, only: error_t
-   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, LOG_QUIET
    use ffrf_core_paths, only: join_path
    use ffrf_la_sparse, only: csr_t
    use ffrf_mesh_mesh, only: mesh_t
@@ -16,9 +19,13 @@ module ffrf_app_body_modes
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_modes, only: modes_input_t
    use ffrf_model_specs, only: body_interface_specs, modes_spec_of
+   use ffrf_modes_fingerprint, only: modes_fingerprint_t, make_fingerprint, compare_fingerprints
+   use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
+   use ffrf_modes_reused_modes, only: body_without_modes
    implicit none
    private
-   public :: read_body_mesh, compute_body_modes_from_file, compute_input_body_modes
+   public :: read_body_mesh, compute_body_modes_from_file, compute_input_body_modes, &
+      reuse_body_modes
 
 contains
 
@@ -102,5 +109,114 @@ contains
       call compute_body_modes_from_file(body_input, interfaces, modes, mesh_dir, log, times, &
          body, error, mass_matrix, stiffness_matrix)
    end subroutine compute_input_body_modes
+
+   !> The modes of a body taken from the results file of an earlier run (&body modes_file) instead
+   !> of computed (docs/mode_reuse.md): the mesh is read and the body's mass matrix assembled as
+   !> for computed modes (the inertia invariants need it), the interfaces are built, and the
+   !> fingerprint of what this run would compute (mesh, material, interfaces, modes
+   !> specification) must equal the stored one; then the stored frequencies, shapes and
+   !> virtual-node rows are the body's. No factorisation, no Lanczos. With num_modes_given the
+   !> number of modes must match too; otherwise the file's modes are taken as they are (an
+   !> automatic model's selection included). FFRF_IO_ERROR: the file is missing or not HDF5;
+   !> FFRF_INPUT_ERROR: it holds no modes of this body, or they depend on something else.
+   subroutine reuse_body_modes(body_input, interfaces, modes, num_modes_given, mesh_dir, log, &
+         times, body, error, mass_matrix, stiffness_matrix)
+      !> Body: mesh file, volumes, material, modes_file
+      type(body_input_t), intent(in) :: body_input
+      !> The body's interfaces, resolved (ffrf_model_specs)
+      type(interface_spec_t), intent(in) :: interfaces(:)
+      !> Number of modes, shift, formulation, basis, resolved
+      type(modes_spec_t), intent(in) :: modes
+      !> modes%num_modes was given for the body (&body num_modes)
+      logical, intent(in) :: num_modes_given
+      !> Folder relative mesh files are taken from
+      character(len=*), intent(in) :: mesh_dir
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      !> Result: as compute_body_modes gives it (solver statistics empty)
+      type(body_modes_t), intent(out) :: body
+      type(error_t), allocatable, intent(out) :: error
+      !> The consistent FE mass matrix of the body
+      type(csr_t), intent(out), optional :: mass_matrix
+      !> The FE stiffness matrix of the body
+      type(csr_t), intent(out), optional :: stiffness_matrix
+      type(mesh_t) :: mesh
+      type(modes_spec_t) :: geometry_only, asked
+      type(stored_modes_t) :: stored
+      type(modes_fingerprint_t) :: here
+      type(stage_timer_t) :: timer
+      type(logger_t) :: quiet
+      type(csr_t) :: unused_mass
+      character(len=:), allocatable :: file_name, difference, where
+      logical :: same
+
+      file_name = trim(body_input%modes_file)
+      where = 'modes_file "' // file_name // '"'
+      call timer%begin()
+      call read_stored_modes(file_name, trim(body_input%name), 'modes_file', stored, error)
+      if (allocated(error)) return
+      call times%add(trim(body_input%name) // ': modes file', timer%seconds())
+      ! mesh, mass properties and interfaces, without modes
+      geometry_only = modes
+      geometry_only%num_modes = 0
+      call read_body_mesh(body_input, mesh_dir, times, mesh, error)
+      if (allocated(error)) return
+      if (present(stiffness_matrix)) then
+         ! K for the geometric stiffness: the assembly of computed modes, without modes
+         quiet = log
+         quiet%level = LOG_QUIET
+         call compute_body_modes(mesh, body_spec_of(body_input), interfaces, geometry_only, &
+            quiet, times, body, error, mass_matrix, stiffness_matrix)
+      else if (present(mass_matrix)) then
+         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+            mass_matrix, error)
+      else
+         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+            unused_mass, error)
+      end if
+      if (allocated(error)) return
+      asked = modes
+      if (.not. num_modes_given) asked%num_modes = size(stored%frequency_hz)
+      call make_fingerprint(body%mesh, body%interfaces, body_spec_of(body_input), asked, &
+         asked%num_modes, here)
+      call compare_fingerprints(here, stored%fingerprint, .not. num_modes_given, same, &
+         difference)
+      if (.not. same) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ' // difference // &
+            '; its modes of body "' // trim(body_input%name) // '" were computed for ' // &
+            'another model: give the results file of a run of this body as it is here, or ' // &
+            'remove modes_file to compute the modes')
+         return
+      end if
+      if (size(stored%shape, 1) /= body%num_dofs .or. size(stored%virtual_node_shape, 1) /= &
+         6 * size(body%interfaces)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ', body "' // &
+            trim(body_input%name) // '": shapes of ' // to_str(size(stored%shape, 1)) // &
+            ' and ' // to_str(size(stored%virtual_node_shape, 1)) // ' rows for ' // &
+            to_str(body%num_dofs) // ' dofs and ' // to_str(size(body%interfaces)) // &
+            ' interfaces; the file is damaged')
+         return
+      end if
+      body%basis = modes%basis
+      body%formulation = modes%formulation
+      body%num_static = int(stored%num_static, kind(body%num_static))
+      call move_alloc(stored%frequency_hz, body%frequency_hz)
+      call move_alloc(stored%shape, body%shape)
+      call move_alloc(stored%virtual_node_shape, body%virtual_node_shape)
+      body%fingerprint = stored%fingerprint
+      call log%info('modes', trim(body_input%name) // ': ' // trim(body_input%mesh_file) // &
+         ', ' // to_str(body%mesh%num_nodes) // ' nodes, mass ' // to_str(body%mass, 6) // &
+         ' kg; ' // to_str(size(body%frequency_hz)) // ' modes from ' // where // &
+         ' (fingerprint ' // stored%fingerprint%total_hash() // ' matches)' // &
+         frequency_range(body%frequency_hz) // ' ... ' // to_str(timer%seconds(), 3) // ' s')
+   end subroutine reuse_body_modes
+
+   function frequency_range(frequency_hz) result(text)
+      real(dp), intent(in) :: frequency_hz(:)
+      character(len=:), allocatable :: text
+      text = ''
+      if (size(frequency_hz) > 0) text = ', ' // to_str(frequency_hz(1), 6) // ' .. ' // &
+         to_str(frequency_hz(size(frequency_hz)), 6) // ' Hz'
+   end function frequency_range
 
 end module ffrf_app_body_modes

@@ -32,7 +32,7 @@ module ffrf_app_mechanism_builder
    use ffrf_modes_input, only: body_spec_t
    use ffrf_model_model, only: model_t, model_body_t
    use ffrf_modes_modal_analysis, only: body_modes_t
-   use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_app_body_modes, only: compute_body_modes_from_file, reuse_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME
    use ffrf_model_mechanism, only: model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
@@ -243,7 +243,19 @@ contains
       name = trim(resolved%name)
       associate (motion => resolved%motion)
          if (built%meshed) then
-            if (selects_body(case_model, model, k)) then
+            if (len_trim(resolved%body%modes_file) > 0) then
+               ! modes from an earlier run's results file, checked (K only for the geometric
+               ! stiffness)
+               if (resolved%body%geometric_stiffness) then
+                  call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
+                     resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
+                     mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
+               else
+                  call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
+                     resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
+                     mass_matrix=mass_matrix)
+               end if
+            else if (selects_body(case_model, model, k)) then
                if (resolved%body%geometric_stiffness) then
                   call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
                      'num_modes on the &body (the automatic model does not estimate stress ' // &

@@ -35,6 +35,7 @@ module ffrf_app_mechanism_output
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_app_run_options, only: run_options_t
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_app_engine_pressure, only: pressure_model_t
@@ -603,7 +604,29 @@ contains
       end do
       call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
          basis_name(modes%basis), int(modes%num_static), error)
+      if (.not. allocated(error)) call write_reusable_modes(results, name, modes, error)
    end subroutine write_body_modes
+
+   !> The mode shapes and their fingerprint (ffrf_io_modes_file), so that a later run can take
+   !> this body's modes from the file (&body modes_file) instead of computing them.
+   subroutine write_reusable_modes(results, name, modes, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
+      type(body_modes_t), intent(in) :: modes
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: dataset
+      character(len=:), allocatable :: values(:)
+      integer :: k
+      if (.not. modes%fingerprint%is_set()) return
+      call results%write_matrix('/bodies/' // name // '/modes/shape', modes%shape, 'm kg^-1/2', &
+         error)
+      do k = 1, NUM_FINGERPRINT_DATASETS
+         if (allocated(error)) return
+         call fingerprint_dataset(modes%fingerprint, k, dataset, values)
+         call results%write_strings('/bodies/' // name // '/modes/fingerprint/' // dataset, &
+            values, error)
+      end do
+   end subroutine write_reusable_modes
 
    !> Double the history's capacity.
    subroutine grow(history)

@@ -25,6 +25,9 @@ module ffrf_input_body
       !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal
       !> load cases (stress stiffening of a spinning body, ffrf_modes_modal_geometric_stiffness)
       logical :: geometric_stiffness = .false.
+      !> Mechanism runs, flexible bodies: results file of an earlier run whose modes of this body
+      !> are taken instead of computed (checked against their fingerprint); '' = compute them
+      character(len=256) :: modes_file = ''
    end type body_input_t
 
 end module ffrf_input_body

@@ -172,6 +172,14 @@ contains
             return
          end if
       end do
+      do k = 1, size(case%bodies)
+         if (case%is_mechanism .or. len_trim(case%bodies(k)%modes_file) == 0) cycle
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', k, 'modes_file') // &
+            ': "' // trim(case%bodies(k)%name) // '": a modal run computes the modes; ' // &
+            'modes_file takes them from an earlier run in a mechanism run (a case with ' // &
+            '&joint groups); remove it here')
+         return
+      end do
       if (case%is_mechanism) then
          call check_mechanism_names(src, case, error)
          if (.not. allocated(error)) call check_step_count(src, case, error)
@@ -288,6 +296,8 @@ contains
             if (case%is_mechanism .and. case%motions(k)%type /= 'rigid') text = text // &
                ', geometric_stiffness = ' // &
                trim(merge('.true. ', '.false.', b%geometric_stiffness))
+            if (len_trim(b%modes_file) > 0) text = text // ', modes_file = ''' // &
+               trim(b%modes_file) // ''''
             text = text // ' /' // nl
          end associate
       end do

@@ -9,6 +9,9 @@
 !>   geometric_stiffness  mechanism runs, flexible bodies: centrifugal stress stiffening (.false.)
 !>   coarse_meshes  mechanism runs, flexible bodies, &model selection = 'auto': up to 4 coarser
 !>                  meshes of the same geometry, coarse to fine, to choose the mesh from
+!>   modes_file     mechanism runs, flexible bodies: results file (.h5) of an earlier modal or
+!>                  mechanism run to take this body's modes from, checked against what they
+!>                  depend on (ffrf_modes_fingerprint); relative to the current folder; <= 256
 !> Mechanism keys (ffrf_input_mechanism's body_motion_input_t):
 !>   type           'flexible' (default) or 'rigid'
 !>   num_modes      flexible bodies: modes kept, integer in 0..10000 (default: &modes num_modes);
@@ -49,7 +52,8 @@ contains
          real_key('center_of_mass', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
          real_key('inertia', -1.0e12_dp, 1.0e12_dp, 'kg m^2', count=6), &
          real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
-         logical_key('geometric_stiffness'), string_key('coarse_meshes', 256, 4)]
+         logical_key('geometric_stiffness'), string_key('coarse_meshes', 256, 4), &
+         string_key('modes_file', 256)]
    end function body_keys
 
    !> Read every &body group; at least one is required. motions(k) holds body k's mechanism keys.
@@ -70,11 +74,12 @@ contains
       real(dp) :: position(3)
       integer :: num_modes
       logical :: geometric_stiffness
-      character(len=256) :: coarse_meshes(4)
+      character(len=256) :: coarse_meshes(4), modes_file
       character(len=512) :: msg
       integer :: stat, k
       namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
-         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, coarse_meshes
+         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, &
+         coarse_meshes, modes_file
       allocate (bodies(0), motions(0))
       rewind (unit)
       do
@@ -93,20 +98,21 @@ contains
          inertia = motion_defaults%inertia
          position = motion_defaults%position
          coarse_meshes = motion_defaults%coarse_meshes
+         modes_file = defaults%modes_file
          read (unit, nml=body, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          if (stat /= 0) then
             call namelist_read_error(error, 'body', size(bodies) + 1, msg, &
                'name, mesh_file, volumes, young, poisson, density, type, num_modes, ' // &
                'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, ' // &
-               'coarse_meshes')
+               'coarse_meshes, modes_file')
             return
          end if
          if (len_trim(volumes(1)) == 0) volumes(1) = name
          motion = body_motion_input_t(to_lower(type), num_modes, modal_damping, mass, &
             center_of_mass, inertia, position, coarse_meshes)
          bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
-            geometric_stiffness)]
+            geometric_stiffness, modes_file)]
          motions = [motions, motion]
          call check_body(src, bodies(size(bodies)), motion, size(bodies), error)
          if (allocated(error)) return
@@ -142,6 +148,10 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
             'geometric_stiffness') // ': "' // trim(body%name) // '": geometric_stiffness ' // &
             '= .true. needs a flexible body (type = ''flexible''); a rigid body does not deform')
+      else if (motion%type == 'rigid' .and. len_trim(body%modes_file) > 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
+            'modes_file') // ': "' // trim(body%name) // '": a rigid body has no modes; ' // &
+            'modes_file is for flexible bodies')
       else if (motion%type == 'rigid') then
          call check_rigid_body(src, body, motion, occurrence, error)
       else if (len_trim(body%mesh_file) == 0) then

@@ -23,6 +23,7 @@ module ffrf_io_results
    use ffrf_mpc_reduction, only: formulation_name
    use ffrf_modes_input, only: basis_name, BASIS_CRAIG_BAMPTON
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_io_modes_file, only: write_fingerprint
    implicit none
    private
    public :: results_create, results_write_body, results_finish
@@ -207,6 +208,7 @@ contains
          body%rc%redundancy, error)
       if (.not. allocated(error)) call write_sizes(h5, root // '/sizes', body, error)
       if (.not. allocated(error)) call write_solver(h5, path // '/solver', body, error)
+      if (.not. allocated(error)) call write_fingerprint(h5, body%name, body%fingerprint, error)
       if (.not. allocated(error)) call h5%flush(error)
       if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
    end subroutine results_write_body

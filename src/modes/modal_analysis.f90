@@ -24,6 +24,7 @@ module ffrf_modes_modal_analysis
    use ffrf_modes_input, only: body_spec_t, modes_spec_t, BASIS_NONE, BASIS_CRAIG_BAMPTON
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_craig_bampton, only: cb_result_t, craig_bampton_modes
+   use ffrf_modes_fingerprint, only: modes_fingerprint_t, make_fingerprint
    implicit none
    private
    public :: body_modes_t, compute_body_modes, sigma_of_shift
@@ -72,6 +73,10 @@ module ffrf_modes_modal_analysis
       real(dp) :: orthonormality_error = 0.0_dp
       !> Eigen solver statistics (Craig-Bampton: of the fixed-interface modes)
       type(eigen_result_t) :: eigen
+      !> What the modes depend on (mesh, material, interfaces, modes specification), stored
+      !> with them so that a later run can reuse them (ffrf_modes_fingerprint); not set when no
+      !> modes were computed
+      type(modes_fingerprint_t) :: fingerprint
    end type body_modes_t
 
 contains
@@ -263,8 +268,13 @@ contains
          call solve_modes(body, modes, red, K_r, M_r, automatic_shift_hz(body%mesh%xyz, &
             material), log, times, error, ranks)
       end if
-      if (allocated(error)) call add_context(error, 'body "' // body%name // '", mesh "' // &
-         mesh_name // '"')
+      if (allocated(error)) then
+         call add_context(error, 'body "' // body%name // '", mesh "' // mesh_name // '"')
+         return
+      end if
+      ! num_modes as asked (Craig-Bampton stores the static modes on top)
+      call make_fingerprint(body%mesh, body%interfaces, body_spec, modes, modes%num_modes, &
+         body%fingerprint)
    end subroutine compute_body_modes
 
    !> Shift-invert Lanczos on the reduced system, then psi = T phi and the virtual-node rows.

@@ -60,6 +60,8 @@ module ffrf_mpc_interface
       character(len=:), allocatable :: name
       !> MPC_RBE2 or MPC_RBE3
       integer :: mpc = MPC_RBE3
+      !> RBE3 node weights as asked: WEIGHTING_* (interface_spec_t%weighting)
+      integer :: weighting = WEIGHTING_UNIFORM
       !> Body node indices of the face (or node set), sorted
       integer(ip), allocatable :: nodes(:)
       !> Node weights (RBE3); ones for RBE2
@@ -106,6 +108,7 @@ contains
          return
       end if
       iface%mpc = spec%mpc
+      iface%weighting = spec%weighting
       iface%rc = spec%rc
 
       if (allocated(spec%nodes)) then

@@ -18,6 +18,7 @@ module ffrf_app_engine_auto_model
    use ffrf_input_body, only: body_input_t
    use ffrf_mpc_interface, only: interface_spec_t
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_modes_fingerprint, only: set_kept_modes
    use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_model_model, only: model_t
    use ffrf_model_mechanism, only: LOAD_PRESSURE, LOAD_DRAG, SELECTION_AUTO
@@ -125,7 +126,8 @@ contains
       end associate
    end subroutine start_model_selection
 
-   !> .true. when the selection chooses body k's mesh and modes (flexible, num_modes not given).
+   !> .true. when the selection chooses body k's mesh and modes (flexible, num_modes not given,
+   !> no modes_file: modes taken from a file fix the body's mesh and modes).
    pure function selects_body(model, choice, k) result(selects)
       !> The case resolved (rigid flags, num_modes given, meshes)
       type(model_t), intent(in) :: model
@@ -133,7 +135,8 @@ contains
       integer, intent(in) :: k
       logical :: selects
       selects = choice%active .and. .not. model%bodies(k)%rigid .and. &
-         .not. model%bodies(k)%num_modes_given .and. model%bodies(k)%meshed
+         .not. model%bodies(k)%num_modes_given .and. model%bodies(k)%meshed .and. &
+         len_trim(model%bodies(k)%body%modes_file) == 0
    end function selects_body
 
    !> Modes of body k on its candidate meshes, coarse to fine, until one meets the mesh budget
@@ -410,6 +413,7 @@ contains
    subroutine keep_modes(modes, kept)
       type(body_modes_t), intent(inout) :: modes
       integer, intent(in) :: kept(:)
+      call set_kept_modes(modes%fingerprint, kept, size(modes%frequency_hz))
       modes%frequency_hz = modes%frequency_hz(kept)
       modes%shape = modes%shape(:, kept)
       modes%virtual_node_shape = modes%virtual_node_shape(:, kept)

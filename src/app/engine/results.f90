@@ -80,6 +80,7 @@ module ffrf_app_engine_results
       procedure :: finish => engine_results_finish
       procedure :: num_steps => engine_results_num_steps
       procedure :: write_real => engine_results_write_real
+      procedure :: write_matrix => engine_results_write_matrix
       procedure :: write_int => engine_results_write_int
       procedure :: write_strings => engine_results_write_strings
       procedure :: write_modes => engine_results_write_modes
@@ -351,6 +352,17 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call self%h5%write_real(path, values, unit, error)
    end subroutine engine_results_write_real
+
+   !> Write a real matrix, e.g. /bodies/<body>/modes/shape.
+   subroutine engine_results_write_matrix(self, path, values, unit, error)
+      class(engine_results_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      real(dp), intent(in) :: values(:, :)
+      !> Unit, '1' when dimensionless
+      character(len=*), intent(in) :: unit
+      type(error_t), allocatable, intent(out) :: error
+      call self%h5%write_real(path, values, unit, error)
+   end subroutine engine_results_write_matrix
 
    !> Write integer run information, e.g. /joints/<joint>/redundant_equations.
    subroutine engine_results_write_int(self, path, values, error)

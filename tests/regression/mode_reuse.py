@@ -1,0 +1,205 @@
+#!/usr/bin/env python3
+"""Mode reuse (&body modes_file, issue 12 part 4): runs the ffrf driver on the lc = 8 mm engine
+(flexible crank RC set 1 and conrod, 10 modes each, h = 1e-4 s, 20 ms) and checks with h5py.
+
+    mode_reuse.py TEST FFRF MESH_DIR CASE_DIR WORK_DIR
+
+TEST is one of
+  bitwise   the engine with both bodies' modes taken from the results file of a computed run
+            gives that run's results bit for bit (every dataset and attribute except the
+            timings, library versions, wall times and the input echo; the Gmsh animations byte
+            for byte), and computes no modes; likewise with the crank's modes from a modal run
+            of the crank alone (same interfaces, 10 modes) and the conrod's computed
+  errors    bad uses, each exit 2 (input) or 3 (file) with one stderr line matching a regex:
+            a missing file, a file that is not HDF5, a truncated one, a file without the
+            body's modes, and a
+            file whose modes were computed for another mesh, material, interface RC or number
+            of modes; modes_file in a modal run and on a rigid body
+CASE_DIR holds engine_lc8_rc1.nml (tests/engine of the build). Any failure exits 1.
+"""
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bitwise import digest_h5  # noqa: E402
+
+FAILURES = []
+# what a reused run may change: wall-clock figures (as bitwise.py) and the input echo, which
+# names the modes_file (and the --set lines that gave it)
+IGNORED = ('input/namelist',)
+
+
+def check(condition, what):
+    print(('ok     ' if condition else 'FAILED ') + what, flush=True)
+    if not condition:
+        FAILURES.append(what)
+
+
+def run(ffrf, case, mesh_dir, out_dir, *more):
+    env = dict(os.environ, OPENBLAS_NUM_THREADS='1')
+    result = subprocess.run([ffrf, case, '--mesh-dir', mesh_dir, '--output-dir', out_dir, *more],
+                            capture_output=True, text=True, env=env, timeout=600)
+    return result.returncode, result.stdout, result.stderr
+
+
+def make_case(source, target, replacements):
+    text = open(source).read()
+    for old, new in replacements:
+        if old not in text:
+            raise SystemExit(f'{source}: "{old}" not found')
+        text = text.replace(old, new, 1)
+    with open(target, 'w') as f:
+        f.write(text)
+    return target
+
+
+def engine_case(case_dir, work):
+    """The lc 8 mm engine, 20 ms (200 steps of 1e-4 s), no animation frames change."""
+    return make_case(os.path.join(case_dir, 'engine_lc8_rc1.nml'), os.path.join(work, 'engine.nml'),
+                     [('t_end = 0.1', 't_end = 0.02')])
+
+
+def crank_modal_case(engine, work):
+    """A modal case of the engine's crank alone: its &body (mesh, material) and &interface
+    groups, 10 modes."""
+    text = open(engine).read()
+    body = re.search(r"&body name = 'crank'.*?/\n", text, re.S).group(0)
+    body = body.replace(" type = 'flexible', num_modes = 10,", '')
+    body = re.sub(r",\s*coarse_meshes = [^/]*", ' ', body)
+    interfaces = re.findall(r"&interface body = 'crank'.*?/\n", text, re.S)
+    target = os.path.join(work, 'crank_modal.nml')
+    with open(target, 'w') as f:
+        f.write("&run title = 'engine crank alone', mode_shapes_msh = 'none' /\n" + body +
+                ''.join(interfaces) + '&modes num_modes = 10 /\n')
+    return target
+
+
+def compare_runs(reference, other, label):
+    a = digest_h5(reference)
+    b = digest_h5(other)
+    keys = [k for k in a if k not in IGNORED]
+    differ = [k for k in keys if k not in b or b[k]['sha256'] != a[k]['sha256']]
+    extra = [k for k in b if k not in a and k not in IGNORED]
+    check(not differ and not extra,
+          f'{label}: {len(keys)} datasets and attributes bitwise equal to the computed run'
+          + (f'; differ: {differ[:8]}' if differ else '') + (f'; extra: {extra[:8]}' if extra else ''))
+
+
+def same_bytes(a, b):
+    with open(a, 'rb') as f, open(b, 'rb') as g:
+        return f.read() == g.read()
+
+
+def test_bitwise(ffrf, mesh_dir, case_dir, work):
+    case = engine_case(case_dir, work)
+    code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'computed.h5')
+    check(code == 0, f'computed run (exit {code}) {err.strip()}')
+    computed = os.path.join(work, 'computed.h5')
+    source = os.path.join(work, 'modes_source.h5')
+    os.replace(computed, source)
+    # the computed run again under the name the comparison uses (its own animations)
+    code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'computed.h5')
+    check(code == 0, f'computed run again (exit {code})')
+
+    code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'reused.h5',
+                         '--set', f'body[crank].modes_file={source}',
+                         '--set', f'body[conrod].modes_file={source}')
+    check(code == 0, f'run with both bodies\' modes_file (exit {code}) {err.strip()}')
+    check(len(re.findall(r'\[modes\] \w+: .* 10 modes from modes_file .* matches\)', out)) == 2,
+          'both bodies take 10 modes from the file, fingerprints matching')
+    check('eigen' not in out and 'MUMPS' not in out and '[rc]' not in out,
+          'no eigen-solve, no factorisation in the reused run')
+    compare_runs(computed, os.path.join(work, 'reused.h5'), 'both bodies reused')
+    for body in ('crank', 'conrod'):
+        check(same_bytes(os.path.join(work, f'computed_{body}_animation.msh'),
+                         os.path.join(work, f'reused_{body}_animation.msh')),
+              f'{body} animation byte for byte equal')
+
+    # the crank's modes from a modal run of the crank alone
+    modal = crank_modal_case(case, work)
+    code, out, err = run(ffrf, modal, mesh_dir, work)
+    check(code == 0, f'modal run of the engine crank (exit {code}) {err.strip()}')
+    code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'from_modal.h5',
+                         '--set', f'body[crank].modes_file={os.path.join(work, "crank_modal.h5")}')
+    check(code == 0, f'crank modes from the modal results (exit {code}) {err.strip()}')
+    compare_runs(computed, os.path.join(work, 'from_modal.h5'), 'crank from a modal run')
+
+
+# (what, --set overrides, exit code, regex of the one stderr line)
+def error_cases(work):
+    source = os.path.join(work, 'modes_source.h5')
+    not_hdf5 = os.path.join(work, 'not_hdf5.h5')
+    with open(not_hdf5, 'w') as f:
+        f.write('this is not an HDF5 file\n')
+    crank_only = os.path.join(work, 'crank_modal.h5')
+    truncated = os.path.join(work, 'truncated.h5')
+    with open(source, 'rb') as f, open(truncated, 'wb') as g:
+        g.write(f.read()[:os.path.getsize(source) // 2])
+    return [
+        ('missing file', [f'body[crank].modes_file={work}/missing.h5'], 3,
+         r'&body "crank": modes_file ".*missing\.h5" does not exist$'),
+        ('not HDF5', [f'body[crank].modes_file={not_hdf5}'], 3,
+         r'&body "crank": modes_file ".*not_hdf5\.h5": not readable as HDF5 .*give the results '
+         r'file \(\.h5\) of an earlier run'),
+        ('truncated file', [f'body[crank].modes_file={truncated}'], 3,
+         r'&body "crank": modes_file ".*truncated\.h5": not readable as HDF5'),
+        ('no modes of the body', [f'body[conrod].modes_file={crank_only}'], 2,
+         r'&body "conrod": modes_file ".*crank_modal\.h5": no mode shapes of body "conrod" in it '
+         r'\(it holds the modes of "crank"\)'),
+        ('mesh', [f'body[crank].modes_file={source}', 'body[crank].mesh_file=crank_lc10.msh'], 2,
+         r'modes_file ".*modes_source\.h5": the mesh differs \(nodes \'4832\' here, \'8498\' in '
+         r'the file\); its modes of body "crank" were computed for another model'),
+        ('material', [f'body[crank].modes_file={source}', 'body[crank].young=200e9'], 2,
+         r'the material differs \(young \'2E\+11 Pa\' here, \'2\.1E\+11 Pa\' in the file\)'),
+        ('interface RC', [f'body[crank].modes_file={source}', 'interface[B2].rc=Tx Ty'], 2,
+         r'the interfaces differ \(B2: rc \'Tx Ty\' here, \'none\' in the file\)'),
+        ('number of modes', [f'body[conrod].modes_file={source}', 'body[conrod].num_modes=8'], 2,
+         r'&body "conrod": modes_file ".*": the modes specification differs \(num_modes \'8\' '
+         r'here, \'10\' in the file\)'),
+        ('rigid body', [f'body[piston].modes_file={source}'], 2,
+         r'--set body\[piston\]\.modes_file = .*: "piston": a rigid body has no modes; '
+         r'modes_file is for flexible bodies$'),
+    ]
+
+
+def test_errors(ffrf, mesh_dir, case_dir, work):
+    case = engine_case(case_dir, work)
+    code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'modes_source.h5', '--quiet')
+    check(code == 0, f'source run (exit {code}) {err.strip()}')
+    modal = crank_modal_case(case, work)
+    code, out, err = run(ffrf, modal, mesh_dir, work, '--quiet')
+    check(code == 0, f'modal source run (exit {code}) {err.strip()}')
+    for what, sets, expected, pattern in error_cases(work):
+        args = [a for s in sets for a in ('--set', s)]
+        code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'refused.h5', '--quiet', *args)
+        lines = err.splitlines()
+        ok = (code == expected and len(lines) == 1 and lines[0].startswith('ffrf: error: ') and
+              re.search(pattern, lines[0]) is not None)
+        check(ok, f'{what}: exit {code} (expected {expected}): {err.strip()}')
+        check(not os.path.exists(os.path.join(work, 'refused.h5')), f'{what}: no results file')
+    # modes_file in a modal run
+    code, out, err = run(ffrf, modal, mesh_dir, work, '--output', 'refused.h5', '--quiet',
+                         '--set', f'body[crank].modes_file={work}/modes_source.h5')
+    lines = err.splitlines()
+    check(code == 2 and len(lines) == 1 and re.search(
+        r'"crank": a modal run computes the modes; modes_file takes them from an earlier run in '
+        r'a mechanism run', lines[0]) is not None, f'modes_file in a modal run: exit {code}: {err.strip()}')
+
+
+def main(argv):
+    if len(argv) != 6 or argv[1] not in ('bitwise', 'errors'):
+        print(__doc__)
+        return 1
+    test, ffrf, mesh_dir, case_dir, work = argv[1:]
+    os.makedirs(work, exist_ok=True)
+    {'bitwise': test_bitwise, 'errors': test_errors}[test](
+        os.path.abspath(ffrf), os.path.abspath(mesh_dir), os.path.abspath(case_dir),
+        os.path.abspath(work))
+    print(f'{len(FAILURES)} failure(s)')
+    return 1 if FAILURES else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
