@@ -95,10 +95,10 @@ def main():
        f"(max {np.max(blr['residual']):.2e}, full rank {np.max(ref['residual']):.2e})")
     ok("BLR predicted memory not larger (INFOG(36) <= INFOG(16))",
        0 < blr["estimated_memory_blr_mb"] <= blr["estimated_memory_incore_mb"],
-       f"({blr['estimated_memory_blr_mb']} MB < {blr['estimated_memory_incore_mb']} MB)")
+       f"({blr['estimated_memory_blr_mb']} MB <= {blr['estimated_memory_incore_mb']} MB)")
     ok("BLR stored factor not larger (INFOG(35) <= INFOG(29))",
        0 < blr["compressed_factor_entries"] <= blr["factor_entries"],
-       f"({blr['compressed_factor_entries']} < {blr['factor_entries']}, "
+       f"({blr['compressed_factor_entries']} <= {blr['factor_entries']}, "
        f"{100 * blr['compressed_factor_entries'] / blr['factor_entries']:.1f} %)")
 
 
