@@ -251,7 +251,9 @@ contains
    !> MUMPS analysis estimates and memory options next to the factor statistics (issue 12):
    !> estimated factor entries INFOG(20), flops RINFOG(1), MB in-core INFOG(16)/(17) and
    !> out-of-core INFOG(26)/(27) (max over processes / sum), low-rank INFOG(36) or (38), the MB
-   !> predicted for the options used, the limit checked (0: none), stored factor entries.
+   !> predicted for the options used, stored factor entries. All are determined by the matrix and
+   !> the options (the bitwise digests hold them); the limit checked, which depends on the
+   !> machine's free memory at the time, goes to the log only.
    subroutine write_memory_estimates(h5, path, e, error)
       type(h5_file_t), intent(inout) :: h5
       character(len=*), intent(in) :: path
@@ -272,8 +274,6 @@ contains
          e%estimated_memory_blr_mb, error)
       if (.not. allocated(error)) call h5%write_int(path // '/predicted_memory_mb', &
          e%predicted_memory_mb, error)
-      if (.not. allocated(error)) call h5%write_int(path // '/memory_limit_mb', &
-         e%memory_limit_mb, error)
       if (.not. allocated(error)) call h5%write_int(path // '/compressed_factor_entries', &
          e%compressed_factor_entries, error)
       if (.not. allocated(error)) call h5%write_int(path // '/out_of_core', &

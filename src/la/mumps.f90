@@ -12,6 +12,11 @@
 !> The sequential library needs no MPI_Init: its stub MPI_INITIALIZED returns .true. and ignores
 !> the communicator, so COMM is set to the stub's MPI_COMM_WORLD value without including mpif.h.
 !> OpenBLAS threads are left as the environment sets them (OPENBLAS_NUM_THREADS).
+!>
+!> Memory (issue 12): `set_memory_options` (after init, before analyse) chooses out-of-core
+!> factors (ICNTL(22)), block low-rank factors (ICNTL(35) = 2, CNTL(7), with iterative refinement)
+!> and a memory limit; `analyse` records MUMPS's estimates and `factorise` refuses a
+!> factorisation predicted above the limit (`check_memory`) before MUMPS allocates it.
 module ffrf_la_mumps
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &

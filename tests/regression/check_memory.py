@@ -14,7 +14,7 @@
     by the BLR clustering, sep_grouping): the BLR run is repeated up to 6 times when it ends by
     SIGSEGV and the number of crashes is printed (README, "Known limits");
   the analysis estimates are in the results file (estimated_factor_entries = INFOG(20) > 0,
-    estimated memory in-core > out-of-core > 0, memory_limit_mb the automatic limit > 0)."""
+    estimated memory in-core > out-of-core > 0, predicted_memory_mb the one of the options)."""
 import argparse
 import glob
 import os
@@ -75,10 +75,12 @@ def main():
 
     ok("estimates recorded", ref["estimated_factor_entries"] > 0 and
        ref["estimated_memory_incore_mb"] > ref["estimated_memory_ooc_mb"] > 0 and
-       ref["memory_limit_mb"] > 0 and ref["out_of_core"] == 0,
+       ref["predicted_memory_mb"] == ref["estimated_memory_incore_mb"] and
+       ooc["predicted_memory_mb"] == ooc["estimated_memory_ooc_mb"] and ref["out_of_core"] == 0,
        f"(INFOG(20) = {ref['estimated_factor_entries']}, in-core "
        f"{ref['estimated_memory_incore_mb']} MB, out-of-core {ref['estimated_memory_ooc_mb']} MB, "
-       f"limit {ref['memory_limit_mb']} MB)")
+       f"predicted in-core run {ref['predicted_memory_mb']} MB, out-of-core run "
+       f"{ooc['predicted_memory_mb']} MB)")
     ok("full-rank factor entries unchanged by the options",
        ref["factor_entries"] == ooc["factor_entries"] == ref["compressed_factor_entries"])
 
