@@ -20,6 +20,7 @@ module ffrf_app_modal_run
       output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_modes_input, only: modes_spec_t
    use ffrf_app_body_modes, only: compute_body_modes_from_file
    use ffrf_model_model, only: model_t, build_model
    implicit none
@@ -136,8 +137,9 @@ contains
                cycle
             end if
             associate (body => model%bodies(k))
-               call compute_body_modes_from_file(body%body, body%interfaces, body%modes, &
-                  mesh_dir, log, times, bodies(k), error)
+               call compute_body_modes_from_file(body%body, body%interfaces, &
+                  with_ooc_folder(body%modes, folder_of(results_file)), mesh_dir, log, times, &
+                  bodies(k), error)
             end associate
             call output_timer%begin()
             if (.not. allocated(error) .and. ranks%is_root()) then
@@ -229,5 +231,20 @@ contains
          call log%info('modes', trim(line))
       end do
    end subroutine log_frequency_table
+
+   !> The modes specification with the out-of-core folder decided: as given, else TMPDIR when
+   !> set, else the folder of the results file.
+   function with_ooc_folder(modes, output_folder) result(resolved)
+      type(modes_spec_t), intent(in) :: modes
+      character(len=*), intent(in) :: output_folder
+      type(modes_spec_t) :: resolved
+      integer :: length, stat
+      resolved = modes
+      if (len_trim(resolved%ooc_directory) > 0) return
+      call get_environment_variable('TMPDIR', length=length, status=stat)
+      if (stat == 0 .and. length > 0) return
+      resolved%ooc_directory = output_folder
+      if (len_trim(output_folder) == 0) resolved%ooc_directory = '.'
+   end function with_ooc_folder
 
 end module ffrf_app_modal_run

@@ -317,10 +317,25 @@ contains
          trim(case%modes%formulation) // ''', rc_label = ''' // trim(case%modes%rc_label) // &
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
          to_str(case%modes%lanczos_vectors) // ', basis = ''' // trim(case%modes%basis) // &
-         ''' /' // nl
+         '''' // memory_echo(case%modes) // ' /' // nl
       if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
       if (allocated(case%overrides)) text = text // case%overrides
    end function case_echo
+
+   !> The memory keys of &modes, only those not at their defaults (so the echo of a case
+   !> without them is the one written before they existed).
+   function memory_echo(m) result(text)
+      type(modes_input_t), intent(in) :: m
+      character(len=:), allocatable :: text
+      text = ''
+      if (m%out_of_core) text = text // ', out_of_core = .true.'
+      if (len_trim(m%ooc_tmpdir) > 0) text = text // ', ooc_tmpdir = ''' // trim(m%ooc_tmpdir) &
+         // ''''
+      if (m%memory_limit_mb /= -1) text = text // ', memory_limit_mb = ' // &
+         to_str(m%memory_limit_mb)
+      if (m%compression_tolerance /= 0.0_dp) text = text // ', compression_tolerance = ' // &
+         to_str(m%compression_tolerance, 6)
+   end function memory_echo
 
    !> The mechanism keys of a &body.
    function motion_echo(m) result(text)

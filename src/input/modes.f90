@@ -29,6 +29,14 @@ module ffrf_input_modes
       !> 'craig_bampton' (static constraint modes of the non-RC virtual-node dofs plus num_modes
       !> fixed-interface modes, orthonormalised by Rayleigh-Ritz: src/modes/craig_bampton.f90)
       character(len=16) :: basis = 'rc_normal'
+      !> Out-of-core factorisation: MUMPS writes the factors to files (ICNTL(22) = 1)
+      logical :: out_of_core = .false.
+      !> Folder of the out-of-core files; blank: TMPDIR, else the output folder
+      character(len=256) :: ooc_tmpdir = ''
+      !> Memory limit per process in MB: -1 automatic (MemAvailable), 0 none, > 0 the limit
+      integer :: memory_limit_mb = -1
+      !> Block low-rank dropping tolerance (MUMPS CNTL(7)); 0 = full-rank factors
+      real(dp) :: compression_tolerance = 0.0_dp
    end type modes_input_t
 
 end module ffrf_input_modes

@@ -11,6 +11,12 @@
 !>   basis        'rc_normal' (default: constrained normal modes of the RC set) or
 !>                'craig_bampton' (static constraint modes of the non-RC virtual-node dofs +
 !>                num_modes fixed-interface modes, orthonormalised; Heirman & Desmet 2010)
+!>   out_of_core  .true.: MUMPS writes the factors to files (out-of-core; default .false.)
+!>   ooc_tmpdir   folder of the out-of-core files (default '': TMPDIR, else the output folder)
+!>   memory_limit_mb  memory limit per process [MB]: -1 (default) MemAvailable, 0 no check;
+!>                a factorisation predicted above it is refused (exit 4); integer >= -1
+!>   compression_tolerance  block low-rank dropping tolerance of the factors (MUMPS CNTL(7)),
+!>                in [0, 1); 0 (default): full-rank factors
 module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -18,7 +24,7 @@ module ffrf_input_nml_modes
    use ffrf_input_modes, only: modes_input_t
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
-      nml_source_t
+      nml_source_t, logical_key
    implicit none
    private
    public :: read_modes_group, modes_keys
@@ -33,7 +39,9 @@ contains
          choice_key('formulation', 16, 'multipliers, null_space'), string_key('rc_label', 64), &
          real_key('tolerance', 0.0_dp, 1.0e-2_dp, '', upper_open=.true.), &
          integer_key('lanczos_vectors', 0_i8, 100000_i8), &
-         choice_key('basis', 16, 'rc_normal, craig_bampton')]
+         choice_key('basis', 16, 'rc_normal, craig_bampton'), logical_key('out_of_core'), &
+         string_key('ooc_tmpdir', 256), integer_key('memory_limit_mb', -1_i8, 1000000000_i8), &
+         real_key('compression_tolerance', 0.0_dp, 1.0_dp, '', upper_open=.true.)]
    end function modes_keys
 
    !> Read &modes (optional group; defaults from modes_input_t).
@@ -43,14 +51,16 @@ contains
       type(nml_source_t), intent(in) :: src
       type(modes_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
-      integer :: num_modes, lanczos_vectors
-      real(dp) :: shift_hz, tolerance
+      integer :: num_modes, lanczos_vectors, memory_limit_mb
+      real(dp) :: shift_hz, tolerance, compression_tolerance
+      logical :: out_of_core
+      character(len=256) :: ooc_tmpdir
       character(len=16) :: formulation, basis
       character(len=64) :: rc_label
       character(len=512) :: msg
       integer :: stat
       namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
-         basis
+         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance
       num_modes = input%num_modes
       shift_hz = input%shift_hz
       formulation = input%formulation
@@ -58,12 +68,17 @@ contains
       tolerance = input%tolerance
       lanczos_vectors = input%lanczos_vectors
       basis = input%basis
+      out_of_core = input%out_of_core
+      ooc_tmpdir = input%ooc_tmpdir
+      memory_limit_mb = input%memory_limit_mb
+      compression_tolerance = input%compression_tolerance
       rewind (unit)
       read (unit, nml=modes, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'modes', 0, msg, &
-            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis')
+            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis, ' // &
+            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance')
          return
       end if
       formulation = to_lower(formulation)
@@ -86,10 +101,27 @@ contains
       else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &
             ', must lie in [0, 1e-2)')
+      else if (memory_limit_mb < -1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: memory_limit_mb = ' // &
+            to_str(memory_limit_mb) // ', must be -1 (automatic: MemAvailable), 0 (no ' // &
+            'check) or a size in MB')
+      else if (.not. (compression_tolerance >= 0.0_dp .and. compression_tolerance < 1.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: compression_tolerance = ' // &
+            to_str(compression_tolerance) // ', must lie in [0, 1) (0: full-rank factors; ' // &
+            'e.g. 1e-8)')
+      else if (compression_tolerance > 0.0_dp) then
+         ! Measured on this toolchain (README "Large meshes"): about one BLR analysis in four
+         ! ends with SIGSEGV inside SCOTCH, and the crank's fronts hardly compress.
+         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: compression_tolerance = ' // &
+            to_str(compression_tolerance) // ': block low-rank factors are not offered: ' // &
+            'Debian 12''s MUMPS 5.5.1 with SCOTCH 7.0.3 crashes (SIGSEGV in ' // &
+            'SCOTCH_graphBuild) in about one block low-rank analysis in four, and on the ' // &
+            'crank they store 90-95 % of the full factor; use out_of_core = .true. or more ' // &
+            'ranks (the MPI build) for large meshes, and compression_tolerance = 0')
       end if
       if (allocated(error)) return
       input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
-         lanczos_vectors, basis)
+         lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance)
    end subroutine read_modes_group
 
 end module ffrf_input_nml_modes

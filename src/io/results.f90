@@ -24,6 +24,7 @@ module ffrf_io_results
    use ffrf_modes_input, only: basis_name, BASIS_CRAIG_BAMPTON
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_io_modes_file, only: write_fingerprint
+   use ffrf_modes_shift_invert, only: eigen_result_t
    implicit none
    private
    public :: results_create, results_write_body, results_finish
@@ -246,7 +247,42 @@ contains
             e%num_iterations, error)
          if (.not. allocated(error)) call h5%write_int(path // '/lanczos_vectors', e%ncv, error)
       end associate
+      if (.not. allocated(error)) call write_memory_estimates(h5, path, body%eigen, error)
    end subroutine write_solver
+
+   !> MUMPS analysis estimates and memory options next to the factor statistics (issue 12):
+   !> estimated factor entries INFOG(20), flops RINFOG(1), MB in-core INFOG(16)/(17) and
+   !> out-of-core INFOG(26)/(27) (max over processes / sum), low-rank INFOG(36) or (38), the MB
+   !> predicted for the options used, stored factor entries. All are determined by the matrix and
+   !> the options (the bitwise digests hold them); the limit checked, which depends on the
+   !> machine's free memory at the time, goes to the log only.
+   subroutine write_memory_estimates(h5, path, e, error)
+      type(h5_file_t), intent(inout) :: h5
+      character(len=*), intent(in) :: path
+      type(eigen_result_t), intent(in) :: e
+      type(error_t), allocatable, intent(out) :: error
+      call h5%write_int(path // '/estimated_factor_entries', e%estimated_factor_entries, error)
+      if (.not. allocated(error)) call h5%write_real(path // '/estimated_flops', &
+         e%estimated_flops, '', error)
+      if (.not. allocated(error)) call h5%write_int(path // '/estimated_memory_incore_mb', &
+         e%estimated_memory_incore_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // &
+         '/estimated_memory_incore_total_mb', e%estimated_memory_incore_total_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/estimated_memory_ooc_mb', &
+         e%estimated_memory_ooc_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/estimated_memory_ooc_total_mb', &
+         e%estimated_memory_ooc_total_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/estimated_memory_blr_mb', &
+         e%estimated_memory_blr_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/predicted_memory_mb', &
+         e%predicted_memory_mb, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/compressed_factor_entries', &
+         e%compressed_factor_entries, error)
+      if (.not. allocated(error)) call h5%write_int(path // '/out_of_core', &
+         merge(1, 0, e%out_of_core), error)
+      if (.not. allocated(error)) call h5%write_real(path // '/compression_tolerance', &
+         e%compression_tolerance, '', error)
+   end subroutine write_memory_estimates
 
    !> 'RBE3', 'RBE2' or 'mixed'.
    function mpc_summary(body) result(text)

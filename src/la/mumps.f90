@@ -18,12 +18,18 @@
 !> (rank 0), and the solution is broadcast so every rank leaves `solve` with the same x.
 !> INFOG (status, inertia, sizes) is global: every rank takes the same branches.
 !> OpenBLAS threads are left as the environment sets them (OPENBLAS_NUM_THREADS).
+!>
+!> Memory (issue 12): `set_memory_options` (after init, before analyse) chooses out-of-core
+!> factors (ICNTL(22)), block low-rank factors (ICNTL(35) = 2, CNTL(7), with iterative refinement)
+!> and a memory limit; `analyse` records MUMPS's estimates and `factorise` refuses a
+!> factorisation predicted above the limit (`check_memory`) before MUMPS allocates it.
 module ffrf_la_mumps
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
+   use ffrf_core_memory, only: available_memory_mb, resident_memory_mb
    use ffrf_la_metis, only: pattern_nested_dissection
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_MUMPS
    use ffrf_core_parallel, only: parallel_t, solver_communicator, check_solver_ready
@@ -43,6 +49,14 @@ module ffrf_la_mumps
                          phase_factorised = 3
    !> Workspace relaxation retries on INFOG(1) = -8/-9, each doubling ICNTL(14)
    integer, parameter :: max_workspace_retries = 2
+   !> What to do when the factors do not fit (memory check, MUMPS errors -5/-7/-8/-9/-13)
+   character(len=*), parameter :: MEMORY_REMEDIES = 'more ranks (the MPI build: mpirun -np N), ' &
+      // 'out-of-core factors (&modes out_of_core = .true.), block low-rank compression ' // &
+      '(&modes compression_tolerance = 1e-8), or a coarser mesh'
+   !> Iterative-refinement steps of each solve with block low-rank factors (ICNTL(10))
+   integer, parameter :: BLR_REFINEMENT_STEPS = 2
+   !> INFOG(1) of a factorisation refused by the memory check (not a MUMPS code)
+   integer, parameter, public :: MUMPS_STATUS_MEMORY_LIMIT = -1000
 
    interface
       !> The MUMPS driver (double precision): one call per JOB.
@@ -104,6 +118,42 @@ module ffrf_la_mumps
       integer(i8) :: num_solves = 0
       !> Last INFOG(1): 0 success, > 0 warning (MUMPS user guide, section 8)
       integer(ip) :: status = 0
+      ! Memory options (set_memory_options) and the analysis's estimates (MUMPS 5.5 user
+      ! guide, section 8: INFO/INFOG after JOB = 1), checked against the limit in `factorise`
+      !> Out-of-core factorisation: factors written to files in ooc_directory, ICNTL(22) = 1
+      logical :: out_of_core = .false.
+      !> Folder of the out-of-core files (OOC_TMPDIR); MUMPS removes them at `free` (JOB = -2)
+      character(len=:), allocatable :: ooc_directory
+      !> Block low-rank dropping tolerance CNTL(7) with ICNTL(35) = 2 (BLR factors used in the
+      !> solve); 0 = full-rank factors (MUMPS's default, bitwise the former results)
+      real(dp) :: compression_tolerance = 0.0_dp
+      !> Memory limit of this process in MB: -1 automatic (resident + MemAvailable at the
+      !> check), 0 none, > 0 the limit
+      integer(i8) :: memory_limit_mb = 0
+      !> Estimated MB of MUMPS data for the in-core full-rank factorisation: this process
+      !> INFO(15), max over processes INFOG(16), sum INFOG(17)
+      integer(i8) :: estimated_memory_incore_mb = 0, estimated_memory_incore_max_mb = 0, &
+                     estimated_memory_incore_total_mb = 0
+      !> Same for the out-of-core full-rank factorisation: INFO(17), INFOG(26), INFOG(27)
+      integer(i8) :: estimated_memory_ooc_mb = 0, estimated_memory_ooc_max_mb = 0, &
+                     estimated_memory_ooc_total_mb = 0
+      !> Same with low-rank factors (compression on; assumes ICNTL(38), 60 % of the full-rank
+      !> factors by default): in-core max/sum INFOG(36)/(37), out-of-core INFOG(38)/(39)
+      integer(i8) :: estimated_memory_blr_incore_mb = 0, estimated_memory_blr_incore_total_mb = 0, &
+                     estimated_memory_blr_ooc_mb = 0, estimated_memory_blr_ooc_total_mb = 0
+      !> Estimated flops of the elimination, RINFOG(1); estimated disk MB (out-of-core),
+      !> RINFOG(15)
+      real(dp) :: estimated_flops = 0.0_dp, estimated_disk_mb = 0.0_dp
+      !> The estimate for the chosen options (MB of MUMPS data in this process), the resident
+      !> memory and the limit at the last check (MB); limit 0 when no check was made
+      integer(i8) :: predicted_memory_mb = 0, resident_memory_mb = 0, checked_limit_mb = 0
+      !> Entries in the factors after block low-rank compression, INFOG(35) (= factor_entries
+      !> without compression); flops done, RINFOG(14)
+      integer(i8) :: compressed_factor_entries = 0
+      real(dp) :: factor_flops_done = 0.0_dp
+      !> .true. once `check_memory` ran for the current analysis (refactorisations skip it: the
+      !> resident memory then holds the previous factors)
+      logical, private :: memory_checked = .false.
       integer, private :: phase = phase_empty
       !> The ranks MUMPS runs on (one process unless given to init)
       type(parallel_t), private :: parallel
@@ -119,6 +169,10 @@ module ffrf_la_mumps
       generic :: solve => mumps_solver_solve_one, mumps_solver_solve_many
       procedure :: is_factorised => mumps_solver_is_factorised
       procedure :: free => mumps_solver_free
+      procedure :: set_memory_options => mumps_solver_set_memory_options
+      procedure :: check_memory => mumps_solver_check_memory
+      procedure :: memory_remedies => mumps_solver_memory_remedies
+      procedure :: memory_options_text
    end type mumps_solver_t
 
 contains
@@ -279,6 +333,7 @@ contains
          end if
          self%ordering_used = id%infog(7)
          self%estimated_factor_entries = mumps_count(id%infog(20))
+         call record_estimates(self)
       end associate
       self%n = n
       self%nnz = size(irn, kind=i8)
@@ -306,6 +361,10 @@ contains
             to_str(self%nnz) // ' entries')
          return
       end if
+      call self%check_memory(error)
+      ! One rank's refusal is every rank's: the factorisation below is collective.
+      if (self%parallel%num_ranks > 1) call self%parallel%agree(error)
+      if (allocated(error)) return
       self%phase = phase_analysed
       associate (id => self%id)
          if (self%parallel%num_ranks > 1) call set_local_values(self, values, error)
@@ -352,6 +411,8 @@ contains
          self%memory_allocated_mb = id%infog(18)
          self%memory_used_mb = id%infog(21)
          self%factor_flops = id%rinfog(3)
+         self%compressed_factor_entries = mumps_count(id%infog(35))
+         self%factor_flops_done = id%rinfog(14)
       end associate
       self%time_solve = 0.0_dp
       self%num_solves = 0
@@ -508,14 +569,15 @@ contains
          text = text // 'NNZ out of range; the matrix must have at least one entry'
       case (-5, -7, -13)
          text = text // 'memory allocation failed (' // memory_text(info2) // &
-            '); reduce the model size or free memory'
+            '); free memory, or remedies: ' // MEMORY_REMEDIES
       case (-6)
          text = text // 'matrix is structurally singular (structural rank ' // &
             to_str(info2) // '); a row and column without entries, e.g. an unconstrained ' // &
             'dof with no stiffness, or dependent constraint rows'
       case (-8, -9)
          text = text // 'MUMPS workspace too small even after raising ICNTL(14) ' // &
-            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init'
+            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init' &
+            // ', or remedies: ' // MEMORY_REMEDIES
       case (-10)
          text = text // 'matrix is singular (zero pivot): a dof without stiffness, a ' // &
             'rigid-body motion left free, dependent constraint rows, or an eigen shift equal ' &
@@ -669,5 +731,178 @@ contains
       call dmumps(id)
       call leave_serial_section(SECTION_MUMPS)
    end subroutine serial_dmumps
+
+   ! --- Memory: out-of-core, block low-rank compression, limit (issue 12) ----------------------
+
+   !> Memory options, after `init` and before `analyse` (compression must be known to the
+   !> analysis). Absent arguments keep their current values (defaults: in-core, full rank, no
+   !> limit). The out-of-core files go to `ooc_directory` (default: TMPDIR, else the current
+   !> folder) with the prefix ffrf_ooc_; MUMPS deletes them in `free` (JOB = -2), also after an
+   !> error, but a killed process (SIGKILL, out-of-memory killer) leaves them behind.
+   subroutine mumps_solver_set_memory_options(self, error, out_of_core, ooc_directory, &
+                                              compression_tolerance, memory_limit_mb)
+      class(mumps_solver_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      !> Out-of-core factorisation (ICNTL(22) = 1)
+      logical, intent(in), optional :: out_of_core
+      !> Folder of the out-of-core files; blank: TMPDIR, else '.'
+      character(len=*), intent(in), optional :: ooc_directory
+      !> BLR dropping tolerance CNTL(7) in [0, 1); 0 = full-rank factors
+      real(dp), intent(in), optional :: compression_tolerance
+      !> Memory limit in MB: -1 automatic (MemAvailable), 0 none, > 0 the limit
+      integer(i8), intent(in), optional :: memory_limit_mb
+      character(len=:), allocatable :: folder
+      character(len=4096) :: env
+      integer :: length, stat
+
+      if (self%phase /= phase_initialised) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS set_memory_options: call it after ' // &
+            'init and before analyse')
+         return
+      end if
+      if (present(compression_tolerance)) then
+         if (.not. (compression_tolerance >= 0.0_dp .and. compression_tolerance < 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: compression tolerance ' // &
+               to_str(compression_tolerance) // ' must lie in [0, 1) (0 = no compression)')
+            return
+         end if
+         self%compression_tolerance = compression_tolerance
+      end if
+      if (present(memory_limit_mb)) then
+         if (memory_limit_mb < -1) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: memory limit ' // &
+               to_str(memory_limit_mb) // ' MB; give -1 (automatic), 0 (none) or a size in MB')
+            return
+         end if
+         self%memory_limit_mb = memory_limit_mb
+      end if
+      if (present(out_of_core)) self%out_of_core = out_of_core
+      folder = ''
+      if (present(ooc_directory)) folder = trim(ooc_directory)
+      if (len(folder) == 0) then
+         call get_environment_variable('TMPDIR', env, length, stat)
+         if (stat == 0 .and. length > 0) then
+            folder = env(:length)
+         else
+            folder = '.'
+         end if
+      end if
+      if (len(folder) > len(self%id%ooc_tmpdir)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: out-of-core folder "' // folder // &
+            '" is ' // to_str(len(folder)) // ' characters long; MUMPS takes at most ' // &
+            to_str(len(self%id%ooc_tmpdir)))
+         return
+      end if
+      self%ooc_directory = folder
+      associate (id => self%id)
+         if (self%out_of_core) then
+            id%icntl(22) = 1
+            id%ooc_tmpdir = folder
+            id%ooc_prefix = 'ffrf_ooc_'
+         else
+            id%icntl(22) = 0
+         end if
+         if (self%compression_tolerance > 0.0_dp) then
+            ! BLR factorisation, low-rank factors kept for the solves (user guide: ICNTL(35)),
+            ! and a fixed number of iterative-refinement steps with the exact matrix in each
+            ! solve (ICNTL(10) < 0): without them the approximate inverse leaves eigen residuals
+            ! of 2e-6 (CNTL(7) = 1e-10) to 3.5e-4 (1e-8) on the crank at lc = 3 mm
+            id%icntl(35) = 2
+            id%cntl(7) = self%compression_tolerance
+            id%icntl(10) = -BLR_REFINEMENT_STEPS
+         else
+            id%icntl(35) = 0
+            id%cntl(7) = 0.0_dp
+         end if
+      end associate
+   end subroutine mumps_solver_set_memory_options
+
+   !> Refuse a factorisation whose predicted memory exceeds the limit: resident memory of the
+   !> process + the analysis's estimate for the chosen options (predicted_memory_mb) against
+   !> memory_limit_mb (automatic: resident + MemAvailable). Called by `factorise` once per
+   !> analysis; no limit (0) or an unreadable /proc makes it a no-op.
+   subroutine mumps_solver_check_memory(self, error)
+      class(mumps_solver_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: resident, available, limit
+      character(len=:), allocatable :: limit_text
+
+      if (self%memory_checked .or. self%memory_limit_mb == 0) return
+      self%memory_checked = .true.
+      resident = max(resident_memory_mb(), 0_i8)
+      if (self%memory_limit_mb < 0) then
+         available = available_memory_mb()
+         if (available < 0) return
+         limit = resident + available
+         limit_text = 'the automatic limit ' // to_str(limit) // ' MB (resident ' // &
+            to_str(resident) // ' MB + MemAvailable ' // to_str(available) // ' MB of ' // &
+            '/proc/meminfo)'
+      else
+         limit = self%memory_limit_mb
+         limit_text = 'the memory limit ' // to_str(limit) // ' MB (&modes memory_limit_mb)'
+      end if
+      self%resident_memory_mb = resident
+      self%checked_limit_mb = limit
+      if (resident + self%predicted_memory_mb > limit) then
+         self%status = MUMPS_STATUS_MEMORY_LIMIT
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorisation (n = ' // &
+            to_str(self%n) // ') would not fit: predicted ' // &
+            to_str(resident + self%predicted_memory_mb) // ' MB (MUMPS analysis: ' // &
+            to_str(self%predicted_memory_mb) // ' MB for the ' // self%memory_options_text() &
+            // ' factorisation, ' // to_str(real(self%estimated_factor_entries, dp) / 1.0e6_dp, &
+            4) // ' M factor entries; + ' // to_str(resident) // ' MB resident) exceeds ' // &
+            limit_text // '; remedies: ' // self%memory_remedies() // &
+            ' (memory_limit_mb = 0 turns the check off)')
+      end if
+   end subroutine mumps_solver_check_memory
+
+   !> The remedies for factors that do not fit, without those already in use.
+   function mumps_solver_memory_remedies(self) result(text)
+      class(mumps_solver_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      text = 'more ranks (the MPI build: mpirun -np N)'
+      if (.not. self%out_of_core) text = text // ', out-of-core factors (&modes out_of_core ' &
+         // '= .true.)'
+      text = text // ', or a coarser mesh'
+   end function mumps_solver_memory_remedies
+
+   !> 'in-core full-rank', 'out-of-core block low-rank', ...
+   function memory_options_text(self) result(text)
+      class(mumps_solver_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      text = merge('out-of-core', 'in-core    ', self%out_of_core)
+      text = trim(text) // merge(' block low-rank', ' full-rank     ', &
+         self%compression_tolerance > 0.0_dp)
+      text = trim(text)
+   end function memory_options_text
+
+   !> The analysis's estimates (INFO(15), (17), INFOG(16), (17), (26), (27), (36)-(39),
+   !> RINFOG(1), (15)) and the one for the chosen options, predicted_memory_mb.
+   subroutine record_estimates(self)
+      class(mumps_solver_t), intent(inout) :: self
+      associate (id => self%id)
+         self%estimated_memory_incore_mb = id%info(15)
+         self%estimated_memory_incore_max_mb = id%infog(16)
+         self%estimated_memory_incore_total_mb = id%infog(17)
+         self%estimated_memory_ooc_mb = id%info(17)
+         self%estimated_memory_ooc_max_mb = id%infog(26)
+         self%estimated_memory_ooc_total_mb = id%infog(27)
+         self%estimated_memory_blr_incore_mb = id%infog(36)
+         self%estimated_memory_blr_incore_total_mb = id%infog(37)
+         self%estimated_memory_blr_ooc_mb = id%infog(38)
+         self%estimated_memory_blr_ooc_total_mb = id%infog(39)
+         self%estimated_flops = id%rinfog(1)
+         self%estimated_disk_mb = id%rinfog(15)
+      end associate
+      if (self%compression_tolerance > 0.0_dp) then
+         self%predicted_memory_mb = merge(self%estimated_memory_blr_ooc_mb, &
+            self%estimated_memory_blr_incore_mb, self%out_of_core)
+      else
+         self%predicted_memory_mb = merge(self%estimated_memory_ooc_mb, &
+            self%estimated_memory_incore_mb, self%out_of_core)
+      end if
+      self%memory_checked = .false.
+      self%checked_limit_mb = 0
+   end subroutine record_estimates
 
 end module ffrf_la_mumps

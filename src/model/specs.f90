@@ -86,6 +86,10 @@ contains
       spec%rc_label = input%rc_label
       spec%tolerance = input%tolerance
       spec%lanczos_vectors = input%lanczos_vectors
+      spec%out_of_core = input%out_of_core
+      spec%ooc_directory = input%ooc_tmpdir
+      spec%memory_limit_mb = input%memory_limit_mb
+      spec%compression_tolerance = input%compression_tolerance
       select case (to_lower(trim(input%formulation)))
       case ('multipliers')
          spec%formulation = FORMULATION_MULTIPLIERS

@@ -311,6 +311,10 @@ contains
       options%tolerance = modes%tolerance
       options%ncv = int(modes%lanczos_vectors, kind(options%ncv))
       options%parallel = ranks
+      options%out_of_core = modes%out_of_core
+      options%ooc_directory = modes%ooc_directory
+      options%memory_limit_mb = modes%memory_limit_mb
+      options%compression_tolerance = modes%compression_tolerance
       if (body%basis == BASIS_CRAIG_BAMPTON) then
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return

@@ -56,6 +56,14 @@ module ffrf_modes_input
       !> num_modes fixed-interface modes, orthonormalised by Rayleigh-Ritz:
       !> src/modes/craig_bampton.f90)
       integer :: basis = BASIS_RC_NORMAL
+      !> Out-of-core MUMPS factorisation (factors in files in ooc_directory)
+      logical :: out_of_core = .false.
+      !> Folder of the out-of-core files; blank: TMPDIR, else the current folder
+      character(len=256) :: ooc_directory = ''
+      !> Memory limit per process in MB: -1 automatic (MemAvailable), 0 none, > 0 the limit
+      integer :: memory_limit_mb = -1
+      !> Block low-rank dropping tolerance of the factors (MUMPS CNTL(7)); 0 = full rank
+      real(dp) :: compression_tolerance = 0.0_dp
    end type modes_spec_t
 
 contains

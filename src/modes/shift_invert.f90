@@ -47,6 +47,15 @@ module ffrf_modes_shift_invert
       !> The ranks MUMPS factorises and solves on (MPI build; default one process). Every rank
       !> calls with the same K, M, C and gets the same result.
       type(parallel_t) :: parallel
+      !> Out-of-core MUMPS factorisation (factors in files in ooc_directory)
+      logical :: out_of_core = .false.
+      !> Folder of the out-of-core files; blank: TMPDIR, else the current folder
+      character(len=256) :: ooc_directory = ''
+      !> Memory limit of the process in MB: -1 automatic (MemAvailable), 0 none (the default
+      !> here: library callers opt in; the case input defaults to -1)
+      integer(i8) :: memory_limit_mb = 0
+      !> Block low-rank dropping tolerance of the factors (MUMPS CNTL(7)); 0 = full rank
+      real(dp) :: compression_tolerance = 0.0_dp
    end type eigen_options_t
 
    !> Eigenpairs and statistics of one `solve_shift_invert` call.
@@ -100,6 +109,19 @@ module ffrf_modes_shift_invert
       real(dp) :: time_total = 0.0_dp
       !> Wall seconds of the static solves asked with constraint_targets
       real(dp) :: time_constraint_solves = 0.0_dp
+      !> MUMPS analysis estimates (ffrf_la_mumps): factor entries INFOG(20), flops RINFOG(1),
+      !> MB in-core INFOG(16)/(17), out-of-core INFOG(26)/(27), low-rank in-core INFOG(36),
+      !> the one for the options used (predicted) and the limit checked (0: none)
+      integer(i8) :: estimated_factor_entries = 0
+      real(dp) :: estimated_flops = 0.0_dp
+      integer(i8) :: estimated_memory_incore_mb = 0, estimated_memory_incore_total_mb = 0, &
+                     estimated_memory_ooc_mb = 0, estimated_memory_ooc_total_mb = 0, &
+                     estimated_memory_blr_mb = 0, predicted_memory_mb = 0, memory_limit_mb = 0
+      !> Factor entries after block low-rank compression, INFOG(35) (= factor_entries without)
+      integer(i8) :: compressed_factor_entries = 0
+      !> Options used: out-of-core, compression tolerance (0: full rank)
+      logical :: out_of_core = .false.
+      real(dp) :: compression_tolerance = 0.0_dp
    end type eigen_result_t
 
    interface

@@ -376,6 +376,11 @@ contains
             to_str(real(solver%factor_entries, dp) / 1.0e6_dp, 4) // ' M factor entries, ' // &
             to_str(solver%memory_used_mb) // ' MB, ' // to_str(solver%num_negative_pivots) // &
             ' negative and ' // to_str(solver%num_null_pivots) // ' null pivots')
+         if (solver%compression_tolerance > 0.0_dp) call log%info(stage, 'block low-rank ' // &
+            'factors: ' // to_str(real(solver%compressed_factor_entries, dp) / 1.0e6_dp, 4) // &
+            ' M entries stored (' // to_str(100.0_dp * real(solver%compressed_factor_entries, &
+            dp) / real(max(solver%factor_entries, 1_i8), dp), 3) // ' % of full rank), ' // &
+            to_str(solver%factor_flops_done, 3) // ' flops done')
 
          ! SPD attempt on an indefinite matrix: redo as symmetric indefinite.
          if (sym == MUMPS_SYM_SPD .and. (singular .or. solver%num_negative_pivots > 0)) then
@@ -416,6 +421,7 @@ contains
       result%factor_entries = solver%factor_entries
       result%num_negative_pivots = solver%num_negative_pivots
       result%factor_memory_mb = solver%memory_used_mb
+      result%compressed_factor_entries = solver%compressed_factor_entries
       result%num_below_shift = solver%num_negative_pivots - nc
       if (result%num_below_shift < 0) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: the KKT matrix has ' // &
@@ -434,10 +440,17 @@ contains
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: memory_error
       call solver%init(sym, error, null_pivot_detection=.true., &
                        null_pivot_threshold=options%null_pivot_threshold, &
                        parallel=options%parallel)
       if (allocated(error)) return
+      call solver%set_memory_options(error, options%out_of_core, options%ooc_directory, &
+         options%compression_tolerance, options%memory_limit_mb)
+      if (allocated(error)) then
+         call add_context(error, 'shift-invert')
+         return
+      end if
       call solver%analyse(kkt%n + kkt%num_constraints, kkt%irn, kkt%jcn, error=error)
       if (allocated(error)) then
          call add_context(error, 'shift-invert')
@@ -451,7 +464,53 @@ contains
          ' entries, MUMPS used ordering: ' // mumps_ordering_name(solver%ordering_used) // &
          ', estimated ' // to_str(real(solver%estimated_factor_entries, dp) / 1.0e6_dp, 4) // &
          ' M factor entries)')
+      ! The memory check before the factorisation (theory: MUMPS's analysis estimates)
+      call solver%check_memory(memory_error)
+      call record_memory_estimates(solver, result, log)
+      if (allocated(memory_error)) then
+         call move_alloc(memory_error, error)
+         call add_context(error, 'shift-invert')
+      end if
    end subroutine start_solver
+
+   !> The analysis's estimates into the result, and one log line with them before factorising.
+   subroutine record_memory_estimates(solver, result, log)
+      type(mumps_solver_t), intent(in) :: solver
+      type(eigen_result_t), intent(inout) :: result
+      type(logger_t), intent(in) :: log
+      character(len=:), allocatable :: text
+      result%estimated_factor_entries = solver%estimated_factor_entries
+      result%estimated_flops = solver%estimated_flops
+      result%estimated_memory_incore_mb = solver%estimated_memory_incore_max_mb
+      result%estimated_memory_incore_total_mb = solver%estimated_memory_incore_total_mb
+      result%estimated_memory_ooc_mb = solver%estimated_memory_ooc_max_mb
+      result%estimated_memory_ooc_total_mb = solver%estimated_memory_ooc_total_mb
+      result%estimated_memory_blr_mb = merge(solver%estimated_memory_blr_ooc_mb, &
+         solver%estimated_memory_blr_incore_mb, solver%out_of_core)
+      result%predicted_memory_mb = solver%predicted_memory_mb
+      result%memory_limit_mb = solver%checked_limit_mb
+      result%out_of_core = solver%out_of_core
+      result%compression_tolerance = solver%compression_tolerance
+      text = 'MUMPS estimates: ' // to_str(real(solver%estimated_flops, dp), 3) // &
+         ' flops, memory ' // to_str(solver%estimated_memory_incore_max_mb) // &
+         ' MB in-core (INFOG(16)), ' // to_str(solver%estimated_memory_ooc_max_mb) // &
+         ' MB out-of-core (INFOG(26))'
+      if (solver%compression_tolerance > 0.0_dp) text = text // ', low-rank ' // &
+         to_str(solver%estimated_memory_blr_incore_mb) // ' MB in-core (INFOG(36)), ' // &
+         to_str(solver%estimated_memory_blr_ooc_mb) // ' MB out-of-core (INFOG(38)), ' // &
+         'CNTL(7) = ' // to_str(solver%compression_tolerance, 3)
+      text = text // '; this run: ' // solver%memory_options_text() // ', ' // &
+         to_str(solver%predicted_memory_mb) // ' MB'
+      if (solver%out_of_core) text = text // ' (files in ' // solver%ooc_directory // ', ~' // &
+         to_str(nint(solver%estimated_disk_mb)) // ' MB)'
+      if (solver%checked_limit_mb > 0) then
+         text = text // ' + ' // to_str(solver%resident_memory_mb) // ' MB resident, limit ' // &
+            to_str(solver%checked_limit_mb) // ' MB'
+      else
+         text = text // ', no memory limit'
+      end if
+      call log%info(stage, text)
+   end subroutine record_memory_estimates
 
    !> A shift moved off an eigenvalue: down by 1e-4 |sigma|, at least 1e-8 of the eigenvalue
    !> scale max(K_ii / M_ii) (so sigma = 0 on a free-free body goes slightly negative).
