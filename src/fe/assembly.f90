@@ -19,7 +19,7 @@ module ffrf_fe_assembly
    use ffrf_core_parallel, only: parallel_t
    implicit none
    private
-   public :: assemble_stiffness_mass, body_mass_properties, node_graph
+   public :: assemble_stiffness_mass, body_mass_properties, node_graph, position_in_row
 
 contains
 

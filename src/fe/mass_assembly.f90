@@ -10,7 +10,7 @@ module ffrf_fe_mass_assembly
    use ffrf_la_sparse, only: csr_t
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_tet, only: tet_mass
-   use ffrf_fe_assembly, only: node_graph
+   use ffrf_fe_assembly, only: node_graph, position_in_row
    implicit none
    private
    public :: assemble_mass
@@ -105,26 +105,5 @@ contains
          end do
       end do
    end subroutine assemble_mass
-
-   !> Position (0-based) of column j in row i of the sorted pattern G, -1 if absent.
-   pure function position_in_row(G, i, j) result(pos)
-      type(csr_t), intent(in) :: G
-      integer(ip), intent(in) :: i, j
-      integer(ip) :: pos, lo, hi, mid
-      pos = -1
-      lo = G%row_ptr(i)
-      hi = G%row_ptr(i + 1) - 1
-      do while (lo <= hi)
-         mid = lo + (hi - lo)/2
-         if (G%col(mid) == j) then
-            pos = mid - G%row_ptr(i)
-            return
-         else if (G%col(mid) < j) then
-            lo = mid + 1
-         else
-            hi = mid - 1
-         end if
-      end do
-   end function position_in_row
 
 end module ffrf_fe_mass_assembly
