@@ -11,7 +11,7 @@ module ffrf_app_body_modes
    use ffrf_la_sparse, only: csr_t
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_mesh_gmsh, only: read_gmsh
-   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_mpc_interface, only: interface_spec_t, interface_t
    use ffrf_modes_input, only: modes_spec_t
    use ffrf_input_body, only: body_input_t
    use ffrf_model_model, only: body_spec_of
@@ -25,7 +25,7 @@ module ffrf_app_body_modes
    implicit none
    private
    public :: read_body_mesh, compute_body_modes_from_file, compute_input_body_modes, &
-      reuse_body_modes
+      reuse_body_modes, check_stored_modes
 
 contains
 
@@ -141,14 +141,12 @@ contains
       !> The FE stiffness matrix of the body
       type(csr_t), intent(out), optional :: stiffness_matrix
       type(mesh_t) :: mesh
-      type(modes_spec_t) :: geometry_only, asked
+      type(modes_spec_t) :: geometry_only
       type(stored_modes_t) :: stored
-      type(modes_fingerprint_t) :: here
       type(stage_timer_t) :: timer
       type(logger_t) :: quiet
       type(csr_t) :: unused_mass
-      character(len=:), allocatable :: file_name, difference, where
-      logical :: same
+      character(len=:), allocatable :: file_name, where
 
       file_name = trim(body_input%modes_file)
       where = 'modes_file "' // file_name // '"'
@@ -175,28 +173,9 @@ contains
             unused_mass, error)
       end if
       if (allocated(error)) return
-      asked = modes
-      if (.not. num_modes_given) asked%num_modes = size(stored%frequency_hz)
-      call make_fingerprint(body%mesh, body%interfaces, body_spec_of(body_input), asked, &
-         asked%num_modes, here)
-      call compare_fingerprints(here, stored%fingerprint, .not. num_modes_given, same, &
-         difference)
-      if (.not. same) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ' // difference // &
-            '; its modes of body "' // trim(body_input%name) // '" were computed for ' // &
-            'another model: give the results file of a run of this body as it is here, or ' // &
-            'remove modes_file to compute the modes')
-         return
-      end if
-      if (size(stored%shape, 1) /= body%num_dofs .or. size(stored%virtual_node_shape, 1) /= &
-         6 * size(body%interfaces)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ', body "' // &
-            trim(body_input%name) // '": shapes of ' // to_str(size(stored%shape, 1)) // &
-            ' and ' // to_str(size(stored%virtual_node_shape, 1)) // ' rows for ' // &
-            to_str(body%num_dofs) // ' dofs and ' // to_str(size(body%interfaces)) // &
-            ' interfaces; the file is damaged')
-         return
-      end if
+      call check_stored_modes(body_input, body%mesh, body%interfaces, modes, num_modes_given, &
+         stored, error)
+      if (allocated(error)) return
       body%basis = modes%basis
       body%formulation = modes%formulation
       body%num_static = int(stored%num_static, kind(body%num_static))
@@ -210,6 +189,58 @@ contains
          ' (fingerprint ' // stored%fingerprint%total_hash() // ' matches)' // &
          frequency_range(body%frequency_hz) // ' ... ' // to_str(timer%seconds(), 3) // ' s')
    end subroutine reuse_body_modes
+
+   !> The check of stored modes (docs/mode_reuse.md "The check"), shared by the run
+   !> (reuse_body_modes) and `ffrf --check`: the fingerprint of what this run would compute for
+   !> the body (its mesh as cut from the mesh file, its built interfaces, material, modes
+   !> specification) must equal the stored one, and the stored shapes must have the body's
+   !> rows. FFRF_INPUT_ERROR naming the first difference, with both values, otherwise.
+   subroutine check_stored_modes(body_input, mesh, interfaces, modes, num_modes_given, stored, &
+         error)
+      !> Body: name, material, modes_file
+      type(body_input_t), intent(in) :: body_input
+      !> The body cut from its mesh file
+      type(mesh_t), intent(in) :: mesh
+      !> The body's interfaces, built on `mesh`
+      type(interface_t), intent(in) :: interfaces(:)
+      !> Number of modes, shift, formulation, basis, resolved
+      type(modes_spec_t), intent(in) :: modes
+      !> modes%num_modes was given for the body (&body num_modes); otherwise the file's count
+      logical, intent(in) :: num_modes_given
+      !> The modes as read from body_input%modes_file (read_stored_modes)
+      type(stored_modes_t), intent(in) :: stored
+      type(error_t), allocatable, intent(out) :: error
+      type(modes_spec_t) :: asked
+      type(modes_fingerprint_t) :: here
+      character(len=:), allocatable :: difference, where
+      logical :: same
+      integer :: num_dofs
+
+      where = 'modes_file "' // trim(body_input%modes_file) // '"'
+      asked = modes
+      if (.not. num_modes_given) asked%num_modes = size(stored%frequency_hz)
+      call make_fingerprint(mesh, interfaces, body_spec_of(body_input), asked, &
+         asked%num_modes, here)
+      call compare_fingerprints(here, stored%fingerprint, .not. num_modes_given, same, &
+         difference)
+      if (.not. same) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ' // difference // &
+            '; its modes of body "' // trim(body_input%name) // '" were computed for ' // &
+            'another model: give the results file of a run of this body as it is here, or ' // &
+            'remove modes_file to compute the modes')
+         return
+      end if
+      num_dofs = 3 * mesh%num_nodes
+      if (size(stored%shape, 1) /= num_dofs .or. size(stored%virtual_node_shape, 1) /= &
+         6 * size(interfaces)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ', body "' // &
+            trim(body_input%name) // '": shapes of ' // to_str(size(stored%shape, 1)) // &
+            ' and ' // to_str(size(stored%virtual_node_shape, 1)) // ' rows for ' // &
+            to_str(num_dofs) // ' dofs and ' // to_str(size(interfaces)) // &
+            ' interfaces; the file is damaged')
+         return
+      end if
+   end subroutine check_stored_modes
 
    function frequency_range(frequency_hz) result(text)
       real(dp), intent(in) :: frequency_hz(:)

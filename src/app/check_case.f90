@@ -2,8 +2,10 @@
 !> integrating: the case text (ffrf_input_case), every flexible body's mesh and coarse meshes (read,
 !> the body's volumes extracted, its interfaces built: nodes, weights, virtual node, reference
 !> conditions parsed), the meshes of rigid bodies that take their mass from a mesh, and the
-!> pressure model or table of an engine. Meant for quick validation, e.g. by a fuzzer: no
-!> results file is written and no matrix is assembled.
+!> pressure model or table of an engine, and the stored modes of a body with &body modes_file
+!> (read and checked against the body's fingerprint by the run's own check, check_stored_modes).
+!> Meant for quick validation, e.g. by a fuzzer: no results file is written and no matrix is
+!> assembled.
 module ffrf_app_check_case
    use ffrf_core_error, only: error_t, add_context
    use ffrf_core_strings, only: to_str
@@ -18,6 +20,8 @@ module ffrf_app_check_case
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model
+   use ffrf_app_body_modes, only: check_stored_modes
+   use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
    implicit none
    private
    public :: check_case
@@ -37,6 +41,8 @@ contains
       character(len=:), allocatable :: mesh_dir
       character(len=256), allocatable :: files(:)
       type(model_t) :: model
+      type(mesh_t) :: body_mesh
+      type(interface_t), allocatable :: interfaces(:)
       logical :: flexible
       integer :: k, f
 
@@ -58,13 +64,16 @@ contains
                len_trim(case%motions(k)%coarse_meshes) > 0), files]
             do f = 1, size(files)
                call check_body_mesh(model%bodies(k), join_path(mesh_dir, trim(files(f))), &
-                  flexible, log, error)
-               if (allocated(error)) then
-                  call add_context(error, case%file_name // ': &body "' // trim(body%name) // &
-                     '"')
-                  return
-               end if
+                  flexible, log, body_mesh, interfaces, error)
+               if (allocated(error)) exit
             end do
+            ! the body's own mesh (the last file) for the modes taken from a file
+            if (.not. allocated(error) .and. flexible .and. len_trim(body%modes_file) > 0) &
+               call check_modes_file(model%bodies(k), body_mesh, interfaces, log, error)
+            if (allocated(error)) then
+               call add_context(error, case%file_name // ': &body "' // trim(body%name) // '"')
+               return
+            end if
          end associate
       end do
       if (model%mechanism%has_pressure) then
@@ -79,15 +88,18 @@ contains
    end subroutine check_case
 
    !> Read one mesh of body k, extract its volumes and (flexible) build its interfaces.
-   subroutine check_body_mesh(model_body, mesh_file, flexible, log, error)
+   subroutine check_body_mesh(model_body, mesh_file, flexible, log, body_mesh, interfaces, error)
       !> The body, resolved (volumes, interfaces)
       type(model_body_t), intent(in) :: model_body
       character(len=*), intent(in) :: mesh_file
       logical, intent(in) :: flexible
       type(logger_t), intent(in) :: log
+      !> The body cut from the mesh
+      type(mesh_t), intent(out) :: body_mesh
+      !> Its interfaces, built (flexible; none for a rigid body)
+      type(interface_t), allocatable, intent(out) :: interfaces(:)
       type(error_t), allocatable, intent(out) :: error
-      type(mesh_t) :: mesh, body_mesh
-      type(interface_t) :: iface
+      type(mesh_t) :: mesh
       integer :: i
       associate (body => model_body%body)
          call read_gmsh(mesh_file, mesh, error)
@@ -98,9 +110,12 @@ contains
             call add_context(error, 'mesh "' // mesh_file // '"')
             return
          end if
+         allocate (interfaces(0))
          if (flexible) then
+            deallocate (interfaces)
+            allocate (interfaces(size(model_body%interfaces)))
             do i = 1, size(model_body%interfaces)
-               call build_interface(body_mesh, model_body%interfaces(i), iface, error)
+               call build_interface(body_mesh, model_body%interfaces(i), interfaces(i), error)
                if (allocated(error)) then
                   call add_context(error, 'mesh "' // mesh_file // '"')
                   return
@@ -112,5 +127,31 @@ contains
             ' tetrahedra')
       end associate
    end subroutine check_body_mesh
+
+   !> &body modes_file: read the body's stored modes and check them as the run does
+   !> (check_stored_modes): a missing or unreadable file, no modes of the body, or modes computed
+   !> for another mesh, material, interfaces or modes specification fail here as in the run.
+   subroutine check_modes_file(model_body, body_mesh, interfaces, log, error)
+      !> The body, resolved (modes to compute, num_modes given)
+      type(model_body_t), intent(in) :: model_body
+      !> The body cut from its mesh file
+      type(mesh_t), intent(in) :: body_mesh
+      !> Its interfaces, built
+      type(interface_t), intent(in) :: interfaces(:)
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(stored_modes_t) :: stored
+      associate (body => model_body%body)
+         call read_stored_modes(trim(body%modes_file), trim(body%name), 'modes_file', stored, &
+            error)
+         if (allocated(error)) return
+         call check_stored_modes(body, body_mesh, interfaces, model_body%modes, &
+            model_body%num_modes_given, stored, error)
+         if (allocated(error)) return
+         call log%info('check', trim(body%name) // ': ' // to_str(size(stored%frequency_hz)) // &
+            ' modes in modes_file "' // trim(body%modes_file) // '", fingerprint ' // &
+            stored%fingerprint%total_hash() // ' matches')
+      end associate
+   end subroutine check_modes_file
 
 end module ffrf_app_check_case

@@ -6,7 +6,7 @@
 !> sorted columns): K stores the full 3x3 block of every connected node pair, M = Ms (x) I3 only
 !> its diagonal entries c = d, so the pattern of M is a subset of the pattern of K. Element
 !> matrices are then scattered straight into the values (binary search of the node in the sorted
-!> node row; no COO list, no sort of the entries).
+!> node row; no COO list, no sort of the entries). assemble_matrices without K: M alone.
 !> With several ranks (MPI build) each rank integrates a contiguous block of the elements into
 !> the same pattern and the values are summed over the ranks (the same on every rank).
 module ffrf_fe_assembly
@@ -15,11 +15,11 @@ module ffrf_fe_assembly
    use ffrf_core_strings, only: to_str
    use ffrf_la_sparse, only: csr_t, csr_transpose, csr_matmul
    use ffrf_fe_material, only: material_t, check_material
-   use ffrf_fe_tet, only: tet_stiffness_mass
+   use ffrf_fe_tet, only: tet_stiffness_mass, tet_mass
    use ffrf_core_parallel, only: parallel_t
    implicit none
    private
-   public :: assemble_stiffness_mass, body_mass_properties, node_graph, position_in_row
+   public :: assemble_stiffness_mass, assemble_matrices, body_mass_properties, node_graph
 
 contains
 
@@ -43,13 +43,41 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> The ranks sharing the element loop (MPI build); default one process
       type(parallel_t), intent(in), optional :: parallel
+      call assemble_matrices(xyz, tets, tet_tags, material, M, error, parallel, K)
+   end subroutine assemble_stiffness_mass
+
+   !> Assemble M (kg) and, when K is present, K (N/m): the one element loop of the body
+   !> matrices. Without K it serves a body whose modes are not computed but taken from a file
+   !> (&body modes_file: the inertia invariants of FFRF need M, not K), in about a third of the
+   !> time. M receives the same element masses (ffrf_fe_tet's mass kernel) in the same order
+   !> either way: it is bitwise the same with or without K. The checks of
+   !> assemble_stiffness_mass.
+   subroutine assemble_matrices(xyz, tets, tet_tags, material, M, error, parallel, K)
+      !> Node coordinates (3, num_nodes) (m)
+      real(dp), intent(in) :: xyz(:, :)
+      !> Element node indices (nen, num_tets), nen = 4 or 10, 1..num_nodes, Gmsh node order
+      integer(ip), intent(in) :: tets(:, :)
+      !> Gmsh element tag of each tetrahedron (for messages)
+      integer(i8), intent(in) :: tet_tags(:)
+      !> Isotropic material of the body
+      type(material_t), intent(in) :: material
+      !> Consistent mass matrix, 3 num_nodes square (entries only where c = d)
+      type(csr_t), intent(out) :: M
+      !> Bad material, node index out of range, inverted element, too many entries
+      type(error_t), allocatable, intent(out) :: error
+      !> The ranks sharing the element loop (MPI build); default one process
+      type(parallel_t), intent(in), optional :: parallel
+      !> Stiffness matrix, 3 num_nodes square; absent: M only
+      type(csr_t), intent(out), optional :: K
       type(csr_t) :: G
       type(parallel_t) :: ranks
       real(dp), allocatable :: ke(:, :), me(:, :), xe(:, :)
       integer(ip), allocatable :: offset(:, :)
       integer(ip) :: nen, num_nodes, num_tets, e, a, b, c, d, i, rk, rm, kb, deg, off, stat
-      integer(i8) :: nnz_k
+      integer(i8) :: nnz_k, nnz_m
+      logical :: stiffness
 
+      stiffness = present(K)
       call check_material(material, error)
       if (allocated(error)) return
       nen = size(tets, 1, kind=ip)
@@ -78,52 +106,70 @@ contains
 
       call node_graph(tets, num_nodes, G, error)
       if (allocated(error)) return
-      nnz_k = 9_i8*int(G%row_ptr(num_nodes + 1) - 1, i8)
-      if (nnz_k > int(huge(0_ip), i8) - 1 .or. 3_i8*num_nodes > int(huge(0_ip), i8)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'assembly: K would have ' // to_str(nnz_k) // &
-            ' entries, more than 32-bit indices allow; use a coarser mesh')
+      nnz_m = 3_i8*int(G%row_ptr(num_nodes + 1) - 1, i8)
+      nnz_k = 0
+      if (stiffness) nnz_k = 3_i8*nnz_m
+      if (max(nnz_k, nnz_m) > int(huge(0_ip), i8) - 1 .or. &
+         3_i8*num_nodes > int(huge(0_ip), i8)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'assembly: ' // merge('K', 'M', stiffness) // &
+            ' would have ' // to_str(max(nnz_k, nnz_m)) // ' entries, more than 32-bit ' // &
+            'indices allow; use a coarser mesh')
          return
       end if
 
       ! patterns: node row i, neighbour number p (0-based) -> K entries 3p + (1..3) of the
       ! three dof rows of node i, M entry p of each
-      K%num_rows = 3*num_nodes
-      K%num_cols = 3*num_nodes
       M%num_rows = 3*num_nodes
       M%num_cols = 3*num_nodes
-      allocate (K%row_ptr(3*num_nodes + 1), M%row_ptr(3*num_nodes + 1))
-      allocate (K%col(nnz_k), K%val(nnz_k), M%col(nnz_k/3), M%val(nnz_k/3), stat=stat)
+      allocate (M%row_ptr(3*num_nodes + 1))
+      allocate (M%col(nnz_m), M%val(nnz_m), stat=stat)
+      if (stiffness .and. stat == 0) then
+         K%num_rows = 3*num_nodes
+         K%num_cols = 3*num_nodes
+         allocate (K%row_ptr(3*num_nodes + 1))
+         allocate (K%col(nnz_k), K%val(nnz_k), stat=stat)
+      end if
       if (stat /= 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'assembly: cannot allocate ' // &
-            to_str(nnz_k) // ' stiffness entries; use a coarser mesh or more memory')
+            to_str(nnz_k + nnz_m) // ' matrix entries; use a coarser mesh or more memory')
          return
       end if
       do i = 1, num_nodes
          off = G%row_ptr(i) - 1
          deg = G%row_ptr(i + 1) - G%row_ptr(i)
          do c = 1, 3
-            rk = 9*off + 3*(c - 1)*deg + 1
             rm = 3*off + (c - 1)*deg + 1
-            K%row_ptr(3*(i - 1) + c) = rk
             M%row_ptr(3*(i - 1) + c) = rm
+            do kb = 0, deg - 1
+               M%col(rm + kb) = 3*(G%col(off + 1 + kb) - 1) + c
+            end do
+            if (.not. stiffness) cycle
+            rk = 9*off + 3*(c - 1)*deg + 1
+            K%row_ptr(3*(i - 1) + c) = rk
             do kb = 0, deg - 1
                b = G%col(off + 1 + kb)
                K%col(rk + 3*kb:rk + 3*kb + 2) = 3*(b - 1) + [1, 2, 3]
-               M%col(rm + kb) = 3*(b - 1) + c
             end do
          end do
       end do
-      K%row_ptr(3*num_nodes + 1) = int(nnz_k, ip) + 1
-      M%row_ptr(3*num_nodes + 1) = int(nnz_k/3, ip) + 1
-      K%val = 0.0_dp
+      M%row_ptr(3*num_nodes + 1) = int(nnz_m, ip) + 1
       M%val = 0.0_dp
+      if (stiffness) then
+         K%row_ptr(3*num_nodes + 1) = int(nnz_k, ip) + 1
+         K%val = 0.0_dp
+         allocate (ke(3*nen, 3*nen))
+      end if
 
-      allocate (ke(3*nen, 3*nen), me(nen, nen), xe(3, nen), offset(nen, nen))
+      allocate (me(nen, nen), xe(3, nen), offset(nen, nen))
       if (present(parallel)) ranks = parallel
       do e = int(int(num_tets, i8)*ranks%rank/ranks%num_ranks, ip) + 1, &
             int(int(num_tets, i8)*(ranks%rank + 1)/ranks%num_ranks, ip)
          xe = xyz(:, tets(:, e))
-         call tet_stiffness_mass(xe, material, tet_tags(e), ke, me, error)
+         if (stiffness) then
+            call tet_stiffness_mass(xe, material, tet_tags(e), ke, me, error)
+         else
+            call tet_mass(xe, material%density, tet_tags(e), me, error)
+         end if
          if (allocated(error)) exit
          ! offset(a, b): position (0-based) of node b in the sorted node row of node a
          do a = 1, nen
@@ -135,15 +181,18 @@ contains
          do a = 1, nen
             i = tets(a, e)
             do c = 1, 3
-               rk = K%row_ptr(3*(i - 1) + c)
                rm = M%row_ptr(3*(i - 1) + c)
+               do b = 1, nen
+                  M%val(rm + offset(a, b)) = M%val(rm + offset(a, b)) + me(a, b)
+               end do
+               if (.not. stiffness) cycle
+               rk = K%row_ptr(3*(i - 1) + c)
                do b = 1, nen
                   kb = rk + 3*offset(a, b)
                   ! ke is exactly symmetric: read its column (contiguous) for row 3(a-1)+c
                   do d = 1, 3
                      K%val(kb + d - 1) = K%val(kb + d - 1) + ke(3*(b - 1) + d, 3*(a - 1) + c)
                   end do
-                  M%val(rm + offset(a, b)) = M%val(rm + offset(a, b)) + me(a, b)
                end do
             end do
          end do
@@ -152,10 +201,10 @@ contains
          ! an inverted element found by one rank stops every rank
          call ranks%agree(error)
          if (allocated(error)) return
-         call ranks%sum_reals(K%val)
+         if (stiffness) call ranks%sum_reals(K%val)
          call ranks%sum_reals(M%val)
       end if
-   end subroutine assemble_stiffness_mass
+   end subroutine assemble_matrices
 
    !> Node graph G (num_nodes square, sorted columns, diagonal included): G(i, j) /= 0 iff nodes
    !> i and j share an element. G = E^T E with E(e, node) = 1; G's values count shared elements.

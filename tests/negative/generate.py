@@ -496,10 +496,11 @@ for _group, _keys in {
         'run': 's:title s:output s:mode_shapes_msh s:log_level',
         'body': 's:name s:mesh_file s:volumes r:young r:poisson r:density s:type i:num_modes '
                 'r:modal_damping r:mass r:center_of_mass r:inertia r:position '
-                'l:geometric_stiffness s:coarse_meshes',
+                'l:geometric_stiffness s:coarse_meshes s:modes_file',
         'interface': 's:body s:name s:mpc s:weighting s:virtual_node r:position s:rc',
         'modes': 'i:num_modes r:shift_hz s:formulation s:rc_label r:tolerance '
-                 'i:lanczos_vectors s:basis',
+                 'i:lanczos_vectors s:basis l:out_of_core s:ooc_tmpdir i:memory_limit_mb '
+                 'r:compression_tolerance',
         'model': 's:selection r:speed_tolerance r:force_tolerance i:candidate_modes '
                  'r:resonance_floor',
         'mechanism': 's:crank r:crank_angle_deg r:crank_speed r:gravity s:label '
@@ -523,12 +524,28 @@ ISSUE_VALUES = [('integrator', 'h', 'Inf'), ('integrator', 'h', '1e300'),
                 ('mechanism', 'crank_angle_deg', '1e300'), ('load', 'stall_torque', 'NaN'),
                 ('body', 'young', 'Inf'), ('body', 'density', 'Inf'),
                 ('interface', 'position', '0, NaN, 0')]
+#: the &modes keys of issue 12 (out-of-core, memory cap, compression; nml_modes.f90), each value
+#: put into (or added to) &modes of every case, a &modes group added where the case has none:
+#: (key, value, expected). Wrong types, out of range (memory_limit_mb >= -1 and <= 1e9,
+#: compression_tolerance in [0, 1) and refused above 0), too long (ooc_tmpdir <= 256 characters).
+MODES_MEMORY_VALUES = [
+    ('out_of_core', '.maybe.', [2]), ('out_of_core', "'yes'", [2]), ('out_of_core', '1.5', [2]),
+    ('ooc_tmpdir', "'%s'" % ('d' * 300), [2]), ('ooc_tmpdir', '.true.', [2]),
+    ('memory_limit_mb', '-2', [2]), ('memory_limit_mb', '1.5', [2]),
+    ('memory_limit_mb', "'lots'", [2]), ('memory_limit_mb', '99999999999999999999', [2]),
+    ('memory_limit_mb', '2000000000', [2]),
+    ('compression_tolerance', '1.0', [2]), ('compression_tolerance', '-0.1', [2]),
+    ('compression_tolerance', 'NaN', [2]), ('compression_tolerance', '1e999', [2]),
+    ('compression_tolerance', "'steel'", [2]), ('compression_tolerance', '0.5', [2])]
+#: file name of the not-HDF5 file that &body modes_file mutations name (written by
+#: generate_namelists next to the cases, passed by absolute path)
+NOT_HDF5_MODES = 'n_not_hdf5_modes.h5'
 #: mutations that do not depend on the case they start from
 WHOLE_FILE = ('empty_file', 'binary_garbage_file')
 SINGLE_GROUPS = ('run', 'modes', 'model', 'mechanism', 'pressure', 'integrator')
 #: keys whose +1e308 is out of a documented or stated range (issue 10 names crank_angle_deg,
 #: t_end; poisson lies in (-1, 0.5), rho_inf in [0, 1])
-BOUNDED_ABOVE = {'poisson', 'rho_inf', 'crank_angle_deg', 't_end'}
+BOUNDED_ABOVE = {'poisson', 'rho_inf', 'crank_angle_deg', 't_end', 'compression_tolerance'}
 #: keys that must be positive, so -1e308 is out of range
 POSITIVE = {'young', 'density', 'mass', 'h', 't_end', 'bore', 'stroke', 'conrod_length',
             'compression_ratio', 'intake_pressure', 'target_peak_pressure', 'tolerance',
@@ -600,8 +617,9 @@ def splice(text, start, end, new):
     return text[:start] + new + text[end:]
 
 
-def namelist_mutations(text, base):
-    """(name, expected, names-extra, text or bytes) of the deterministic mutations of one case."""
+def namelist_mutations(text, base, not_hdf5=NOT_HDF5_MODES):
+    """(name, expected, names-extra, text or bytes) of the deterministic mutations of one case.
+    not_hdf5: path of a file that is not HDF5 (for &body modes_file)."""
     groups = parse_groups(text)
     out = []
     keyed = [(g, k) for g in groups for k in g.keys]
@@ -767,6 +785,8 @@ def namelist_mutations(text, base):
         out.append(('issue_%s_%s_%s' % (group, key, re.sub(r'\W', '_', value)), [2],
                     ['&' + group, key], new))
 
+    out += issue12_mutations(text, groups, not_hdf5)
+
     # whole file
     out.append(('empty_file', [2], [], ''))
     out.append(('binary_garbage_file', [2], [],
@@ -776,9 +796,63 @@ def namelist_mutations(text, base):
     return out
 
 
+def issue12_mutations(text, groups, not_hdf5):
+    """Mutations of the keys issue 12 added (names start 'issue12_', every case gets them):
+    &modes out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance (MODES_MEMORY_VALUES)
+    and &body modes_file: in a mechanism case on the first flexible body a missing file, /dev/zero,
+    a folder (exit 3, naming the path), a file that is not HDF5 (3), a 300-character path and a
+    number (2), and on a rigid body (2); in a modal case any modes_file (2: modal runs compute
+    their modes). Stored modes of another model are refused by the run's check
+    (regression_mode_reuse_errors, regression_mode_reuse_check), which needs a results file."""
+    out = []
+    modes = [g for g in groups if g.name == 'modes']
+    for key, value, expected in MODES_MEMORY_VALUES:
+        if not modes:
+            new = text + '&modes %s = %s /\n' % (key, value)
+        else:
+            g = modes[0]
+            keys = [k for k in g.keys if k[0] == key]
+            new = (splice(text, keys[0][2], keys[0][3], value) if keys else
+                   splice(text, g.end, g.end, ', %s = %s ' % (key, value)))
+        out.append(('issue12_modes_%s_%s' % (key, re.sub(r'\W', '_', value)[:20]), expected,
+                    ['&modes', key], new))
+    bodies = [g for g in groups if g.name == 'body']
+
+    def body_type(g):
+        values = [text[k[2]:k[3]].strip().strip('\'"').lower() for k in g.keys if k[0] == 'type']
+        return values[0] if values else ''
+    rigid = [g for g in bodies if body_type(g) == 'rigid']
+    flexible = [g for g in bodies if body_type(g) != 'rigid' and
+                'mesh_file' in [k[0] for k in g.keys]]
+    mechanism = any(g.name == 'mechanism' for g in groups)
+
+    def with_modes_file(g, value):
+        return splice(text, g.end, g.end, ', modes_file = %s ' % value)
+    if flexible and not mechanism:
+        out.append(('issue12_modes_file_in_modal_run', [2], ['&body', 'modes_file'],
+                    with_modes_file(flexible[0], "'modes.h5'")))
+    if flexible and mechanism:
+        g = flexible[0]
+        for name, expected, value, names in (
+                ('missing', [3], "'modes.h5.missing'", ['modes.h5.missing']),
+                ('dev_zero', [3], "'/dev/zero'", ['zero']),
+                ('folder', [3], "'..'", ['..']),
+                ('not_hdf5', [3], "'%s'" % not_hdf5, [os.path.basename(not_hdf5)]),
+                ('path_300_chars', [2], "'%s.h5'" % ('m' * 300), ['&body', 'modes_file']),
+                ('is_number', [2], '42', ['&body', 'modes_file'])):
+            out.append(('issue12_modes_file_' + name, expected, names, with_modes_file(g, value)))
+    if rigid and mechanism:
+        out.append(('issue12_modes_file_rigid_body', [2], ['&body', 'modes_file'],
+                    with_modes_file(rigid[0], "'modes.h5'")))
+    return out
+
+
 def generate_namelists(input_dir, out_dir, per_case_random):
     bases = sorted(f for f in os.listdir(input_dir) if f.endswith('.nml'))
     entries = []
+    not_hdf5 = os.path.join(os.path.abspath(out_dir), NOT_HDF5_MODES)
+    with open(not_hdf5, 'w') as f:
+        f.write('this text file is not an HDF5 results file\n')
     case_index = 0
     for base in bases:
         with open(os.path.join(input_dir, base)) as f:
@@ -788,8 +862,9 @@ def generate_namelists(input_dir, out_dir, per_case_random):
         stem = base[:-4]
         # Half of the deterministic mutations per case (alternating between cases), the
         # unchanged copy in every case, the whole-file ones in the first two cases only.
-        plan = [(n, e, x, t) for i, (n, e, x, t) in enumerate(namelist_mutations(text, base))
-                if n == 'unchanged' or n.startswith('issue_')
+        plan = [(n, e, x, t) for i, (n, e, x, t) in
+                enumerate(namelist_mutations(text, base, not_hdf5))
+                if n == 'unchanged' or n.startswith('issue_') or n.startswith('issue12_')
                 or (n not in WHOLE_FILE and (i + case_index) % 2 == 0)
                 or (n in WHOLE_FILE and case_index < 2)]
         case_index += 1
@@ -802,7 +877,8 @@ def generate_namelists(input_dir, out_dir, per_case_random):
             case = 'n_%s_%03d_%s.nml' % (stem, index, slug)
             with open(os.path.join(out_dir, case), 'wb') as f:
                 f.write(data if isinstance(data, bytes) else data.encode('latin-1'))
-            path_value = [x for x in extra if x.endswith('.missing') or x in ('zero', '..')]
+            path_value = [x for x in extra if x.endswith('.missing') or x in ('zero', '..')
+                          or x == NOT_HDF5_MODES]
             names, key_names = (path_value, []) if path_value else ([case], extra)
             entries.append(dict(id='n_%s_%03d' % (stem, index), case=case, target=case,
                                 mutation='%s/%s' % (base, name), expected=expected, names=names,

@@ -15,6 +15,11 @@ TEST is one of
             body's modes, and a
             file whose modes were computed for another mesh, material, interface RC or number
             of modes; modes_file in a modal run and on a rigid body
+  check     `ffrf --check` on the same cases: with the computed run's file for both bodies
+            (and the modal run's for the crank) exit 0, the fingerprints matching; every
+            refusal of `errors` with the run's exit code and message (the run's own check,
+            check_stored_modes), the stderr line of --check equal to the run's for the mesh,
+            material and interface cases
 CASE_DIR holds engine_lc8_rc1.nml (tests/engine of the build). Any failure exits 1.
 """
 import os
@@ -164,20 +169,32 @@ def error_cases(work):
     ]
 
 
-def test_errors(ffrf, mesh_dir, case_dir, work):
+def source_runs(ffrf, mesh_dir, case_dir, work):
+    """The engine case and the crank's modal case, each run once: modes_source.h5 and
+    crank_modal.h5 in work, the files the error cases name."""
     case = engine_case(case_dir, work)
     code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'modes_source.h5', '--quiet')
     check(code == 0, f'source run (exit {code}) {err.strip()}')
     modal = crank_modal_case(case, work)
     code, out, err = run(ffrf, modal, mesh_dir, work, '--quiet')
     check(code == 0, f'modal source run (exit {code}) {err.strip()}')
+    return case, modal
+
+
+def refused(code, err, expected, pattern):
+    """Exit `expected` with one stderr line 'ffrf: error: ...' matching `pattern`."""
+    lines = err.splitlines()
+    return (code == expected and len(lines) == 1 and lines[0].startswith('ffrf: error: ') and
+            re.search(pattern, lines[0]) is not None)
+
+
+def test_errors(ffrf, mesh_dir, case_dir, work):
+    case, modal = source_runs(ffrf, mesh_dir, case_dir, work)
     for what, sets, expected, pattern in error_cases(work):
         args = [a for s in sets for a in ('--set', s)]
         code, out, err = run(ffrf, case, mesh_dir, work, '--output', 'refused.h5', '--quiet', *args)
-        lines = err.splitlines()
-        ok = (code == expected and len(lines) == 1 and lines[0].startswith('ffrf: error: ') and
-              re.search(pattern, lines[0]) is not None)
-        check(ok, f'{what}: exit {code} (expected {expected}): {err.strip()}')
+        check(refused(code, err, expected, pattern),
+              f'{what}: exit {code} (expected {expected}): {err.strip()}')
         check(not os.path.exists(os.path.join(work, 'refused.h5')), f'{what}: no results file')
     # modes_file in a modal run
     code, out, err = run(ffrf, modal, mesh_dir, work, '--output', 'refused.h5', '--quiet',
@@ -188,13 +205,41 @@ def test_errors(ffrf, mesh_dir, case_dir, work):
         r'a mechanism run', lines[0]) is not None, f'modes_file in a modal run: exit {code}: {err.strip()}')
 
 
+def test_check(ffrf, mesh_dir, case_dir, work):
+    case, modal = source_runs(ffrf, mesh_dir, case_dir, work)
+    source = os.path.join(work, 'modes_source.h5')
+    code, out, err = run(ffrf, case, mesh_dir, work, '--check',
+                         '--set', f'body[crank].modes_file={source}',
+                         '--set', f'body[conrod].modes_file={source}')
+    check(code == 0 and err == '', f'--check, both bodies\' modes_file matching: exit {code} '
+          f'{err.strip()}')
+    check(len(re.findall(r'\[check\] \w+: 10 modes in modes_file ".*modes_source\.h5", '
+                         r'fingerprint [0-9a-f]{16} matches', out)) == 2,
+          '--check names both bodies\' modes files as matching')
+    code, out, err = run(ffrf, case, mesh_dir, work, '--check', '--set',
+                         f'body[crank].modes_file={os.path.join(work, "crank_modal.h5")}')
+    check(code == 0 and re.search(r'\[check\] crank: 10 modes in modes_file ".*crank_modal\.h5"'
+                                  r', fingerprint [0-9a-f]{16} matches', out) is not None,
+          f'--check, crank modes from the modal run matching: exit {code} {err.strip()}')
+    for what, sets, expected, pattern in error_cases(work):
+        args = [a for s in sets for a in ('--set', s)]
+        code, out, err = run(ffrf, case, mesh_dir, work, '--check', '--quiet', *args)
+        check(refused(code, err, expected, pattern),
+              f'--check, {what}: exit {code} (expected {expected}): {err.strip()}')
+        if what in ('mesh', 'material', 'interface RC'):
+            run_code, _, run_err = run(ffrf, case, mesh_dir, work, '--output', 'refused.h5',
+                                       '--quiet', *args)
+            check(run_code == code and run_err == err,
+                  f'--check, {what}: the run\'s exit code and message')
+
+
 def main(argv):
-    if len(argv) != 6 or argv[1] not in ('bitwise', 'errors'):
+    if len(argv) != 6 or argv[1] not in ('bitwise', 'errors', 'check'):
         print(__doc__)
         return 1
     test, ffrf, mesh_dir, case_dir, work = argv[1:]
     os.makedirs(work, exist_ok=True)
-    {'bitwise': test_bitwise, 'errors': test_errors}[test](
+    {'bitwise': test_bitwise, 'errors': test_errors, 'check': test_check}[test](
         os.path.abspath(ffrf), os.path.abspath(mesh_dir), os.path.abspath(case_dir),
         os.path.abspath(work))
     print(f'{len(FAILURES)} failure(s)')
