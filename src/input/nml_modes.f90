@@ -12,14 +12,16 @@
 !>                'craig_bampton' (static constraint modes of the non-RC virtual-node dofs +
 !>                num_modes fixed-interface modes, orthonormalised; Heirman & Desmet 2010)
 !>   out_of_core  .true.: MUMPS writes the factors to files (out-of-core; default .false.)
-!>   ooc_tmpdir   folder of the out-of-core files (default '': TMPDIR, else the output folder)
+!>   ooc_tmpdir   folder of the out-of-core files (default '': TMPDIR, else the output folder);
+!>                with out_of_core = .true. an existing folder (else exit 3 here, not in MUMPS)
 !>   memory_limit_mb  memory limit per process [MB]: -1 (default) MemAvailable, 0 no check;
 !>                a factorisation predicted above it is refused (exit 4); integer >= -1
 !>   compression_tolerance  block low-rank dropping tolerance of the factors (MUMPS CNTL(7)),
 !>                in [0, 1); 0 (default): full-rank factors
 module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
+   use ffrf_core_posix, only: file_kind, file_kind_name, FILE_DIRECTORY, FILE_MISSING
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_input_modes, only: modes_input_t
    use ffrf_input_nml_common, only: namelist_read_error
@@ -58,7 +60,8 @@ contains
       character(len=16) :: formulation, basis
       character(len=64) :: rc_label
       character(len=512) :: msg
-      integer :: stat
+      integer :: stat, kind
+      integer(i8) :: size_bytes
       namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
          basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance
       num_modes = input%num_modes
@@ -120,6 +123,23 @@ contains
             'ranks (the MPI build) for large meshes, and compression_tolerance = 0')
       end if
       if (allocated(error)) return
+      if (out_of_core .and. len_trim(ooc_tmpdir) > 0) then
+         ! MUMPS would only fail in the factorisation (INFOG(1) = -90)
+         call file_kind(trim(ooc_tmpdir), kind, size_bytes, error)
+         if (allocated(error)) return
+         if (kind /= FILE_DIRECTORY) then
+            if (kind == FILE_MISSING) then
+               msg = 'does not exist'
+            else
+               msg = 'is ' // file_kind_name(kind) // ', not a folder'
+            end if
+            call fatal_error(error, FFRF_IO_ERROR, src%where('modes', 1, 'ooc_tmpdir') // &
+               ': "' // trim(ooc_tmpdir) // '" ' // trim(msg) // '; out_of_core = .true. ' // &
+               'writes the factors there: create the folder, or leave ooc_tmpdir out ' // &
+               '(TMPDIR, else the output folder)')
+            return
+         end if
+      end if
       input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
          lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance)
    end subroutine read_modes_group

@@ -527,7 +527,9 @@ ISSUE_VALUES = [('integrator', 'h', 'Inf'), ('integrator', 'h', '1e300'),
 #: the &modes keys of issue 12 (out-of-core, memory cap, compression; nml_modes.f90), each value
 #: put into (or added to) &modes of every case, a &modes group added where the case has none:
 #: (key, value, expected). Wrong types, out of range (memory_limit_mb >= -1 and <= 1e9,
-#: compression_tolerance in [0, 1) and refused above 0), too long (ooc_tmpdir <= 256 characters).
+#: compression_tolerance in [0, 1) and refused above 0), too long (ooc_tmpdir <= 256 characters);
+#: with out_of_core = .true. (the fourth item, added to the group) an ooc_tmpdir that is no folder
+#: (3, a file error, before MUMPS would fail in the factorisation).
 MODES_MEMORY_VALUES = [
     ('out_of_core', '.maybe.', [2]), ('out_of_core', "'yes'", [2]), ('out_of_core', '1.5', [2]),
     ('ooc_tmpdir', "'%s'" % ('d' * 300), [2]), ('ooc_tmpdir', '.true.', [2]),
@@ -536,7 +538,9 @@ MODES_MEMORY_VALUES = [
     ('memory_limit_mb', '2000000000', [2]),
     ('compression_tolerance', '1.0', [2]), ('compression_tolerance', '-0.1', [2]),
     ('compression_tolerance', 'NaN', [2]), ('compression_tolerance', '1e999', [2]),
-    ('compression_tolerance', "'steel'", [2]), ('compression_tolerance', '0.5', [2])]
+    ('compression_tolerance', "'steel'", [2]), ('compression_tolerance', '0.5', [2]),
+    ('ooc_tmpdir', "'no-such-folder'", [3], 'out_of_core = .true.'),
+    ('ooc_tmpdir', "'/dev/zero'", [3], 'out_of_core = .true.')]
 #: file name of the not-HDF5 file that &body modes_file mutations name (written by
 #: generate_namelists next to the cases, passed by absolute path)
 NOT_HDF5_MODES = 'n_not_hdf5_modes.h5'
@@ -806,14 +810,15 @@ def issue12_mutations(text, groups, not_hdf5):
     (regression_mode_reuse_errors, regression_mode_reuse_check), which needs a results file."""
     out = []
     modes = [g for g in groups if g.name == 'modes']
-    for key, value, expected in MODES_MEMORY_VALUES:
+    for key, value, expected, *more in MODES_MEMORY_VALUES:
+        more = ', ' + more[0] if more else ''
         if not modes:
-            new = text + '&modes %s = %s /\n' % (key, value)
+            new = text + '&modes %s = %s%s /\n' % (key, value, more)
         else:
             g = modes[0]
             keys = [k for k in g.keys if k[0] == key]
-            new = (splice(text, keys[0][2], keys[0][3], value) if keys else
-                   splice(text, g.end, g.end, ', %s = %s ' % (key, value)))
+            new = (splice(text, keys[0][2], keys[0][3], value + more) if keys else
+                   splice(text, g.end, g.end, ', %s = %s%s ' % (key, value, more)))
         out.append(('issue12_modes_%s_%s' % (key, re.sub(r'\W', '_', value)[:20]), expected,
                     ['&modes', key], new))
     bodies = [g for g in groups if g.name == 'body']
