@@ -110,10 +110,8 @@ contains
             call add_context(error, 'mesh "' // mesh_file // '"')
             return
          end if
-         allocate (interfaces(0))
+         allocate (interfaces(merge(size(model_body%interfaces), 0, flexible)))
          if (flexible) then
-            deallocate (interfaces)
-            allocate (interfaces(size(model_body%interfaces)))
             do i = 1, size(model_body%interfaces)
                call build_interface(body_mesh, model_body%interfaces(i), interfaces(i), error)
                if (allocated(error)) then
