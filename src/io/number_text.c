@@ -4,7 +4,9 @@
  * (ffrf_io_text_stream). gfortran rounds ES output as printf's %E does (the exact binary value,
  * ties to even: glibc); this file gets the same digits from an extended-precision product and
  * calls snprintf whenever that product cannot decide the rounding for sure. Nothing here
- * allocates, prints or exits. */
+ * allocates, prints or exits, and the floating-point exception flags are left as they were (a
+ * subnormal operand raises the denormal flag, which a later Fortran STOP would report). */
+#include <fenv.h>
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -100,9 +102,8 @@ static void decimal_digits(double magnitude, int digits, char *digit_text, int *
     digits_by_printf(magnitude, digits, digit_text, exponent);
 }
 
-/* `value` as gfortran's ES(digits + 7).(digits - 1)E3 writes it: exactly digits + 7
- * characters at `out`, blank-padded on the left. NaN and Inf as gfortran writes them. */
-void ffrf_format_es_e3(double value, int digits, char *out)
+/* ffrf_format_es_e3 without saving the floating-point environment */
+static void format_es_e3(double value, int digits, char *out)
 {
     const int width = digits + 7;
     char text[MAX_DIGITS + 16], digit_text[MAX_DIGITS];
@@ -134,6 +135,16 @@ void ffrf_format_es_e3(double value, int digits, char *out)
     }
     memset(out, ' ', (size_t)(width - n));
     memcpy(out + (width - n), text, (size_t)n);
+}
+
+/* `value` as gfortran's ES(digits + 7).(digits - 1)E3 writes it: exactly digits + 7
+ * characters at `out`, blank-padded on the left. NaN and Inf as gfortran writes them. */
+void ffrf_format_es_e3(double value, int digits, char *out)
+{
+    fenv_t environment;
+    feholdexcept(&environment);
+    format_es_e3(value, digits, out);
+    fesetenv(&environment);
 }
 
 /* `value` as I0 writes it; returns the number of characters (at most 11). */
@@ -177,14 +188,17 @@ int64_t ffrf_format_tagged_es_lines(int first_tag, int num_lines, const double *
     const int width = digits + 7;
     int64_t n = 0;
     int line, k;
+    fenv_t environment;
+    feholdexcept(&environment);
     for (line = 0; line < num_lines; ++line) {
         n += format_i0(first_tag + line, out + n);
         for (k = 0; k < 3; ++k) {
             out[n++] = ' ';
-            ffrf_format_es_e3(values[3 * (int64_t)line + k], digits, out + n);
+            format_es_e3(values[3 * (int64_t)line + k], digits, out + n);
             n += width;
         }
         out[n++] = '\n';
     }
+    fesetenv(&environment);
     return n;
 }
