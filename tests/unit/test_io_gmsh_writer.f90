@@ -13,7 +13,7 @@ module test_io_gmsh_writer
    use ffrf_core_strings, only: to_str
    use ffrf_io_gmsh_writer, only: write_mode_shapes_msh, write_displacement_frames_msh
    use ffrf_io_text_stream, only: es_e3_text
-   use ffrf_testing, only: unittest_t, new_unittest, check_close, check
+   use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
    private
    public :: collect_io_gmsh_writer
@@ -501,6 +501,7 @@ contains
             return
          end if
       end do
+      call report('numbers compared with the formatted write, exact: ' // to_str(compared))
       call check(error, 'numbers compared: ' // to_str(compared), compared > size(values) + &
          num_random / 2)
    end subroutine test_number_text_as_formatted_write
