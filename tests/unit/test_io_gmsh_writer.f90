@@ -4,13 +4,16 @@
 !> and its .opt without error and find the same views and maxima, and must fail on a truncated
 !> copy, which shows that the check can fail.
 module test_io_gmsh_writer
-   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_negative_inf, &
+      ieee_quiet_nan, ieee_is_nan
+   use, intrinsic :: iso_fortran_env, only: int64
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_io_gmsh_writer, only: write_mode_shapes_msh
-   use ffrf_testing, only: unittest_t, new_unittest, check_close, check
+   use ffrf_io_gmsh_writer, only: write_mode_shapes_msh, write_displacement_frames_msh
+   use ffrf_io_text_stream, only: es_e3_text
+   use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
    private
    public :: collect_io_gmsh_writer
@@ -35,7 +38,9 @@ contains
          new_unittest('tet4_read_back', test_tet4_read_back), &
          new_unittest('tet10_read_back', test_tet10_read_back), &
          new_unittest('gmsh_loads_file', test_gmsh_loads_file), &
-         new_unittest('input_errors', test_input_errors)]
+         new_unittest('input_errors', test_input_errors), &
+         new_unittest('number_text_as_formatted_write', test_number_text_as_formatted_write), &
+         new_unittest('files_as_formatted_writes', test_files_as_formatted_writes)]
    end subroutine collect_io_gmsh_writer
 
    !> A unit cube cut into 6 tetrahedra (Kuhn triangulation around the diagonal 1-7), 8 nodes.
@@ -439,6 +444,202 @@ contains
       end do
       close (out)
    end subroutine copy_without_last_lines
+
+   !> Values whose text is awkward: zeros of both signs, the extremes of the exponent (subnormal,
+   !> huge), roundings that carry into the exponent (the largest double below 1: 17 digits keep
+   !> it, 7 round it to 1.000000E+000), exact ties at 7 digits (12345665 and 12345675: ties to
+   !> even), numbers next to powers of ten, negative numbers.
+   function awkward_values() result(values)
+      real(dp), allocatable :: values(:)
+      real(dp) :: zero
+      zero = 0.0_dp
+      values = [zero, -zero, 1.0e-300_dp, 1.0e+300_dp, -1.0e-300_dp, nearest(1.0_dp, -1.0_dp), &
+         -nearest(1.0_dp, -1.0_dp), nearest(1.0_dp, 1.0_dp), 9.9999995e-1_dp, 0.99999995_dp, &
+         12345665.0_dp, 12345675.0_dp, -12345675.0_dp, 0.5_dp, -1.5_dp, 1.0e22_dp, 1.0e23_dp, &
+         nearest(1.0e23_dp, -1.0_dp), 1.0e-3_dp, 0.1_dp, 1.0_dp / 3.0_dp, -2.0_dp / 3.0_dp, &
+         huge(1.0_dp), -huge(1.0_dp), tiny(1.0_dp), transfer(1_int64, 1.0_dp), &
+         -transfer(1_int64, 1.0_dp), transfer(shiftr(huge(1_int64), 20), 1.0_dp), 812.4_dp, &
+         1234.56789_dp, 2.0_dp**60, 123456789012345678.0_dp, 9.999999999999999e-5_dp]
+   end function awkward_values
+
+   !> The text of numbers made in memory (es_e3_text, number_text.c) against gfortran's own
+   !> formatted WRITE of the same number with '(es24.16e3)' and '(es14.6e3)' (the independent
+   !> reference: what the writer used before), exact bytes: the awkward values, NaN and +-Inf
+   !> (the writer refuses them; the text is still gfortran's), and 20,000 pseudo-random bit
+   !> patterns spread over the whole range of finite doubles.
+   subroutine test_number_text_as_formatted_write(error)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: values(:)
+      character(len=24) :: exact
+      character(len=14) :: short
+      integer(int64) :: state
+      real(dp) :: x
+      integer :: i, num_random, compared
+      num_random = 20000
+      values = [awkward_values(), ieee_value(1.0_dp, ieee_quiet_nan), &
+         ieee_value(1.0_dp, ieee_positive_inf), ieee_value(1.0_dp, ieee_negative_inf)]
+      state = 88172645463325252_int64
+      compared = 0
+      do i = 1, size(values) + num_random
+         if (i <= size(values)) then
+            x = values(i)
+         else
+            ! xorshift64: bit patterns of any sign and exponent; NaN and Inf skipped
+            state = ieor(state, shiftl(state, 13))
+            state = ieor(state, shiftr(state, 7))
+            state = ieor(state, shiftl(state, 17))
+            x = transfer(state, x)
+            if (ieee_is_nan(x) .or. abs(x) > huge(x)) cycle
+         end if
+         write (exact, '(es24.16e3)') x
+         write (short, '(es14.6e3)') x
+         compared = compared + 1
+         if (es_e3_text(x, 17) /= exact .or. es_e3_text(x, 7) /= short) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'value ' // to_str(i) // ': "' // &
+               es_e3_text(x, 17) // '" / "' // es_e3_text(x, 7) // '", expected "' // exact // &
+               '" / "' // short // '" (formatted write)')
+            return
+         end if
+      end do
+      call report('numbers compared with the formatted write, exact: ' // to_str(compared))
+      call check(error, 'numbers compared: ' // to_str(compared), compared > size(values) + &
+         num_random / 2)
+   end subroutine test_number_text_as_formatted_write
+
+   !> The files of write_mode_shapes_msh and write_displacement_frames_msh, byte for byte, against
+   !> files written here by formatted WRITE statements in the MSH 2.2 layout (the writer's code
+   !> before it formatted in memory): a Tet10 with the awkward values as coordinates and fields,
+   !> and a mesh of 30,000 nodes (more than the writer's 1 MiB chunk holds: the chunk seams).
+   subroutine test_files_as_formatted_writes(error)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: xyz(:, :), shapes(:, :), values(:)
+      integer, allocatable :: tets(:, :)
+      integer :: i, num_nodes
+      call tet10_mesh(xyz, tets)
+      values = awkward_values()
+      allocate (shapes(3 * size(xyz, 2), 4))
+      do i = 1, size(shapes)
+         shapes(mod(i - 1, size(shapes, 1)) + 1, (i - 1) / size(shapes, 1) + 1) = &
+            values(mod(7 * i, size(values)) + 1)
+      end do
+      xyz = reshape([(values(mod(i, size(values)) + 1), i = 1, size(xyz))], shape(xyz))
+      call compare_with_formatted(xyz, tets, shapes, [812.4_dp, -0.0_dp, 1.0e-300_dp, &
+         nearest(1.0_dp, -1.0_dp)], 'awkward', error)
+      if (allocated(error)) return
+      num_nodes = 30000
+      deallocate (xyz, tets, shapes)
+      allocate (xyz(3, num_nodes), shapes(3 * num_nodes, 2), tets(4, num_nodes - 3))
+      do i = 1, num_nodes
+         xyz(:, i) = [sin(real(i, dp)), cos(real(i, dp)) * 1.0e-3_dp, real(i, dp) / 7.0_dp]
+      end do
+      shapes(:, 1) = [(sin(0.1_dp * i) * 1.0e-5_dp, i = 1, 3 * num_nodes)]
+      shapes(:, 2) = [(cos(0.1_dp * i) * 1.0e+5_dp, i = 1, 3 * num_nodes)]
+      tets = reshape([(i, i + 1, i + 2, i + 3, i = 1, num_nodes - 3)], shape(tets))
+      call compare_with_formatted(xyz, tets, shapes, [1.0_dp, 2.0_dp], 'large', error)
+   end subroutine test_files_as_formatted_writes
+
+   !> Both writers against the formatted reference (reference_msh), exact bytes.
+   subroutine compare_with_formatted(xyz, tets, shapes, times, label, error)
+      real(dp), intent(in) :: xyz(:, :)
+      integer, intent(in) :: tets(:, :)
+      real(dp), intent(in) :: shapes(:, :), times(:)
+      character(len=*), intent(in) :: label
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: name, reference, written, expected
+      logical :: frames
+      integer :: pass, at
+      do pass = 1, 2
+         frames = pass == 2
+         name = scratch(label // trim(merge('_frames', '_modes ', frames)) // '.msh')
+         reference = scratch(label // trim(merge('_frames', '_modes ', frames)) // '_ref.msh')
+         if (frames) then
+            call write_displacement_frames_msh(name, xyz, tets, shapes, times, error)
+         else
+            call write_mode_shapes_msh(name, xyz, tets, shapes, times, error)
+         end if
+         if (allocated(error)) return
+         call reference_msh(reference, xyz, tets, shapes, times, frames, error)
+         if (allocated(error)) return
+         call file_bytes(name, written, error)
+         if (allocated(error)) return
+         call file_bytes(reference, expected, error)
+         if (allocated(error)) return
+         if (written == expected) cycle
+         do at = 1, min(len(written), len(expected))
+            if (written(at:at) /= expected(at:at)) exit
+         end do
+         call fatal_error(error, FFRF_NUMERIC_ERROR, name // ' (' // to_str(len(written)) // &
+            ' bytes) differs from its formatted reference (' // to_str(len(expected)) // &
+            ' bytes) from byte ' // to_str(at) // ': "' // &
+            written(max(1, at - 30):min(len(written), at + 30)) // '"')
+         return
+      end do
+   end subroutine compare_with_formatted
+
+   !> The MSH 2.2 file as formatted WRITE statements make it: the layout of the module notes of
+   !> ffrf_io_gmsh_writer ('(i0, 3(1x, es24.16e3))' per node and mode value, es14.6e3 for frame
+   !> values, '(*(i0, :, 1x))' per element).
+   subroutine reference_msh(file_name, xyz, tets, shapes, times, frames, error)
+      character(len=*), intent(in) :: file_name
+      real(dp), intent(in) :: xyz(:, :)
+      integer, intent(in) :: tets(:, :)
+      real(dp), intent(in) :: shapes(:, :), times(:)
+      logical, intent(in) :: frames
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, stat, i, mode
+      character(len=512) :: msg
+      character(len=:), allocatable :: name, line
+      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat, &
+         iomsg=msg)
+      if (stat == 0) write (unit, '(a / a / a / a / i0)', iostat=stat, iomsg=msg) &
+         '$MeshFormat', '2.2 0 8', '$EndMeshFormat', '$Nodes', size(xyz, 2)
+      do i = 1, size(xyz, 2)
+         if (stat == 0) write (unit, '(i0, 3(1x, es24.16e3))', iostat=stat, iomsg=msg) i, &
+            xyz(:, i)
+      end do
+      if (stat == 0) write (unit, '(a / a / i0)', iostat=stat, iomsg=msg) '$EndNodes', &
+         '$Elements', size(tets, 2)
+      do i = 1, size(tets, 2)
+         if (stat == 0) write (unit, '(*(i0, :, 1x))', iostat=stat, iomsg=msg) i, &
+            merge(4, 11, size(tets, 1) == 4), 2, 1, 1, tets(:, i)
+      end do
+      if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '$EndElements'
+      line = '(i0, 3(1x, es24.16e3))'
+      if (frames) line = '(i0, 3(1x, es14.6e3))'
+      do mode = 1, size(shapes, 2)
+         name = 'elastic displacement'
+         if (.not. frames) name = 'mode ' // to_str(mode) // ': ' // to_str(times(mode), 6) // &
+            ' Hz'
+         if (stat == 0) write (unit, '(a / i0 / a / i0 / es24.16e3 / i0 / i0 / i0 / i0)', &
+            iostat=stat, iomsg=msg) '$NodeData', 1, '"' // name // '"', 1, times(mode), 3, &
+            merge(mode - 1, 0, frames), 3, size(xyz, 2)
+         do i = 1, size(xyz, 2)
+            if (stat == 0) write (unit, line, iostat=stat, iomsg=msg) i, &
+               shapes(3 * i - 2:3 * i, mode)
+         end do
+         if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '$EndNodeData'
+      end do
+      if (stat == 0) close (unit, iostat=stat, iomsg=msg)
+      if (stat /= 0) call fatal_error(error, FFRF_IO_ERROR, file_name // ': ' // trim(msg))
+   end subroutine reference_msh
+
+   !> The whole content of a file.
+   subroutine file_bytes(file_name, content, error)
+      character(len=*), intent(in) :: file_name
+      character(len=:), allocatable, intent(out) :: content
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, stat, size_bytes
+      character(len=512) :: msg
+      open (newunit=unit, file=file_name, access='stream', form='unformatted', status='old', &
+         action='read', iostat=stat, iomsg=msg)
+      if (stat == 0) inquire (unit=unit, size=size_bytes, iostat=stat, iomsg=msg)
+      if (stat == 0) then
+         allocate (character(len=size_bytes) :: content)
+         read (unit, iostat=stat, iomsg=msg) content
+         close (unit)
+      end if
+      if (stat /= 0) call fatal_error(error, FFRF_IO_ERROR, file_name // ': ' // trim(msg))
+   end subroutine file_bytes
 
    !> `suffix` prefixed by this executable's name ("test_io_hdf5_real.h5"): the files of the
    !> plain and the _checked build of the suite never collide when ctest runs both at once.
