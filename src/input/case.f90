@@ -322,7 +322,7 @@ contains
       if (allocated(case%overrides)) text = text // case%overrides
    end function case_echo
 
-   !> The memory keys of &modes, only those not at their defaults (so the echo of a case
+   !> The memory and eigensolver keys of &modes, only those not at their defaults (so the echo of a case
    !> without them is the one written before they existed).
    function memory_echo(m) result(text)
       type(modes_input_t), intent(in) :: m
@@ -335,6 +335,8 @@ contains
          to_str(m%memory_limit_mb)
       if (m%compression_tolerance /= 0.0_dp) text = text // ', compression_tolerance = ' // &
          to_str(m%compression_tolerance, 6)
+      if (m%eigensolver /= 'auto') text = text // ', eigensolver = ''' // trim(m%eigensolver) &
+         // ''''
    end function memory_echo
 
    !> The mechanism keys of a &body.

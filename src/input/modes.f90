@@ -37,6 +37,10 @@ module ffrf_input_modes
       integer :: memory_limit_mb = -1
       !> Block low-rank dropping tolerance (MUMPS CNTL(7)); 0 = full-rank factors
       real(dp) :: compression_tolerance = 0.0_dp
+      !> Eigensolver: 'auto' (default: 'block' from AUTO_BLOCK_MIN_DOFS dofs on, else 'arpack'),
+      !> 'arpack' (shift-invert Lanczos, one right-hand side per solve) or 'block' (block
+      !> shift-invert Lanczos, many right-hand sides per solve: src/modes/block_krylov.f90)
+      character(len=16) :: eigensolver = 'auto'
    end type modes_input_t
 
 end module ffrf_input_modes

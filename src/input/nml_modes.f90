@@ -18,6 +18,9 @@
 !>                a factorisation predicted above it is refused (exit 4); integer >= -1
 !>   compression_tolerance  block low-rank dropping tolerance of the factors (MUMPS CNTL(7)),
 !>                in [0, 1); 0 (default): full-rank factors
+!>   eigensolver  'auto' (default: 'block' for bodies of 200,000 dofs or more, else 'arpack'),
+!>                'arpack' (ARPACK shift-invert Lanczos, one solve per vector) or 'block' (block
+!>                shift-invert Lanczos: num_modes + 4 right-hand sides per solve)
 module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -43,7 +46,8 @@ contains
          integer_key('lanczos_vectors', 0_i8, 100000_i8), &
          choice_key('basis', 16, 'rc_normal, craig_bampton'), logical_key('out_of_core'), &
          string_key('ooc_tmpdir', 256), integer_key('memory_limit_mb', -1_i8, 1000000000_i8), &
-         real_key('compression_tolerance', 0.0_dp, 1.0_dp, '', upper_open=.true.)]
+         real_key('compression_tolerance', 0.0_dp, 1.0_dp, '', upper_open=.true.), &
+         choice_key('eigensolver', 16, 'auto, arpack, block')]
    end function modes_keys
 
    !> Read &modes (optional group; defaults from modes_input_t).
@@ -57,13 +61,13 @@ contains
       real(dp) :: shift_hz, tolerance, compression_tolerance
       logical :: out_of_core
       character(len=256) :: ooc_tmpdir
-      character(len=16) :: formulation, basis
+      character(len=16) :: formulation, basis, eigensolver
       character(len=64) :: rc_label
       character(len=512) :: msg
       integer :: stat, kind
       integer(i8) :: size_bytes
       namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
-         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance
+         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver
       num_modes = input%num_modes
       shift_hz = input%shift_hz
       formulation = input%formulation
@@ -75,17 +79,19 @@ contains
       ooc_tmpdir = input%ooc_tmpdir
       memory_limit_mb = input%memory_limit_mb
       compression_tolerance = input%compression_tolerance
+      eigensolver = input%eigensolver
       rewind (unit)
       read (unit, nml=modes, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'modes', 0, msg, &
             'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis, ' // &
-            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance')
+            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver')
          return
       end if
       formulation = to_lower(formulation)
       basis = to_lower(basis)
+      eigensolver = to_lower(eigensolver)
       if (num_modes < 1 .or. num_modes > 10000) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: num_modes = ' // to_str(num_modes) // &
             ', must lie in 1..10000')
@@ -97,6 +103,9 @@ contains
       else if (all(basis /= [character(len=16) :: 'rc_normal', 'craig_bampton'])) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: basis = "' // trim(basis) // &
             '"; use "rc_normal" (constrained normal modes) or "craig_bampton"')
+      else if (all(eigensolver /= [character(len=16) :: 'auto', 'arpack', 'block'])) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'eigensolver') // &
+            ': "' // trim(eigensolver) // '"; use "auto" (default), "arpack" or "block"')
       else if (lanczos_vectors /= 0 .and. lanczos_vectors <= num_modes) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'lanczos_vectors') // &
             ': must exceed num_modes = ' // to_str(num_modes) // &
@@ -141,7 +150,8 @@ contains
          end if
       end if
       input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
-         lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance)
+         lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, &
+         eigensolver)
    end subroutine read_modes_group
 
 end module ffrf_input_nml_modes

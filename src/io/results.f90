@@ -246,6 +246,15 @@ contains
          if (.not. allocated(error)) call h5%write_int(path // '/num_restarts', &
             e%num_iterations, error)
          if (.not. allocated(error)) call h5%write_int(path // '/lanczos_vectors', e%ncv, error)
+         ! the block method's own figures (ARPACK runs keep the datasets they had)
+         if (e%eigensolver == 'block') then
+            if (.not. allocated(error)) call h5%write_string(path // '/eigensolver', &
+               trim(e%eigensolver), error)
+            if (.not. allocated(error)) call h5%write_int(path // '/block_size', e%block_size, &
+               error)
+            if (.not. allocated(error)) call h5%write_int(path // '/num_block_solves', &
+               e%num_block_solves, error)
+         end if
       end associate
       if (.not. allocated(error)) call write_memory_estimates(h5, path, body%eigen, error)
    end subroutine write_solver

@@ -4,7 +4,7 @@ module ffrf_la_lapack
    use ffrf_core_kinds, only: dp, ip
    implicit none
    private
-   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm, dgelsy, dgeev
+   public :: dgesvd, dsyev, dsygv, dposv, dgesv, dgemm, dgelsy, dgeev, dpotrf, dtrsm
 
    interface
       !> Minimum-norm least squares by complete orthogonal factorisation, A P = Q [R11 R12; 0 R22].
@@ -92,6 +92,25 @@ module ffrf_la_lapack
          real(dp), intent(in) :: alpha, beta, a(lda, *), b(ldb, *)
          real(dp), intent(inout) :: c(ldc, *)
       end subroutine dgemm
+      !> Cholesky factorisation A = U^T U (uplo = 'U') of a symmetric positive definite matrix.
+      subroutine dpotrf(uplo, n, a, lda, info)
+         import :: dp, ip
+         implicit none
+         character, intent(in) :: uplo
+         integer(ip), intent(in) :: n, lda
+         real(dp), intent(inout) :: a(lda, *)
+         integer(ip), intent(out) :: info
+      end subroutine dpotrf
+
+      !> B = alpha op(A)^-1 B (side = 'L') or alpha B op(A)^-1 (side = 'R'), A triangular.
+      subroutine dtrsm(side, uplo, transa, diag, m, n, alpha, a, lda, b, ldb)
+         import :: dp, ip
+         implicit none
+         character, intent(in) :: side, uplo, transa, diag
+         integer(ip), intent(in) :: m, n, lda, ldb
+         real(dp), intent(in) :: alpha, a(lda, *)
+         real(dp), intent(inout) :: b(ldb, *)
+      end subroutine dtrsm
    end interface
 
 end module ffrf_la_lapack

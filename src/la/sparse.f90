@@ -12,7 +12,7 @@ module ffrf_la_sparse
    implicit none
    private
    public :: csr_t
-   public :: csr_matvec, csr_transpose, csr_matmul, csr_from_coo, csr_upper_coo, csr_adjacency
+   public :: csr_matvec, csr_matmat, csr_transpose, csr_matmul, csr_from_coo, csr_upper_coo, csr_adjacency
    public :: csr_identity, csr_get, csr_nnz, csr_add, csr_to_dense, sort_indices, csr_row_gram
 
    !> A sparse matrix in CSR form. Columns within a row are sorted ascending and unique.
@@ -110,6 +110,28 @@ contains
          y(i) = s
       end do
    end subroutine csr_matvec
+
+   !> Y = A X for a block of columns X (num_cols x k). The block is transposed so that each
+   !> entry of A meets k contiguous values: one pass over A for all k columns.
+   subroutine csr_matmat(A, X, Y)
+      !> Matrix
+      type(csr_t), intent(in) :: A
+      !> Columns, num_cols x k
+      real(dp), intent(in) :: X(:, :)
+      !> Products, num_rows x k
+      real(dp), intent(out) :: Y(:, :)
+      real(dp), allocatable :: xt(:, :), yt(:, :)
+      integer(ip) :: i, k
+      xt = transpose(X)
+      allocate (yt(size(X, 2), A%num_rows))
+      do i = 1, A%num_rows
+         yt(:, i) = 0.0_dp
+         do k = A%row_ptr(i), A%row_ptr(i + 1) - 1
+            yt(:, i) = yt(:, i) + A%val(k) * xt(:, A%col(k))
+         end do
+      end do
+      Y = transpose(yt)
+   end subroutine csr_matmat
 
    !> At = A^T by a counting sort over columns; rows of At come out sorted because the rows of
    !> A are visited in order.

@@ -90,6 +90,7 @@ contains
       spec%ooc_directory = input%ooc_tmpdir
       spec%memory_limit_mb = input%memory_limit_mb
       spec%compression_tolerance = input%compression_tolerance
+      spec%eigensolver = input%eigensolver
       select case (to_lower(trim(input%formulation)))
       case ('multipliers')
          spec%formulation = FORMULATION_MULTIPLIERS

@@ -315,6 +315,7 @@ contains
       options%ooc_directory = modes%ooc_directory
       options%memory_limit_mb = modes%memory_limit_mb
       options%compression_tolerance = modes%compression_tolerance
+      options%eigensolver = modes%eigensolver
       if (body%basis == BASIS_CRAIG_BAMPTON) then
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return

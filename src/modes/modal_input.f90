@@ -64,6 +64,8 @@ module ffrf_modes_input
       integer :: memory_limit_mb = -1
       !> Block low-rank dropping tolerance of the factors (MUMPS CNTL(7)); 0 = full rank
       real(dp) :: compression_tolerance = 0.0_dp
+      !> 'auto', 'arpack' or 'block' (eigen_options_t%eigensolver)
+      character(len=16) :: eigensolver = 'auto'
    end type modes_spec_t
 
 contains

@@ -25,6 +25,12 @@ module ffrf_modes_shift_invert
    implicit none
    private
    public :: eigen_options_t, eigen_result_t, solve_shift_invert, project_null_space
+   public :: AUTO_BLOCK_MIN_DOFS
+
+   !> Smallest constrained dimension n - num_constraints for which eigensolver = 'auto' picks
+   !> the block method (README "Large meshes": measured break-even far below; the bodies of the
+   !> test suite and the engine's reference meshes stay on ARPACK, bit for bit as before)
+   integer(ip), parameter :: AUTO_BLOCK_MIN_DOFS = 200000
 
    !> Settings of the shift-invert Lanczos solver.
    type :: eigen_options_t
@@ -56,6 +62,11 @@ module ffrf_modes_shift_invert
       integer(i8) :: memory_limit_mb = 0
       !> Block low-rank dropping tolerance of the factors (MUMPS CNTL(7)); 0 = full rank
       real(dp) :: compression_tolerance = 0.0_dp
+      !> 'arpack' (ARPACK, one right-hand side per solve), 'block' (block Lanczos with thick
+      !> restarts, num_modes + 4 right-hand sides per solve: ffrf_modes_block_krylov) or 'auto':
+      !> 'block' when n - num_constraints >= AUTO_BLOCK_MIN_DOFS, where the factor is large
+      !> and reading it once per vector dominates the eigen loop, else 'arpack'
+      character(len=16) :: eigensolver = 'auto'
    end type eigen_options_t
 
    !> Eigenpairs and statistics of one `solve_shift_invert` call.
@@ -88,6 +99,11 @@ module ffrf_modes_shift_invert
       integer(ip) :: num_iterations = 0
       !> Lanczos basis size used
       integer(ip) :: ncv = 0
+      !> Eigensolver used: 'arpack' or 'block'; for 'block', right-hand sides per solve and
+      !> block solves
+      character(len=16) :: eigensolver = ''
+      integer(ip) :: block_size = 0
+      integer(ip) :: num_block_solves = 0
       !> Numerical factorisations done (1, more after an SPD fallback or a shift retry)
       integer(ip) :: num_factorisations = 0
       !> MUMPS SYM of the final factorisation (1 SPD, 2 indefinite)

@@ -12,6 +12,8 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use ffrf_la_arpack, only: dsaupd, dseupd
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_ARPACK
    use ffrf_la_lapack, only: dgemm, dposv
+   use ffrf_modes_block_krylov, only: block_krylov_settings_t, block_krylov_stats_t, &
+      block_krylov_eigen, default_block_settings
    implicit none
 
    character(len=*), parameter :: stage = 'modes'
@@ -55,6 +57,7 @@ contains
       type(mumps_solver_t) :: solver
       real(dp) :: t_start, t0, sigma
       real(dp), allocatable :: z(:, :)
+      character(len=:), allocatable :: method
       integer(ip) :: n, nc, ncv, j
 
       t_start = wall_time()
@@ -73,9 +76,14 @@ contains
       result%n = n
       result%num_constraints = nc
       result%ncv = ncv
+      if (uses_block_method(options, n, nc)) then
+         method = 'block method'
+      else
+         method = 'ncv = ' // to_str(ncv)
+      end if
       call log%info(stage, 'shift-invert Lanczos: n = ' // to_str(n) // ', ' // to_str(nc) // &
          ' constraints, ' // to_str(options%num_modes) // ' modes nearest sigma = ' // &
-         to_str(options%sigma) // ', ncv = ' // to_str(ncv))
+         to_str(options%sigma) // ', ' // method)
 
       ! One factorisation of the KKT matrix (with fallbacks), then Lanczos on it.
       sigma = options%sigma
@@ -89,7 +97,12 @@ contains
       result%shift = sigma
 
       t0 = wall_time()
-      call lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
+      if (uses_block_method(options, n, nc)) then
+         call block_lanczos(M, options, nc, solver, z, result, log, error)
+      else
+         result%eigensolver = 'arpack'
+         call lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
+      end if
       result%time_lanczos = wall_time() - t0
       if (.not. allocated(error) .and. present(constraint_targets)) then
          t0 = wall_time()
@@ -99,9 +112,17 @@ contains
       end if
       call solver%free()
       if (allocated(error)) return
-      call log%info(stage, 'Lanczos: ' // to_str(result%num_iterations) // ' restarts, ' // &
-         to_str(result%num_solves) // ' solves (' // to_str(result%time_solves, 3) // &
-         ' s in MUMPS), ' // to_str(result%time_lanczos, 3) // ' s')
+      if (result%eigensolver == 'block') then
+         call log%info(stage, 'block Lanczos: ' // to_str(result%num_iterations) // &
+            ' restarts, ' // to_str(result%num_block_solves) // ' solves of ' // &
+            to_str(result%block_size) // ' right-hand sides (' // &
+            to_str(result%time_solves, 3) // ' s in MUMPS), ' // &
+            to_str(result%time_lanczos, 3) // ' s')
+      else
+         call log%info(stage, 'Lanczos: ' // to_str(result%num_iterations) // ' restarts, ' // &
+            to_str(result%num_solves) // ' solves (' // to_str(result%time_solves, 3) // &
+            ' s in MUMPS), ' // to_str(result%time_lanczos, 3) // ' s')
+      end if
 
       t0 = wall_time()
       call finish_pairs(K, M, C, z, result, error)
@@ -535,6 +556,44 @@ contains
       moved = sigma - max(1.0e-4_dp * abs(sigma), 1.0e-8_dp * scale)
       if (moved == sigma) moved = sigma - max(abs(sigma), 1.0_dp) * 1.0e-4_dp
    end function moved_shift
+
+   !> eigensolver = 'block', or 'auto' on a constrained dimension of AUTO_BLOCK_MIN_DOFS or more.
+   pure logical function uses_block_method(options, n, nc)
+      type(eigen_options_t), intent(in) :: options
+      integer(ip), intent(in) :: n, nc
+      select case (options%eigensolver)
+      case ('block')
+         uses_block_method = .true.
+      case ('arpack')
+         uses_block_method = .false.
+      case default
+         uses_block_method = n - nc >= AUTO_BLOCK_MIN_DOFS
+      end select
+   end function uses_block_method
+
+   !> Block shift-invert Lanczos (ffrf_modes_block_krylov) on the KKT factors; Ritz vectors z.
+   subroutine block_lanczos(M, options, nc, solver, z, result, log, error)
+      type(csr_t), intent(in) :: M
+      type(eigen_options_t), intent(in) :: options
+      integer(ip), intent(in) :: nc
+      type(mumps_solver_t), intent(inout) :: solver
+      real(dp), allocatable, intent(out) :: z(:, :)
+      type(eigen_result_t), intent(inout) :: result
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(block_krylov_settings_t) :: settings
+      type(block_krylov_stats_t) :: stats
+      settings = default_block_settings(options%num_modes, options%ncv, M%num_rows - nc)
+      result%eigensolver = 'block'
+      result%block_size = settings%block_size
+      result%ncv = settings%max_basis
+      call block_krylov_eigen(M, nc, options%num_modes, settings, options%tolerance, &
+         options%max_iterations, solver, z, stats, log, error)
+      result%num_solves = solver%num_solves
+      result%time_solves = solver%time_solve
+      result%num_iterations = stats%num_restarts
+      result%num_block_solves = stats%num_block_solves
+   end subroutine block_lanczos
 
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
    !> ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at a

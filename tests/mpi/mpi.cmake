@@ -6,6 +6,8 @@
 #  - mpi_modes_crank_rc{1,2,3}[_rbe2]: input/crank_rc*.nml on the lc 8 mm mesh, the sequential
 #    driver and `mpirun -np 2` of the MPI driver: frequencies equal to 1e-9 (relative), the MPI
 #    run writes the same files once, its results hold the peak memory of both ranks.
+#  - mpi_modes_crank_rc1_block, mpi_modes_crank_rc2_rbe2_block: the same with the block
+#    eigensolver (&modes eigensolver = 'block') in both runs.
 #  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)
 #    under mpirun -np 2 against the sequential driver: crank angle and speed histories to 1e-9
 #    of their largest value.
@@ -30,6 +32,17 @@ foreach(_case crank_rc1 crank_rc2 crank_rc3 crank_rc1_rbe2 crank_rc2_rbe2 crank_
       --set body[crank].mesh_file=crank_lc8.msh --out ${_mpi_out}/${_case} --ranks 2
       --rtol 1e-9)
   set_tests_properties(mpi_modes_${_case} PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
+    FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+endforeach()
+# the block eigensolver (eigensolver = 'block', right-hand-side blocks through the distributed
+# solves): the MPI run against the sequential one with the same method, 1e-9
+foreach(_case crank_rc1 crank_rc2_rbe2)
+  add_test(NAME mpi_modes_${_case}_block
+    COMMAND ${_mpi_run} modes --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+      --case ${PROJECT_SOURCE_DIR}/input/${_case}.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --set body[crank].mesh_file=crank_lc8.msh --set modes.eigensolver=block
+      --out ${_mpi_out}/${_case}_block --ranks 2 --rtol 1e-9)
+  set_tests_properties(mpi_modes_${_case}_block PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
     FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
 endforeach()
 add_test(NAME mpi_engine

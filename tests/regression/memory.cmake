@@ -46,3 +46,13 @@ ffrf_memory_error(compression_refused 2
   modes.compression_tolerance=1e-8)
 ffrf_memory_error(compression_negative 2 "compression_tolerance = -1e-8: out of range"
   modes.compression_tolerance=-1e-8)
+
+# Block shift-invert Lanczos (&modes eigensolver = 'block') against ARPACK on the same case,
+# in core and out of core (check_block_lanczos.py: frequencies 1e-9, shapes 1e-6).
+add_test(NAME modes_block_vs_arpack
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_block_lanczos.py
+    $<TARGET_FILE:ffrf> ${_memory_case} ${PROJECT_BINARY_DIR}/meshes ${_memory}/block)
+set_tests_properties(modes_block_vs_arpack PROPERTIES LABELS "regression;memory;modes"
+  FIXTURES_REQUIRED crank_lc8_mesh TIMEOUT 120 ENVIRONMENT OPENBLAS_NUM_THREADS=1)
+ffrf_memory_error(eigensolver_unknown 2 "eigensolver.*auto.*arpack.*block"
+  "modes.eigensolver=lobpcg")

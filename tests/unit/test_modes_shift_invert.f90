@@ -35,7 +35,11 @@ contains
          new_unittest('deterministic', test_deterministic), &
          new_unittest('error_not_converged', test_error_not_converged), &
          new_unittest('error_dependent_constraints', test_error_dependent_constraints), &
-         new_unittest('error_bad_input', test_error_bad_input)]
+         new_unittest('error_bad_input', test_error_bad_input), &
+         new_unittest('block_fixed_fixed_chain', test_block_fixed_fixed_chain), &
+         new_unittest('block_constrained_vs_dense', test_block_constrained_vs_dense), &
+         new_unittest('block_deterministic', test_block_deterministic), &
+         new_unittest('block_error_too_small', test_block_error_too_small)]
    end subroutine collect_modes_shift_invert
 
    !> Fixed-fixed chain of n = 300 masses m and n + 1 springs k: lambda_j = 4 k/m
@@ -298,6 +302,113 @@ contains
       call solve(K, M_small, C, eigen_options_t(num_modes=3, sigma=0.0_dp), result, failure)
       call expect(failure, '19 x 19', error)
    end subroutine test_error_bad_input
+
+   ! --- Block shift-invert Lanczos (eigensolver = 'block'), the same references ----------------
+
+   !> Fixed-fixed chain (n = 300) with the block method: the lowest 10 against the closed form
+   !> (1e-10), at sigma = 0 (KKT indefinite path) and sigma = -lambda_1 / 2 (SPD path); the
+   !> same bounds on residuals and M-orthonormality as ARPACK's (tolerance = machine epsilon).
+   subroutine test_block_fixed_fixed_chain(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), parameter :: n = 300, nev = 10
+      type(csr_t) :: K, M, C
+      type(eigen_result_t) :: result
+      real(dp) :: exact(nev), sigma(2)
+      integer(ip) :: j, pass
+      call chain(n, .true., K, M, error)
+      if (allocated(error)) return
+      call no_constraints(n, C)
+      exact = [(4.0_dp * spring / mass * sin(j * pi / (2.0_dp * (n + 1)))**2, j=1, nev)]
+      sigma = [0.0_dp, -0.5_dp * exact(1)]
+      do pass = 1, 2
+         call solve(K, M, C, eigen_options_t(num_modes=nev, sigma=sigma(pass), &
+            eigensolver='block'), result, error)
+         if (allocated(error)) return
+         call report('block, sigma = ' // to_str(sigma(pass)) // ': max rel. error ' // &
+            to_str(maxval(abs(result%eigenvalues - exact) / exact), 3) // ', max residual ' // &
+            to_str(maxval(result%residuals), 3) // ', orth. ' // &
+            to_str(result%orthonormality_error, 3) // ', ' // &
+            to_str(result%num_block_solves) // ' solves of ' // to_str(result%block_size))
+         call check(error, 'block method used', result%eigensolver == 'block' .and. &
+            result%block_size > 1 .and. result%num_block_solves > 0)
+         if (allocated(error)) return
+         call check_spectrum(result, exact, error)
+         if (allocated(error)) return
+      end do
+   end subroutine test_block_fixed_fixed_chain
+
+   !> Constrained grid problem with the block method: the 8 lowest against the dense null-space
+   !> reference (1e-10), |C x| <= 1e-12; and with sigma between the 5th and 6th eigenvalue the 8
+   !> nearest sigma on both sides (Ritz values of either sign, ordered by |theta|).
+   subroutine test_block_constrained_vs_dense(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), parameter :: nev = 8
+      type(csr_t) :: K, M, C
+      type(eigen_result_t) :: result
+      real(dp), allocatable :: reference(:), cx(:)
+      real(dp) :: sigma
+      integer(ip) :: j
+      call constrained_problem(K, M, C, error)
+      if (allocated(error)) return
+      call dense_reference(K, M, C, reference, error)
+      if (allocated(error)) return
+      call solve(K, M, C, eigen_options_t(num_modes=nev, sigma=0.0_dp, eigensolver='block'), &
+         result, error)
+      if (allocated(error)) return
+      call report('block, constrained: max rel. error ' // to_str(maxval(abs( &
+         result%eigenvalues - reference(1:nev)) / reference(1:nev)), 3) // ', max residual ' &
+         // to_str(maxval(result%residuals), 3) // ', ' // to_str(result%num_block_solves) // &
+         ' solves')
+      call check_spectrum(result, reference(1:nev), error)
+      if (allocated(error)) return
+      allocate (cx(C%num_rows))
+      do j = 1, nev
+         call csr_matvec(C, result%vectors(:, j), cx)
+         call check_close(error, '|C x_' // to_str(j) // '| / (|C| |x|)', norm2(cx) / &
+            (maxval(abs(C%val)) * norm2(result%vectors(:, j))), 0.0_dp, atol=1.0e-12_dp)
+         if (allocated(error)) return
+      end do
+      sigma = 0.5_dp * (reference(5) + reference(6))
+      call solve(K, M, C, eigen_options_t(num_modes=nev, sigma=sigma, eigensolver='block'), &
+         result, error)
+      if (allocated(error)) return
+      call check_spectrum(result, nearest_sorted(reference, sigma, nev), error)
+   end subroutine test_block_constrained_vs_dense
+
+   !> The block method twice on the same problem: bitwise-identical eigenpairs (fixed start
+   !> block, deterministic METIS and MUMPS).
+   subroutine test_block_deterministic(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(csr_t) :: K, M, C
+      type(eigen_result_t) :: first, second
+      type(eigen_options_t) :: options
+      call constrained_problem(K, M, C, error)
+      if (allocated(error)) return
+      options = eigen_options_t(num_modes=6, sigma=1.0_dp, eigensolver='block')
+      call solve(K, M, C, options, first, error)
+      if (allocated(error)) return
+      call solve(K, M, C, options, second, error)
+      if (allocated(error)) return
+      call check(error, 'eigenvalues bitwise identical', &
+         all(first%eigenvalues == second%eigenvalues))
+      if (allocated(error)) return
+      call check(error, 'eigenvectors bitwise identical', all(first%vectors == second%vectors))
+   end subroutine test_block_deterministic
+
+   !> A block basis that does not fit the problem (chain of 20 masses, 10 modes: block 7 and a
+   !> basis of 56 > n) is an input error naming the ARPACK alternative, never a crash.
+   subroutine test_block_error_too_small(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(csr_t) :: K, M, C
+      type(eigen_result_t) :: result
+      type(error_t), allocatable :: failure
+      call chain(20_ip, .true., K, M, error)
+      if (allocated(error)) return
+      call no_constraints(20_ip, C)
+      call solve(K, M, C, eigen_options_t(num_modes=10, sigma=0.0_dp, eigensolver='block'), &
+         result, failure)
+      call expect(failure, 'eigensolver = ''arpack''', error)
+   end subroutine test_block_error_too_small
 
    ! ---------------------------------------------------------------------------------------------
 
