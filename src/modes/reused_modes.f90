@@ -10,7 +10,7 @@ module ffrf_modes_reused_modes
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_assembly, only: body_mass_properties
-   use ffrf_fe_mass_assembly, only: assemble_mass
+   use ffrf_fe_assembly, only: assemble_mass => assemble_matrices
    use ffrf_la_sparse, only: csr_t
    use ffrf_mpc_interface, only: interface_spec_t, build_interface
    use ffrf_modes_input, only: body_spec_t

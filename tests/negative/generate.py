@@ -500,7 +500,7 @@ for _group, _keys in {
         'interface': 's:body s:name s:mpc s:weighting s:virtual_node r:position s:rc',
         'modes': 'i:num_modes r:shift_hz s:formulation s:rc_label r:tolerance '
                  'i:lanczos_vectors s:basis l:out_of_core s:ooc_tmpdir i:memory_limit_mb '
-                 'r:compression_tolerance',
+                 'r:compression_tolerance s:eigensolver',
         'model': 's:selection r:speed_tolerance r:force_tolerance i:candidate_modes '
                  'r:resonance_floor',
         'mechanism': 's:crank r:crank_angle_deg r:crank_speed r:gravity s:label '
@@ -529,7 +529,8 @@ ISSUE_VALUES = [('integrator', 'h', 'Inf'), ('integrator', 'h', '1e300'),
 #: (key, value, expected). Wrong types, out of range (memory_limit_mb >= -1 and <= 1e9,
 #: compression_tolerance in [0, 1) and refused above 0), too long (ooc_tmpdir <= 256 characters);
 #: with out_of_core = .true. (the fourth item, added to the group) an ooc_tmpdir that is no folder
-#: (3, a file error, before MUMPS would fail in the factorisation).
+#: (3, a file error, before MUMPS would fail in the factorisation); eigensolver not one of 'auto',
+#: 'arpack', 'block'.
 MODES_MEMORY_VALUES = [
     ('out_of_core', '.maybe.', [2]), ('out_of_core', "'yes'", [2]), ('out_of_core', '1.5', [2]),
     ('ooc_tmpdir', "'%s'" % ('d' * 300), [2]), ('ooc_tmpdir', '.true.', [2]),
@@ -540,7 +541,9 @@ MODES_MEMORY_VALUES = [
     ('compression_tolerance', 'NaN', [2]), ('compression_tolerance', '1e999', [2]),
     ('compression_tolerance', "'steel'", [2]), ('compression_tolerance', '0.5', [2]),
     ('ooc_tmpdir', "'no-such-folder'", [3], 'out_of_core = .true.'),
-    ('ooc_tmpdir', "'/dev/zero'", [3], 'out_of_core = .true.')]
+    ('ooc_tmpdir', "'/dev/zero'", [3], 'out_of_core = .true.'),
+    ('eigensolver', "'lobpcg'", [2]), ('eigensolver', '3', [2]), ('eigensolver', '.true.', [2]),
+    ('eigensolver', "'%s'" % ('b' * 300), [2])]
 #: file name of the not-HDF5 file that &body modes_file mutations name (written by
 #: generate_namelists next to the cases, passed by absolute path)
 NOT_HDF5_MODES = 'n_not_hdf5_modes.h5'
