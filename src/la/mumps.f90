@@ -147,6 +147,9 @@ module ffrf_la_mumps
       !> The estimate for the chosen options (MB of MUMPS data in this process), the resident
       !> memory and the limit at the last check (MB); limit 0 when no check was made
       integer(i8) :: predicted_memory_mb = 0, resident_memory_mb = 0, checked_limit_mb = 0
+      !> MB the caller allocates next to the factors while they live (the eigensolver's
+      !> vectors), counted in the memory check
+      integer(i8) :: workspace_mb = 0
       !> Entries in the factors after block low-rank compression, INFOG(35) (= factor_entries
       !> without compression); flops done, RINFOG(14)
       integer(i8) :: compressed_factor_entries = 0
@@ -818,7 +821,8 @@ contains
    end subroutine mumps_solver_set_memory_options
 
    !> Refuse a factorisation whose predicted memory exceeds the limit: resident memory of the
-   !> process + the analysis's estimate for the chosen options (predicted_memory_mb) against
+   !> process + the analysis's estimate for the chosen options (predicted_memory_mb) + the
+   !> caller's workspace_mb against
    !> memory_limit_mb (automatic: resident + MemAvailable). Called by `factorise` once per
    !> analysis; no limit (0) or an unreadable /proc makes it a no-op.
    subroutine mumps_solver_check_memory(self, error)
@@ -843,14 +847,16 @@ contains
       end if
       self%resident_memory_mb = resident
       self%checked_limit_mb = limit
-      if (resident + self%predicted_memory_mb > limit) then
+      if (resident + self%predicted_memory_mb + self%workspace_mb > limit) then
          self%status = MUMPS_STATUS_MEMORY_LIMIT
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorisation (n = ' // &
             to_str(self%n) // ') would not fit: predicted ' // &
-            to_str(resident + self%predicted_memory_mb) // ' MB (MUMPS analysis: ' // &
-            to_str(self%predicted_memory_mb) // ' MB for the ' // self%memory_options_text() &
-            // ' factorisation, ' // to_str(real(self%estimated_factor_entries, dp) / 1.0e6_dp, &
-            4) // ' M factor entries; + ' // to_str(resident) // ' MB resident) exceeds ' // &
+            to_str(resident + self%predicted_memory_mb + self%workspace_mb) // &
+            ' MB (MUMPS analysis: ' // to_str(self%predicted_memory_mb) // ' MB for the ' // &
+            self%memory_options_text() // ' factorisation, ' // &
+            to_str(real(self%estimated_factor_entries, dp) / 1.0e6_dp, 4) // &
+            ' M factor entries; + ' // to_str(resident) // ' MB resident + ' // &
+            to_str(self%workspace_mb) // ' MB of eigensolver vectors) exceeds ' // &
             limit_text // '; remedies: ' // self%memory_remedies() // &
             ' (memory_limit_mb = 0 turns the check off)')
       end if

@@ -485,7 +485,9 @@ contains
          ' entries, MUMPS used ordering: ' // mumps_ordering_name(solver%ordering_used) // &
          ', estimated ' // to_str(real(solver%estimated_factor_entries, dp) / 1.0e6_dp, 4) // &
          ' M factor entries)')
-      ! The memory check before the factorisation (theory: MUMPS's analysis estimates)
+      ! The memory check before the factorisation (theory: MUMPS's analysis estimates) counts
+      ! the eigensolver's vectors too
+      solver%workspace_mb = eigen_workspace_mb(options, kkt%n, kkt%num_constraints)
       call solver%check_memory(memory_error)
       call record_memory_estimates(solver, result, log)
       if (allocated(memory_error)) then
@@ -525,7 +527,8 @@ contains
       if (solver%out_of_core) text = text // ' (files in ' // solver%ooc_directory // ', ~' // &
          to_str(nint(solver%estimated_disk_mb)) // ' MB)'
       if (solver%checked_limit_mb > 0) then
-         text = text // ' + ' // to_str(solver%resident_memory_mb) // ' MB resident, limit ' // &
+         text = text // ' + ' // to_str(solver%resident_memory_mb) // ' MB resident + ' // &
+            to_str(solver%workspace_mb) // ' MB of eigensolver vectors, limit ' // &
             to_str(solver%checked_limit_mb) // ' MB'
       else
          text = text // ', no memory limit'
@@ -556,6 +559,27 @@ contains
       moved = sigma - max(1.0e-4_dp * abs(sigma), 1.0e-8_dp * scale)
       if (moved == sigma) moved = sigma - max(abs(sigma), 1.0_dp) * 1.0e-4_dp
    end function moved_shift
+
+   !> MB of the eigensolver's vectors while the factors live: ARPACK's basis (ncv), workd (3),
+   !> resid, the Ritz vectors and the right-hand side; the block method's V and M V (basis +
+   !> block each), the block, its M product, the right-hand sides and their copies in the
+   !> solve (5 blocks) and the Ritz vectors.
+   pure function eigen_workspace_mb(options, n, nc) result(mb)
+      type(eigen_options_t), intent(in) :: options
+      integer(ip), intent(in) :: n, nc
+      integer(i8) :: mb, columns
+      type(block_krylov_settings_t) :: settings
+      if (uses_block_method(options, n, nc)) then
+         settings = default_block_settings(options%num_modes, options%ncv, n - nc)
+         columns = 2 * (settings%max_basis + settings%block_size) + 5 * settings%block_size + &
+            options%num_modes
+      else if (options%ncv > 0) then
+         columns = min(options%ncv, n - nc) + 6 + options%num_modes
+      else
+         columns = min(max(2 * options%num_modes + 1, 20_ip), n - nc) + 6 + options%num_modes
+      end if
+      mb = (8_i8 * int(n + nc, i8) * columns + 1048575_i8) / 1048576_i8
+   end function eigen_workspace_mb
 
    !> eigensolver = 'block', or 'auto' on a constrained dimension of AUTO_BLOCK_MIN_DOFS or more.
    pure logical function uses_block_method(options, n, nc)

@@ -32,7 +32,7 @@ endfunction()
 
 # 1 MB: refused before the factorisation, with the predicted figure, the limit and the remedies
 ffrf_memory_error(tiny_limit 4
-  "MUMPS factorisation \\(n = [0-9]+\\) would not fit: predicted [0-9]+ MB \\(MUMPS analysis: [1-9][0-9]* MB for the in-core full-rank factorisation, [0-9.]+ M factor entries; \\+ [0-9]+ MB resident\\) exceeds the memory limit 1 MB \\(&modes memory_limit_mb\\); remedies: more ranks \\(the MPI build: mpirun -np N\\), out-of-core factors \\(&modes out_of_core = \\.true\\.\\), or a coarser mesh"
+  "MUMPS factorisation \\(n = [0-9]+\\) would not fit: predicted [0-9]+ MB \\(MUMPS analysis: [1-9][0-9]* MB for the in-core full-rank factorisation, [0-9.]+ M factor entries; \\+ [0-9]+ MB resident \\+ [1-9][0-9]* MB of eigensolver vectors\\) exceeds the memory limit 1 MB \\(&modes memory_limit_mb\\); remedies: more ranks \\(the MPI build: mpirun -np N\\), out-of-core factors \\(&modes out_of_core = \\.true\\.\\), or a coarser mesh"
   modes.memory_limit_mb=1)
 # out-of-core on: the remedy text leaves it out, the figure is the out-of-core estimate
 ffrf_memory_error(tiny_limit_ooc 4
