@@ -42,6 +42,8 @@ module ffrf_core_parallel
       integer :: rank = 0
       !> Number of ranks
       integer :: num_ranks = 1
+      !> Ranks of the communicator on this rank's node (sharing its memory)
+      integer :: ranks_on_node = 1
    contains
       procedure :: is_root => parallel_is_root
       procedure :: sum_reals => parallel_sum_reals
@@ -77,7 +79,7 @@ contains
       type(parallel_t), intent(out) :: parallel
       type(error_t), allocatable, intent(out) :: error
       logical :: ready
-      integer :: ierr
+      integer :: ierr, node_comm
       call MPI_Initialized(ready, ierr)
       if (.not. ready) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'communicator ' // to_str(comm) // &
@@ -94,6 +96,13 @@ contains
          return
       end if
       parallel%comm = comm
+      ! the ranks that share this node's memory (the automatic memory limit divides it)
+      call MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, parallel%rank, MPI_INFO_NULL, &
+         node_comm, ierr)
+      if (ierr == MPI_SUCCESS) then
+         call MPI_Comm_size(node_comm, parallel%ranks_on_node, ierr)
+         call MPI_Comm_free(node_comm, ierr)
+      end if
    end subroutine parallel_of_communicator
 
    !> The communicator MUMPS runs on: the run's, else MPI_COMM_SELF.

@@ -23,6 +23,7 @@ module ffrf_core_parallel
       integer :: comm = NO_COMMUNICATOR
       integer :: rank = 0
       integer :: num_ranks = 1
+      integer :: ranks_on_node = 1
    contains
       procedure :: is_root => parallel_is_root
       procedure :: sum_reals => parallel_sum_reals

@@ -702,6 +702,8 @@ contains
          end if
          self%ordering_used = id%infog(7)
          self%estimated_factor_entries = mumps_count(id%infog(20))
+         ! per-rank INFO(15)/(17) and the global INFOG/RINFOG estimates, on every rank
+         call record_estimates(self)
       end associate
       self%n = n
       self%nnz = nnz
@@ -837,10 +839,14 @@ contains
       if (self%memory_limit_mb < 0) then
          available = available_memory_mb()
          if (available < 0) return
+         ! the ranks of one node share its free memory
+         available = available / max(self%parallel%ranks_on_node, 1)
          limit = resident + available
          limit_text = 'the automatic limit ' // to_str(limit) // ' MB (resident ' // &
-            to_str(resident) // ' MB + MemAvailable ' // to_str(available) // ' MB of ' // &
-            '/proc/meminfo)'
+            to_str(resident) // ' MB + MemAvailable of /proc/meminfo'
+         if (self%parallel%ranks_on_node > 1) limit_text = limit_text // ' / ' // &
+            to_str(self%parallel%ranks_on_node) // ' ranks on this node'
+         limit_text = limit_text // ': ' // to_str(available) // ' MB)'
       else
          limit = self%memory_limit_mb
          limit_text = 'the memory limit ' // to_str(limit) // ' MB (&modes memory_limit_mb)'

@@ -5,7 +5,8 @@
 #    "skipped: <why>" (exit 77, ctest reports them as skipped). `.ci/install-deps --mpi`.
 #  - mpi_modes_crank_rc{1,2,3}[_rbe2]: input/crank_rc*.nml on the lc 8 mm mesh, the sequential
 #    driver and `mpirun -np 2` of the MPI driver: frequencies equal to 1e-9 (relative), the MPI
-#    run writes the same files once, its results hold the peak memory of both ranks.
+#    run writes the same files once, its results hold the peak memory of both ranks and MUMPS's
+#    analysis estimates; with memory_limit_mb = 1 it is refused on every rank (exit 4).
 #  - mpi_modes_crank_rc1_block, mpi_modes_crank_rc2_rbe2_block: the same with the block
 #    eigensolver (&modes eigensolver = 'block') in both runs.
 #  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)

@@ -15,6 +15,7 @@ that the fixture mpi_build made (build_mpi.py). Exit 77 (ctest SKIP_RETURN_CODE)
           the value).
 """
 import argparse
+import re
 import os
 import shutil
 import subprocess
@@ -155,6 +156,17 @@ def main():
                 print(f'peak memory per rank (MiB): {", ".join(f"{x:.1f}" for x in peaks)}')
                 if len(peaks) != a.ranks or min(peaks) <= 0:
                     failures.append(f'/timings/peak_memory_mib_per_rank = {peaks}')
+                # MUMPS's analysis estimates, which the memory check uses, on the MPI path too
+                with h5py.File(seq_h5, 'r') as g:
+                    for body in reference:
+                        solver = f'/bodies/{body}/modes/solver'
+                        entries = f[solver + '/estimated_factor_entries'][()]
+                        memory = f[solver + '/estimated_memory_incore_mb'][()]
+                        print(f'{body}: MUMPS estimates on {a.ranks} ranks: {entries} factor '
+                              f'entries (sequential {g[solver + "/estimated_factor_entries"][()]})'
+                              f', {memory} MB in core on the largest rank')
+                        if entries <= 0 or memory <= 0:
+                            failures.append(f'{body}: no MUMPS estimates in the MPI results')
             else:
                 with h5py.File(seq_h5, 'r') as g:
                     for name in ('crank_angle', 'crank_speed'):
@@ -167,6 +179,22 @@ def main():
                               f'{diff:.3g} of the largest |value| (tolerance {a.rtol:g})')
                         if diff > a.rtol:
                             failures.append(f'{name} differs by {diff:.3g} > {a.rtol:g}')
+            if a.kind == 'modes':
+                # a memory limit no run fits: refused before the factorisation on every rank, with
+                # the analysis's figure, exit 4 (numerical/resource failure), one error line
+                cmd = mpirun + [info['driver']] + common + ['--output-dir', mpi_dir, '--output',
+                                                            'refused.h5', '--set',
+                                                            'modes.memory_limit_mb=1']
+                print('+ ' + ' '.join(cmd), flush=True)
+                done = subprocess.run(cmd, env=env, capture_output=True, text=True)
+                errors = [x for x in done.stderr.splitlines() if x.startswith('ffrf: error:')]
+                print(f'memory_limit_mb = 1: exit {done.returncode}, {len(errors)} error line(s): '
+                      f'{errors[0][:300] if errors else done.stderr[-300:]}')
+                if done.returncode != 4 or len(errors) != 1 or not re.search(
+                        r'would not fit: predicted [0-9]+ MB \(MUMPS analysis: [1-9][0-9]* MB',
+                        errors[0]):
+                    failures.append('memory_limit_mb = 1 under MPI: expected exit 4 and one line '
+                                    'with the predicted figure')
     for f in failures:
         print('FAIL: ' + f)
     sys.exit(1 if failures else 0)
