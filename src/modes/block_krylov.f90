@@ -13,7 +13,7 @@
 !> so OP V_j = V h + V_new R, the columns p+1..p+b of the block Hessenberg matrix H = V^T M OP V
 !> (symmetric in exact arithmetic: OP is M-self-adjoint). Rayleigh-Ritz on the first p columns,
 !> H_p Y = Y Theta, gives Ritz pairs (theta, V Y) with OP-residual ||B y|| (B = the rows of H
-!> that couple V_p to the pending block), the test ARPACK applies: ||B y|| <= tol |theta|. A
+!> that couple V_p to the pending block), ARPACK's test: ||B y|| <= tol max(eps^(2/3), |theta|). A
 !> restart keeps the k Ritz vectors of largest |theta| and the pending block; H becomes
 !> [diag(theta); B Y_k] and the expansion goes on from the pending block.
 module ffrf_modes_block_krylov
@@ -98,6 +98,7 @@ contains
       integer(ip), allocatable :: order(:)
       integer(ip) :: n, b, p, cap, k, i, stat, num_converged
       real(dp) :: tol
+      real(dp), parameter :: eps23 = epsilon(1.0_dp)**(2.0_dp / 3.0_dp)
 
       n = M%num_rows
       b = settings%block_size
@@ -151,7 +152,9 @@ contains
          if (allocated(error)) return
          num_converged = 0
          do i = 1, nev
-            if (residual(order(i)) <= tol * abs(theta(order(i)))) num_converged = num_converged + 1
+            ! dsaupd's test (dsconv): ||B y|| <= tol max(eps^(2/3), |theta|)
+            if (residual(order(i)) <= tol * max(eps23, abs(theta(order(i))))) &
+               num_converged = num_converged + 1
          end do
          call log%debug(stage, 'block Lanczos: solve ' // to_str(stats%num_block_solves) // &
             ', basis ' // to_str(p) // ', ' // to_str(num_converged) // ' of ' // to_str(nev) &
