@@ -9,35 +9,10 @@ for meshes whose factor does not fit in memory). The block run records its metho
 and block solves in /bodies/crank/modes/solver, and needs fewer solves than right-hand sides."""
 import argparse
 import os
-import subprocess
-import sys
 
-import h5py
 import numpy as np
 
-
-def run(ffrf, case, mesh_dir, out_dir, name, sets):
-    args = [ffrf, case, "--mesh-dir", mesh_dir, "--output-dir", out_dir, "--quiet",
-            "--output", name + ".h5", "--set", "run.mode_shapes_msh=none"]
-    for s in sets:
-        args += ["--set", s]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    done = subprocess.run(args, env=env, capture_output=True, text=True, timeout=120)
-    if done.returncode != 0:
-        sys.exit(f"FAIL {' '.join(args)}: exit {done.returncode}\n{done.stdout}\n{done.stderr}")
-    with h5py.File(os.path.join(out_dir, name + ".h5"), "r") as h5:
-        modes = h5["bodies/crank/modes"]
-        solver = modes["solver"]
-        out = {"f": np.array(modes["frequency"][()]), "shape": np.array(modes["shape"][()]),
-               "residual": np.array(modes["residual"][()])}
-        out.update({k: solver[k][()] for k in solver.keys()})
-        return out
-
-
-def ok(what, condition, detail=""):
-    if not condition:
-        sys.exit(f"FAIL {what} {detail}")
-    print(f"ok   {what} {detail}")
+from check_memory import ok, run   # the same driver call and result reading
 
 
 def compare(label, ref, other):

@@ -31,6 +31,7 @@ def run(ffrf, case, mesh_dir, out_dir, name, sets):
         solver = modes["solver"]
         return {"f": np.array(modes["frequency"][()]),
                 "residual": np.array(modes["residual"][()]),
+                "shape": np.array(modes["shape"][()]),
                 **{k: solver[k][()] for k in solver.keys()}}
 
 
