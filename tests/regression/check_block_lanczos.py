@@ -7,12 +7,9 @@ shapes to 1e-6 of their largest entry (a shape's error is its residual over the 
 the next mode, residuals below 1e-6 here); the same with out-of-core factors (the combination
 for meshes whose factor does not fit in memory). The block run records its method, block size
 and block solves in /bodies/crank/modes/solver, and needs fewer solves than right-hand sides."""
-import argparse
-import os
-
 import numpy as np
 
-from check_memory import ok, run   # the same driver call and result reading
+from check_memory import arguments, ok, run   # the same driver call and result reading
 
 
 def compare(label, ref, other):
@@ -33,15 +30,7 @@ def compare(label, ref, other):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("ffrf")
-    parser.add_argument("case")
-    parser.add_argument("mesh_dir")
-    parser.add_argument("work")
-    args = parser.parse_args()
-    os.makedirs(args.work, exist_ok=True)
-    ooc_dir = os.path.join(args.work, "ooc_files")
-    os.makedirs(ooc_dir, exist_ok=True)
+    args, ooc_dir = arguments(__doc__)
 
     ref = run(args.ffrf, args.case, args.mesh_dir, args.work, "arpack",
               ["modes.eigensolver=arpack"])

@@ -41,18 +41,23 @@ def ok(what, condition, detail=""):
     print(f"ok   {what} {detail}")
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
+def arguments(description):
+    """FFRF CASE MESH_DIR WORK from the command line; WORK and an empty WORK/ooc_files made."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("ffrf")
     parser.add_argument("case")
     parser.add_argument("mesh_dir")
     parser.add_argument("work")
     args = parser.parse_args()
-    os.makedirs(args.work, exist_ok=True)
     ooc_dir = os.path.join(args.work, "ooc_files")
     os.makedirs(ooc_dir, exist_ok=True)
     for old in glob.glob(os.path.join(ooc_dir, "*")):
         os.remove(old)
+    return args, ooc_dir
+
+
+def main():
+    args, ooc_dir = arguments(__doc__)
 
     ref = run(args.ffrf, args.case, args.mesh_dir, args.work, "incore", [])
     ooc = run(args.ffrf, args.case, args.mesh_dir, args.work, "ooc",
