@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Block shift-invert Lanczos (&modes eigensolver = 'block', docs/block_lanczos.md) against
+"""Block shift-invert Lanczos (&modes eigensolver = 'block', docs/theory.md 5.5) against
 ARPACK (eigensolver = 'arpack') on the small crank (lc = 8 mm, RC set 2, RBE3, 8 modes): two
 methods on one factorisation, so the frequencies agree to 1e-9 (relative; the Rayleigh quotients
 are accurate to about the squared residual, below 1e-12 for both) and the M-normalised mode
