@@ -93,7 +93,7 @@ contains
       !> renamed over results_file at the end (ffrf_io_results).
       subroutine compute_and_write(error)
          type(error_t), allocatable, intent(out) :: error
-         character(len=:), allocatable :: temp_file
+         character(len=:), allocatable :: temp_file, stopped_at
          integer :: signal
          logical :: closed
          type(model_t) :: model
@@ -138,9 +138,20 @@ contains
             end if
             associate (body => model%bodies(k))
                call compute_body_modes_from_file(body%body, body%interfaces, &
-                  with_ooc_folder(body%modes, folder_of(results_file)), mesh_dir, log, times, &
+                  modes_of_run(body%modes, folder_of(results_file)), mesh_dir, log, times, &
                   bodies(k), error)
             end associate
+            if (allocated(error)) then
+               if (error%code == FFRF_INTERRUPTED) then
+                  ! stopped inside the body's eigen solve (every rank at the same check)
+                  signal = ranks%max_int(pending_signal())
+                  stopped_at = error%message
+                  call fatal_error(error, FFRF_INTERRUPTED, case_file // ': ' // stopped_at // &
+                     '; body "' // trim(case%bodies(k)%name) // '" is left out, results ' // &
+                     'file "' // results_file // '" holds the bodies done, status ' // &
+                     '"interrupted: ' // signal_name(signal) // '"')
+               end if
+            end if
             call output_timer%begin()
             if (.not. allocated(error) .and. ranks%is_root()) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)
@@ -161,7 +172,8 @@ contains
             if (allocated(error)) exit
             call times%add(bodies(k)%name // ': output', output_timer%seconds())
             call log_frequency_table(log, bodies(k), trim(case%modes%rc_label))
-            ! A signal (SIGTERM, ...) ends the run between bodies, with what is done
+            ! A signal (SIGTERM, ...) ends the run between bodies (or inside the eigen solve of
+            ! the next, above), with what is done
             signal = ranks%max_int(pending_signal())
             if (signal /= 0 .and. k < size(case%bodies)) then
                call fatal_error(error, FFRF_INTERRUPTED, case_file // ': interrupted by ' // &
@@ -232,19 +244,21 @@ contains
       end do
    end subroutine log_frequency_table
 
-   !> The modes specification with the out-of-core folder decided: as given, else TMPDIR when
-   !> set, else the folder of the results file.
-   function with_ooc_folder(modes, output_folder) result(resolved)
+   !> The modes specification as a modal run uses it: the out-of-core folder decided (as given,
+   !> else TMPDIR when set, else the folder of the results file), and the eigen solve stopped
+   !> at its next solve by a signal (nothing of a body is kept before its modes are complete).
+   function modes_of_run(modes, output_folder) result(resolved)
       type(modes_spec_t), intent(in) :: modes
       character(len=*), intent(in) :: output_folder
       type(modes_spec_t) :: resolved
       integer :: length, stat
       resolved = modes
+      resolved%stop_on_signal = .true.
       if (len_trim(resolved%ooc_directory) > 0) return
       call get_environment_variable('TMPDIR', length=length, status=stat)
       if (stat == 0 .and. length > 0) return
       resolved%ooc_directory = output_folder
       if (len_trim(output_folder) == 0) resolved%ooc_directory = '.'
-   end function with_ooc_folder
+   end function modes_of_run
 
 end module ffrf_app_modal_run

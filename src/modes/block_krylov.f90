@@ -23,6 +23,7 @@ module ffrf_modes_block_krylov
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t
+   use ffrf_core_interrupt, only: interrupt_t
    use ffrf_la_sparse, only: csr_t, csr_matmat
    use ffrf_la_mumps, only: mumps_solver_t
    use ffrf_la_lapack, only: dgemm, dpotrf, dtrsm
@@ -75,7 +76,7 @@ contains
    !> The nev eigenpairs of OP of largest |theta| (nearest sigma): Ritz vectors z (n x nev, in
    !> the order of decreasing |theta|; not normalised to the caller's convention).
    subroutine block_krylov_eigen(M, nc, nev, settings, tolerance, max_restarts, solver, z, &
-         stats, log, error)
+         stats, log, error, interrupt)
       !> Mass matrix (n x n)
       type(csr_t), intent(in) :: M
       !> Constraint rows of the KKT matrix the solver holds (its order is n + nc)
@@ -93,6 +94,8 @@ contains
       type(block_krylov_stats_t), intent(out) :: stats
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
+      !> Checked before every block solve: a run being ended stops here (default: never)
+      type(interrupt_t), intent(in), optional :: interrupt
       real(dp), allocatable :: V(:, :), MV(:, :), H(:, :), W(:, :), MW(:, :), R(:, :)
       real(dp), allocatable :: theta(:), Y(:, :), residual(:), coupling(:, :)
       integer(ip), allocatable :: order(:)
@@ -126,6 +129,8 @@ contains
       ! First block: M-orthonormalised OP X0 (in null(C) whatever X0 is).
       call start_block(W)
       call csr_matmat(M, W, MW)
+      call check_interrupt(error)
+      if (allocated(error)) return
       call apply_op(solver, n, nc, MW, W, stats, error)
       if (allocated(error)) return
       call csr_matmat(M, W, MW)
@@ -139,6 +144,8 @@ contains
       do
          ! Expand by one block, then Rayleigh-Ritz on H_p (|theta| decreasing, OP-residual
          ! ||B y||): stop as soon as the nev wanted pairs have converged.
+         call check_interrupt(error)
+         if (allocated(error)) return
          call apply_op(solver, n, nc, MV(:, p + 1:p + b), W, stats, error)
          if (allocated(error)) return
          call expand(V, MV, H, p, b, W, MW, M, error)
@@ -194,6 +201,16 @@ contains
       end if
       Y = Y(:, order(1:nev))
       call dgemm('N', 'N', n, nev, p, 1.0_dp, V, n, Y, p, 0.0_dp, z, n)
+
+   contains
+
+      subroutine check_interrupt(error)
+         type(error_t), allocatable, intent(out) :: error
+         if (.not. present(interrupt)) return
+         call interrupt%check('in the block eigen loop after ' // &
+            to_str(stats%num_block_solves) // ' block solves', error)
+      end subroutine check_interrupt
+
    end subroutine block_krylov_eigen
 
    !> Columns p+1..p+b of H from W = OP V_j: W orthogonalised against V(:, 1:p+b) in the M

@@ -316,6 +316,7 @@ contains
       options%memory_limit_mb = modes%memory_limit_mb
       options%compression_tolerance = modes%compression_tolerance
       options%eigensolver = modes%eigensolver
+      options%stop_on_signal = modes%stop_on_signal
       if (body%basis == BASIS_CRAIG_BAMPTON) then
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return

@@ -66,6 +66,9 @@ module ffrf_modes_input
       real(dp) :: compression_tolerance = 0.0_dp
       !> 'auto', 'arpack' or 'block' (eigen_options_t%eigensolver)
       character(len=16) :: eigensolver = 'auto'
+      !> Not input: the run stops the eigen solve at its next solve on a signal
+      !> (eigen_options_t%stop_on_signal); set by the modal run, not by mechanism runs
+      logical :: stop_on_signal = .false.
    end type modes_spec_t
 
 contains

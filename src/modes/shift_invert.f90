@@ -67,6 +67,11 @@ module ffrf_modes_shift_invert
       !> 'block' when n - num_constraints >= AUTO_BLOCK_MIN_DOFS, where the factor is large
       !> and reading it once per vector dominates the eigen loop, else 'arpack'
       character(len=16) :: eigensolver = 'auto'
+      !> Stop at the next check when a signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU: the
+      !> run is being ended) is pending on any rank: after the factorisation and before every
+      !> solve of the eigen loop, with an FFRF_INTERRUPTED error. MUMPS's analysis and
+      !> factorisation cannot be interrupted. Default .false.: the solve runs to its end.
+      logical :: stop_on_signal = .false.
    end type eigen_options_t
 
    !> Eigenpairs and statistics of one `solve_shift_invert` call.

@@ -6,6 +6,7 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
+   use ffrf_core_interrupt, only: interrupt_t
    use ffrf_la_sparse, only: csr_add, csr_upper_coo, csr_matvec, csr_row_gram
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
@@ -55,6 +56,7 @@ contains
       real(dp), allocatable, intent(out), optional :: constraint_solutions(:, :)
       type(kkt_t) :: kkt
       type(mumps_solver_t) :: solver
+      type(interrupt_t) :: interrupt
       real(dp) :: t_start, t0, sigma
       real(dp), allocatable :: z(:, :)
       character(len=:), allocatable :: method
@@ -90,6 +92,9 @@ contains
       call build_kkt(K, M, C, kkt, error)
       if (allocated(error)) return
       call factorise_shifted(K, M, options, kkt, sigma, solver, result, log, error)
+      ! a signal received during the (uninterruptible) analysis and factorisation stops here
+      interrupt = interrupt_of(options)
+      if (.not. allocated(error)) call interrupt%check('after the MUMPS factorisation', error)
       if (allocated(error)) then
          call solver%free()
          return
@@ -612,7 +617,7 @@ contains
       result%block_size = settings%block_size
       result%ncv = settings%max_basis
       call block_krylov_eigen(M, nc, options%num_modes, settings, options%tolerance, &
-         options%max_iterations, solver, z, stats, log, error)
+         options%max_iterations, solver, z, stats, log, error, interrupt_of(options))
       result%num_solves = solver%num_solves
       result%time_solves = solver%time_solve
       result%num_iterations = stats%num_restarts
@@ -680,11 +685,15 @@ contains
          y0 = ipntr(2)
          select case (ido)
          case (-1)                        ! y = OP x = (K - sigma M)^-1 M x on null(C)
+            call check_interrupt(error)
+            if (allocated(error)) return
             call csr_matvec(M, workd(x0:x0 + n - 1), rhs(1:n))
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
             workd(y0:y0 + n - 1) = rhs(1:n)
          case (1)                         ! M x is in workd(ipntr(3))
+            call check_interrupt(error)
+            if (allocated(error)) return
             rhs(1:n) = workd(ipntr(3):ipntr(3) + n - 1)
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
@@ -719,7 +728,25 @@ contains
             to_str(info) // ': ' // dseupd_message(info))
          return
       end if
+
+   contains
+
+      subroutine check_interrupt(error)
+         type(error_t), allocatable, intent(out) :: error
+         type(interrupt_t) :: interrupt
+         interrupt = interrupt_of(options)
+         call interrupt%check('in the eigen loop (ARPACK) after ' // &
+            to_str(solver%num_solves) // ' solves', error)
+      end subroutine check_interrupt
+
    end subroutine lanczos_in_section
+
+   !> The signal check of the eigen loop: enabled by options%stop_on_signal, on its ranks.
+   pure function interrupt_of(options) result(interrupt)
+      type(eigen_options_t), intent(in) :: options
+      type(interrupt_t) :: interrupt
+      interrupt = interrupt_t(enabled=options%stop_on_signal, ranks=options%parallel)
+   end function interrupt_of
 
    !> rhs(1:n) = M x on entry -> y on exit: solve (5.2b) with zero constraint right-hand side.
    subroutine kkt_solve(solver, rhs, n, error)

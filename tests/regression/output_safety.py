@@ -12,9 +12,12 @@ TEST is one of
   disk_full       a full disk (a 1 or 2 MiB tmpfs when root may mount one, else RLIMIT_FSIZE)
                   for a modal run and an engine run (noticed at the failing write): exit 3, one stderr line naming the file, no
                   signal, no .part file left, nothing reported written that is not complete
-  signals         SIGTERM during the modes, early and late in the integration, and SIGINT,
-                  SIGHUP, SIGUSR1, SIGXCPU once each: exit 5, status 'interrupted: <signal>',
-                  /final_state, the file readable
+  signals         a modal run of two bodies (factors out of core) stopped by SIGTERM inside
+                  the first body's eigen solve (after its factorisation; in the block loop) and
+                  after the first body: exit 5, status 'interrupted: SIGTERM', the body stopped
+                  left out, no out-of-core file left; a mechanism run: SIGTERM during the modes,
+                  early and late in the integration, and SIGINT, SIGHUP, SIGUSR1, SIGXCPU once
+                  each: exit 5, status 'interrupted: <signal>', /final_state, the file readable
   restart         a run to t1 continued with --restart to t2 equals a run straight to t2 (crank
                   angle and speed to 1e-12, the same steps); kill -9 during a run then --restart
                   from its checkpoint, likewise; a restart from another mechanism is refused
@@ -252,10 +255,11 @@ def interrupted_file(path, name, signal_name):
         return t[-1]
 
 
-def two_crank_case(path):
-    """A modal case of two bodies (the lc = 8 mm crank twice)."""
+def two_crank_case(path, ooc_folder):
+    """A modal case of two bodies (the lc = 8 mm crank twice), factors out of core."""
     with open(path, 'w') as f:
-        f.write("&run title = 'two cranks' /\n&modes num_modes = 12 /\n")
+        f.write("&run title = 'two cranks' /\n&modes num_modes = 12, out_of_core = .true., "
+                f"ooc_tmpdir = '{ooc_folder}' /\n")
         for body in ('crank_a', 'crank_b'):
             f.write(f"&body name = '{body}', mesh_file = 'crank_lc8.msh', volumes = 'crank',\n"
                     "      young = 210.0e9, poisson = 0.3, density = 7850.0 /\n"
@@ -265,23 +269,42 @@ def two_crank_case(path):
     return path
 
 
-def test_signals(ffrf, mesh_dir, case_dir, work):
-    # A modal run stops between bodies
-    modal = two_crank_case(os.path.join(work, 'two_cranks.nml'))
-    out = os.path.join(work, 'modal_out')
+def modal_signal_run(ffrf, mesh_dir, work, name, pattern, more=(), stopped_where=''):
+    """The two-crank modal case, SIGTERM at the first log line matching pattern: exit 5, one
+    stderr line naming the body stopped and the file, status 'interrupted: SIGTERM', no
+    out-of-core file left; returns the bodies in the results file."""
+    ooc = os.path.join(work, name + '_ooc')
+    os.makedirs(ooc, exist_ok=True)
+    modal = two_crank_case(os.path.join(work, name + '.nml'), ooc)
+    out = os.path.join(work, name + '_out')
     os.makedirs(out, exist_ok=True)
-    results = os.path.join(out, 'two_cranks.h5')
-    run = Run(ffrf_args(ffrf, modal, mesh_dir, out), work, 'modal_signal')
-    check(run.wait_for(r'\[modes\]'), 'modal run: computing the first body')
+    results = os.path.join(out, name + '.h5')
+    run = Run(ffrf_args(ffrf, modal, mesh_dir, out, *more), work, name)
+    check(run.wait_for(pattern), f'{name}: reached {pattern}')
     run.process.send_signal(signal.SIGTERM)
     code = run.wait()
-    check(code == 5, f'modal run, SIGTERM during the first body: exit 5 (got {code})')
-    check(one_error_line(run.stderr, ['interrupted by SIGTERM', 'crank_a', results]),
-          f'modal run: one stderr line: {run.stderr.strip()}')
-    check(status_of(results) == 'interrupted: SIGTERM', 'modal run: status interrupted: SIGTERM')
+    check(code == 5, f'{name}: exit 5 (got {code})')
+    check(one_error_line(run.stderr, ['interrupted by SIGTERM' + stopped_where, 'is left out',
+                                      results]),
+          f'{name}: one stderr line: {run.stderr.strip()}')
+    check(status_of(results) == 'interrupted: SIGTERM', f'{name}: status interrupted: SIGTERM')
+    check(os.listdir(ooc) == [], f'{name}: no out-of-core file left: {os.listdir(ooc)}')
     with h5py.File(results, 'r') as f:
-        check('/bodies/crank_a/modes/frequency' in f and '/bodies/crank_b' not in f,
-              'modal run: the file holds the first body, not the second')
+        return sorted(f['/bodies'].keys()) if '/bodies' in f else []
+
+
+def test_signals(ffrf, mesh_dir, case_dir, work):
+    # A modal run stops inside a body's eigen solve (after its factorisation, between the
+    # solves) and leaves that body out; the bodies done before stay in the file.
+    bodies = modal_signal_run(ffrf, mesh_dir, work, 'modal_first', r'\[modes\] crank_a: ')
+    check(bodies == [], f'modal run stopped in the first body: no body in the file ({bodies})')
+    bodies = modal_signal_run(ffrf, mesh_dir, work, 'modal_second',
+                              r'\[modes\] crank_a: mode, frequency')
+    check(bodies == ['crank_a'], f'modal run stopped after the first body: crank_a alone ({bodies})')
+    # the signal arrives after the factorisation's check: the block loop stops between solves
+    bodies = modal_signal_run(ffrf, mesh_dir, work, 'modal_block', r'block Lanczos: \d+ right',
+                              ['--set', "modes.eigensolver='block'"], ' in the block eigen loop')
+    check(bodies == [], f'modal run stopped in the block eigen loop: no body ({bodies})')
 
     rigid = make_case(os.path.join(case_dir, 'engine_lc8_all_rigid.nml'), os.path.join(work, 'rigid.nml'),
                       [('t_end = 0.3', 't_end = 2.0'), ('label =', 'progress_interval = 0.01, label =')])
