@@ -206,12 +206,7 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma is not finite')
          return
       end if
-      if (options%ncv > 0) then
-         ncv = options%ncv
-      else
-         ncv = max(2 * options%num_modes + 1, 20_ip)
-      end if
-      ncv = min(ncv, dimension)
+      ncv = arpack_basis_size(options, dimension)
       if (ncv <= options%num_modes) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: ncv = ' // to_str(ncv) // &
             ' must exceed num_modes = ' // to_str(options%num_modes) // &
@@ -578,13 +573,24 @@ contains
          settings = default_block_settings(options%num_modes, options%ncv, n - nc)
          columns = 2 * (settings%max_basis + settings%block_size) + 5 * settings%block_size + &
             options%num_modes
-      else if (options%ncv > 0) then
-         columns = min(options%ncv, n - nc) + 6 + options%num_modes
       else
-         columns = min(max(2 * options%num_modes + 1, 20_ip), n - nc) + 6 + options%num_modes
+         columns = arpack_basis_size(options, n - nc) + 6 + options%num_modes
       end if
       mb = (8_i8 * int(n + nc, i8) * columns + 1048575_i8) / 1048576_i8
    end function eigen_workspace_mb
+
+   !> ARPACK's ncv: options%ncv, else max(2 num_modes + 1, 20), capped by the constrained
+   !> dimension n - nc.
+   pure integer(ip) function arpack_basis_size(options, dimension) result(ncv)
+      type(eigen_options_t), intent(in) :: options
+      integer(ip), intent(in) :: dimension
+      if (options%ncv > 0) then
+         ncv = options%ncv
+      else
+         ncv = max(2 * options%num_modes + 1, 20_ip)
+      end if
+      ncv = min(ncv, dimension)
+   end function arpack_basis_size
 
    !> eigensolver = 'block', or 'auto' on a constrained dimension of AUTO_BLOCK_MIN_DOFS or more.
    pure logical function uses_block_method(options, n, nc)

@@ -64,6 +64,31 @@ def frequencies(h5_file):
     return out
 
 
+def available_mb():
+    """MemAvailable of /proc/meminfo in MB (the automatic memory limit's source)."""
+    with open('/proc/meminfo') as f:
+        for line in f:
+            if line.startswith('MemAvailable:'):
+                return int(line.split()[1]) / 1024.0
+    return None
+
+
+def check_node_share(log, available, ranks, failures):
+    """The automatic memory limit of a rank is its resident memory + MemAvailable shared by the
+    ranks of the node (all `ranks` here): (limit - resident) / MemAvailable near 1 / ranks, not 1
+    (MemAvailable moves with the other tests running: +-40 % of the share accepted)."""
+    found = re.search(r'([0-9]+) MB resident .*limit ([0-9]+) MB', log)
+    if not found or not available:
+        failures.append('no "N MB resident ... limit N MB" line in the MPI log, or no MemAvailable')
+        return
+    share = (int(found.group(2)) - int(found.group(1))) / available
+    print(f'automatic memory limit on {ranks} ranks of one node: {share:.3f} of MemAvailable '
+          f'({available:.0f} MB) beside the resident memory (expected {1.0 / ranks:.3f})')
+    if not 0.6 / ranks < share < 1.4 / ranks:
+        failures.append(f'automatic limit takes {share:.3f} of MemAvailable on each of {ranks} '
+                        f'ranks, expected about {1.0 / ranks:.3f}')
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument('kind', choices=['modes', 'engine', 'host'])
@@ -129,7 +154,10 @@ def main():
             if diff > a.rtol:
                 failures.append(f'{group}: frequencies differ by {diff:.3g}')
     else:
-        run(mpirun + [info['driver']] + common + ['--output-dir', mpi_dir], env=env)
+        available = available_mb()
+        done = run(mpirun + [info['driver']] + common + ['--output-dir', mpi_dir], env=env)
+        if a.kind == 'modes':
+            check_node_share(done.stdout, available, a.ranks, failures)
         import h5py
         written = sorted(os.listdir(mpi_dir))
         expected = sorted(os.listdir(seq_dir))
