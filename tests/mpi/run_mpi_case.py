@@ -89,6 +89,40 @@ def check_node_share(log, available, ranks, failures):
                         f'ranks, expected about {1.0 / ranks:.3f}')
 
 
+def check_signal_stop(cmd, env, out_dir, failures):
+    """SIGUSR1 to mpirun (which forwards it to the ranks; SIGTERM would make mpirun end the job
+    itself) once the block eigen loop has started: the ranks stop together between two block
+    solves, exit 5 through mpirun, one error line, status 'interrupted: SIGUSR1', the body left
+    out of the results file."""
+    import signal
+    import h5py
+    results = os.path.join(out_dir, 'interrupted.h5')
+    cmd = cmd + ['--output-dir', out_dir, '--output', 'interrupted.h5']
+    print('+ ' + ' '.join(cmd) + '   (SIGUSR1 at "block Lanczos: N right-hand sides")', flush=True)
+    process = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    sent = False
+    for line in process.stdout:
+        if re.search(r'block Lanczos: [0-9]+ right-hand sides', line):
+            process.send_signal(signal.SIGUSR1)
+            sent = True
+            break
+    _, stderr = process.communicate(timeout=600)
+    errors = [x for x in stderr.splitlines() if x.startswith('ffrf: error:')]
+    print(f'SIGUSR1 in the eigen loop: exit {process.returncode}, error line(s): {errors}')
+    if not sent or process.returncode != 5 or len(errors) != 1 or \
+            'interrupted by SIGUSR1 in the block eigen loop' not in errors[0]:
+        failures.append('SIGUSR1 under mpirun: expected exit 5 and one line "interrupted by '
+                        'SIGUSR1 in the block eigen loop"')
+        return
+    with h5py.File(results, 'r') as f:
+        status = f.attrs.get('status', b'').decode()
+        bodies = list(f['/bodies']) if '/bodies' in f else []
+    print(f'status "{status}", bodies in the file: {bodies}')
+    if status != 'interrupted: SIGUSR1' or bodies:
+        failures.append(f'SIGUSR1 under mpirun: status "{status}", bodies {bodies}')
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument('kind', choices=['modes', 'engine', 'host'])
@@ -105,6 +139,8 @@ def main():
     p.add_argument('--rtol', type=float, default=1e-9)
     p.add_argument('--set', action='append', default=[])
     p.add_argument('--engine', help='host: also this mechanism case')
+    p.add_argument('--signal-check', action='store_true',
+                   help='modes with the block eigensolver: also SIGUSR1 inside its eigen loop')
     a = p.parse_args()
     mpirun, info = mpirun_prefix(a, a.ranks)
     env = dict(os.environ, OPENBLAS_NUM_THREADS='1', OMP_NUM_THREADS='1')
@@ -223,6 +259,8 @@ def main():
                         errors[0]):
                     failures.append('memory_limit_mb = 1 under MPI: expected exit 4 and one line '
                                     'with the predicted figure')
+                if a.signal_check:
+                    check_signal_stop(mpirun + [info['driver']] + common, env, mpi_dir, failures)
     for f in failures:
         print('FAIL: ' + f)
     sys.exit(1 if failures else 0)
