@@ -93,7 +93,8 @@ void ffrf_errno_text(int code, char *buffer, int length)
 /* Signals a batch scheduler or a user sends to end a run: SIGTERM (scancel, the time limit),
  * SIGINT (Ctrl-C), SIGHUP (a closed terminal), SIGUSR1 and SIGXCPU (ahead of a time limit).
  * The handler only records the first one; the run checks it between steps (and a modal run
- * between bodies and between the solves of an eigen loop). A second SIGINT (Ctrl-C pressed again) ends the run at once. */
+ * between bodies and between the solves of an eigen loop). A second SIGINT (Ctrl-C pressed
+ * again) ends the run at once. */
 static volatile sig_atomic_t pending_signal = 0;
 
 static void record_signal(int signal_number)
