@@ -9,7 +9,8 @@
 #    analysis estimates; with memory_limit_mb = 1 it is refused on every rank (exit 4).
 #  - mpi_modes_crank_rc1_block, mpi_modes_crank_rc2_rbe2_block: the same with the block
 #    eigensolver (&modes eigensolver = 'block') in both runs; then SIGUSR1 to mpirun inside the
-#    block eigen loop: the ranks stop together, exit 5, status 'interrupted: SIGUSR1'.
+#    block eigen loop (on the lc 6 mm crank.msh): the ranks stop together, exit 5, status
+#    'interrupted: SIGUSR1'.
 #  - every modes test: the automatic memory limit of a rank takes MemAvailable / 2 (2 ranks on
 #    this node) beside its resident memory.
 #  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)
@@ -47,7 +48,7 @@ foreach(_case crank_rc1 crank_rc2_rbe2)
       --set body[crank].mesh_file=crank_lc8.msh --set modes.eigensolver=block
       --out ${_mpi_out}/${_case}_block --ranks 2 --rtol 1e-9 --signal-check)
   set_tests_properties(mpi_modes_${_case}_block PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
-    FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+    FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh;crank_mesh" PROCESSORS 2)
 endforeach()
 add_test(NAME mpi_engine
   COMMAND ${_mpi_run} engine --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>

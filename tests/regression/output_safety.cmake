@@ -9,5 +9,5 @@ foreach(test concurrent disk_full signals restart)
       ${PROJECT_BINARY_DIR}/tests/output_safety/${test})
   set_tests_properties(regression_output_safety_${test} PROPERTIES
     LABELS "regression;engine;output" TIMEOUT 600
-    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh;crank_mesh")
 endforeach()
