@@ -92,8 +92,9 @@ contains
       call build_kkt(K, M, C, kkt, error)
       if (allocated(error)) return
       call factorise_shifted(K, M, options, kkt, sigma, solver, result, log, error)
-      ! a signal received during the (uninterruptible) analysis and factorisation stops here
-      interrupt = interrupt_of(options)
+      ! a signal received during the (uninterruptible) analysis and factorisation stops here;
+      ! later ones at the eigen loop's checks
+      interrupt = interrupt_t(enabled=options%stop_on_signal, ranks=options%parallel)
       if (.not. allocated(error)) call interrupt%check('after the MUMPS factorisation', error)
       if (allocated(error)) then
          call solver%free()
@@ -103,10 +104,10 @@ contains
 
       t0 = wall_time()
       if (uses_block_method(options, n, nc)) then
-         call block_lanczos(M, options, nc, solver, z, result, log, error)
+         call block_lanczos(M, options, nc, solver, interrupt, z, result, log, error)
       else
          result%eigensolver = 'arpack'
-         call lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
+         call lanczos(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, error)
       end if
       result%time_lanczos = wall_time() - t0
       if (.not. allocated(error) .and. present(constraint_targets)) then
@@ -607,11 +608,13 @@ contains
    end function uses_block_method
 
    !> Block shift-invert Lanczos (ffrf_modes_block_krylov) on the KKT factors; Ritz vectors z.
-   subroutine block_lanczos(M, options, nc, solver, z, result, log, error)
+   subroutine block_lanczos(M, options, nc, solver, interrupt, z, result, log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: nc
       type(mumps_solver_t), intent(inout) :: solver
+      !> Checked before every block solve
+      type(interrupt_t), intent(in) :: interrupt
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
@@ -623,7 +626,7 @@ contains
       result%block_size = settings%block_size
       result%ncv = settings%max_basis
       call block_krylov_eigen(M, nc, options%num_modes, settings, options%tolerance, &
-         options%max_iterations, solver, z, stats, log, error, interrupt_of(options))
+         options%max_iterations, solver, z, stats, log, error, interrupt)
       result%num_solves = solver%num_solves
       result%time_solves = solver%time_solve
       result%num_iterations = stats%num_restarts
@@ -633,28 +636,33 @@ contains
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
    !> ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at a
    !> time in the process (a serial section), so that distinct handles may run in threads.
-   subroutine lanczos(M, options, ncv, nc, sigma, solver, z, result, log, error)
+   subroutine lanczos(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: ncv, nc
       real(dp), intent(in) :: sigma
       type(mumps_solver_t), intent(inout) :: solver
+      !> Checked before every solve
+      type(interrupt_t), intent(in) :: interrupt
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
       call enter_serial_section(SECTION_ARPACK)
-      call lanczos_in_section(M, options, ncv, nc, sigma, solver, z, result, log, error)
+      call lanczos_in_section(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, &
+         error)
       call leave_serial_section(SECTION_ARPACK)
    end subroutine lanczos
 
    !> lanczos inside the ARPACK serial section.
-   subroutine lanczos_in_section(M, options, ncv, nc, sigma, solver, z, result, log, error)
+   subroutine lanczos_in_section(M, options, ncv, nc, sigma, solver, interrupt, z, result, &
+         log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: ncv, nc
       real(dp), intent(in) :: sigma
       type(mumps_solver_t), intent(inout) :: solver
+      type(interrupt_t), intent(in) :: interrupt
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
@@ -739,20 +747,11 @@ contains
 
       subroutine check_interrupt(error)
          type(error_t), allocatable, intent(out) :: error
-         type(interrupt_t) :: interrupt
-         interrupt = interrupt_of(options)
          call interrupt%check('in the eigen loop (ARPACK) after ' // &
             to_str(solver%num_solves) // ' solves', error)
       end subroutine check_interrupt
 
    end subroutine lanczos_in_section
-
-   !> The signal check of the eigen loop: enabled by options%stop_on_signal, on its ranks.
-   pure function interrupt_of(options) result(interrupt)
-      type(eigen_options_t), intent(in) :: options
-      type(interrupt_t) :: interrupt
-      interrupt = interrupt_t(enabled=options%stop_on_signal, ranks=options%parallel)
-   end function interrupt_of
 
    !> rhs(1:n) = M x on entry -> y on exit: solve (5.2b) with zero constraint right-hand side.
    subroutine kkt_solve(solver, rhs, n, error)
