@@ -1,8 +1,9 @@
 !> Dense linear algebra of the generalized-alpha integrator: explicit interfaces to the LAPACK
 !> routines it needs beyond ffrf_la_lapack (LU factor/solve, QR with column pivoting), the
-!> rank-revealing detection of redundant constraint rows, and the equilibrated saddle-point
+!> detection of redundant constraint rows, and the equilibrated saddle-point
 !> (KKT) matrix [[A, Phi_q^T], [Phi_q, 0]] shared by the consistent start and the Newton step.
 module ffrf_mbs_galpha_linalg
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
@@ -48,9 +49,15 @@ module ffrf_mbs_galpha_linalg
 contains
 
    !> Linearly dependent rows of the constraint Jacobian Phi_q (nc x n), by QR with column
-   !> pivoting of the row-normalised Phi_q^T (dgeqp3): row k is independent while
-   !> |R_kk| > rtol |R_11|. The pivot order keeps the first of equal rows; the kept rows are
-   !> `active`, the others `dropped` (both ascending). A zero row is dropped.
+   !> pivoting of the row-normalised Phi_q^T (Businger-Golub; theory.md 4.3): at each step the
+   !> remaining column of largest norm is the pivot, and row k is independent while
+   !> |R_kk| > rtol |R_11|. Ties are broken by row order, not by round-off: every column whose norm
+   !> is within TIE_RTOL of the largest counts as largest, and the earliest row among them is
+   !> taken. LAPACK's dgeqp3, used before, let the BLAS kernel's rounding choose between rows of
+   !> equal norm, so one main bearing's axial row or the other's was dropped on different
+   !> processors (tests/TOLERANCES.md, "Regression references"). Plain loops, no BLAS: the same
+   !> operations on every processor. The kept rows are `active`, the others `dropped` (both
+   !> ascending); a zero row is dropped.
    subroutine find_redundant_rows(Phi_q, rtol, active, dropped, error)
       !> Constraint Jacobian, nc x n
       real(dp), intent(in) :: Phi_q(:, :)
@@ -61,47 +68,78 @@ contains
       !> Redundant rows dropped from the equations, ascending
       integer, allocatable, intent(out) :: dropped(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: at(:, :), tau(:), work(:)
-      integer(ip), allocatable :: jpvt(:)
-      integer(ip) :: m, nrow, lwork, info
-      real(dp) :: norm, query(1)
-      integer :: i, rank
+      !> Column norms this close to the largest (relative) are a tie: far above the round-off of
+      !> the norms (1e-15), far below the differences of distinct constraint rows
+      real(dp), parameter :: TIE_RTOL = 1.0e-10_dp
+      real(dp), allocatable :: at(:, :), norms(:), v(:)
+      integer, allocatable :: row_of(:)
+      real(dp) :: largest, r11, alpha, beta
+      integer :: m, nrow, k, j, pivot, rank
       logical, allocatable :: keep(:)
-      nrow = int(size(Phi_q, 1), ip)
-      m = int(size(Phi_q, 2), ip)
-      allocate (keep(nrow))
+      nrow = size(Phi_q, 1)
+      m = size(Phi_q, 2)
+      if (.not. all(ieee_is_finite(Phi_q))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'redundant-constraint detection: the ' // &
+            to_str(nrow) // ' x ' // to_str(m) // ' constraint Jacobian holds a NaN or ' // &
+            'infinite entry')
+         return
+      end if
+      allocate (keep(nrow), at(m, nrow), norms(nrow), row_of(nrow), v(m))
       keep = .false.
-      if (nrow > 0 .and. m > 0) then
-         allocate (at(m, nrow), jpvt(nrow), tau(min(m, nrow)))
-         do i = 1, nrow
-            norm = maxval(abs(Phi_q(i, :)))
-            at(:, i) = 0.0_dp
-            if (norm > 0.0_dp) at(:, i) = Phi_q(i, :) / norm
+      do j = 1, nrow
+         largest = maxval(abs(Phi_q(j, :)))
+         at(:, j) = 0.0_dp
+         if (largest > 0.0_dp) at(:, j) = Phi_q(j, :) / largest
+         row_of(j) = j
+      end do
+      rank = 0
+      r11 = 0.0_dp
+      do k = 1, min(m, nrow)
+         ! norms of the remaining columns below row k-1 of R, recomputed (no downdating)
+         do j = k, nrow
+            norms(j) = norm2(at(k:, j))
          end do
-         jpvt = 0
-         call dgeqp3(m, nrow, at, m, jpvt, tau, query, -1_ip, info)
-         lwork = max(1_ip, int(query(1), ip))
-         allocate (work(lwork))
-         call dgeqp3(m, nrow, at, m, jpvt, tau, work, lwork, info)
-         if (info /= 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'redundant-constraint detection: dgeqp3 ' &
-               // 'failed with info = ' // to_str(info) // ' on a ' // to_str(nrow) // ' x ' // &
-               to_str(m) // ' constraint Jacobian')
-            return
+         largest = maxval(norms(k:nrow))
+         pivot = 0
+         do j = k, nrow
+            if (norms(j) >= (1.0_dp - TIE_RTOL) * largest) then
+               if (pivot == 0) then
+                  pivot = j
+               else if (row_of(j) < row_of(pivot)) then
+                  pivot = j
+               end if
+            end if
+         end do
+         if (k == 1) r11 = largest
+         if (.not. largest > rtol * r11) exit
+         if (pivot /= k) then
+            v = at(:, k)
+            at(:, k) = at(:, pivot)
+            at(:, pivot) = v
+            j = row_of(k)
+            row_of(k) = row_of(pivot)
+            row_of(pivot) = j
          end if
-         rank = 0
-         if (abs(at(1, 1)) > 0.0_dp) then
-            do i = 1, min(int(m), int(nrow))
-               if (abs(at(i, i)) <= rtol * abs(at(1, 1))) exit
-               rank = i
+         rank = k
+         ! Householder reflection H = I - beta v v^T mapping at(k:, k) to (alpha, 0, ...)
+         alpha = -sign(largest, at(k, k))
+         v(k:) = at(k:, k)
+         v(k) = v(k) - alpha
+         beta = dot_product(v(k:), v(k:))
+         if (beta > 0.0_dp) then
+            beta = 2.0_dp / beta
+            do j = k + 1, nrow
+               at(k:, j) = at(k:, j) - (beta * dot_product(v(k:), at(k:, j))) * v(k:)
             end do
          end if
-         do i = 1, rank
-            keep(jpvt(i)) = .true.
-         end do
-      end if
-      active = pack([(i, i=1, int(nrow))], keep)
-      dropped = pack([(i, i=1, int(nrow))], .not. keep)
+         at(k, k) = alpha
+         at(k + 1:, k) = 0.0_dp
+      end do
+      do k = 1, rank
+         keep(row_of(k)) = .true.
+      end do
+      active = pack([(j, j=1, nrow)], keep)
+      dropped = pack([(j, j=1, nrow)], .not. keep)
    end subroutine find_redundant_rows
 
    !> Equilibrated saddle-point matrix [[A, Phi_q^T S], [S Phi_q, 0]] with the diagonal row scale

@@ -87,10 +87,10 @@
 !>   integrator returns FFRF_NUMERIC_ERROR naming the time, the step and the last residual; the
 !>   last converged state stays in t, q, v, qdd, a, lambda.
 !> - Redundant constraints: at the start (and every settings%rank_check_interval steps if > 0)
-!>   the dependent rows of Phi_q are found by QR with column pivoting (find_redundant_rows) and
-!>   dropped from the equations; `dropped` lists them. Chosen split of the reactions: a dropped
-!>   row's multiplier is reported as zero and the retained multipliers are the unique solution on
-!>   the independent set (so the reaction of a redundant pair sits entirely on the kept row; for
+!>   the dependent rows of Phi_q are found by QR with column pivoting (find_redundant_rows; ties
+!>   go to the earliest row, on every processor) and dropped from the equations; `dropped`
+!>   lists them. Chosen split of the reactions: a dropped row's multiplier is reported as zero
+!>   and the retained multipliers are the unique solution on the independent set (so the reaction of a redundant pair sits entirely on the kept row; for
 !>   rigid bodies this is one admissible split among many, not physics).
 module ffrf_mbs_generalized_alpha
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

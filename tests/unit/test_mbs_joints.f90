@@ -79,7 +79,8 @@ contains
          new_unittest('joint_free_and_forbidden_motions', test_joint_motions), &
          new_unittest('joint_jacobians_finite_differences', test_joint_jacobians), &
          new_unittest('joint_reaction_virtual_work', test_joint_reactions), &
-         new_unittest('slider_crank_rank_and_position', test_slider_crank)]
+         new_unittest('slider_crank_rank_and_position', test_slider_crank), &
+         new_unittest('redundant_rows_ties_go_to_the_first', test_redundant_ties)]
    end subroutine collect_mbs_joints
 
    ! ----------------------------------------------------------------------------------------------
@@ -784,6 +785,46 @@ contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Slider-crank
+
+   !> Which of two dependent rows is dropped must not hang on round-off (issue 21: LAPACK's
+   !> dgeqp3 dropped one main bearing's axial row on one BLAS kernel and the other's on
+   !> another). Reference: the rule itself (norms tied within 1e-10 go to the earlier row),
+   !> exact in exact arithmetic. Seven independent rows of 9 columns (deterministic entries) and
+   !> an eighth that repeats row 3: exactly (trial 1), or with one entry 1e-12 larger or smaller
+   !> in magnitude (trials 2, 3: a norm 1e-13 above or below row 3's, a pair still dependent to
+   !> 1e-12, far inside rank_rtol); trial 4 repeats row 2 instead, 1e-12 larger. Every time row 8,
+   !> the later of the pair, is dropped, alone. (dgeqp3 on the same matrices drops row 3 in trial
+   !> 2 and row 2 in trial 4: the larger norm wins.)
+   subroutine test_redundant_ties(error)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: jac(8, 9)
+      integer, allocatable :: active(:), dropped(:)
+      integer :: i, j, trial
+      do trial = 1, 4
+         do j = 1, 9
+            do i = 1, 7
+               jac(i, j) = cos(1.7_dp * i + 0.31_dp * j * j) + merge(2.0_dp, 0.0_dp, i == j)
+            end do
+         end do
+         jac(8, :) = jac(3, :)
+         if (trial == 2) jac(8, 5) = jac(8, 5) + sign(1.0e-12_dp, jac(8, 5))
+         if (trial == 3) jac(8, 5) = jac(8, 5) - sign(1.0e-12_dp, jac(8, 5))
+         if (trial == 4) then
+            jac(8, :) = jac(2, :)
+            jac(8, 6) = jac(8, 6) + sign(1.0e-12_dp, jac(8, 6))
+         end if
+         call find_redundant_rows(jac, 1.0e-9_dp, active, dropped, error)
+         if (allocated(error)) return
+         call report('ties, trial ' // to_str(trial) // ': dropped ' // to_str(size(dropped)) // &
+            ' row(s), the first ' // to_str(merge(dropped(1), 0, size(dropped) > 0)))
+         call check(error, 'trial ' // to_str(trial) // ': the later row of the dependent ' // &
+            'pair (8) is dropped, alone', size(dropped) == 1 .and. size(active) == 7)
+         if (allocated(error)) return
+         call check(error, 'trial ' // to_str(trial) // ': dropped row ' // to_str(dropped(1)) &
+            // ', expected 8', dropped(1) == 8)
+         if (allocated(error)) return
+      end do
+   end subroutine test_redundant_ties
 
    !> Planar slider-crank of scene.md (r = 0.045 m, l = 0.150 m) from rigid bodies and these
    !> joints: ground-crank revolute, crank-rod revolute, rod-piston revolute, piston-ground
