@@ -5,3 +5,6 @@ ffrf_add_unit_suite(test_la_mumps CHECKED LABELS la)
 target_sources(ffrf_testing PRIVATE unit/spring_chain_fixture.f90)
 target_sources(ffrf_testing_checked PRIVATE unit/spring_chain_fixture.f90)
 ffrf_add_unit_suite(test_modes_shift_invert CHECKED LABELS modes)
+# Spectra you can trust (issue 22): exact multiplicities, deflated null vectors, Sturm check and
+# recovery, shift windows, on grids with closed-form spectra. ~3 s, checked ~8 s.
+ffrf_add_unit_suite(test_modes_spectrum CHECKED LABELS modes)
