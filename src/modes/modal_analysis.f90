@@ -352,9 +352,9 @@ contains
                3) // ' Hz at most: round-off of 0)')
             ! Six rigid motions removed exactly: a flexible mode at ~0 Hz is another motion
             ! without strain
-            if (lambda(1) < ZERO_ENERGY_FRACTION * sigma_of_shift(100.0_dp * auto_shift_hz)) then
+            if (lambda(1) < ZERO_ENERGY_FRACTION * sigma_of_shift(-100.0_dp * auto_shift_hz)) then
                call zero_energy_error(body, frequency_of(lambda(1)), count(lambda < &
-                  ZERO_ENERGY_FRACTION * sigma_of_shift(100.0_dp * auto_shift_hz)), error)
+                  ZERO_ENERGY_FRACTION * sigma_of_shift(-100.0_dp * auto_shift_hz)), error)
                return
             end if
          end if

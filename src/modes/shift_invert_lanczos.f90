@@ -618,7 +618,7 @@ contains
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: x(:), kx(:), mx(:)
+      real(dp), allocatable :: x(:), kx(:), mx(:), norms(:), raw(:, :)
       integer(ip), allocatable :: order(:)
       integer(i8) :: solves_before
       real(dp) :: time_before
@@ -649,7 +649,15 @@ contains
       result%num_solves = result%num_solves + (solver%num_solves - solves_before)
       result%time_solves = result%time_solves + (solver%time_solve - time_before)
       if (allocated(error)) return
-      if (allocated(deflation%X)) call project_deflation(deflation, z)
+      if (allocated(deflation%X)) then
+         ! what the last projection removes: the round-off the eigen loop let into the basis
+         norms = [(norm2(z(:, j)), j=1, nev)]
+         raw = z
+         call project_deflation(deflation, z)
+         call log%debug(stage, 'deflated components removed from the Ritz vectors: ' // &
+            to_str(maxval([(norm2(raw(:, j) - z(:, j)) / max(norms(j), tiny(1.0_dp)), &
+            j=1, nev)]), 2) // ' of their norm at most')
+      end if
       ! Rayleigh quotients of normalised copies (z itself stays as the eigensolver returned it)
       allocate (x(n), kx(n), mx(n), lambda(nev))
       do j = 1, nev

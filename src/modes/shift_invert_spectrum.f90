@@ -159,8 +159,11 @@ contains
          call check_interrupt('before the factorisation at sigma')
          if (allocated(error)) return
          s = sigma
+         t0 = result%time_sturm
          call factorise_count(K, M, options, kkt, s, sigma - 1.0e-3_dp * max(abs(sigma), &
             1.0e-8_dp * lambda_max), sigma, solver, result, log, error, j)
+         ! the eigen shift's factorisation, not a count's
+         result%time_sturm = t0
          if (allocated(error)) then
             call solver%free()
             return
