@@ -265,8 +265,10 @@ contains
    !> counts `count` eigenvalues below it (the deflated rigid-body modes included) and
    !> `count_low` below `shift_low` (sigma, or a shift below the lowest mode when some lie below
    !> sigma); every eigenvalue in [shift_low, shift) is among the returned modes (Craig-Bampton:
-   !> of the fixed-interface modes). Attribute `status`: 'proven', or 'off' (sturm_check =
-   !> .false.: the datasets then hold the shift and count of the eigen shift only).
+   !> of the fixed-interface modes). rigid_modes deflated, windows, recoveries, the
+   !> factorisations made for counts (and window shifts) and their wall time. Attribute
+   !> `status`: 'proven', or 'off' (sturm_check = .false.: shift and count are then those of
+   !> the eigen shift).
    subroutine write_sturm_check(h5, path, e, error)
       type(h5_file_t), intent(inout) :: h5
       character(len=*), intent(in) :: path
@@ -292,6 +294,10 @@ contains
          error)
       if (.not. allocated(error)) call h5%set_attribute(path // '/recoveries', 'units', '1', &
          error)
+      if (.not. allocated(error)) call h5%write_int(path // '/count_factorisations', &
+         e%num_count_factorisations, error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/count_factorisations', &
+         'units', '1', error)
       if (.not. allocated(error)) call h5%write_real(path // '/time', e%time_sturm, 's', error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'status', &
          trim(merge('proven', 'off   ', e%sturm_checked)), error)

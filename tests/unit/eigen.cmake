@@ -13,7 +13,8 @@ ffrf_add_unit_suite(test_modes_spectrum CHECKED LABELS modes)
 # max_frequency_hz on crank RC set 1. One ctest entry per test (they run in parallel); ~35 s.
 ffrf_add_unit_suite(test_modes_free_spectra LABELS modes FIXTURES crank_mesh
   ARGS symmetric_cube)
-foreach(_test free_crank_few_modes free_crank_few_modes_block hinged_cubes crank_max_frequency)
+foreach(_test free_crank_few_modes free_crank_few_modes_block symmetric_cube_rbe2_face hinged_cubes
+    crank_max_frequency)
   add_test(NAME test_modes_free_spectra_${_test} COMMAND test_modes_free_spectra ${_test}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR})
   set_tests_properties(test_modes_free_spectra_${_test} PROPERTIES LABELS "unit;modes"

@@ -15,6 +15,8 @@
 !>   eigensolvers: every returned frequency equals the dense one to 1e-9 (dsygv is backward
 !>   stable: eps lambda_max / lambda_1 ~ 1e-13 here), every member of every multiplet is
 !>   returned, and a num_modes that ends inside a triplet returns the whole triplet.
+!> - symmetric_cube_rbe2_face: the same cube with an RBE2 on its top face (eliminated: rigid
+!>   modes in the reduced coordinates) against the dense T^T K T, T^T M T problem, 1e-9.
 !> - hinged_cubes: two such cubes that share one edge (one node-connected piece) are refused
 !>   with a message naming the face-connected parts and the hinge, not the spectrum.
 !> - crank_max_frequency: crank RC set 1 (RBE3) with max_frequency_hz = 20 kHz returns exactly
@@ -28,7 +30,9 @@ module test_modes_free_spectra
    use ffrf_la_sparse, only: csr_t, csr_matvec, csr_to_dense
    use ffrf_la_lapack, only: dsygv
    use ffrf_mesh_mesh, only: mesh_t
-   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_mpc_interface, only: interface_spec_t, MPC_RBE2
+   use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, &
+      FORMULATION_MULTIPLIERS
    use ffrf_input_interface, only: interface_input_t, parse_dofs
    use ffrf_input_body, only: body_input_t
    use ffrf_input_modes, only: modes_input_t
@@ -51,6 +55,7 @@ contains
          new_unittest('free_crank_few_modes', test_free_crank_arpack), &
          new_unittest('free_crank_few_modes_block', test_free_crank_block), &
          new_unittest('symmetric_cube', test_symmetric_cube), &
+         new_unittest('symmetric_cube_rbe2_face', test_cube_rbe2), &
          new_unittest('hinged_cubes', test_hinged_cubes), &
          new_unittest('crank_max_frequency', test_crank_max_frequency)]
    end subroutine collect_modes_free_spectra
@@ -162,6 +167,53 @@ contains
       end do
    end subroutine test_symmetric_cube
 
+   !> The free cube with an RBE2 on the nodes of its top face (a node set, no reference
+   !> condition): the face nodes are eliminated (q_B = F q_V, T is not the identity), so the
+   !> rigid modes are deflated in the reduced coordinates (virtual-node motion for the face).
+   !> Reference: the dense eigenproblem of T^T K T, T^T M T (ffrf_mpc_reduction, LAPACK),
+   !> its six zero eigenvalues skipped; 8 modes to 1e-9 with both eigensolvers.
+   subroutine test_cube_rbe2(error)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=6), parameter :: solvers(2) = ['arpack', 'block ']
+      type(mesh_t) :: mesh
+      type(body_modes_t) :: body
+      type(interface_spec_t) :: face(1)
+      type(reduction_t) :: red
+      type(csr_t) :: K, M, K_r, M_r
+      real(dp), allocatable :: dense(:), hz(:)
+      integer :: s, nev
+      call cube_mesh(reshape([0, 0, 0], [3, 1]), 3, mesh)
+      face(1)%name = 'top'
+      face(1)%mpc = MPC_RBE2
+      face(1)%nodes = pack([(int(s, ip), s=1, mesh%num_nodes)], &
+         mesh%xyz(3, :) >= maxval(mesh%xyz(3, :)) - 1.0e-12_dp)
+      call cube_modes(mesh, 8, 'arpack', body, error, K, M, face)
+      if (allocated(error)) return
+      call build_reduction(body%mesh%num_nodes, body%interfaces, FORMULATION_MULTIPLIERS, red, &
+         error)
+      if (.not. allocated(error)) call reduce_matrix(red, K, K_r, error)
+      if (.not. allocated(error)) call reduce_matrix(red, M, M_r, error)
+      if (allocated(error)) return
+      call dense_spectrum(K_r, M_r, dense, error)
+      if (allocated(error)) return
+      hz = sqrt(max(dense(7:), 0.0_dp)) / (2.0_dp * pi)
+      nev = multiplet_end(hz, 8)
+      call report('RBE2 top face (' // to_str(size(face(1)%nodes)) // ' nodes): ' // &
+         to_str(red%num_reduced) // ' reduced coordinates of ' // to_str(3 * mesh%num_nodes) // &
+         ', dense rigid |lambda| <= ' // to_str(maxval(abs(dense(1:6))), 2) // &
+         ' s^-2; multiplicities' // multiplicities(hz(1:nev)))
+      do s = 1, 2
+         call cube_modes(mesh, nev, trim(solvers(s)), body, error, interfaces=face)
+         if (allocated(error)) return
+         call report(trim(solvers(s)) // ': max rel. difference to the dense ' // &
+            to_str(maxval(abs(body%frequency_hz - hz(1:nev)) / hz(1:nev)), 2) // ', rigid ' // &
+            '<= ' // to_str(maxval(abs(body%rigid_frequency_hz)), 2) // ' Hz')
+         call check_frequencies(trim(solvers(s)) // ', RBE2 face', body%frequency_hz, &
+            hz(1:nev), error)
+         if (allocated(error)) return
+      end do
+   end subroutine test_cube_rbe2
+
    !> Module header: two cubes joined along one edge.
    subroutine test_hinged_cubes(error)
       type(error_t), allocatable, intent(out) :: error
@@ -270,13 +322,14 @@ contains
    end subroutine crank_face
 
    !> Free-free modes of a mesh built in memory (steel, no interfaces), with its K and M.
-   subroutine cube_modes(mesh, num_modes, eigensolver, body, error, K, M)
+   subroutine cube_modes(mesh, num_modes, eigensolver, body, error, K, M, interfaces)
       type(mesh_t), intent(in) :: mesh
       integer, intent(in) :: num_modes
       character(len=*), intent(in) :: eigensolver
       type(body_modes_t), intent(out) :: body
       type(error_t), allocatable, intent(out) :: error
       type(csr_t), intent(out), optional :: K, M
+      type(interface_spec_t), intent(in), optional :: interfaces(:)
       type(body_spec_t) :: spec
       type(modes_spec_t) :: modes
       type(interface_spec_t) :: none(0)
@@ -288,8 +341,13 @@ contains
       modes%eigensolver = eigensolver
       modes%tolerance = 0.0_dp
       log%level = LOG_QUIET
-      call compute_body_modes(mesh, spec, none, modes, log, times, body, error, &
-         mass_matrix=M, stiffness_matrix=K)
+      if (present(interfaces)) then
+         call compute_body_modes(mesh, spec, interfaces, modes, log, times, body, error, &
+            mass_matrix=M, stiffness_matrix=K)
+      else
+         call compute_body_modes(mesh, spec, none, modes, log, times, body, error, &
+            mass_matrix=M, stiffness_matrix=K)
+      end if
    end subroutine cube_modes
 
    !> Tet4 mesh of cubes of c x c x c cells (edge 1 cm), the cube b at cell offset corner(:, b):
