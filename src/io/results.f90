@@ -266,9 +266,10 @@ contains
    !> `count_low` below `shift_low` (sigma, or a shift below the lowest mode when some lie below
    !> sigma); every eigenvalue in [shift_low, shift) is among the returned modes (Craig-Bampton:
    !> of the fixed-interface modes). rigid_modes deflated, windows, recoveries, the
-   !> factorisations made for counts (and window shifts) and their wall time. Attribute
-   !> `status`: 'proven', or 'off' (sturm_check = .false.: shift and count are then those of
-   !> the eigen shift).
+   !> factorisations made for counts (and window shifts; their wall time is the stage
+   !> "<body>: Sturm check" of /timings, so that these datasets depend on the input only).
+   !> Attribute `status`: 'proven', or 'off' (sturm_check = .false.: shift and count are then
+   !> those of the eigen shift).
    subroutine write_sturm_check(h5, path, e, error)
       type(h5_file_t), intent(inout) :: h5
       character(len=*), intent(in) :: path
@@ -298,7 +299,6 @@ contains
          e%num_count_factorisations, error)
       if (.not. allocated(error)) call h5%set_attribute(path // '/count_factorisations', &
          'units', '1', error)
-      if (.not. allocated(error)) call h5%write_real(path // '/time', e%time_sturm, 's', error)
       if (.not. allocated(error)) call h5%set_attribute(path, 'status', &
          trim(merge('proven', 'off   ', e%sturm_checked)), error)
    contains
