@@ -361,9 +361,10 @@ contains
             if (last .and. window == 1) then
                call log%info(stage, 'Sturm check: the inertia at s = ' // to_str(s, 8) // &
                   ' (' // to_str(frequency_of(s), 6) // ' Hz) counts ' // to_str(count_s) // &
-                  ' eigenvalues below it' // rigid_text(rigid_between(b, s)) // ': ' // &
-                  to_str(have) // ' modes from ' // to_str(frequency_of(b), 6) // ' Hz, ' // &
-                  'none missing (' // to_str(result%time_sturm, 3) // ' s)')
+                  ' eigenvalues below it' // rigid_text(rigid_between(b, s)) // ', and ' // &
+                  to_str(have) // ' modes were found above the shift (' // &
+                  to_str(frequency_of(b), 6) // ' Hz): none missing (' // &
+                  to_str(result%time_sturm, 3) // ' s)')
             else
                call log%info(stage, 'window ' // to_str(window) // ': ' // to_str(have) // &
                   ' modes in [' // to_str(frequency_of(b), 6) // ', ' // &
@@ -389,8 +390,11 @@ contains
          real(dp), allocatable :: distance(:)
          integer(ip) :: i, j, keep, count_s
          real(dp) :: low, high
-         order = [(i, i=1, known%count)]
-         distance = abs(known%lambda(1:known%count) - sigma)
+         allocate (order(known%count), distance(known%count))
+         do i = 1, known%count
+            order(i) = i
+            distance(i) = abs(known%lambda(i) - sigma)
+         end do
          do j = 2, known%count
             i = j
             do while (i > 1)
