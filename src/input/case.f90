@@ -322,8 +322,8 @@ contains
       if (allocated(case%overrides)) text = text // case%overrides
    end function case_echo
 
-   !> The memory and eigensolver keys of &modes, only those not at their defaults (so the echo of a case
-   !> without them is the one written before they existed).
+   !> The memory, eigensolver and spectrum keys of &modes, only those not at their defaults (so
+   !> the echo of a case without them is the one written before they existed).
    function memory_echo(m) result(text)
       type(modes_input_t), intent(in) :: m
       character(len=:), allocatable :: text
@@ -337,6 +337,9 @@ contains
          to_str(m%compression_tolerance, 6)
       if (m%eigensolver /= 'auto') text = text // ', eigensolver = ''' // trim(m%eigensolver) &
          // ''''
+      if (m%max_frequency_hz > 0.0_dp) text = text // ', max_frequency_hz = ' // &
+         to_str(m%max_frequency_hz, 12)
+      if (.not. m%sturm_check) text = text // ', sturm_check = .false.'
    end function memory_echo
 
    !> The mechanism keys of a &body.

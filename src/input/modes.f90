@@ -19,9 +19,10 @@ module ffrf_input_modes
       character(len=16) :: formulation = 'multipliers'
       !> Label of the reference-condition set, e.g. 'RC set 1', for tables and plots
       character(len=64) :: rc_label = ''
-      !> Relative tolerance of ARPACK's Ritz values (0: machine precision). 1e-9 gives eigen
-      !> residuals ~1e-10 on the reference crank with ~25 % fewer solves than machine precision;
-      !> the frequencies (Rayleigh quotients) are accurate to about the residual squared.
+      !> Relative tolerance of the Ritz values (0: machine precision). Default 1e-9: eigen
+      !> residuals ~1e-10 on the reference crank with fewer solves than machine precision; the
+      !> frequencies (Rayleigh quotients) are accurate to about the residual squared (README
+      !> "Modes: spectra", measured)
       real(dp) :: tolerance = 1.0e-9_dp
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
       integer :: lanczos_vectors = 0
@@ -41,6 +42,12 @@ module ffrf_input_modes
       !> 'arpack' (shift-invert Lanczos, one right-hand side per solve) or 'block' (block
       !> shift-invert Lanczos, many right-hand sides per solve: src/modes/block_krylov.f90)
       character(len=16) :: eigensolver = 'auto'
+      !> Every mode below this frequency (Hz), at most num_modes (the smaller set wins); 0: off.
+      !> Given without num_modes, num_modes becomes 10000 (no cap in practice)
+      real(dp) :: max_frequency_hz = 0.0_dp
+      !> Sturm check after convergence: the inertia of K - s M just above the highest mode
+      !> proves that none is missing (one more factorisation); always made with max_frequency_hz
+      logical :: sturm_check = .true.
    end type modes_input_t
 
 end module ffrf_input_modes

@@ -21,12 +21,20 @@
 !>   eigensolver  'auto' (default: 'block' for bodies of 200,000 dofs or more, else 'arpack'),
 !>                'arpack' (ARPACK shift-invert Lanczos, one solve per vector) or 'block' (block
 !>                shift-invert Lanczos: num_modes + 4 right-hand sides per solve)
+!>   max_frequency_hz  every mode below this frequency [Hz] (Nastran EIGRL V2), by shift windows
+!>                of at most 50 modes each proven by Sturm counts; with num_modes too the smaller
+!>                set wins, without it num_modes becomes 10000; 0 (default): off; in [0, 1e9]
+!>   sturm_check  .true. (default): after convergence the inertia of K - s M just above the
+!>                highest mode proves that none is missing (one more factorisation; a short
+!>                count triggers a recovery); .false. skips it (large meshes); needed with
+!>                max_frequency_hz
 module ffrf_input_nml_modes
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_posix, only: file_kind, file_kind_name, FILE_DIRECTORY, FILE_MISSING
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_input_modes, only: modes_input_t
+   use ffrf_modes_shift_invert, only: DEFAULT_WINDOW_SIZE
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t, logical_key
@@ -47,7 +55,8 @@ contains
          choice_key('basis', 16, 'rc_normal, craig_bampton'), logical_key('out_of_core'), &
          string_key('ooc_tmpdir', 256), integer_key('memory_limit_mb', -1_i8, 1000000000_i8), &
          real_key('compression_tolerance', 0.0_dp, 1.0_dp, '', upper_open=.true.), &
-         choice_key('eigensolver', 16, 'auto, arpack, block')]
+         choice_key('eigensolver', 16, 'auto, arpack, block'), &
+         real_key('max_frequency_hz', 0.0_dp, 1.0e9_dp, 'Hz'), logical_key('sturm_check')]
    end function modes_keys
 
    !> Read &modes (optional group; defaults from modes_input_t).
@@ -58,8 +67,8 @@ contains
       type(modes_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
       integer :: num_modes, lanczos_vectors, memory_limit_mb
-      real(dp) :: shift_hz, tolerance, compression_tolerance
-      logical :: out_of_core
+      real(dp) :: shift_hz, tolerance, compression_tolerance, max_frequency_hz
+      logical :: out_of_core, sturm_check
       character(len=256) :: ooc_tmpdir
       character(len=16) :: formulation, basis, eigensolver
       character(len=64) :: rc_label
@@ -67,8 +76,11 @@ contains
       integer :: stat, kind
       integer(i8) :: size_bytes
       namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
-         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver
-      num_modes = input%num_modes
+         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver, &
+         max_frequency_hz, sturm_check
+      ! -1: not given (the strict pre-reader refuses it written), so that max_frequency_hz alone
+      ! means every mode below it
+      num_modes = -1
       shift_hz = input%shift_hz
       formulation = input%formulation
       rc_label = input%rc_label
@@ -80,14 +92,21 @@ contains
       memory_limit_mb = input%memory_limit_mb
       compression_tolerance = input%compression_tolerance
       eigensolver = input%eigensolver
+      max_frequency_hz = input%max_frequency_hz
+      sturm_check = input%sturm_check
       rewind (unit)
       read (unit, nml=modes, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'modes', 0, msg, &
             'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis, ' // &
-            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver')
+            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver, ' // &
+            'max_frequency_hz, sturm_check')
          return
+      end if
+      if (num_modes == -1) then
+         num_modes = input%num_modes
+         if (max_frequency_hz > 0.0_dp) num_modes = 10000
       end if
       formulation = to_lower(formulation)
       basis = to_lower(basis)
@@ -106,10 +125,26 @@ contains
       else if (all(eigensolver /= [character(len=16) :: 'auto', 'arpack', 'block'])) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'eigensolver') // &
             ': "' // trim(eigensolver) // '"; use "auto" (default), "arpack" or "block"')
-      else if (lanczos_vectors /= 0 .and. lanczos_vectors <= num_modes) then
+      else if (lanczos_vectors /= 0 .and. lanczos_vectors <= min(num_modes, &
+               int(DEFAULT_WINDOW_SIZE))) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'lanczos_vectors') // &
-            ': must exceed num_modes = ' // to_str(num_modes) // &
-            ' (about twice num_modes; 0 = automatic)')
+            ': must exceed num_modes = ' // to_str(num_modes) // ' (at most the ' // &
+            to_str(DEFAULT_WINDOW_SIZE) // ' modes of one shift window; about twice that; ' // &
+            '0 = automatic)')
+      else if (.not. (max_frequency_hz >= 0.0_dp .and. max_frequency_hz <= 1.0e9_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'max_frequency_hz') // &
+            ': ' // to_str(max_frequency_hz) // ' Hz, must lie in [0, 1e9] (0: off, the ' // &
+            'num_modes lowest modes)')
+      else if (max_frequency_hz > 0.0_dp .and. shift_hz > 0.0_dp) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'shift_hz') // &
+            ' Hz cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: ' // &
+            'the shift windows run from the shift up to it; give shift_hz <= 0 (0: ' // &
+            'automatic, below every mode)')
+      else if (max_frequency_hz > 0.0_dp .and. .not. sturm_check) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'sturm_check') // &
+            ' cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: the ' // &
+            'Sturm counts are how the shift windows find every mode below it; remove ' // &
+            'sturm_check = .false. or max_frequency_hz')
       else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &
             ', must lie in [0, 1e-2)')
@@ -151,7 +186,7 @@ contains
       end if
       input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
          lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, &
-         eigensolver)
+         eigensolver, max_frequency_hz, sturm_check)
    end subroutine read_modes_group
 
 end module ffrf_input_nml_modes

@@ -209,6 +209,8 @@ contains
          body%rc%redundancy, error)
       if (.not. allocated(error)) call write_sizes(h5, root // '/sizes', body, error)
       if (.not. allocated(error)) call write_solver(h5, path // '/solver', body, error)
+      if (.not. allocated(error) .and. body%eigen%n > 0) call write_sturm_check(h5, &
+         path // '/sturm_check', body%eigen, error)
       if (.not. allocated(error)) call write_fingerprint(h5, body%name, body%fingerprint, error)
       if (.not. allocated(error)) call h5%flush(error)
       if (allocated(error)) call add_context(error, 'body "' // body%name // '"')
@@ -258,6 +260,53 @@ contains
       end associate
       if (.not. allocated(error)) call write_memory_estimates(h5, path, body%eigen, error)
    end subroutine write_solver
+
+   !> The completeness proof of the modes (theory.md 5.7): the inertia of K - s M at `shift`
+   !> counts `count` eigenvalues below it (the deflated rigid-body modes included) and
+   !> `count_low` below `shift_low` (sigma, or a shift below the lowest mode when some lie below
+   !> sigma); every eigenvalue in [shift_low, shift) is among the returned modes (Craig-Bampton:
+   !> of the fixed-interface modes). rigid_modes deflated, windows, recoveries, the
+   !> factorisations made for counts (and window shifts; their wall time is the stage
+   !> "<body>: Sturm check" of /timings, so that these datasets depend on the input only).
+   !> Attribute `status`: 'proven', or 'off' (sturm_check = .false.: shift and count are then
+   !> those of the eigen shift).
+   subroutine write_sturm_check(h5, path, e, error)
+      type(h5_file_t), intent(inout) :: h5
+      character(len=*), intent(in) :: path
+      type(eigen_result_t), intent(in) :: e
+      type(error_t), allocatable, intent(out) :: error
+      call h5%write_real(path // '/shift', e%sturm_shift, 's^-2', error)
+      if (.not. allocated(error)) call h5%write_real(path // '/shift_hz', hz(e%sturm_shift), &
+         'Hz', error)
+      if (.not. allocated(error)) call h5%write_int(path // '/count', e%sturm_count, error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/count', 'units', '1', error)
+      if (.not. allocated(error)) call h5%write_real(path // '/shift_low', e%sturm_shift_low, &
+         's^-2', error)
+      if (.not. allocated(error)) call h5%write_int(path // '/count_low', e%sturm_count_low, &
+         error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/count_low', 'units', '1', &
+         error)
+      if (.not. allocated(error)) call h5%write_int(path // '/rigid_modes', e%num_rigid, error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/rigid_modes', 'units', '1', &
+         error)
+      if (.not. allocated(error)) call h5%write_int(path // '/windows', e%num_windows, error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/windows', 'units', '1', error)
+      if (.not. allocated(error)) call h5%write_int(path // '/recoveries', e%num_recoveries, &
+         error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/recoveries', 'units', '1', &
+         error)
+      if (.not. allocated(error)) call h5%write_int(path // '/count_factorisations', &
+         e%num_count_factorisations, error)
+      if (.not. allocated(error)) call h5%set_attribute(path // '/count_factorisations', &
+         'units', '1', error)
+      if (.not. allocated(error)) call h5%set_attribute(path, 'status', &
+         trim(merge('proven', 'off   ', e%sturm_checked)), error)
+   contains
+      pure real(dp) function hz(lambda)
+         real(dp), intent(in) :: lambda
+         hz = sign(sqrt(abs(lambda)), lambda) / (2.0_dp * acos(-1.0_dp))
+      end function hz
+   end subroutine write_sturm_check
 
    !> MUMPS analysis estimates and memory options next to the factor statistics (issue 12):
    !> estimated factor entries INFOG(20), flops RINFOG(1), MB in-core INFOG(16)/(17) and

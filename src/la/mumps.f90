@@ -171,6 +171,7 @@ module ffrf_la_mumps
       procedure, private :: mumps_solver_solve_many
       generic :: solve => mumps_solver_solve_one, mumps_solver_solve_many
       procedure :: is_factorised => mumps_solver_is_factorised
+      procedure :: is_analysed => mumps_solver_is_analysed
       procedure :: free => mumps_solver_free
       procedure :: set_memory_options => mumps_solver_set_memory_options
       procedure :: check_memory => mumps_solver_check_memory
@@ -456,6 +457,13 @@ contains
       logical :: ready
       ready = self%phase == phase_factorised
    end function mumps_solver_is_factorised
+
+   !> .true. once `analyse` succeeded (and until `free`): `factorise` may be called.
+   pure function mumps_solver_is_analysed(self) result(ready)
+      class(mumps_solver_t), intent(in) :: self
+      logical :: ready
+      ready = self%phase >= phase_analysed
+   end function mumps_solver_is_analysed
 
    !> Release the factors and the MUMPS instance (JOB = -2). Safe to call at any phase.
    subroutine mumps_solver_free(self)

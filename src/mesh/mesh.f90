@@ -12,6 +12,7 @@ module ffrf_mesh_mesh
    implicit none
    private
    public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
+   public :: face_connected_parts
 
    !> Tet10 edge k (node 4 + k) joins corners tet_edges(1, k) and tet_edges(2, k) (Gmsh order)
    integer(ip), parameter :: tet_edges(2, 6) = reshape([1, 2, 2, 3, 1, 3, 1, 4, 3, 4, 2, 4], &
@@ -769,6 +770,68 @@ contains
          'join the volumes so they share nodes (BooleanFragments or Coherence before meshing) ' // &
          'or make each piece a body of its own')
    end subroutine pieces_error
+
+   !> The parts of the body's tetrahedra connected through shared faces (three common corners):
+   !> union-find over the tetrahedra, each face matched in the list of tetrahedra at one of its
+   !> corners. extract_body has made the body one node-connected piece; more than one face-
+   !> connected part means parts that hinge on a node or an edge, each joint a motion without
+   !> strain. O(tetrahedra x tetrahedra per node).
+   subroutine face_connected_parts(body, num_parts, part_of_tet)
+      !> The body's mesh
+      type(mesh_t), intent(in) :: body
+      !> Number of face-connected parts
+      integer(ip), intent(out) :: num_parts
+      !> Part of each tetrahedron, 1..num_parts in the order of their first tetrahedron
+      integer(ip), allocatable, intent(out) :: part_of_tet(:)
+      integer(ip), allocatable :: start(:), list(:), fill(:), parent(:), part_of_root(:)
+      integer(ip) :: e, f, k, p, t, a, root, other, nt, corner(3)
+      nt = body%num_tets()
+      allocate (start(body%num_nodes + 1), source=0_ip)
+      do e = 1, nt
+         do k = 1, 4
+            start(body%tets(k, e) + 1) = start(body%tets(k, e) + 1) + 1
+         end do
+      end do
+      start(1) = 1
+      do k = 1, body%num_nodes
+         start(k + 1) = start(k + 1) + start(k)
+      end do
+      allocate (list(start(body%num_nodes + 1) - 1), fill(body%num_nodes))
+      fill = start(1:body%num_nodes)
+      do e = 1, nt
+         do k = 1, 4
+            a = body%tets(k, e)
+            list(fill(a)) = e
+            fill(a) = fill(a) + 1
+         end do
+      end do
+      parent = [(e, e=1, nt)]
+      do e = 1, nt
+         do f = 1, 4
+            corner = body%tets(tet_faces(:, f), e)
+            do p = start(corner(1)), start(corner(1) + 1) - 1
+               t = list(p)
+               if (t == e) cycle
+               if (.not. (any(body%tets(1:4, t) == corner(2)) .and. &
+                          any(body%tets(1:4, t) == corner(3)))) cycle
+               root = find_root(parent, e)
+               other = find_root(parent, t)
+               if (root /= other) parent(max(root, other)) = min(root, other)
+            end do
+         end do
+      end do
+      allocate (part_of_root(nt), source=0_ip)
+      allocate (part_of_tet(nt))
+      num_parts = 0
+      do e = 1, nt
+         root = find_root(parent, e)
+         if (part_of_root(root) == 0) then
+            num_parts = num_parts + 1
+            part_of_root(root) = num_parts
+         end if
+         part_of_tet(e) = part_of_root(root)
+      end do
+   end subroutine face_connected_parts
 
    !> Root of node `i` in the union-find forest, halving the path.
    function find_root(parent, i) result(root)

@@ -91,6 +91,8 @@ contains
       spec%memory_limit_mb = input%memory_limit_mb
       spec%compression_tolerance = input%compression_tolerance
       spec%eigensolver = input%eigensolver
+      spec%max_frequency_hz = input%max_frequency_hz
+      spec%sturm_check = input%sturm_check
       select case (to_lower(trim(input%formulation)))
       case ('multipliers')
          spec%formulation = FORMULATION_MULTIPLIERS

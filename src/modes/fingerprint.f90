@@ -9,7 +9,8 @@
 !> - material: Young's modulus, Poisson's ratio, density (exact decimal forms);
 !> - interfaces: their order, and per interface its MPC, RBE3 weighting, reference conditions,
 !>   virtual-node position (exact), node count and the hashes of its nodes and weights;
-!> - modes: number of modes, basis, formulation, shift, ARPACK tolerance and Lanczos basis size
+!> - modes: number of modes, basis, formulation, shift, ARPACK tolerance and Lanczos basis size,
+!>   the upper bound max_frequency_hz when set
 !>   (each changes the stored vectors at least in their last bits), and the candidates kept
 !>   when the automatic model kept a subset.
 !>
@@ -128,6 +129,9 @@ contains
          end if
          call add(c, 'tolerance', exact_text(modes%tolerance))
          call add(c, 'lanczos_vectors', to_str(modes%lanczos_vectors))
+         ! only when set: the fingerprints of modes computed without it stay as they were
+         if (modes%max_frequency_hz > 0.0_dp) call add(c, 'max_frequency_hz', &
+            exact_text(modes%max_frequency_hz))
       end associate
    end subroutine make_fingerprint
 

@@ -11,7 +11,7 @@ module ffrf_modes_modal_analysis
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t
-   use ffrf_mesh_mesh, only: mesh_t, extract_body
+   use ffrf_mesh_mesh, only: mesh_t, extract_body, face_connected_parts
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_assembly, only: assemble_stiffness_mass, body_mass_properties
    use ffrf_la_sparse, only: csr_t
@@ -20,7 +20,7 @@ module ffrf_modes_modal_analysis
       dofs_text
    use ffrf_mpc_reference_conditions, only: rc_summary_t, check_reference_conditions
    use ffrf_mpc_reduction, only: reduction_t, build_reduction, reduce_matrix, expand_vectors, &
-      FORMULATION_NONE, formulation_name
+      FORMULATION_NONE, formulation_name, reduced_coordinates
    use ffrf_modes_input, only: body_spec_t, modes_spec_t, BASIS_NONE, BASIS_CRAIG_BAMPTON
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert
    use ffrf_modes_craig_bampton, only: cb_result_t, craig_bampton_modes
@@ -29,8 +29,10 @@ module ffrf_modes_modal_analysis
    private
    public :: body_modes_t, compute_body_modes, sigma_of_shift
 
-   !> Number of rigid-body modes of a free body
-   integer, parameter :: NUM_RIGID_MODES = 6
+   !> A flexible eigenvalue below this fraction of the body's wave eigenvalue (2 pi f_wave)^2,
+   !> f_wave = sqrt(E/rho)/L, is a motion without strain (a slender beam's first bending mode
+   !> sits near 1e-4 of it, a loose part or a hinge at round-off, below 1e-12)
+   real(dp), parameter :: ZERO_ENERGY_FRACTION = 1.0e-8_dp
 
    !> The reduced flexible body: mesh, interfaces, RC set and its constrained normal modes.
    type :: body_modes_t
@@ -229,8 +231,8 @@ contains
          return
       end if
       if (body%rc%free_free) then
-         call log%info('rc', tag // ': no reference conditions: free-free modes, the six ' // &
-            'rigid modes are computed and skipped')
+         call log%info('rc', tag // ': no reference conditions: free-free modes (mean ' // &
+            'axes), the six rigid-body modes come from the geometry and are deflated')
       else
          call log%info('rc', tag // ': ' // to_str(body%rc%num_rc) // &
             ' reference conditions, all six rigid motions removed')
@@ -292,15 +294,15 @@ contains
       type(parallel_t), intent(in) :: ranks
       type(eigen_options_t) :: options
       type(stage_timer_t) :: timer
-      real(dp), allocatable :: psi(:, :)
+      real(dp), allocatable :: psi(:, :), rigid(:, :)
       integer :: num_rigid, first, k, num_modes
       character(len=:), allocatable :: tag
 
       tag = body%name
       call timer%begin()
       num_rigid = 0
-      if (body%rc%free_free) num_rigid = NUM_RIGID_MODES
-      options%num_modes = modes%num_modes + num_rigid
+      if (body%basis /= BASIS_CRAIG_BAMPTON) num_rigid = body%rc%num_free
+      options%num_modes = modes%num_modes
       if (modes%shift_hz == 0.0_dp) then
          options%sigma = sigma_of_shift(auto_shift_hz)
          call log%info('modes', tag // ': automatic shift ' // to_str(auto_shift_hz, 4) // &
@@ -308,6 +310,9 @@ contains
       else
          options%sigma = sigma_of_shift(modes%shift_hz)
       end if
+      options%sturm_check = modes%sturm_check
+      if (modes%max_frequency_hz > 0.0_dp) options%max_eigenvalue = &
+         sigma_of_shift(modes%max_frequency_hz)
       options%tolerance = modes%tolerance
       options%ncv = int(modes%lanczos_vectors, kind(options%ncv))
       options%parallel = ranks
@@ -321,39 +326,46 @@ contains
          call solve_craig_bampton(body, options, red, K_r, M_r, log, times, error)
          return
       end if
-      call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error)
+      if (num_rigid > 0) then
+         ! The rigid motions the reference conditions leave free, from the geometry
+         call rigid_body_modes(body%mesh%xyz, body%rc, red, rigid, error)
+         if (allocated(error)) return
+         call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error, rigid=rigid)
+      else
+         call solve_shift_invert(K_r, M_r, red%C, options, body%eigen, log, error)
+      end if
       if (allocated(error)) return
       call times%add(tag // ': ordering', body%eigen%time_ordering)
       call times%add(tag // ': analysis', body%eigen%time_analysis)
       call times%add(tag // ': factorisation', body%eigen%time_factorisation)
       call times%add(tag // ': eigen loop', body%eigen%time_lanczos)
+      call times%add(tag // ': Sturm check', body%eigen%time_sturm)
       call times%add(tag // ': eigen check', body%eigen%time_check)
 
+      first = 1
       associate (lambda => body%eigen%eigenvalues)
          if (num_rigid > 0) then
-            ! The six rigid modes must sit far below the first flexible one.
-            if (abs(lambda(num_rigid)) > 1.0e-4_dp * abs(lambda(num_rigid + 1))) then
-               call fatal_error(error, FFRF_NUMERIC_ERROR, 'free-free body: expected six ' // &
-                  'rigid modes near 0 Hz, but mode 6 is at ' // &
-                  to_str(frequency_of(lambda(num_rigid)), 6) // ' Hz and mode 7 at ' // &
-                  to_str(frequency_of(lambda(num_rigid + 1)), 6) // ' Hz; check the mesh ' // &
-                  'for loose parts (several volumes that do not share nodes)')
+            body%rigid_frequency_hz = [(frequency_of(body%eigen%rigid_eigenvalues(k)), &
+               k=1, num_rigid)]
+            call log%info('modes', tag // ': ' // to_str(num_rigid) // ' rigid-body modes ' // &
+               'from the geometry, deflated (' // to_str(maxval(abs(body%rigid_frequency_hz)), &
+               3) // ' Hz at most: round-off of 0)')
+            ! Six rigid motions removed exactly: a flexible mode at ~0 Hz is another motion
+            ! without strain
+            if (lambda(1) < ZERO_ENERGY_FRACTION * sigma_of_shift(-100.0_dp * auto_shift_hz)) then
+               call zero_energy_error(body, frequency_of(lambda(1)), count(lambda < &
+                  ZERO_ENERGY_FRACTION * sigma_of_shift(-100.0_dp * auto_shift_hz)), error)
                return
             end if
-            body%rigid_frequency_hz = [(frequency_of(lambda(k)), k=1, num_rigid)]
-            call log%info('modes', tag // ': six rigid modes at ' // &
-               to_str(minval(body%rigid_frequency_hz), 3) // ' .. ' // &
-               to_str(maxval(body%rigid_frequency_hz), 3) // ' Hz (round-off of 0), skipped')
          end if
-         first = num_rigid + 1
-         num_modes = size(lambda) - num_rigid
-         if (any(lambda(first:) <= 0.0_dp)) then
+         num_modes = size(lambda)
+         if (any(lambda <= 0.0_dp)) then
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'a constrained mode has a ' // &
-               'non-positive eigenvalue ' // to_str(minval(lambda(first:))) // &
+               'non-positive eigenvalue ' // to_str(minval(lambda)) // &
                ': the reference conditions do not remove all rigid motions')
             return
          end if
-         body%frequency_hz = [(frequency_of(lambda(k)), k=first, size(lambda))]
+         body%frequency_hz = [(frequency_of(lambda(k)), k=1, size(lambda))]
       end associate
       body%residual = body%eigen%residuals(first:)
       body%orthonormality_error = body%eigen%orthonormality_error
@@ -361,8 +373,9 @@ contains
          if (body%rc%free_free .and. abs(body%eigen%shift) < sigma_of_shift(-auto_shift_hz)) &
             then
             ! A free-free K - sigma M has condition ~ lambda_max / |sigma| near the rigid modes:
-            ! on the free-free Tet10 beam residuals 3e-5 at 1 Hz, 4e-7 at 10 Hz, 2e-10 at the
-            ! automatic -256 Hz (test_stability_free_body)
+            ! before they were deflated (theory.md 5.6) the free-free Tet10 beam's residuals were
+            ! 3e-5 at 1 Hz and 4e-7 at 10 Hz; now 3.5e-11 at both (test_stability_free_body),
+            ! so this message is a last resort
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'eigenpair residual ' // &
                to_str(maxval(body%residual), 3) // ' exceeds 1e-6: the modes are not ' // &
                'accurate; this free-free body has six rigid-body modes at 0 Hz and the shift ' &
@@ -467,6 +480,114 @@ contains
             to_str(body%residual(k), 3))
       end do
    end subroutine solve_craig_bampton
+
+   !> The rigid-body modes of the reduced body (theory.md 5.6): the rigid motions of the mesh
+   !> that the reference conditions leave free (rc%free_motions: all six for a free-free body),
+   !> u(x) = t + theta x (x - x_ref) at every node, in the reduced coordinates p with T p = u
+   !> (ffrf_mpc_reduction: RBE2 faces as the motion of their virtual node, null-space blocks by
+   !> projection), checked to lie in the range of T and in null(C) (the RBE3 reference
+   !> conditions of the multiplier form), both to 1e-10 relative.
+   subroutine rigid_body_modes(xyz, rc, red, rigid, error)
+      !> Node positions of the body (3, num_nodes), m
+      real(dp), intent(in) :: xyz(:, :)
+      !> The RC set's free motions
+      type(rc_summary_t), intent(in) :: rc
+      !> RC matrix q = T p and constraint rows C p = 0
+      type(reduction_t), intent(in) :: red
+      !> Rigid-body modes in the reduced coordinates, (num_reduced, rc%num_free)
+      real(dp), allocatable, intent(out) :: rigid(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: q(:, :), cp(:)
+      real(dp) :: t(3), theta(3), r(3), residual, row_norm
+      integer(ip) :: i, j, p
+      integer :: stat
+      allocate (q(3 * size(xyz, 2), rc%num_free), stat=stat)
+      if (stat /= 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'rigid-body modes: cannot allocate ' // &
+            to_str(rc%num_free) // ' vectors of ' // to_str(3 * size(xyz, 2)))
+         return
+      end if
+      do j = 1, int(rc%num_free, ip)
+         t = rc%free_motions(1:3, j)
+         theta = rc%free_motions(4:6, j) / rc%length
+         do i = 1, int(size(xyz, 2), ip)
+            r = xyz(:, i) - rc%reference_point
+            q(3 * i - 2:3 * i, j) = t + [theta(2) * r(3) - theta(3) * r(2), &
+               theta(3) * r(1) - theta(1) * r(3), theta(1) * r(2) - theta(2) * r(1)]
+         end do
+      end do
+      call reduced_coordinates(red, q, rigid, residual, error)
+      if (allocated(error)) return
+      if (residual > 1.0e-10_dp) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'rigid-body modes: a rigid motion the ' // &
+            'reference conditions leave free is not in the range of the RC matrix T ' // &
+            '(relative residual ' // to_str(residual, 3) // ')')
+         return
+      end if
+      if (red%C%num_rows == 0) return
+      allocate (cp(red%C%num_rows))
+      do j = 1, int(rc%num_free, ip)
+         do i = 1, red%C%num_rows
+            cp(i) = 0.0_dp
+            row_norm = 0.0_dp
+            do p = red%C%row_ptr(i), red%C%row_ptr(i + 1) - 1
+               cp(i) = cp(i) + red%C%val(p) * rigid(red%C%col(p), j)
+               row_norm = row_norm + red%C%val(p)**2
+            end do
+            cp(i) = abs(cp(i)) / max(sqrt(row_norm) * norm2(rigid(:, j)), tiny(1.0_dp))
+         end do
+         if (maxval(cp) > 1.0e-10_dp) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'rigid-body modes: rigid motion ' // &
+               to_str(j) // ' violates a reference-condition row (relative ' // &
+               to_str(maxval(cp), 3) // ')')
+            return
+         end if
+      end do
+   end subroutine rigid_body_modes
+
+   !> The error of a free body whose spectrum holds motions without strain besides the rigid
+   !> ones removed: names the cause found in the mesh (parts joined only at nodes or edges),
+   !> else what remains possible.
+   subroutine zero_energy_error(body, hz, num_zero, error)
+      type(body_modes_t), intent(in) :: body
+      !> Frequency of the first flexible mode (Hz)
+      real(dp), intent(in) :: hz
+      !> Flexible modes at ~0 Hz
+      integer, intent(in) :: num_zero
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip) :: num_parts
+      integer(ip), allocatable :: part_of_tet(:)
+      character(len=:), allocatable :: text
+      text = 'free body: ' // to_str(num_zero) // ' flexible mode(s) at ' // &
+         to_str(hz, 3) // ' Hz besides the ' // to_str(body%rc%num_free) // &
+         ' rigid-body modes, which are removed exactly from the geometry: the mesh moves ' // &
+         'without strain in another way. '
+      call face_connected_parts(body%mesh, num_parts, part_of_tet)
+      if (num_parts > 1) then
+         text = text // 'Its tetrahedra form ' // to_str(num_parts) // ' parts that share ' // &
+            'no face, only nodes or edges (a hinge), e.g. tetrahedron ' // &
+            to_str(body%mesh%tet_tags(first_of_part(part_of_tet, 2_ip))) // ' in part 2: ' // &
+            'join the volumes along faces (BooleanFragments before meshing) or make each ' // &
+            'part a body of its own'
+      else
+         text = text // 'Its tetrahedra share faces (one connected piece, no hinge): ' // &
+            'check for elements with no stiffness (E) or a mechanism in the interfaces'
+      end if
+      call fatal_error(error, FFRF_NUMERIC_ERROR, text)
+   end subroutine zero_energy_error
+
+   !> First tetrahedron of part p.
+   pure integer(ip) function first_of_part(part_of_tet, p) result(first)
+      integer(ip), intent(in) :: part_of_tet(:), p
+      integer(ip) :: e
+      first = 1
+      do e = 1, int(size(part_of_tet), ip)
+         if (part_of_tet(e) == p) then
+            first = e
+            return
+         end if
+      end do
+   end function first_of_part
 
    !> body%shape = psi (moved) and the virtual-node rows psi_V = G psi_B of every interface.
    subroutine set_shapes(body, psi)

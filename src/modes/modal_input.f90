@@ -45,9 +45,10 @@ module ffrf_modes_input
       integer :: formulation = FORMULATION_MULTIPLIERS
       !> Label of the reference-condition set, e.g. 'RC set 1', for the log
       character(len=64) :: rc_label = ''
-      !> Relative tolerance of ARPACK's Ritz values (0: machine precision). 1e-9 gives eigen
-      !> residuals ~1e-10 on the reference crank with ~25 % fewer solves than machine precision;
-      !> the frequencies (Rayleigh quotients) are accurate to about the residual squared.
+      !> Relative tolerance of the Ritz values (0: machine precision). Default 1e-9: eigen
+      !> residuals ~1e-10 on the reference crank with fewer solves than machine precision; the
+      !> frequencies (Rayleigh quotients) are accurate to about the residual squared (README
+      !> "Modes: spectra", measured)
       real(dp) :: tolerance = 1.0e-9_dp
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
       integer :: lanczos_vectors = 0
@@ -69,6 +70,12 @@ module ffrf_modes_input
       !> Not input: the run stops the eigen solve at its next solve on a signal
       !> (eigen_options_t%stop_on_signal); set by the modal run, not by mechanism runs
       logical :: stop_on_signal = .false.
+      !> Every mode below this frequency (Hz; Nastran EIGRL's upper bound), at most num_modes
+      !> (the smaller set wins), by shift windows; 0 (default): the num_modes lowest
+      real(dp) :: max_frequency_hz = 0.0_dp
+      !> Sturm check after convergence (one more factorisation, theory.md 5.7); always made with
+      !> max_frequency_hz
+      logical :: sturm_check = .true.
    end type modes_spec_t
 
 contains

@@ -19,153 +19,20 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
 
    character(len=*), parameter :: stage = 'modes'
 
-   !> KKT matrix (5.2b) in MUMPS coordinate form: upper triangle of K - sigma M followed by the
-   !> scaled C^T block in rows 1..n, columns n+1..n+num_constraints.
-   type :: kkt_t
-      integer(ip) :: n = 0
-      integer(ip) :: num_constraints = 0
-      integer(ip), allocatable :: irn(:), jcn(:)
-      real(dp), allocatable :: val(:)
-      !> Entries of the K - sigma M part (the first num_upper of irn/jcn/val)
-      integer(i8) :: num_upper = 0
-      !> Scale of each constraint row in the matrix (max|diag K| / max|C_r|)
-      real(dp), allocatable :: row_scale(:)
-   end type kkt_t
-
 contains
 
-   !> Eigenpairs of K x = lambda M x, C x = 0 nearest options%sigma (shift-invert Lanczos).
-   module subroutine solve_shift_invert(K, M, C, options, result, log, error, &
-         constraint_targets, constraint_solutions)
-      !> Stiffness matrix, n x n, symmetric, both triangles stored
-      type(csr_t), intent(in) :: K
-      !> Mass matrix, n x n, symmetric, both triangles, positive definite on null(C)
-      type(csr_t), intent(in) :: M
-      !> Constraint matrix, num_constraints x n, full row rank; may have no rows
-      type(csr_t), intent(in) :: C
-      !> Number of modes, shift and solver settings
-      type(eigen_options_t), intent(in) :: options
-      !> Eigenpairs and statistics
-      type(eigen_result_t), intent(out) :: result
-      !> Progress log
-      type(logger_t), intent(in) :: log
-      type(error_t), allocatable, intent(out) :: error
-      !> Right-hand sides t of C x = t, (num_constraints, nrhs); needs sigma = 0
-      real(dp), intent(in), optional :: constraint_targets(:, :)
-      !> Solutions x, (n, nrhs), when constraint_targets is given
-      real(dp), allocatable, intent(out), optional :: constraint_solutions(:, :)
-      type(kkt_t) :: kkt
-      type(mumps_solver_t) :: solver
-      type(interrupt_t) :: interrupt
-      real(dp) :: t_start, t0, sigma
-      real(dp), allocatable :: z(:, :)
-      character(len=:), allocatable :: method
-      integer(ip) :: n, nc, ncv, j
-
-      t_start = wall_time()
-      call check_input(K, M, C, options, n, nc, ncv, error)
-      if (allocated(error)) return
-      if (present(constraint_targets)) then
-         if (options%sigma /= 0.0_dp .or. size(constraint_targets, 1) /= nc .or. &
-            .not. present(constraint_solutions)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: constraint targets ' // &
-               'need sigma = 0 (now ' // to_str(options%sigma) // '), one row per ' // &
-               'constraint (' // to_str(size(constraint_targets, 1)) // ' rows for ' // &
-               to_str(nc) // ') and constraint_solutions')
-            return
-         end if
-      end if
-      result%n = n
-      result%num_constraints = nc
-      result%ncv = ncv
-      if (uses_block_method(options, n, nc)) then
-         method = 'block method'
-      else
-         method = 'ncv = ' // to_str(ncv)
-      end if
-      call log%info(stage, 'shift-invert Lanczos: n = ' // to_str(n) // ', ' // to_str(nc) // &
-         ' constraints, ' // to_str(options%num_modes) // ' modes nearest sigma = ' // &
-         to_str(options%sigma) // ', ' // method)
-
-      ! One factorisation of the KKT matrix (with fallbacks), then Lanczos on it.
-      sigma = options%sigma
-      call build_kkt(K, M, C, kkt, error)
-      if (allocated(error)) return
-      call factorise_shifted(K, M, options, kkt, sigma, solver, result, log, error)
-      ! a signal received during the (uninterruptible) analysis and factorisation stops here;
-      ! later ones at the eigen loop's checks
-      interrupt = interrupt_t(enabled=options%stop_on_signal, ranks=options%parallel)
-      if (.not. allocated(error)) call interrupt%check('after the MUMPS factorisation', error)
-      if (allocated(error)) then
-         call solver%free()
-         return
-      end if
-      result%shift = sigma
-
-      t0 = wall_time()
-      if (uses_block_method(options, n, nc)) then
-         call block_lanczos(M, options, nc, solver, interrupt, z, result, log, error)
-      else
-         result%eigensolver = 'arpack'
-         call lanczos(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, error)
-      end if
-      result%time_lanczos = wall_time() - t0
-      if (.not. allocated(error) .and. present(constraint_targets)) then
-         t0 = wall_time()
-         call constraint_solve(solver, kkt, sigma, constraint_targets, constraint_solutions, &
-            error)
-         result%time_constraint_solves = wall_time() - t0
-      end if
-      call solver%free()
-      if (allocated(error)) return
-      if (result%eigensolver == 'block') then
-         call log%info(stage, 'block Lanczos: ' // to_str(result%num_iterations) // &
-            ' restarts, ' // to_str(result%num_block_solves) // ' solves of ' // &
-            to_str(result%block_size) // ' right-hand sides (' // &
-            to_str(result%time_solves, 3) // ' s in MUMPS), ' // &
-            to_str(result%time_lanczos, 3) // ' s')
-      else
-         call log%info(stage, 'Lanczos: ' // to_str(result%num_iterations) // ' restarts, ' // &
-            to_str(result%num_solves) // ' solves (' // to_str(result%time_solves, 3) // &
-            ' s in MUMPS), ' // to_str(result%time_lanczos, 3) // ' s')
-      end if
-
-      t0 = wall_time()
-      call finish_pairs(K, M, C, z, result, error)
-      result%time_check = wall_time() - t0
-      if (allocated(error)) return
-      result%num_found_below_shift = count(result%eigenvalues < result%shift)
-      if (result%num_found_below_shift > result%num_below_shift) then
-         call log%note(stage, 'Sturm count ' // to_str(result%num_below_shift) // &
-            ' eigenvalues below the shift, but ' // to_str(result%num_found_below_shift) // &
-            ' returned ones lie below it; check the constraints (full row rank?)')
-      end if
-      do j = 1, result%num_modes
-         call log%debug(stage, '  mode ' // to_str(j) // ': lambda = ' // &
-            to_str(result%eigenvalues(j), 12) // ', residual ' // &
-            to_str(result%residuals(j), 3))
-      end do
-      result%time_total = wall_time() - t_start
-      call log%info(stage, to_str(result%num_modes) // ' eigenvalues ' // &
-         to_str(result%eigenvalues(1), 8) // ' .. ' // &
-         to_str(result%eigenvalues(result%num_modes), 8) // ', max residual ' // &
-         to_str(maxval(result%residuals), 2) // ', M-orthonormality ' // &
-         to_str(result%orthonormality_error, 2) // ', Sturm ' // &
-         to_str(result%num_below_shift) // ' below shift ... ' // to_str(result%time_total, 3) &
-         // ' s')
-   end subroutine solve_shift_invert
-
-   !> Sizes and settings; ncv from options (default max(2 nev + 1, 20)) capped by n - nc.
-   subroutine check_input(K, M, C, options, n, nc, ncv, error)
+   !> Sizes and settings. Without max_eigenvalue num_modes must leave room in the constrained
+   !> dimension n - nc - num_rigid; with it num_modes is a cap (the smaller set wins).
+   module subroutine check_input(K, M, C, options, num_rigid, n, nc, error)
       type(csr_t), intent(in) :: K, M, C
       type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(out) :: n, nc, ncv
+      integer(ip), intent(in) :: num_rigid
+      integer(ip), intent(out) :: n, nc
       type(error_t), allocatable, intent(out) :: error
-      integer(ip) :: dimension
+      integer(ip) :: dimension, ncv
 
       n = K%num_rows
       nc = C%num_rows
-      ncv = 0
       if (n < 1 .or. K%num_cols /= n .or. M%num_rows /= n .or. M%num_cols /= n) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: K is ' // &
             to_str(K%num_rows) // ' x ' // to_str(K%num_cols) // ' and M ' // &
@@ -190,12 +57,21 @@ contains
             ' rows but unallocated CSR arrays')
          return
       end if
-      dimension = n - nc
-      if (options%num_modes < 1 .or. options%num_modes >= dimension) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: num_modes = ' // &
-            to_str(options%num_modes) // ' must lie in 1 .. ' // to_str(dimension - 1) // &
-            ' (n - num_constraints - 1 = ' // to_str(n) // ' - ' // to_str(nc) // &
-            ' - 1); use a dense solver for so small a problem')
+      dimension = n - nc - num_rigid
+      if (options%num_modes < 1 .or. (options%max_eigenvalue <= 0.0_dp .and. &
+          options%num_modes >= dimension)) then
+         if (num_rigid > 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: num_modes = ' // &
+               to_str(options%num_modes) // ' must lie in 1 .. ' // to_str(dimension - 1) // &
+               ' (n - num_constraints - rigid modes - 1 = ' // to_str(n) // ' - ' // &
+               to_str(nc) // ' - ' // to_str(num_rigid) // ' - 1); use a dense solver for ' // &
+               'so small a problem')
+         else
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: num_modes = ' // &
+               to_str(options%num_modes) // ' must lie in 1 .. ' // to_str(dimension - 1) // &
+               ' (n - num_constraints - 1 = ' // to_str(n) // ' - ' // to_str(nc) // &
+               ' - 1); use a dense solver for so small a problem')
+         end if
          return
       end if
       if (options%max_iterations < 1) then
@@ -203,24 +79,42 @@ contains
             to_str(options%max_iterations) // ', must be positive')
          return
       end if
-      if (.not. ieee_is_finite(options%sigma)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma is not finite')
+      if (.not. ieee_is_finite(options%sigma) .or. .not. ieee_is_finite(options%max_eigenvalue)) &
+         then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma or max_eigenvalue is ' // &
+            'not finite')
          return
       end if
-      ncv = arpack_basis_size(options, dimension)
-      if (ncv <= options%num_modes) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: ncv = ' // to_str(ncv) // &
-            ' must exceed num_modes = ' // to_str(options%num_modes) // &
-            '; raise ncv (about 2 num_modes, at most n - num_constraints = ' // &
-            to_str(dimension) // ')')
+      if (options%max_eigenvalue > 0.0_dp .and. options%sigma >= options%max_eigenvalue) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma = ' // &
+            to_str(options%sigma) // ' is not below max_eigenvalue = ' // &
+            to_str(options%max_eigenvalue) // '; the windows run from sigma up')
          return
+      end if
+      if (options%window_size < 1) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: window_size = ' // &
+            to_str(options%window_size) // ', must be positive')
+         return
+      end if
+      ! A given basis size must exceed the modes of a single window (with slicing, windows
+      ! whose nev reaches it take the automatic size)
+      if (options%max_eigenvalue <= 0.0_dp .and. options%num_modes <= options%window_size .and. &
+          options%ncv > 0) then
+         ncv = arpack_basis_size(options, options%num_modes, dimension)
+         if (ncv <= options%num_modes) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: ncv = ' // to_str(ncv) // &
+               ' must exceed num_modes = ' // to_str(options%num_modes) // &
+               '; raise ncv (about 2 num_modes, at most n - num_constraints = ' // &
+               to_str(dimension) // ')')
+            return
+         end if
       end if
    end subroutine check_input
 
    !> Pattern of the KKT matrix: union pattern of K and M (upper triangle, csr_add keeps all
    !> entries whatever their value, so the pattern does not depend on sigma) and C^T scaled row
    !> by row to max|diag K| (toolchain.md pitfall 7; a row scaling keeps null(C)).
-   subroutine build_kkt(K, M, C, kkt, error)
+   module subroutine build_kkt(K, M, C, kkt, error)
       type(csr_t), intent(in) :: K, M, C
       type(kkt_t), intent(out) :: kkt
       type(error_t), allocatable, intent(out) :: error
@@ -293,7 +187,7 @@ contains
 
    !> x of [[K, C^T], [C, 0]] [x; mu] = [0; t] for each column t of `targets`, with the factors
    !> of the KKT matrix at sigma = 0 (the scaled rows take scaled targets).
-   subroutine constraint_solve(solver, kkt, sigma, targets, solutions, error)
+   module subroutine constraint_solve(solver, kkt, sigma, targets, solutions, error)
       type(mumps_solver_t), intent(inout) :: solver
       type(kkt_t), intent(in) :: kkt
       !> The shift of the factors (must still be 0 after any retry)
@@ -354,7 +248,7 @@ contains
    !> Analyse and factorise the KKT matrix at `sigma`. SPD (SYM = 1) is tried when there are no
    !> constraints and sigma < 0; negative pivots send it to SYM = 2. Null pivots (sigma on an
    !> eigenvalue) or a singular matrix move sigma once, if allowed, and refactorise.
-   subroutine factorise_shifted(K, M, options, kkt, sigma, solver, result, log, error)
+   module subroutine factorise_shifted(K, M, options, kkt, sigma, solver, result, log, error)
       type(csr_t), intent(in) :: K, M
       type(eigen_options_t), intent(in) :: options
       type(kkt_t), intent(inout) :: kkt
@@ -452,6 +346,90 @@ contains
          return
       end if
    end subroutine factorise_shifted
+
+   !> Symmetric indefinite factorisation at s for its inertia (module header). The Sturm count
+   !> of theory.md 5.3: eigenvalues below s = negative pivots - constraint rows.
+   module subroutine factorise_count(K, M, options, kkt, s, low, high, solver, result, log, &
+         error, count, record_analysis)
+      type(csr_t), intent(in) :: K, M
+      type(eigen_options_t), intent(in) :: options
+      type(kkt_t), intent(inout) :: kkt
+      !> Shift; moved inside (low, high) when it is numerically an eigenvalue
+      real(dp), intent(inout) :: s
+      !> Interval known to hold no eigenvalue near s (its ends may be eigenvalues)
+      real(dp), intent(in) :: low, high
+      type(mumps_solver_t), intent(inout) :: solver
+      type(eigen_result_t), intent(inout) :: result
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      !> Eigenvalues of the constrained problem below s
+      integer(ip), intent(out) :: count
+      !> A new analysis records its estimates in result
+      logical, intent(in), optional :: record_analysis
+      real(dp), parameter :: fractions(3) = [0.75_dp, 0.25_dp, 0.9_dp]
+      type(eigen_result_t) :: scratch
+      real(dp) :: t0
+      integer :: attempt
+      logical :: singular
+      count = 0
+      t0 = wall_time()
+      if (.not. solver%is_analysed() .or. solver%sym /= MUMPS_SYM_INDEFINITE) then
+         ! A new analysis (the SPD one of the eigen shift cannot count negative pivots); its
+         ! estimates stay those of the eigen shift's in the result
+         call solver%free()
+         if (present(record_analysis)) then
+            if (record_analysis) then
+               call start_solver(kkt, MUMPS_SYM_INDEFINITE, options, solver, result, log, error)
+            else
+               call start_solver(kkt, MUMPS_SYM_INDEFINITE, options, solver, scratch, log, error)
+            end if
+         else
+            call start_solver(kkt, MUMPS_SYM_INDEFINITE, options, solver, scratch, log, error)
+         end if
+         if (allocated(error)) return
+      end if
+      do attempt = 0, size(fractions)
+         call shift_values(K, M, s, kkt, error)
+         if (allocated(error)) return
+         call solver%factorise(kkt%val, error)
+         result%num_count_factorisations = result%num_count_factorisations + 1
+         singular = .false.
+         if (allocated(error)) then
+            if (solver%status /= -10) then
+               call add_context(error, 'shift-invert, inertia at s = ' // to_str(s, 12))
+               return
+            end if
+            singular = .true.
+            deallocate (error)
+         end if
+         if (.not. singular .and. solver%num_null_pivots == 0) exit
+         if (attempt == size(fractions)) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: K - s M is singular ' // &
+               'at every shift tried in (' // to_str(low, 12) // ', ' // to_str(high, 12) // &
+               '), last s = ' // to_str(s, 12) // ' (' // to_str(solver%num_null_pivots) // &
+               ' null pivots): the constraint rows are linearly dependent or a dof has ' // &
+               'neither stiffness nor mass; check C')
+            return
+         end if
+         call log%note(stage, 's = ' // to_str(s, 12) // ' is numerically an eigenvalue (' // &
+            to_str(solver%num_null_pivots) // ' null pivots, MUMPS INFOG(1) = ' // &
+            to_str(solver%status) // '); moved to ' // &
+            to_str(low + fractions(attempt + 1) * (high - low), 12))
+         s = low + fractions(attempt + 1) * (high - low)
+      end do
+      count = solver%num_negative_pivots - kkt%num_constraints
+      result%time_sturm = result%time_sturm + (wall_time() - t0)
+      if (count < 0) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: the KKT matrix has ' // &
+            to_str(solver%num_negative_pivots) // ' negative pivots, fewer than the ' // &
+            to_str(kkt%num_constraints) // ' constraint rows; C is rank deficient')
+         return
+      end if
+      call log%debug(stage, 'inertia at s = ' // to_str(s, 10) // ': ' // &
+         to_str(solver%num_negative_pivots) // ' negative pivots - ' // &
+         to_str(kkt%num_constraints) // ' constraint rows = ' // to_str(count) // &
+         ' eigenvalues below s (' // to_str(solver%time_factorisation, 3) // ' s)')
+   end subroutine factorise_count
 
    !> init + analyse (METIS ordering) of the KKT pattern, with null-pivot detection on.
    subroutine start_solver(kkt, sym, options, solver, result, log, error)
@@ -564,116 +542,268 @@ contains
    !> MB of the eigensolver's vectors while the factors live: ARPACK's basis (ncv), workd (3),
    !> resid, the Ritz vectors and the right-hand side; the block method's V and M V (basis +
    !> block each), the block, its M product, the right-hand sides and their copies in the
-   !> solve (5 blocks) and the Ritz vectors.
+   !> solve (5 blocks) and the Ritz vectors. Those of one window (nev = min(num_modes,
+   !> window_size)); with windows the deflated vectors and their M products on top (the six
+   !> rigid ones and two windows). The returned vectors of a sliced run are not counted.
    pure function eigen_workspace_mb(options, n, nc) result(mb)
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: n, nc
       integer(i8) :: mb, columns
+      integer(ip) :: nev
       type(block_krylov_settings_t) :: settings
-      if (uses_block_method(options, n, nc)) then
-         settings = default_block_settings(options%num_modes, options%ncv, n - nc)
+      logical :: windows
+      windows = options%max_eigenvalue > 0.0_dp .or. options%num_modes > options%window_size
+      nev = options%num_modes
+      if (windows) nev = min(options%num_modes, options%window_size) + window_guard(options)
+      if (eigensolver_of(options, n, nc) == 'block') then
+         settings = default_block_settings(nev, options%ncv, n - nc)
          columns = 2 * (settings%max_basis + settings%block_size) + 5 * settings%block_size + &
-            options%num_modes
+            nev
       else
-         columns = arpack_basis_size(options, n - nc) + 6 + options%num_modes
+         columns = arpack_basis_size(options, nev, n - nc) + 6 + nev
       end if
+      if (windows) columns = columns + 2 * (6 + 2 * nev)
       mb = (8_i8 * int(n + nc, i8) * columns + 1048575_i8) / 1048576_i8
    end function eigen_workspace_mb
 
-   !> ARPACK's ncv: options%ncv, else max(2 num_modes + 1, 20), capped by the constrained
-   !> dimension n - nc.
-   pure integer(ip) function arpack_basis_size(options, dimension) result(ncv)
+   !> ARPACK's ncv for nev wanted pairs: options%ncv when it exceeds nev, else max(2 nev + 1,
+   !> 20), capped by the constrained dimension.
+   pure integer(ip) function arpack_basis_size(options, nev, dimension) result(ncv)
       type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: dimension
-      if (options%ncv > 0) then
+      integer(ip), intent(in) :: nev, dimension
+      if (options%ncv > nev .or. (options%ncv > 0 .and. nev == options%num_modes)) then
          ncv = options%ncv
       else
-         ncv = max(2 * options%num_modes + 1, 20_ip)
+         ncv = max(2 * nev + 1, 20_ip)
       end if
       ncv = min(ncv, dimension)
    end function arpack_basis_size
 
-   !> eigensolver = 'block', or 'auto' on a constrained dimension of AUTO_BLOCK_MIN_DOFS or more.
-   pure logical function uses_block_method(options, n, nc)
+   !> Guard eigenpairs computed above a window so that its upper boundary can sit in a gap of
+   !> the spectrum: a tenth of the window, at least 2.
+   pure integer(ip) function window_guard(options) result(guard)
+      type(eigen_options_t), intent(in) :: options
+      guard = max(2_ip, options%window_size / 10)
+   end function window_guard
+
+   !> 'block' for eigensolver = 'block', or 'auto' on a constrained dimension of
+   !> AUTO_BLOCK_MIN_DOFS or more; else 'arpack'.
+   pure module function eigensolver_of(options, n, nc) result(name)
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: n, nc
+      character(len=:), allocatable :: name
       select case (options%eigensolver)
       case ('block')
-         uses_block_method = .true.
+         name = 'block'
       case ('arpack')
-         uses_block_method = .false.
+         name = 'arpack'
       case default
-         uses_block_method = n - nc >= AUTO_BLOCK_MIN_DOFS
+         name = merge('block ', 'arpack', n - nc >= AUTO_BLOCK_MIN_DOFS)
+         name = trim(name)
       end select
-   end function uses_block_method
+   end function eigensolver_of
+
+   !> One eigen solve on the current factors (module header of ffrf_modes_shift_invert).
+   module subroutine eigen_window(K, M, options, eigensolver, nev, nc, sigma, solver, &
+         interrupt, deflation, z, lambda, result, log, error)
+      type(csr_t), intent(in) :: K, M
+      type(eigen_options_t), intent(in) :: options
+      character(len=*), intent(in) :: eigensolver
+      integer(ip), intent(in) :: nev, nc
+      real(dp), intent(in) :: sigma
+      type(mumps_solver_t), intent(inout) :: solver
+      type(interrupt_t), intent(in) :: interrupt
+      type(deflation_t), intent(in) :: deflation
+      real(dp), allocatable, intent(out) :: z(:, :), lambda(:)
+      type(eigen_result_t), intent(inout) :: result
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: x(:), kx(:), mx(:), norms(:), raw(:, :)
+      integer(ip), allocatable :: order(:)
+      integer(i8) :: solves_before
+      real(dp) :: time_before
+      integer(ip) :: n, j, i, dimension, ncv
+      n = M%num_rows
+      solves_before = solver%num_solves
+      time_before = solver%time_solve
+      dimension = n - nc
+      if (allocated(deflation%X)) dimension = dimension - int(size(deflation%X, 2), ip)
+      ! 'block if possible' (a recovery): the block method when its sizes fit, else ARPACK;
+      ! 'block' as asked refuses a problem too small for it (block_krylov_eigen's message)
+      if (eigensolver == 'block' .or. (eigensolver == 'block if possible' .and. &
+          block_fits(nev, options%ncv, dimension))) then
+         call block_lanczos(M, options, nev, nc, solver, interrupt, deflation, z, result, log, &
+            error)
+      else
+         ncv = arpack_basis_size(options, nev, dimension)
+         if (ncv <= nev) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: ncv = ' // to_str(ncv) // &
+               ' must exceed ' // to_str(nev) // ' wanted pairs; raise ncv (about twice the ' // &
+               'wanted pairs, at most n - num_constraints = ' // to_str(dimension) // ')')
+            return
+         end if
+         result%ncv = ncv
+         call lanczos(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, result, &
+            log, error)
+      end if
+      result%num_solves = result%num_solves + (solver%num_solves - solves_before)
+      result%time_solves = result%time_solves + (solver%time_solve - time_before)
+      if (allocated(error)) return
+      if (allocated(deflation%X)) then
+         ! what the last projection removes: the round-off the eigen loop let into the basis
+         norms = [(norm2(z(:, j)), j=1, nev)]
+         raw = z
+         call project_deflation(deflation, z)
+         call log%debug(stage, 'deflated components removed from the Ritz vectors: ' // &
+            to_str(maxval([(norm2(raw(:, j) - z(:, j)) / max(norms(j), tiny(1.0_dp)), &
+            j=1, nev)]), 2) // ' of their norm at most')
+      end if
+      ! Rayleigh quotients of normalised copies (z itself stays as the eigensolver returned it)
+      allocate (x(n), kx(n), mx(n), lambda(nev))
+      do j = 1, nev
+         call csr_matvec(M, z(:, j), mx)
+         call csr_matvec(K, z(:, j), kx)
+         lambda(j) = dot_product(z(:, j), kx) / max(dot_product(z(:, j), mx), tiny(1.0_dp))
+      end do
+      order = [(j, j=1, nev)]
+      do j = 2, nev
+         i = j
+         do while (i > 1)
+            if (lambda(order(i - 1)) <= lambda(order(i))) exit
+            order([i - 1, i]) = order([i, i - 1])
+            i = i - 1
+         end do
+      end do
+      lambda = lambda(order)
+      z = z(:, order)
+   end subroutine eigen_window
+
+   !> The block method's default sizes fit nev pairs in the dimension (else ARPACK is used).
+   pure logical function block_fits(nev, basis, dimension)
+      integer(ip), intent(in) :: nev, basis, dimension
+      type(block_krylov_settings_t) :: settings
+      settings = default_block_settings(nev, basis, dimension)
+      block_fits = settings%block_size >= 1 .and. settings%max_basis >= nev + &
+         settings%block_size .and. settings%kept >= nev .and. settings%kept + &
+         settings%block_size <= settings%max_basis .and. settings%max_basis + &
+         settings%block_size <= dimension
+   end function block_fits
+
+   !> y = y - X (M X)^T y, twice.
+   module subroutine project_deflation(deflation, y)
+      type(deflation_t), intent(in) :: deflation
+      real(dp), intent(inout) :: y(:, :)
+      real(dp), allocatable :: coefficients(:, :)
+      integer(ip) :: n, d, m, pass
+      if (.not. allocated(deflation%X)) return
+      n = int(size(y, 1), ip)
+      d = int(size(deflation%X, 2), ip)
+      m = int(size(y, 2), ip)
+      if (d == 0 .or. m == 0) return
+      allocate (coefficients(d, m))
+      do pass = 1, 2
+         call dgemm('T', 'N', d, m, n, 1.0_dp, deflation%MX, n, y, n, 0.0_dp, coefficients, d)
+         call dgemm('N', 'N', n, m, d, -1.0_dp, deflation%X, n, coefficients, d, 1.0_dp, y, n)
+      end do
+   end subroutine project_deflation
+
+   !> y = y - X (M X)^T y for one vector, twice (the ARPACK loop).
+   subroutine project_vector(deflation, y)
+      type(deflation_t), intent(in) :: deflation
+      real(dp), contiguous, intent(inout) :: y(:)
+      real(dp), allocatable :: coefficients(:)
+      integer(ip) :: n, d, pass
+      n = int(size(y), ip)
+      d = int(size(deflation%X, 2), ip)
+      if (d == 0) return
+      allocate (coefficients(d))
+      do pass = 1, 2
+         call dgemm('T', 'N', d, 1_ip, n, 1.0_dp, deflation%MX, n, y, n, 0.0_dp, coefficients, d)
+         call dgemm('N', 'N', n, 1_ip, d, -1.0_dp, deflation%X, n, coefficients, d, 1.0_dp, y, n)
+      end do
+   end subroutine project_vector
 
    !> Block shift-invert Lanczos (ffrf_modes_block_krylov) on the KKT factors; Ritz vectors z.
-   subroutine block_lanczos(M, options, nc, solver, interrupt, z, result, log, error)
+   subroutine block_lanczos(M, options, nev, nc, solver, interrupt, deflation, z, result, log, &
+         error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: nc
+      integer(ip), intent(in) :: nev, nc
       type(mumps_solver_t), intent(inout) :: solver
       !> Checked before every block solve
       type(interrupt_t), intent(in) :: interrupt
+      type(deflation_t), intent(in) :: deflation
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
       type(block_krylov_settings_t) :: settings
       type(block_krylov_stats_t) :: stats
-      settings = default_block_settings(options%num_modes, options%ncv, M%num_rows - nc)
+      integer(ip) :: dimension
+      dimension = M%num_rows - nc
+      if (allocated(deflation%X)) dimension = dimension - int(size(deflation%X, 2), ip)
+      settings = default_block_settings(nev, options%ncv, dimension)
       result%eigensolver = 'block'
       result%block_size = settings%block_size
       result%ncv = settings%max_basis
-      call block_krylov_eigen(M, nc, options%num_modes, settings, options%tolerance, &
-         options%max_iterations, solver, z, stats, log, error, interrupt)
-      result%num_solves = solver%num_solves
-      result%time_solves = solver%time_solve
-      result%num_iterations = stats%num_restarts
-      result%num_block_solves = stats%num_block_solves
+      if (allocated(deflation%X)) then
+         call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
+            options%max_iterations, solver, z, stats, log, error, interrupt, deflation%X, &
+            deflation%MX)
+      else
+         call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
+            options%max_iterations, solver, z, stats, log, error, interrupt)
+      end if
+      result%num_iterations = result%num_iterations + stats%num_restarts
+      result%num_block_solves = result%num_block_solves + stats%num_block_solves
    end subroutine block_lanczos
 
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
    !> ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at a
    !> time in the process (a serial section), so that distinct handles may run in threads.
-   subroutine lanczos(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, error)
+   subroutine lanczos(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, result, &
+         log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: ncv, nc
+      integer(ip), intent(in) :: nev, ncv, nc
       real(dp), intent(in) :: sigma
       type(mumps_solver_t), intent(inout) :: solver
       !> Checked before every solve
       type(interrupt_t), intent(in) :: interrupt
+      !> Deflated subspace (rigid modes, modes of earlier windows); none when X is unallocated
+      type(deflation_t), intent(in) :: deflation
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
       call enter_serial_section(SECTION_ARPACK)
-      call lanczos_in_section(M, options, ncv, nc, sigma, solver, interrupt, z, result, log, &
-         error)
+      call lanczos_in_section(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, &
+         result, log, error)
       call leave_serial_section(SECTION_ARPACK)
    end subroutine lanczos
 
    !> lanczos inside the ARPACK serial section.
-   subroutine lanczos_in_section(M, options, ncv, nc, sigma, solver, interrupt, z, result, &
-         log, error)
+   subroutine lanczos_in_section(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, &
+         z, result, log, error)
       type(csr_t), intent(in) :: M
       type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: ncv, nc
+      integer(ip), intent(in) :: nev, ncv, nc
       real(dp), intent(in) :: sigma
       type(mumps_solver_t), intent(inout) :: solver
       type(interrupt_t), intent(in) :: interrupt
+      type(deflation_t), intent(in) :: deflation
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: resid(:), v(:, :), workd(:), workl(:), rhs(:), d(:)
       logical, allocatable :: selected(:)
-      integer(ip) :: iparam(11), ipntr(11), ido, info, lworkl, n, nev, x0, y0, stat
+      integer(ip) :: iparam(11), ipntr(11), ido, info, lworkl, n, x0, y0, stat
       real(dp) :: tol
+      logical :: deflating
 
       n = M%num_rows
-      nev = options%num_modes
+      deflating = allocated(deflation%X)
       lworkl = ncv * (ncv + 8)
       allocate (resid(n), v(n, ncv), workd(3 * n), workl(lworkl), selected(ncv), d(nev), &
                 z(n, nev), rhs(n + nc), stat=stat)
@@ -683,6 +813,7 @@ contains
          return
       end if
       call start_vector(resid)
+      if (deflating) call project_vector(deflation, resid)
       tol = options%tolerance
       iparam = 0
       iparam(1) = 1                       ! exact shifts
@@ -704,6 +835,7 @@ contains
             call csr_matvec(M, workd(x0:x0 + n - 1), rhs(1:n))
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
+            if (deflating) call project_vector(deflation, rhs(1:n))
             workd(y0:y0 + n - 1) = rhs(1:n)
          case (1)                         ! M x is in workd(ipntr(3))
             call check_interrupt(error)
@@ -711,6 +843,7 @@ contains
             rhs(1:n) = workd(ipntr(3):ipntr(3) + n - 1)
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
+            if (deflating) call project_vector(deflation, rhs(1:n))
             workd(y0:y0 + n - 1) = rhs(1:n)
          case (2)                         ! y = M x
             call csr_matvec(M, workd(x0:x0 + n - 1), workd(y0:y0 + n - 1))
@@ -722,9 +855,7 @@ contains
             return
          end select
       end do
-      result%num_solves = solver%num_solves
-      result%time_solves = solver%time_solve
-      result%num_iterations = iparam(3)
+      result%num_iterations = result%num_iterations + iparam(3)
       call log%debug(stage, 'dsaupd: info = ' // to_str(info) // ', ' // to_str(iparam(5)) // &
          ' converged, ' // to_str(iparam(9)) // ' OP, ' // to_str(iparam(10)) // ' B, ' // &
          to_str(iparam(11)) // ' reorthogonalisation steps')
@@ -787,7 +918,7 @@ contains
 
    !> Normalise (x^T M x = 1), Rayleigh quotients, sort ascending, residuals (projected onto
    !> null(C)) and M-orthonormality; fills result%eigenvalues/vectors/residuals.
-   subroutine finish_pairs(K, M, C, z, result, error)
+   module subroutine finish_pairs(K, M, C, z, result, error)
       type(csr_t), intent(in) :: K, M, C
       real(dp), intent(inout) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result

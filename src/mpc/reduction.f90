@@ -14,10 +14,11 @@ module ffrf_mpc_reduction
    use ffrf_core_strings, only: to_str
    use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_transpose, csr_row_gram
    use ffrf_la_dense, only: null_space, symmetric_eigen
+   use ffrf_la_lapack, only: dposv
    use ffrf_mpc_interface, only: interface_t, MPC_RBE2, MPC_RBE3, DOF_NAMES
    implicit none
    private
-   public :: reduction_t, build_reduction, reduce_matrix, expand_vectors
+   public :: reduction_t, build_reduction, reduce_matrix, expand_vectors, reduced_coordinates
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
 
    !> No reduction built (a body without modes)
@@ -43,6 +44,12 @@ module ffrf_mpc_reduction
       type(csr_t) :: C
       !> "interface dof" of each constraint row, for messages
       character(len=80), allocatable :: constraint_labels(:)
+      !> Per interface: first reduced column of the block of new columns that replaces its node
+      !> dofs, and their number (0: the interface owns no nodes)
+      integer(ip), allocatable :: block_first(:), block_columns(:)
+      !> Per interface: the block's columns are orthonormal (the SVD null spaces of RBE3 in the
+      !> null-space formulation), so B^T B = I
+      logical, allocatable :: block_orthonormal(:)
    end type reduction_t
 
    !> Per-interface dense block: the owned node dofs in terms of new reduced columns.
@@ -104,6 +111,9 @@ contains
 
       ! Reduced columns: the dofs of nodes nobody owns, then each owner's new columns.
       allocate (column_of(red%num_full), source=0_ip)
+      allocate (red%block_first(size(interfaces)), red%block_columns(size(interfaces)), &
+         source=0_ip)
+      allocate (red%block_orthonormal(size(interfaces)), source=.false.)
       next_column = 0
       do i = 1, num_nodes
          if (owner(i) /= 0) cycle
@@ -115,6 +125,9 @@ contains
       do k = 1, size(interfaces)
          if (.not. allocated(blocks(k)%B)) cycle
          blocks(k)%first_column = next_column + 1
+         red%block_first(k) = next_column + 1
+         red%block_columns(k) = int(size(blocks(k)%B, 2), ip)
+         red%block_orthonormal(k) = interfaces(k)%mpc == MPC_RBE3
          next_column = next_column + int(size(blocks(k)%B, 2), ip)
       end do
       red%num_reduced = next_column
@@ -328,6 +341,74 @@ contains
          end do
       end do
    end subroutine expand_vectors
+
+   !> p with T p = q for vectors q in the range of T (columns), as the least-squares solution
+   !> p = (T^T T)^-1 T^T q. T^T T is block diagonal: 1 for the nodal dofs T keeps, B^T B for the
+   !> block B of an owned interface (at most 6 columns for an RBE2; the identity for the
+   !> orthonormal SVD null spaces of an RBE3). Used for the rigid-body motions of the mesh
+   !> (ffrf_modes_modal_analysis), which lie in the range of T when the reference conditions
+   !> leave them free. `residual`: max over the columns of ||T p - q|| / ||q|| (0 for q in the
+   !> range of T, up to round-off).
+   subroutine reduced_coordinates(red, q, p, residual, error)
+      !> Reduction
+      type(reduction_t), intent(in) :: red
+      !> Full vectors, (num_full, m)
+      real(dp), intent(in) :: q(:, :)
+      !> Reduced vectors, (num_reduced, m)
+      real(dp), allocatable, intent(out) :: p(:, :)
+      !> Largest relative residual ||T p - q|| / ||q|| of the columns
+      real(dp), intent(out) :: residual
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: normal(:, :), g(:, :), tq(:, :)
+      integer(ip) :: i, k, l, a, b, first, last, c, info
+      integer :: blk, j
+      residual = 0.0_dp
+      if (red%is_identity) then
+         p = q
+         return
+      end if
+      ! g = T^T q
+      allocate (p(red%num_reduced, size(q, 2)), source=0.0_dp)
+      do i = 1, red%T%num_rows
+         do k = red%T%row_ptr(i), red%T%row_ptr(i + 1) - 1
+            p(red%T%col(k), :) = p(red%T%col(k), :) + red%T%val(k) * q(i, :)
+         end do
+      end do
+      ! (B^T B) p_B = g_B for each owned block whose columns are not orthonormal
+      do blk = 1, size(red%block_columns)
+         c = red%block_columns(blk)
+         if (c == 0 .or. red%block_orthonormal(blk)) cycle
+         first = red%block_first(blk)
+         last = first + c - 1
+         allocate (normal(c, c), source=0.0_dp)
+         do i = 1, red%T%num_rows
+            do k = red%T%row_ptr(i), red%T%row_ptr(i + 1) - 1
+               a = red%T%col(k)
+               if (a < first .or. a > last) cycle
+               do l = red%T%row_ptr(i), red%T%row_ptr(i + 1) - 1
+                  b = red%T%col(l)
+                  if (b < first .or. b > last) cycle
+                  normal(a - first + 1, b - first + 1) = normal(a - first + 1, b - first + 1) + &
+                     red%T%val(k) * red%T%val(l)
+               end do
+            end do
+         end do
+         g = p(first:last, :)
+         call dposv('U', c, int(size(q, 2), ip), normal, c, g, c, info)
+         if (info /= 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'reduced coordinates: the block of ' // &
+               'interface ' // to_str(blk) // ' has dependent columns (dposv info = ' // &
+               to_str(info) // ')')
+            return
+         end if
+         p(first:last, :) = g
+         deallocate (normal)
+      end do
+      call expand_vectors(red, p, tq)
+      do j = 1, size(q, 2)
+         residual = max(residual, norm2(tq(:, j) - q(:, j)) / max(norm2(q(:, j)), tiny(1.0_dp)))
+      end do
+   end subroutine reduced_coordinates
 
    !> 'multipliers', 'null_space' or 'none' (the &modes key's words), for logs and results.
    pure function formulation_name(formulation) result(name)

@@ -24,6 +24,15 @@ module ffrf_mpc_reference_conditions
       integer :: redundancy = 0
       !> No RC at all: free-free modes, six rigid modes to skip
       logical :: free_free = .false.
+      !> Rigid-body motions the RC set leaves free: 6 - rigid_rank (6 for a free-free body, 0
+      !> for an accepted RC set, which must remove all six)
+      integer :: num_free = 0
+      !> Those motions as columns 1..num_free, orthonormal, in the scaled coordinates
+      !> [t; theta * length] of a body motion u(x) = t + theta x (x - reference_point)
+      real(dp) :: free_motions(6, 6) = 0.0_dp
+      !> Point the rotations are about (m) and the length their columns are scaled by (m)
+      real(dp) :: reference_point(3) = 0.0_dp
+      real(dp) :: length = 1.0_dp
    end type rc_summary_t
 
 contains
@@ -51,11 +60,6 @@ contains
       do k = 1, size(interfaces)
          summary%num_rc = summary%num_rc + count(interfaces(k)%rc)
       end do
-      if (summary%num_rc == 0) then
-         summary%free_free = .true.
-         return
-      end if
-
       ! Rows of D R: the RC components of each virtual node's rigid motion, rotations scaled by the
       ! body size so that the rank test is dimensionless.
       length = 0.0_dp
@@ -63,6 +67,19 @@ contains
          length = max(length, norm2(interfaces(k)%virtual_xyz - reference_point), &
             interfaces(k)%length_scale)
       end do
+      if (length <= 0.0_dp) length = 1.0_dp
+      summary%reference_point = reference_point
+      summary%length = length
+      if (summary%num_rc == 0) then
+         summary%free_free = .true.
+         summary%num_free = 6
+         summary%free_motions = 0.0_dp
+         do k = 1, 6
+            summary%free_motions(k, k) = 1.0_dp
+         end do
+         return
+      end if
+
       allocate (d_r(summary%num_rc, 6))
       row = 0
       collinear = ''
@@ -87,6 +104,11 @@ contains
       call singular_values(d_r, s, error, v)
       if (allocated(error)) return
       summary%rigid_rank = numerical_rank(s, 1.0e-8_dp)
+      ! null(D R): the right singular vectors past the rank (v is 6 x 6)
+      summary%num_free = 6 - summary%rigid_rank
+      summary%free_motions = 0.0_dp
+      if (summary%num_free > 0) summary%free_motions(:, 1:summary%num_free) = &
+         v(:, summary%rigid_rank + 1:6)
       if (summary%rigid_rank < 6) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'the reference conditions (' // &
             rc_set_text(interfaces) // ') leave ' // to_str(6 - summary%rigid_rank) // &

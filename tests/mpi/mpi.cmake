@@ -13,6 +13,10 @@
 #    'interrupted: SIGUSR1'.
 #  - every modes test: the automatic memory limit of a rank takes MemAvailable / 2 (2 ranks on
 #    this node) beside its resident memory.
+#  - mpi_modes_free_crank_{arpack,block}: the free-free crank (tests/mpi/free_crank_lc8.nml, its
+#    rigid modes deflated, 3 modes) against the sequential driver and the first 3 of a 12-mode
+#    MPI run, 1e-9; mpi_modes_crank_rc1_max_frequency: every mode below 20 kHz; every modes
+#    test: the Sturm check proven with the sequential run's count.
 #  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)
 #    under mpirun -np 2 against the sequential driver: crank angle and speed histories to 1e-9
 #    of their largest value.
@@ -50,6 +54,27 @@ foreach(_case crank_rc1 crank_rc2_rbe2)
   set_tests_properties(mpi_modes_${_case}_block PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
     FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh;crank_mesh" PROCESSORS 2)
 endforeach()
+# issue 22: the free-free crank's rigid modes deflated under MPI (3 modes, against the sequential
+# run and against the first 3 of a 12-mode MPI run, both eigensolvers), and max_frequency_hz
+# (crank RC set 1 below 20 kHz) against the sequential driver; the Sturm check proven with the
+# sequential count
+foreach(_solver arpack block)
+  add_test(NAME mpi_modes_free_crank_${_solver}
+    COMMAND ${_mpi_run} modes --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+      --case ${CMAKE_CURRENT_SOURCE_DIR}/mpi/free_crank_lc8.nml
+      --mesh-dir ${PROJECT_BINARY_DIR}/meshes --set modes.eigensolver=${_solver}
+      --out ${_mpi_out}/free_crank_${_solver} --ranks 2 --rtol 1e-9 --compare-num-modes 12)
+  set_tests_properties(mpi_modes_free_crank_${_solver} PROPERTIES LABELS mpi
+    SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+endforeach()
+add_test(NAME mpi_modes_crank_rc1_max_frequency
+  COMMAND ${_mpi_run} modes --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+    --case ${PROJECT_SOURCE_DIR}/input/crank_rc1.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+    --set body[crank].mesh_file=crank_lc8.msh --set modes.max_frequency_hz=20000
+    --set modes.num_modes=10000 --out ${_mpi_out}/crank_rc1_max_frequency --ranks 2
+    --rtol 1e-9)
+set_tests_properties(mpi_modes_crank_rc1_max_frequency PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
+  FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
 add_test(NAME mpi_engine
   COMMAND ${_mpi_run} engine --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
     --case ${PROJECT_BINARY_DIR}/tests/capi/capi_engine.nml

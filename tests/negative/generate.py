@@ -500,7 +500,7 @@ for _group, _keys in {
         'interface': 's:body s:name s:mpc s:weighting s:virtual_node r:position s:rc',
         'modes': 'i:num_modes r:shift_hz s:formulation s:rc_label r:tolerance '
                  'i:lanczos_vectors s:basis l:out_of_core s:ooc_tmpdir i:memory_limit_mb '
-                 'r:compression_tolerance s:eigensolver',
+                 'r:compression_tolerance s:eigensolver r:max_frequency_hz l:sturm_check',
         'model': 's:selection r:speed_tolerance r:force_tolerance i:candidate_modes '
                  'r:resonance_floor',
         'mechanism': 's:crank r:crank_angle_deg r:crank_speed r:gravity s:label '

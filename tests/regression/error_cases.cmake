@@ -33,6 +33,15 @@ ffrf_error_case(missing_volume 2 "no physical volume .crnk."
 ffrf_error_case(missing_surface 2 "B4" "${_body}\n&interface body = 'crank', name = 'B4', rc = '123456' /")
 ffrf_error_case(free_rotation 2 "rigid-body motion.*rotation about an axis along \\(0, 0, 1\\)"
   "${_body}\n&interface body = 'crank', name = 'B1', rc = 'Tx Ty Tz' /\n&interface body = 'crank', name = 'B3', rc = 'Tx Ty' /")
+# &modes max_frequency_hz and sturm_check (issue 22)
+ffrf_error_case(max_frequency_range 2 "max_frequency_range\\.nml:3: &modes max_frequency_hz = -5: out of range. give a finite real in \\[0, 1E\\+09\\] Hz"
+  "${_body}\n${_iface}\n&modes max_frequency_hz = -5 /")
+ffrf_error_case(max_frequency_positive_shift 2 "max_frequency_positive_shift\\.nml:3: &modes shift_hz = 100 Hz cannot go with max_frequency_hz = 20000 Hz.*give shift_hz <= 0"
+  "${_body}\n${_iface}\n&modes max_frequency_hz = 20000, shift_hz = 100 /")
+ffrf_error_case(max_frequency_without_sturm 2 "max_frequency_without_sturm\\.nml:3: &modes sturm_check = .false. cannot go with max_frequency_hz = 20000 Hz"
+  "${_body}\n${_iface}\n&modes max_frequency_hz = 20000, sturm_check = .false. /")
+ffrf_error_case(max_frequency_below_first_mode 2 "no mode below the upper bound 100 Hz.*counts 0 eigenvalues below it; raise max_frequency_hz above the first mode"
+  "${_body}\n${_iface}\n&modes max_frequency_hz = 100 /")
 ffrf_error_case(missing_case 3 "case file \".*missing_case\\.nml\" does not exist" "" )
 file(REMOVE "${_dir}/missing_case.nml")
 ffrf_error_case(bad_option 1 "unknown option --frobnicate" "${_body}\n${_iface}" --frobnicate)
