@@ -1,6 +1,6 @@
 # Regression references by value, and determinism run against run (issue 21, tests/TOLERANCES.md
-# "Regression references"). Every case of input/ that has a reference tests/data/references/<case>.json
-# is run by the driver on its full meshes:
+# "Regression references"). Every case of input/ that has a reference
+# tests/data/references/<case>.json is run by the driver on its full meshes:
 #   results_<case>[_<kernel>]      its results file and Gmsh views compared with the reference by
 #                                  value, each dataset with the tolerance of its rule
 #                                  (results_values.py RULES): portable across processors and BLAS
