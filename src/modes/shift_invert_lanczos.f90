@@ -273,19 +273,9 @@ contains
       moved = .false.
       success = .false.
       do attempt = 1, 4
-         call shift_values(K, M, sigma, kkt, error)
-         if (allocated(error)) return
-         call solver%factorise(kkt%val, error)
+         call factorise_at(K, M, sigma, kkt, solver, 'shift-invert at sigma', singular, error)
          result%num_factorisations = result%num_factorisations + 1
-         singular = .false.
-         if (allocated(error)) then
-            if (solver%status /= -10) then
-               call add_context(error, 'shift-invert at sigma = ' // to_str(sigma, 12))
-               return
-            end if
-            singular = .true.
-            deallocate (error)
-         end if
+         if (allocated(error)) return
          result%time_factorisation = solver%time_factorisation
          call log%info(stage, 'MUMPS factorisation (SYM = ' // to_str(sym) // ', sigma = ' // &
             to_str(sigma, 8) // '): ' // to_str(solver%time_factorisation, 3) // ' s, ' // &
@@ -389,19 +379,9 @@ contains
          if (allocated(error)) return
       end if
       do attempt = 0, size(fractions)
-         call shift_values(K, M, s, kkt, error)
-         if (allocated(error)) return
-         call solver%factorise(kkt%val, error)
+         call factorise_at(K, M, s, kkt, solver, 'shift-invert, inertia at s', singular, error)
          result%num_count_factorisations = result%num_count_factorisations + 1
-         singular = .false.
-         if (allocated(error)) then
-            if (solver%status /= -10) then
-               call add_context(error, 'shift-invert, inertia at s = ' // to_str(s, 12))
-               return
-            end if
-            singular = .true.
-            deallocate (error)
-         end if
+         if (allocated(error)) return
          if (.not. singular .and. solver%num_null_pivots == 0) exit
          if (attempt == size(fractions)) then
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: K - s M is singular ' // &
@@ -430,6 +410,30 @@ contains
          to_str(kkt%num_constraints) // ' constraint rows = ' // to_str(count) // &
          ' eigenvalues below s (' // to_str(solver%time_factorisation, 3) // ' s)')
    end subroutine factorise_count
+
+   !> Factorise K - s M in the KKT matrix's pattern. MUMPS's "numerically singular" (INFOG(1) =
+   !> -10: s is an eigenvalue to round-off) comes back as `singular`, for the caller to move s;
+   !> any other failure is an error naming `what` and s.
+   subroutine factorise_at(K, M, s, kkt, solver, what, singular, error)
+      type(csr_t), intent(in) :: K, M
+      real(dp), intent(in) :: s
+      type(kkt_t), intent(inout) :: kkt
+      type(mumps_solver_t), intent(inout) :: solver
+      character(len=*), intent(in) :: what
+      logical, intent(out) :: singular
+      type(error_t), allocatable, intent(out) :: error
+      singular = .false.
+      call shift_values(K, M, s, kkt, error)
+      if (allocated(error)) return
+      call solver%factorise(kkt%val, error)
+      if (.not. allocated(error)) return
+      if (solver%status /= -10) then
+         call add_context(error, what // ' = ' // to_str(s, 12))
+         return
+      end if
+      singular = .true.
+      deallocate (error)
+   end subroutine factorise_at
 
    !> init + analyse (METIS ordering) of the KKT pattern, with null-pivot detection on.
    subroutine start_solver(kkt, sym, options, solver, result, log, error)
