@@ -411,6 +411,23 @@ contains
          ' eigenvalues below s (' // to_str(solver%time_factorisation, 3) // ' s)')
    end subroutine factorise_count
 
+   !> The permutation that sorts `values` ascending, equal values in their given order (stable
+   !> insertion sort: a few dozen Rayleigh quotients).
+   pure function ascending_order(values) result(order)
+      real(dp), intent(in) :: values(:)
+      integer(ip), allocatable :: order(:)
+      integer :: i, j
+      order = [(int(j, ip), j=1, size(values))]
+      do j = 2, size(values)
+         i = j
+         do while (i > 1)
+            if (values(order(i - 1)) <= values(order(i))) exit
+            order([i - 1, i]) = order([i, i - 1])
+            i = i - 1
+         end do
+      end do
+   end function ascending_order
+
    !> Factorise K - s M in the KKT matrix's pattern. MUMPS's "numerically singular" (INFOG(1) =
    !> -10: s is an eigenvalue to round-off) comes back as `singular`, for the caller to move s;
    !> any other failure is an error naming `what` and s.
@@ -626,7 +643,7 @@ contains
       integer(ip), allocatable :: order(:)
       integer(i8) :: solves_before
       real(dp) :: time_before
-      integer(ip) :: n, j, i, dimension, ncv
+      integer(ip) :: n, j, dimension, ncv
       n = M%num_rows
       solves_before = solver%num_solves
       time_before = solver%time_solve
@@ -669,15 +686,7 @@ contains
          call csr_matvec(K, z(:, j), kx)
          lambda(j) = dot_product(z(:, j), kx) / max(dot_product(z(:, j), mx), tiny(1.0_dp))
       end do
-      order = [(j, j=1, nev)]
-      do j = 2, nev
-         i = j
-         do while (i > 1)
-            if (lambda(order(i - 1)) <= lambda(order(i))) exit
-            order([i - 1, i]) = order([i, i - 1])
-            i = i - 1
-         end do
-      end do
+      order = ascending_order(lambda)
       lambda = lambda(order)
       z = z(:, order)
    end subroutine eigen_window
@@ -930,7 +939,7 @@ contains
       real(dp), allocatable :: Kx(:, :), Mx(:, :), lambda(:), gram(:, :), r(:, :)
       integer(ip), allocatable :: order(:)
       real(dp) :: xMx, scale, denominator
-      integer(ip) :: n, nev, j, i, stat
+      integer(ip) :: n, nev, j, stat
 
       n = size(z, 1)
       nev = size(z, 2)
@@ -956,16 +965,7 @@ contains
          lambda(j) = dot_product(z(:, j), Kx(:, j))
       end do
 
-      ! Ascending order of the Rayleigh quotients (stable insertion sort, nev is small).
-      order = [(j, j=1, nev)]
-      do j = 2, nev
-         i = j
-         do while (i > 1)
-            if (lambda(order(i - 1)) <= lambda(order(i))) exit
-            order([i - 1, i]) = order([i, i - 1])
-            i = i - 1
-         end do
-      end do
+      order = ascending_order(lambda)
       result%num_modes = nev
       result%eigenvalues = lambda(order)
       result%vectors = z(:, order)
