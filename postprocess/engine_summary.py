@@ -7,7 +7,12 @@ crank speed in rad/s and rpm, averaged over crank angle on the last --cycles com
 cycles (4 pi of crank angle each, counted from crank angle 0), the speed oscillation on the same
 cycles ((max - min) / 2 and peak-to-peak, rad/s), the wall time of the run from /timings (the
 stage 'total', else the sum of the stages) and its ratio to the simulated time, the number of
-stored steps, and the time span of the cycles used. Markdown rounds for reading; the CSV keeps
+stored steps, and the time span of the cycles used; what flexibility did on the same cycles:
+per flexible body its number of modes (or "rigid" when the automatic model kept none), its
+largest strain energy (J, sum of omega_j^2 eta_j^2 / 2 over its mass-normalised modes) and the
+largest elastic deflection of its virtual nodes (um, the translation rows of
+/bodies/<b>/modes/virtual_node_shape times /bodies/<b>/modal_coordinates); and over the run the
+largest strain energy (/energy/strain) and deflection. Markdown rounds for reading; the CSV keeps
 every double (shortest round-trip repr). With neither option the Markdown goes to standard
 output. A run whose status is not 'complete' is an error unless --allow-incomplete.
 
@@ -18,6 +23,7 @@ import csv
 import math
 import sys
 
+import h5py
 import numpy as np
 
 import ffrf_results
@@ -32,6 +38,9 @@ COLUMNS = [
     ("amplitude", "oscillation (max-min)/2 [rad/s]"),
     ("peak_to_peak", "oscillation max-min [rad/s]"),
     ("relative_difference", "mean speed relative to reference [1]"),
+    ("elastic_modes", "per body: modes, max strain energy, max deflection"),
+    ("max_strain_energy", "max strain energy [J]"),
+    ("max_deflection_um", "max virtual-node deflection [um]"),
     ("wall_time", "wall time [s]"),
     ("wall_per_simulated", "wall time / simulated time [1]"),
     ("num_steps", "steps"),
@@ -68,6 +77,38 @@ def regime(run, num_cycles):
             "t_start": float(times[0]), "t_end": float(times[-1])}
 
 
+def elasticity(path, t_start, t_end):
+    """Per flexible body its modes, largest strain energy and virtual-node deflection in
+    [t_start, t_end]; the largest total strain energy and deflection (module docstring)."""
+    with h5py.File(path, "r") as results:
+        t = np.atleast_1d(results["time/t"][()])
+        window = (t >= t_start) & (t <= t_end)
+        strain = (np.atleast_1d(results["energy/strain"][()])[:len(t)]
+                  if "energy/strain" in results else np.zeros(len(t)))
+        selected = results.get("model_selection")
+        parts, deflection = [], 0.0
+        for name in sorted(results["bodies"]):
+            body = results["bodies"][name]
+            if "modal_coordinates" not in body:
+                # a body the automatic model left rigid
+                if selected is not None and name in selected:
+                    parts.append(f"{name}: rigid")
+                continue
+            q = np.atleast_2d(body["modal_coordinates"][()])[:len(t)][window]
+            shape = np.atleast_2d(body["modes/virtual_node_shape"][()])   # (modes, 6 n_i)
+            omega2 = (2.0 * math.pi * np.atleast_1d(body["modes/frequency"][()])) ** 2
+            body_strain = float((0.5 * (q ** 2) @ omega2).max())   # mass-normalised modes
+            body_deflection = max(float(np.linalg.norm(q @ shape[:, 6 * i:6 * i + 3],
+                                                       axis=1).max())
+                                  for i in range(shape.shape[1] // 6))
+            deflection = max(deflection, body_deflection)
+            parts.append(f"{name}: {q.shape[1]} mode{'s' if q.shape[1] > 1 else ''}, "
+                         f"{body_strain:.3g} J, {1.0e6 * body_deflection:.3g} um")
+    return {"elastic_modes": "; ".join(parts) if parts else "none",
+            "max_strain_energy": float(strain[window].max()) if window.any() else 0.0,
+            "max_deflection_um": 1.0e6 * deflection}
+
+
 def summarise(files, num_cycles, allow_incomplete):
     """One dict per file (keys of COLUMNS); raises ResultsError naming the file."""
     rows = []
@@ -78,6 +119,7 @@ def summarise(files, num_cycles, allow_incomplete):
             row = regime(run, num_cycles)
         except ffrf_results.ResultsError as exc:
             raise ffrf_results.ResultsError(f"{path}: {exc}") from exc
+        row.update(elasticity(path, row["t_start"], row["t_end"]))
         simulated = float(run.t[-1] - run.t[0])
         row.update({
             "label": run.label, "num_steps": run.num_steps, "wall_time": run.wall_time,
@@ -95,16 +137,19 @@ def write_markdown(stream, rows, num_cycles):
     stream.write(f"Crank speed in regime (mean over crank angle and oscillation on the last "
                  f"{num_cycles} complete engine cycles); reference: {rows[0]['label']}\n\n")
     stream.write("| run | mean speed (rad/s) | mean speed (rpm) | (max-min)/2 (rad/s) "
-                 "| max-min (rad/s) | vs reference | wall time (s) | wall / simulated "
-                 "| steps |\n")
-    stream.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+                 "| max-min (rad/s) | vs reference | per body: modes, max strain energy, max deflection "
+                 "| max strain energy (J) "
+                 "| max deflection (um) | wall time (s) | wall / simulated | steps |\n")
+    stream.write("|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n")
     for row in rows:
         wall = "n/a" if row["wall_time"] is None else f"{row['wall_time']:.2f}"
         ratio = ("n/a" if row["wall_per_simulated"] is None
                  else f"{row['wall_per_simulated']:.2f}")
         stream.write(f"| {row['label']} | {row['mean_speed']:.3f} | {row['mean_rpm']:.1f} "
                      f"| {row['amplitude']:.3f} | {row['peak_to_peak']:.3f} "
-                     f"| {100 * row['relative_difference']:+.3f}% | {wall} | {ratio} "
+                     f"| {100 * row['relative_difference']:+.3f}% | {row['elastic_modes']} "
+                     f"| {row['max_strain_energy']:.3g} | {row['max_deflection_um']:.2f} "
+                     f"| {wall} | {ratio} "
                      f"| {row['num_steps']} |\n")
 
 

@@ -28,7 +28,8 @@ module ffrf_modes_fingerprint
    use ffrf_modes_input, only: body_spec_t, modes_spec_t, basis_name
    implicit none
    private
-   public :: modes_fingerprint_t, make_fingerprint, set_kept_modes, compare_fingerprints, &
+   public :: modes_fingerprint_t, make_fingerprint, set_kept_modes, set_joint_projection, &
+      compare_fingerprints, &
       COMPONENT_NAMES, NUM_COMPONENTS, ENTRY_LENGTH, exact_text
 
    integer, parameter :: NUM_COMPONENTS = 4
@@ -37,8 +38,10 @@ module ffrf_modes_fingerprint
    !> Component names, in the order of modes_fingerprint_t%entries
    character(len=10), parameter :: COMPONENT_NAMES(NUM_COMPONENTS) = [character(len=10) :: &
       'mesh', 'material', 'interfaces', 'modes']
-   !> Labels of the modes entries that a reuse without num_modes takes from the file
-   character(len=*), parameter :: COUNT_LABELS(2) = [character(len=9) :: 'num_modes', 'kept']
+   !> Labels of the modes entries that a reuse without num_modes takes from the file (the
+   !> automatic model's count, selection and joint projection)
+   character(len=*), parameter :: COUNT_LABELS(3) = [character(len=9) :: 'num_modes', 'kept', &
+      'joints']
 
    !> One list of entries.
    type :: entry_list_t
@@ -154,6 +157,15 @@ contains
             ' candidates')
       end associate
    end subroutine set_kept_modes
+
+   !> Record that the stored modes are combinations of the computed ones (the automatic model's
+   !> modes free of the joint locks, ffrf_app_joint_free_modes): an entry `joints` says how.
+   subroutine set_joint_projection(fingerprint, text)
+      type(modes_fingerprint_t), intent(inout) :: fingerprint
+      character(len=*), intent(in) :: text
+      if (.not. fingerprint%is_set()) return
+      call add(fingerprint%components(4), 'joints', text)
+   end subroutine set_joint_projection
 
    !> Compare the fingerprint of this run (`here`) with a stored one (`there`). `same` when
    !> every component agrees; otherwise `difference` says what differs, e.g. "the interfaces

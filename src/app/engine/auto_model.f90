@@ -20,6 +20,7 @@ module ffrf_app_engine_auto_model
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_modes_fingerprint, only: set_kept_modes
    use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_app_joint_free_modes, only: joint_locks_t, joint_free_modes
    use ffrf_model_model, only: model_t
    use ffrf_model_mechanism, only: LOAD_PRESSURE, LOAD_DRAG, SELECTION_AUTO
    use ffrf_mbs_joints, only: JOINT_PRISMATIC
@@ -39,8 +40,11 @@ module ffrf_app_engine_auto_model
       character(len=256), allocatable :: meshes_tried(:)
       !> Estimated mesh force error of each mesh tried (-1: not estimated, a single mesh)
       real(dp), allocatable :: mesh_errors(:)
-      !> Candidate frequencies (Hz, free of jointed masses) and the selection on the mesh taken
+      !> Candidate frequencies (Hz, free of jointed masses: the modes the joints leave free,
+      !> ffrf_app_joint_free_modes) and the selection on the mesh taken
       real(dp), allocatable :: candidate_hz(:)
+      !> What the joints locked of the computed modes on the mesh taken
+      type(joint_locks_t) :: locks
       type(body_selection_t) :: selection
       !> Mesh error of the mesh taken (force -1: not estimated)
       type(mode_effect_t) :: mesh_error = mode_effect_t(-1.0_dp, 0.0_dp)
@@ -158,6 +162,7 @@ contains
       type(body_modes_t) :: previous, current
       type(csr_t) :: previous_mass, current_mass
       type(body_selection_t) :: previous_selection, current_selection
+      type(joint_locks_t) :: previous_locks, current_locks
       type(mode_effect_t) :: coarse_effect, fine_effect
       type(body_input_t) :: input
       type(modes_spec_t) :: spec
@@ -183,10 +188,13 @@ contains
          input%mesh_file = meshes(i)
          call compute_body_modes_from_file(input, interfaces, spec, mesh_dir, log, times, &
             current, error, mass_matrix=current_mass)
+         if (.not. allocated(error)) call joint_free_modes(model, k, current, current_locks, &
+            error)
          if (allocated(error)) then
             call add_context(error, 'automatic model, candidate mesh "' // trim(meshes(i)) // '"')
             return
          end if
+         call log_locks(log, input%name, meshes(i), current_locks, current%frequency_hz)
          if (i == 1) then
             choice%mesh_mass(k) = current%mass
             grounded = grounded_interfaces(model, k, current)
@@ -223,7 +231,8 @@ contains
             if (coarse_effect%force <= choice%force_budget .and. coarse_effect%speed <= &
                choice%speed_budget) then
                body%mesh_error = coarse_effect
-               call take(previous, previous_mass, previous_selection, meshes(i - 1))
+               call take(previous, previous_mass, previous_selection, previous_locks, &
+                  meshes(i - 1))
                return
             end if
             body%mesh_error = fine_effect
@@ -231,10 +240,11 @@ contains
          previous = current
          previous_mass = current_mass
          previous_selection = current_selection
+         previous_locks = current_locks
       end do
       ! the finest mesh
       n = size(meshes)
-      call take(previous, previous_mass, previous_selection, meshes(n))
+      call take(previous, previous_mass, previous_selection, previous_locks, meshes(n))
       if (body%mesh_error%force > choice%force_budget .or. body%mesh_error%speed > &
          choice%speed_budget) call log%note('model', trim(body%name) // ': even the finest ' // &
          'mesh (' // trim(meshes(n)) // ') has an estimated mesh error above its budget: give ' &
@@ -243,12 +253,14 @@ contains
    contains
 
       !> Keep the selected modes of a mesh and record the choice.
-      subroutine take(chosen, chosen_mass, selection, mesh_file)
+      subroutine take(chosen, chosen_mass, selection, locks, mesh_file)
          type(body_modes_t), intent(inout) :: chosen
          type(csr_t), intent(inout) :: chosen_mass
          type(body_selection_t), intent(in) :: selection
+         type(joint_locks_t), intent(in) :: locks
          character(len=*), intent(in) :: mesh_file
          body%mesh_file = mesh_file
+         body%locks = locks
          body%candidate_hz = chosen%frequency_hz
          body%selection = selection
          call keep_modes(chosen, selection%kept)
@@ -487,6 +499,39 @@ contains
       end do
    end function predicted_error
 
+   !> Which computed modes the joints lock and the free modes left (ffrf_app_joint_free_modes).
+   subroutine log_locks(log, name, mesh_file, locks, free_hz)
+      type(logger_t), intent(in) :: log
+      character(len=*), intent(in) :: name, mesh_file
+      type(joint_locks_t), intent(in) :: locks
+      !> Frequencies of the free modes (Hz)
+      real(dp), intent(in) :: free_hz(:)
+      character(len=:), allocatable :: held
+      integer :: j
+      if (locks%num_locked == 0) then
+         call log%info('model', trim(name) // ': mesh ' // trim(mesh_file) // ': the joints ' &
+            // 'lock none of the ' // to_str(locks%num_candidates) // ' candidate modes')
+         return
+      end if
+      held = ''
+      do j = 1, locks%num_candidates
+         if (locks%free_share(j) < 0.5_dp) held = held // ' ' // to_str(j) // ' (' // &
+            to_str(locks%candidate_hz(j), 5) // ' Hz, ' // to_str(100.0_dp * (1.0_dp - &
+            locks%free_share(j)), 3) // ' % locked)'
+      end do
+      if (len(held) == 0) held = ' none more than half'
+      call log%info('model', trim(name) // ': mesh ' // trim(mesh_file) // ': the joints lock ' &
+         // to_str(locks%num_locked) // ' combination(s) of the ' // &
+         to_str(locks%num_candidates) // ' candidate modes (they move joint components the ' // &
+         'rest of the assembly holds: ' // locks%locks // '); ' // &
+         'candidates mostly ' // &
+         'locked:' // held)
+      call log%info('model', trim(name) // ': ' // to_str(size(free_hz)) // ' modes the ' // &
+         'joints leave free (Rayleigh-Ritz in the candidates), ' // to_str(minval([huge(1.0_dp), &
+         free_hz]), 5) // ' .. ' // to_str(maxval([0.0_dp, free_hz]), 5) // ' Hz: the ' // &
+         'candidates of the selection')
+   end subroutine log_locks
+
    subroutine log_body(log, body)
       type(logger_t), intent(in) :: log
       type(body_choice_t), intent(in) :: body
@@ -500,7 +545,8 @@ contains
                ' Hz, ' // to_str(s%loaded_hz(j), 5) // ' Hz jointed, force ' // &
                to_str(s%effect(j)%force, 2) // ')'
          end do
-         if (size(s%kept) == 0) kept = ' none: the body moves rigidly'
+         if (size(s%kept) == 0) kept = ' none: rigid meets the targets (every mode''s ' // &
+            'estimated errors fit the budgets), the body moves rigidly'
          call log%info('model', trim(body%name) // ': mesh ' // trim(body%mesh_file) // &
             ', keeps ' // to_str(size(s%kept)) // ' of ' // to_str(size(s%effect)) // &
             ' candidate modes:' // kept)
@@ -543,6 +589,10 @@ contains
          if (allocated(error)) return
          associate (body => choice%bodies(b), path => root // '/' // trim(choice%bodies(b)%name))
             call results%write_real(path // '/candidate_hz', body%candidate_hz, 'Hz', error)
+            if (.not. allocated(error)) call results%write_real(path // '/computed_hz', &
+               body%locks%candidate_hz, 'Hz', error)
+            if (.not. allocated(error)) call results%write_real(path // '/free_share', &
+               body%locks%free_share, '1', error)
             if (.not. allocated(error)) call results%write_real(path // '/force_error', &
                body%selection%effect%force, '1', error)
             if (.not. allocated(error)) call results%write_real(path // '/speed_error', &
