@@ -1,4 +1,4 @@
-!> The modes a body's joints leave free (issue 30, part 1; docs/theory.md 5.3).
+!> The modes a body's joints leave free (issue 30, part 1; docs/theory.md section 8).
 !>
 !> A body's candidate modes (RC normal modes: the reference conditions hold only some virtual-node
 !> dofs) can move an interface in a way its joint forbids: a revolute bearing holds the two

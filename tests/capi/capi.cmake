@@ -23,7 +23,8 @@ ffrf_replace(_text "'conrod.msh'" "'conrod_lc8.msh'")
 ffrf_replace(_text "t_end = 2.0" "t_end = 0.02")
 ffrf_replace(_text "selection = 'auto'" "selection = 'manual'")
 ffrf_replace(_text "&integrator t_end" "&integrator h = 1.0e-4, t_end")
-ffrf_replace(_text "type = 'flexible',\n" "type = 'flexible', num_modes = 10,\n")
+ffrf_replace(_text "type = 'flexible', modal_damping = 0.02,\n"
+  "type = 'flexible', modal_damping = 0.02, num_modes = 10,\n")
 ffrf_replace(_text "&run title = '" "&run output = 'capi_engine.h5', title = '")
 file(WRITE "${_capi_out}/capi_engine.nml" "${_text}")
 

@@ -23,7 +23,8 @@ function(ffrf_engine_case name source t_end)
   # the hand-set model of these tests: 10 modes per flexible body, h = 1e-4 s
   ffrf_replace(text "selection = 'auto'" "selection = 'manual'")
   ffrf_replace(text "&integrator t_end" "&integrator h = 1.0e-4, t_end")
-  ffrf_replace(text "type = 'flexible',\n" "type = 'flexible', num_modes = 10,\n")
+  ffrf_replace(text "type = 'flexible', modal_damping = 0.02,\n"
+    "type = 'flexible', modal_damping = 0.02, num_modes = 10,\n")
   set(_text "${text}" PARENT_SCOPE)
 endfunction()
 
@@ -32,7 +33,7 @@ file(WRITE "${_out}/engine_lc8_rc1.nml" "${_text}")
 
 ffrf_engine_case(engine_lc8_all_rigid engine_rigid 0.3)
 # The conrod rigid too: its interfaces become markers at the bore centres
-ffrf_replace(_text "type = 'flexible', num_modes = 10,\n      coarse_meshes = 'conrod_lc8.msh', position = 0.0, 0.045, 0.0 /"
+ffrf_replace(_text "type = 'flexible', modal_damping = 0.02, num_modes = 10,\n      coarse_meshes = 'conrod_lc8.msh', position = 0.0, 0.045, 0.0 /"
   "type = 'rigid', position = 0.0, 0.045, 0.0 /\n&marker body = 'conrod', name = 'big_end', position = 0.0, 0.0, 0.0 /\n&marker body = 'conrod', name = 'small_end', position = 0.0, 0.150, 0.0 /")
 string(REGEX MATCHALL "&interface body = 'conrod'[^/]*/\n" _conrod_interfaces "${_text}")
 list(LENGTH _conrod_interfaces _count)
@@ -119,9 +120,23 @@ foreach(case engine_rc1 engine_rc1_manual)
     FIXTURES_REQUIRED "crank_mesh;crank_lc8_mesh;crank_lc10_mesh;conrod_mesh;conrod_lc8_mesh"
     FIXTURES_SETUP auto_${case}_results)
 endforeach()
+# The converged reference of the same engine (issue 30; postprocess/benchmark_auto_model.py, run
+# 'converged'): the finest meshes, every mode the joints leave free among 30 candidates that
+# moves a joint force by more than 1e-5, h = 2.5e-5 s. About 30 s.
+add_test(NAME regression_auto_engine_rc1_converged
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/engine_rc1.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+    --output-dir ${_auto} --output engine_rc1_converged.h5 --quiet
+    --set model.speed_tolerance=1e-6 --set model.force_tolerance=1e-5
+    --set model.candidate_modes=30 --set integrator.h=2.5e-5
+    --set "body[crank].coarse_meshes=''" --set "body[conrod].coarse_meshes=''")
+set_tests_properties(regression_auto_engine_rc1_converged PROPERTIES LABELS "regression;engine"
+  FIXTURES_REQUIRED "crank_mesh;conrod_mesh" FIXTURES_SETUP auto_engine_rc1_converged_results)
 add_test(NAME regression_auto_model_check
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_auto_model.py
-    ${_auto}/engine_rc1.h5 ${_auto}/engine_rc1_manual.h5)
+    ${_auto}/engine_rc1.h5 ${_auto}/engine_rc1_manual.h5
+    --converged ${_auto}/engine_rc1_converged.h5)
 set_tests_properties(regression_auto_model_check PROPERTIES
   LABELS "regression;engine;postprocess"
-  FIXTURES_REQUIRED "auto_engine_rc1_results;auto_engine_rc1_manual_results")
+  FIXTURES_REQUIRED
+    "auto_engine_rc1_results;auto_engine_rc1_manual_results;auto_engine_rc1_converged_results")
