@@ -14,15 +14,18 @@ Per variant three runs:
               free among 30 candidates that moves a joint force by more than 1e-5 (targets 1e-6
               speed, 1e-5 force, which keep every such mode), h = 2.5e-5 s
   check       the converged run one level coarser in modes and step (20 candidates, h = 5e-5 s):
-              |check / converged - 1| says how converged the reference is
+              |check / converged - 1| says how converged the reference is in modes and step
+  fine        with --gmsh: the converged run on finer meshes (crank lc 4 mm, conrod lc 3.5 mm,
+              Tet10, made here from input/crank.geo and conrod.geo): |converged / fine - 1| says
+              how converged it is in mesh
 Errors are relative: the regime mean crank speed and the peak conrod axial force over the last
 two 720 deg cycles (study_outputs.engine_outputs). Columns: variant, run, predicted force and
 speed errors (auto: /model_selection/predicted_error), actual errors against the converged
 run, actual / predicted, kept modes per body, h, wall time (s), mean speed, peak force.
 
-The reference is refined in modes and step; in mesh only up to the bodies' mesh_file (crank
-lc 6 mm, conrod lc 5 mm): the mesh part of the prediction is checked by the study (input/
-study.nml, `cmake --workflow --preset study`).
+The reference is the 'converged' run (finest candidate meshes: crank lc 6 mm, conrod lc 5 mm);
+the 'check' and 'fine' rows give its distance from one level coarser in modes and step and one
+level finer in mesh (their 'actual' columns: against the converged run).
 
     benchmark_auto_model.py input/engine_rc1.nml --ffrf build/release/driver/ffrf \\
         --mesh-dir build/release/meshes --work build/release/benchmark --csv auto.csv
@@ -94,14 +97,28 @@ def main(argv=None):
     parser.add_argument("--work", required=True)
     parser.add_argument("--csv", required=True)
     parser.add_argument("--variants", nargs="*", help="names of the variants to run (default all)")
+    parser.add_argument("--gmsh", help="gmsh executable: adds the 'fine' run")
+    parser.add_argument("--geo-dir", help="folder of crank.geo and conrod.geo (with --gmsh)")
     args = parser.parse_args(argv)
     os.makedirs(args.work, exist_ok=True)
+    runs = [("auto", []), ("converged", CONVERGED), ("check", CHECK)]
+    if args.gmsh:
+        fine = []
+        for body, lc in (("crank", 0.004), ("conrod", 0.0035)):
+            mesh = os.path.abspath(os.path.join(args.work, f"{body}_lc{lc * 1000:g}.msh"))
+            if not os.path.exists(mesh):
+                subprocess.run([args.gmsh, "-3", "-setnumber", "lc", str(lc), "-setnumber",
+                                "order", "2", "-format", "msh41", "-o", mesh,
+                                os.path.join(args.geo_dir, f"{body}.geo")], check=True,
+                               capture_output=True)
+            fine.append(f"body[{body}].mesh_file='{mesh}'")
+        runs.append(("fine", CONVERGED + fine))
     rows = []
     for variant, overrides in VARIANTS:
         if args.variants and variant not in args.variants:
             continue
         results = {}
-        for kind, extra in (("auto", []), ("converged", CONVERGED), ("check", CHECK)):
+        for kind, extra in runs:
             path, wall = run(args, args.case, f"auto_model_{variant}_{kind}", overrides + extra)
             outputs = study_outputs.engine_outputs(path)
             predicted, kept, h = describe(path)
@@ -110,7 +127,7 @@ def main(argv=None):
                   f"speed {outputs['mean_speed']:.6g} rad/s, peak force "
                   f"{outputs['peak_axial_force']:.6g} N", flush=True)
         reference = results["converged"]["outputs"]
-        for kind in ("auto", "check"):
+        for kind in [kind for kind, _ in runs if kind != "converged"]:
             r = results[kind]
             actual_force = abs(r["outputs"]["peak_axial_force"] / reference["peak_axial_force"]
                                - 1.0)
