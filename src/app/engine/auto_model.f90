@@ -522,10 +522,9 @@ contains
       if (len(held) == 0) held = ' none more than half'
       call log%info('model', trim(name) // ': mesh ' // trim(mesh_file) // ': the joints lock ' &
          // to_str(locks%num_locked) // ' combination(s) of the ' // &
-         to_str(locks%num_candidates) // ' candidate modes (they move joint components the ' // &
-         'rest of the assembly holds: ' // locks%locks // '); ' // &
-         'candidates mostly ' // &
-         'locked:' // held)
+         to_str(locks%num_candidates) // ' candidate modes, motions the rest of the ' // &
+         'assembly cannot follow (the joint components the candidates move: ' // locks%locks // &
+         '); candidates mostly locked:' // held)
       call log%info('model', trim(name) // ': ' // to_str(size(free_hz)) // ' modes the ' // &
          'joints leave free (Rayleigh-Ritz in the candidates), ' // to_str(minval([huge(1.0_dp), &
          free_hz]), 5) // ' .. ' // to_str(maxval([0.0_dp, free_hz]), 5) // ' Hz: the ' // &
