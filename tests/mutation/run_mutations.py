@@ -73,12 +73,21 @@ def load_list(path):
     return entries
 
 
-def ctest_names(build, regex, ctest):
+def ctest_tests(build, regex, ctest):
+    """The tests ctest selects for regex (with the fixtures they require), as (name, command)."""
     out = run([ctest, "--test-dir", str(build), "-R", regex, "-E", EXCLUDE,
                "--show-only=json-v1"])
     if out.returncode != 0:
         raise RuntimeError(out.stderr)
-    return [t["name"] for t in json.loads(out.stdout)["tests"]]
+    return [(t["name"], t.get("command", [])) for t in json.loads(out.stdout)["tests"]]
+
+
+def exact(names):
+    """A ctest regex that selects exactly these tests: ^name$ alternatives without groups (CMake's
+    regex engine allows at most 9 subexpressions, so "(a)|(b)|..." of 10 or more entries selects
+    nothing)."""
+    return "|".join("^" + re.sub(r"([.+*?^$\\[\]()|{}])", r"\\\1", name) + "$"
+                    for name in names)
 
 
 def ninja_targets(build):
@@ -87,25 +96,39 @@ def ninja_targets(build):
 
 
 def build_targets(tests, targets):
-    """Executables of the tests; the driver for tests that are scripts around it."""
-    wanted = {t for t in tests if t in targets}
-    if any(t not in targets and not t.startswith("mesh_") and "_gmsh_" not in t
-           for t in tests):
-        wanted.add("ffrf")
+    """Every built executable a test runs: any word of its command (split at ';' and '=', for
+    cmake -E env and cmake -P wrappers) whose file name is a build target; the driver for tests
+    that are scripts around it."""
+    wanted = set()
+    for name, command in tests:
+        found = False
+        for argument in command:
+            for word in re.split(r"[;=]", argument):
+                base = os.path.basename(word)
+                if base in targets:
+                    wanted.add(base)
+                    found = True
+        if name in targets:
+            wanted.add(name)
+            found = True
+        if not found and not name.startswith("mesh_") and "_gmsh_" not in name:
+            wanted.add("ffrf")
     return sorted(wanted)
 
 
-def run_tests(build, regex, ctest, jobs, stop_on_failure):
-    cmd = [ctest, "--test-dir", str(build), "-R", regex, "-E", EXCLUDE, "-j", str(jobs),
-           "--output-on-failure",
-           "--timeout", "600"]
+def run_tests(build, names, ctest, jobs, stop_on_failure):
+    """Run exactly the tests `names`; (return code, failed tests, tests that ran to an end,
+    log)."""
+    cmd = [ctest, "--test-dir", str(build), "-R", exact(names), "-j", str(jobs),
+           "--output-on-failure", "--no-tests=error", "--timeout", "600"]
     if stop_on_failure:
         cmd += ["--stop-on-failure"]
     out = run(cmd, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
-    # "Not Run" entries are the ones --stop-on-failure skipped
+    # "Not Run" entries are the ones --stop-on-failure skipped (or whose program is missing)
     failed = re.findall(r"^\s*\d+ - (\S+) \((?!Not Run)", out.stdout.split("tests FAILED:")[-1],
                         re.M) if "tests FAILED:" in out.stdout else []
-    return out.returncode, failed, out.stdout + out.stderr
+    ran = re.findall(r"Test +#\d+: (\S+) \.+\s*(?:\*\*\*)?(?!Not Run)\w", out.stdout)
+    return out.returncode, failed, ran, out.stdout + out.stderr
 
 
 def main():
@@ -158,21 +181,26 @@ def main():
         if count != 1:
             results[e["id"]] = ("broken", f"find text occurs {count} times", 0.0)
             continue
-        tests = ctest_names(build, e["tests"], args.ctest)
+        tests = ctest_tests(build, e["tests"], args.ctest)
         if not tests:
             results[e["id"]] = ("broken", f"no test matches '{e['tests']}'", 0.0)
             continue
-        plan.append((e, tests, build_targets(tests, targets)))
+        plan.append((e, [name for name, _ in tests], build_targets(tests, targets)))
 
     if plan:
         all_targets = sorted({t for _, _, ts in plan for t in ts})
-        union = "|".join(f"({e['tests']})" for e, _, _ in plan)
+        union = sorted({name for _, tests, _ in plan for name in tests})
         print(f"mutation: baseline build of {len(all_targets)} targets", flush=True)
         out = run([args.cmake, "--build", str(build), "-j", str(args.jobs), "--target",
                    *all_targets])
         if out.returncode != 0:
             sys.exit("mutation: the unmutated build failed\n" + out.stdout[-5000:])
-        code, failed, log = run_tests(build, union, args.ctest, args.jobs, False)
+        code, failed, ran, log = run_tests(build, union, args.ctest, args.jobs, False)
+        missing = sorted(set(union) - set(ran))
+        if missing:
+            print(log[-5000:])
+            sys.exit(f"mutation: the baseline selected {len(union)} tests but "
+                     f"{len(missing)} did not run: {', '.join(missing[:10])}")
         if code != 0:
             print(log[-5000:])
             for e, tests, _ in plan:
@@ -180,8 +208,8 @@ def main():
                 if bad:
                     results[e["id"]] = ("broken", "fails unmutated: " + ",".join(bad), 0.0)
             plan = [p for p in plan if p[0]["id"] not in results]
-        print(f"mutation: baseline passed ({time.monotonic() - start:.0f} s); "
-              f"{len(plan)} mutations", flush=True)
+        print(f"mutation: baseline ran {len(ran)} of {len(union)} selected tests and passed "
+              f"({time.monotonic() - start:.0f} s); {len(plan)} mutations", flush=True)
 
     for e, tests, wanted in plan:
         path = source / e["file"]
@@ -194,12 +222,15 @@ def main():
             if out.returncode != 0:
                 result = ("broken", "does not compile")
             else:
-                code, failed, log = run_tests(build, e["tests"], args.ctest, args.jobs, True)
+                code, failed, ran, log = run_tests(build, tests, args.ctest, args.jobs, True)
                 (logs / f"{e['id']}.log").write_text(log)
-                if code == 0:
-                    result = ("survived", "")
+                if code == 0 and len(set(ran)) != len(tests):
+                    # a survivor must have run every test it names
+                    result = ("broken", f"{len(set(ran))} of {len(tests)} tests ran")
+                elif code == 0:
+                    result = ("survived", f"{len(tests)} tests")
                 elif failed:
-                    result = ("caught", ",".join(failed))
+                    result = ("caught", ",".join(failed) + f" (of {len(tests)} tests)")
                 else:
                     result = ("broken", "ctest error: " + log.strip().splitlines()[-1])
         finally:
