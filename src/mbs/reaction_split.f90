@@ -2,27 +2,42 @@
 !>
 !> Exactly dependent rows of Phi_q are dropped at the start (find_redundant_rows). Rows that are
 !> dependent for rigid bodies but kept because a flexible body's modal coordinates make them
-!> independent (an over-constrained loop closed through a few modes with almost no component in
-!> the loop's redundant direction) leave the row-normalised Phi_q with singular values sigma_k
-!> far below sigma_1. The dynamics only see Phi_q^T lambda, which the Newton iteration fixes to
-!> its force-balance tolerance eps_F; the multiplier combination along the right singular vector
-!> v_k is that force divided by sigma_k, so it is determined only to eps_F / sigma_k: with
-!> two conrod modes on the engine the pin-axis reactions reached 1e11 N against in-plane forces
-!> of 2e4 N.
+!> independent form self-stress states of the rigid mechanism: multiplier combinations w with
+!> Phi_r^T w = 0 on the rigid-body coordinates (R, theta) that load only the modal coordinates,
+!> Phi_q^T w = [0; Phi_zeta^T w]. Their amplitude c is fixed by the modal equations alone:
+!> p c = (modal force), p = |Jn_zeta^T w| the modes' participation. With two in-plane conrod modes
+!> closing the engine's out-of-plane loop, p fell to 1e-7 .. 7e-3 (of the rigid block's |R_11|)
+!> and the pin-axis reactions reached 1.7e10 N against in-plane forces of 2.7e4 N.
+!>
+!> Threshold (sigma_rtol = TOLERANCE_FACTOR x &model force_tolerance, 0.1 by default): the model
+!> is built to give joint forces to force_tolerance (1e-2) of the peak force F, so the modal
+!> force is known to about force_tolerance F and c to force_tolerance F / p; a self-stress is
+!> reported as the dynamics give it only where that is below a tenth of F, p > 10 force_tolerance.
+!> Measured (participation, smallest over the run): the hand-set engines (10 modes per body)
+!> 0.50; the automatic model's engine_rc1/rc2/rc3/rigid 2e-7 .. 7.4e-3 for their first
+!> direction, 0.29 .. 0.88 for the others except rc1's second (6e-3 .. 0.54, which crosses the
+!> threshold during the run: its flags switch with it).
 !>
 !> Rule (min_norm_multipliers): with the row scale m_i = max_j |Phi_q(i, j)| and the scaled
-!> multipliers mu = m lambda (so that Phi_q^T lambda = Jn^T mu, Jn the row-normalised kept
-!> rows), the SVD Jn^T = U diag(sigma) V^T; the directions with sigma_k <= sigma_rtol sigma_1
-!> are near-redundant, and the reported multipliers are the minimum-norm ones (truncated SVD):
-!> mu_reported = mu - sum_near v_k (v_k^T mu), lambda_reported = mu_reported / m. The
-!> well-determined components are unchanged; the generalized constraint force changes only by
-!> sum_near sigma_k (v_k^T mu) u_k, the part the rows cannot resolve. The integration is not
-!> touched: only the reported split changes. A kept row is marked min-norm when its share of the
-!> near-redundant directions, sum_near v_k(i)**2, exceeds PARTICIPATION_MIN.
+!> multipliers mu = m lambda (Phi_q^T lambda = Jn^T mu, Jn the row-normalised kept rows), the
+!> self-stress space W of the rigid block (null space by QR with column pivoting, RIGID_NULL_RTOL)
+!> and the SVD of Jn^T W give the directions d_j = W y_j with singular value s_j <= sigma_rtol
+!> |R_11|; the reported multipliers are mu - sum_j d_j (d_j^T mu), divided by m: the
+!> minimum-norm multipliers on those directions, which is the rigid mechanism's minimum-norm
+!> split of the reaction (what a rigid model would report if it kept the rows) plus the
+!> self-stress the modes do resolve. The integration is not touched (only the reported split
+!> changes); the removed generalized force, sum_j s_j (d_j^T mu) on the modal coordinates, is the
+!> part the modes resolve too poorly. Directions inside W leave the rows the rigid mechanism
+!> determines alone (the in-plane pin forces of the engine stay bit for bit); an SVD of the
+!> whole Jn^T, tried first, mixed them in at s_min / s_next (1e-2) and moved them by 2e4 N. A
+!> kept row is marked min-norm when its share sum_j d_j(i)**2 exceeds PARTICIPATION_MIN.
 !>
-!> The check runs every check_interval accepted steps while no direction is near-redundant and
-!> at every step while one is (reaction_split_t), so healthy runs pay one SVD of the kept rows
-!> per CHECK_INTERVAL steps and report their multipliers bit for bit.
+!> The caller checks every check_interval accepted steps while no direction is near-redundant
+!> and at every step while one is (reaction_split_t), so healthy runs pay one check per
+!> check_interval steps (a Jacobian, a QR of the rigid block: about 30 x 35) and report their
+!> multipliers bit for bit; runs with a near-redundant direction pay it every step (engine_rc1,
+!> 2 s: 21 s against 15 s of wall time on the loaded 2-core machine, first version with an SVD
+!> of the rigid block; the QR took the 0.5 s run from 4.9 to 4.2 s, 3.7 s without the check).
 module ffrf_mbs_reaction_split
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip
@@ -34,8 +49,8 @@ module ffrf_mbs_reaction_split
    private
    public :: min_norm_multipliers, reaction_split_t, DEFAULT_SIGMA_RTOL, TOLERANCE_FACTOR
 
-   !> Default threshold on sigma_k / sigma_1 of the row-normalised kept rows (module header and
-   !> reaction_split_t%sigma_rtol)
+   !> Default threshold on the participation s_j / |R_11| (module header and
+   !> reaction_split_t%sigma_rtol): TOLERANCE_FACTOR x the default force_tolerance 1e-2
    real(dp), parameter :: DEFAULT_SIGMA_RTOL = 0.1_dp
 
    !> The threshold on the participation is this factor times the joint-force tolerance of the
@@ -55,16 +70,17 @@ module ffrf_mbs_reaction_split
    !> Tracks the conditioning of the kept constraint rows over a run and gives the reported
    !> multipliers of each step (module header).
    type :: reaction_split_t
-      !> Threshold on sigma_k / sigma_1 below which a direction is near-redundant
+      !> Threshold on the participation s_j / |R_11| at or below which a self-stress direction
+      !> is near-redundant (module header)
       real(dp) :: sigma_rtol = DEFAULT_SIGMA_RTOL
       !> Accepted steps between two checks while no direction is near-redundant (the caller
       !> checks at step numbers divisible by it, so a restarted run checks the same steps)
       integer :: check_interval = 50
       !> Whether the last check found a near-redundant direction (then every step is checked)
       logical :: near = .false.
-      !> sigma_min / sigma_1 of the kept rows at the last check and its smallest over the run
+      !> Smallest participation s_j / |R_11| at the last check and over the run (1: none)
       real(dp) :: sigma_ratio = 1.0_dp, smallest_ratio = 1.0_dp
-      !> Checks (SVDs) made
+      !> Checks made
       integer :: checks = 0
       !> Rows (nc) reported by minimum norm at the last update, at any update, and the first
       !> time each was (s; huge when never)
@@ -122,15 +138,12 @@ contains
 
    !> Minimum-norm multipliers on the near-redundant directions of the kept rows (module
    !> header): reported = lambda except along the near-redundant directions, where the scaled
-   !> multipliers are projected out. The directions are found in two SVDs of the row-normalised
-   !> Jn^T (columns: kept rows): (1) its rigid-body block (the coordinates that are not modal)
-   !> gives the self-stress space W of the rigid mechanism, the right singular vectors with
-   !> singular value <= sigma_rtol times the block's largest (the loops the modes close); (2)
-   !> the whole Jn^T W, whose right singular vectors y_j with s_j <= sigma_rtol s_1 (s_1 the
-   !> largest singular value of the rigid block) give the near-redundant directions W y_j. Working
-   !> inside W keeps the directions off the rows that the rigid mechanism already determines (an
-   !> SVD of the whole Jn^T mixed them in at sigma_min / sigma_next, 1e-2, which moved the
-   !> in-plane pin forces of the engine by up to 2e4 N). Dropped rows keep their zero multipliers.
+   !> multipliers are projected out. The directions come from the row-normalised Jn^T (columns:
+   !> kept rows): (1) the null space W of its rigid-body block (the coordinates that are not
+   !> modal), the self-stress space of the rigid mechanism (null_space, RIGID_NULL_RTOL); (2)
+   !> the SVD of the whole Jn^T W, whose right singular vectors y_j with s_j <= sigma_rtol
+   !> |R_11| (|R_11| the largest column norm of the rigid block) give the near-redundant
+   !> directions W y_j. Dropped rows keep their zero multipliers.
    subroutine min_norm_multipliers(Phi_q, active, lambda, modal, sigma_rtol, reported, &
          min_norm, sigma_ratio, error)
       !> Constraint Jacobian, all rows (nc x n)
@@ -141,13 +154,13 @@ contains
       real(dp), intent(in) :: lambda(:)
       !> Whether each coordinate is modal (n); the others are rigid-body coordinates
       logical, intent(in) :: modal(:)
-      !> Threshold on the singular values relative to the largest of the rigid block, in (0, 1)
+      !> Threshold on the participation s_j / |R_11|, in (0, 1)
       real(dp), intent(in) :: sigma_rtol
       !> Reported multipliers (nc)
       real(dp), intent(out) :: reported(:)
       !> Rows whose reported multiplier is set by the minimum-norm rule (nc)
       logical, intent(out) :: min_norm(:)
-      !> Smallest s_j / s_1 of step (2) (1 when the rigid mechanism has no self-stress)
+      !> Smallest participation s_j / |R_11| (1 when the rigid mechanism has no self-stress)
       real(dp), intent(out) :: sigma_ratio
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: a(:, :), ar(:, :), w(:, :), b(:, :), sb(:), yt(:, :), &
