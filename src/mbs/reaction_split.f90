@@ -13,10 +13,11 @@
 !> is built to give joint forces to force_tolerance (1e-2) of the peak force F, so the modal
 !> force is known to about force_tolerance F and c to force_tolerance F / p; a self-stress is
 !> reported as the dynamics give it only where that is below a tenth of F, p > 10 force_tolerance.
-!> Measured (participation, smallest over the run): the hand-set engines (10 modes per body)
-!> 0.50; the automatic model's engine_rc1/rc2/rc3/rigid 2e-7 .. 7.4e-3 for their first
-!> direction, 0.29 .. 0.88 for the others except rc1's second (6e-3 .. 0.54, which crosses the
-!> threshold during the run: its flags switch with it).
+!> Measured (participation, smallest over the run): the hand-set engine (10 modes per body)
+!> 0.50; the automatic model before its joint-free candidates (issue 30, part 1; engine_rc1,
+!> rc2, rc3, rigid) 2e-7 .. 7.4e-3 for their first direction, 0.29 .. 0.88 for the others
+!> except rc1's second (6e-3 .. 0.54, which crossed the threshold during the run: its flags
+!> switch with it); with the joint-free candidates the engine inputs have none below it.
 !>
 !> Rule (min_norm_multipliers): with the row scale m_i = max_j |Phi_q(i, j)| and the scaled
 !> multipliers mu = m lambda (Phi_q^T lambda = Jn^T mu, Jn the row-normalised kept rows), the
