@@ -558,11 +558,11 @@ contains
       if (.not. newly) return
       if (size(before) == 0) before = [(.false., k=1, size(self%split%ever))]
       call log%note('mechanism', 'near-redundant constraint equations at t = ' // &
-         to_str(integrator%t) // ' s (smallest singular value ' // &
-         to_str(self%split%sigma_ratio, 3) // ' of the largest, row-normalised kept rows, ' // &
-         'below ' // to_str(self%split%sigma_rtol, 3) // '): their reactions are reported ' // &
-         'by the minimum-norm rule from now on while they stay so (/joints/<joint>/' // &
-         'reaction_min_norm flags each step''s components):')
+         to_str(integrator%t) // ' s (a self-stress of the rigid mechanism that the modes ' // &
+         'resolve with participation ' // to_str(self%split%sigma_ratio, 3) // ', at most ' // &
+         to_str(self%split%sigma_rtol, 3) // ' = 10 x &model force_tolerance): their ' // &
+         'reactions are reported by the minimum-norm rule while they stay so (/joints/' // &
+         '<joint>/reaction_min_norm flags each step''s components):')
       do k = 1, size(self%split%ever)
          if (self%split%ever(k) .and. .not. before(k)) call log%note('mechanism', '  ' // &
             row_name(mech, k))
