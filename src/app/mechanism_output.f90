@@ -41,6 +41,7 @@ module ffrf_app_mechanism_output
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
+   use ffrf_mbs_reaction_split, only: reaction_split_t, TOLERANCE_FACTOR
    use ffrf_app_mechanism_builder, only: built_body_t
    use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
    use ffrf_model_model, only: model_t
@@ -107,8 +108,13 @@ module ffrf_app_mechanism_output
       type(energy_balance_t) :: balance_before_last
       real(dp) :: reference_before_last = 0.0_dp
       integer :: rows_before_last = 0
-      !> Joint reactions of a step (REACTION_ROWS, joints)
+      !> Joint reactions of a step and their min-norm flags, interleaved (REACTION_ROWS,
+      !> 2 joints): column 2j-1 the reaction of joint j, 2j its /reaction_min_norm flags
       real(dp), allocatable :: reactions(:, :)
+      !> Reported multipliers of near-redundant rows (issue 30), their tracker, and the reported
+      !> multipliers of the current state (nc)
+      type(reaction_split_t) :: split
+      real(dp), allocatable :: reported(:)
    contains
       !> Before the run is built: lock the output, check overwrite, read --restart
       procedure :: reserve => output_reserve
@@ -221,7 +227,9 @@ contains
          self%start = wall_time()
          if (.not. allocated(self%history%t)) allocate (self%history%t(1024), &
             self%history%angle(1024), self%history%zeta(sum(bodies%num_modes), 1024))
-         allocate (self%reactions(REACTION_ROWS, size(mech%joints)))
+         allocate (self%reactions(REACTION_ROWS, 2 * size(mech%joints)))
+         call split_reactions(self, mech, bodies, integrator, log, error)
+         if (allocated(error)) return
          self%next_progress = integrator%t + case%mechanism%mechanism%progress_interval
          self%started = .true.
          if (.not. self%restarting) then
@@ -289,6 +297,7 @@ contains
       real(dp) :: wall
       call self%balance%update(mech, integrator%t, integrator%q, integrator%v, error, &
          lambda=integrator%lambda, scheme=integrator)
+      if (.not. allocated(error)) call split_reactions(self, mech, bodies, integrator, log, error)
       if (.not. allocated(error)) call record_step(self, mech, bodies, integrator, pressure, &
          has_pressure, error)
       if (allocated(error)) return
@@ -463,8 +472,9 @@ contains
       p = 0.0_dp
       if (has_pressure) p = pressure%pressure(angle)
       do j = 1, size(mech%joints)
-         call mech%reaction(j, integrator%q, integrator%lambda, force, moment)
-         self%reactions(:, j) = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]
+         call mech%reaction(j, integrator%q, self%reported, force, moment)
+         self%reactions(:, 2 * j - 1) = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]
+         self%reactions(:, 2 * j) = min_norm_flags(mech, j, integrator%q, self%split%min_norm)
       end do
       coordinates = [real(dp) ::]
       do k = 1, size(bodies)
@@ -502,6 +512,91 @@ contains
       interrupted = .false.
       if (allocated(error)) interrupted = error%code == FFRF_INTERRUPTED
    end function interrupted
+
+   !> The reported multipliers of the current state (self%reported, issue 30): the integrator's,
+   !> except on near-redundant rows of the kept constraint Jacobian, whose split is the
+   !> minimum-norm one (ffrf_mbs_reaction_split). Logs each row the first time it is so.
+   subroutine split_reactions(self, mech, bodies, integrator, log, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: Phi_q(:, :)
+      logical, allocatable :: before(:), modal(:)
+      logical :: newly
+      integer :: k
+      if (.not. allocated(self%reported)) then
+         allocate (self%reported(size(integrator%lambda)))
+         self%split%sigma_rtol = min(0.5_dp, TOLERANCE_FACTOR * &
+            self%case%mechanism%model%force_tolerance)
+      end if
+      if (.not. self%split%near .and. mod(integrator%stats%steps, &
+         int(self%split%check_interval, i8)) /= 0_i8 .and. allocated(self%split%min_norm)) then
+         self%reported = integrator%lambda
+         return
+      end if
+      allocate (Phi_q(size(integrator%lambda), size(integrator%q)))
+      call mech%constraint_jacobian(integrator%q, integrator%t, Phi_q, error)
+      if (allocated(error)) return
+      before = [logical ::]
+      if (allocated(self%split%ever)) before = self%split%ever
+      allocate (modal(size(integrator%q)))
+      modal = .false.
+      do k = 1, size(bodies)
+         associate (b => mech%bodies(bodies(k)%index))
+            modal(b%offset + 8:b%offset + 7 + bodies(k)%num_modes) = .true.
+         end associate
+      end do
+      call self%split%update(integrator%t, Phi_q, integrator%active, integrator%lambda, modal, &
+         self%reported, newly, error)
+      if (allocated(error)) then
+         call add_context(error, 't = ' // to_str(integrator%t) // ' s')
+         return
+      end if
+      if (.not. newly) return
+      if (size(before) == 0) before = [(.false., k=1, size(self%split%ever))]
+      call log%note('mechanism', 'near-redundant constraint equations at t = ' // &
+         to_str(integrator%t) // ' s (a self-stress of the rigid mechanism that the modes ' // &
+         'resolve with participation ' // to_str(self%split%sigma_ratio, 3) // ', at most ' // &
+         to_str(self%split%sigma_rtol, 3) // ' = 10 x &model force_tolerance): their ' // &
+         'reactions are reported by the minimum-norm rule while they stay so (/joints/' // &
+         '<joint>/reaction_min_norm flags each step''s components):')
+      do k = 1, size(self%split%ever)
+         if (self%split%ever(k) .and. .not. before(k)) call log%note('mechanism', '  ' // &
+            row_name(mech, k))
+      end do
+   end subroutine split_reactions
+
+   !> 1 for each of the 12 reaction components of joint j that a min-norm row of the joint
+   !> contributes to (its reaction for a unit multiplier exceeds 1e-9 of that reaction's
+   !> largest component), 0 elsewhere.
+   function min_norm_flags(mech, j, q, min_norm) result(flags)
+      type(mechanism_t), intent(in) :: mech
+      integer, intent(in) :: j
+      real(dp), intent(in) :: q(:)
+      logical, allocatable, intent(in) :: min_norm(:)
+      real(dp) :: flags(REACTION_ROWS)
+      real(dp) :: force(3, 2), moment(3, 2), unit(REACTION_ROWS)
+      real(dp), allocatable :: lambda(:)
+      integer :: k, row
+      flags = 0.0_dp
+      if (.not. allocated(min_norm)) return
+      associate (joint => mech%joints(j))
+         do k = 1, joint%joint%num_equations
+            row = joint%offset + k
+            if (.not. min_norm(row)) cycle
+            allocate (lambda(size(min_norm)))
+            lambda = 0.0_dp
+            lambda(row) = 1.0_dp
+            call mech%reaction(j, q, lambda, force, moment)
+            deallocate (lambda)
+            unit = abs([force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)])
+            where (unit > 1.0e-9_dp * maxval(unit)) flags = 1.0_dp
+         end do
+      end associate
+   end function min_norm_flags
 
    !> Sizes and the redundant constraint equations found at the start.
    subroutine log_mechanism(log, mech, integrator)
@@ -576,6 +671,8 @@ contains
       do j = 1, size(mech%joints)
          if (allocated(error)) exit
          call results%add_joint_series(mech%joints(j)%name, error)
+         if (.not. allocated(error)) call results%add_joint_series(mech%joints(j)%name, error, &
+            series='reaction_min_norm', units='1')
          if (allocated(error)) exit
          associate (joint => mech%joints(j))
             flags = [(merge(1, 0, any(integrator%dropped == joint%offset + k)), &

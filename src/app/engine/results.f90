@@ -172,17 +172,26 @@ contains
    end subroutine engine_results_add_body_series
 
    !> Add the series /joints/<joint_name>/reaction (12 rows), before the first `record`.
-   !> `record` takes the joints' reactions as columns in the order of these calls.
-   subroutine engine_results_add_joint_series(self, joint_name, error)
+   !> `record` takes the joints' reactions as columns in the order of these calls. `series`
+   !> and `units` name another 12-row series of the joint (default 'reaction', 'N, N m'), e.g.
+   !> its per-step flags /joints/<joint>/reaction_min_norm.
+   subroutine engine_results_add_joint_series(self, joint_name, error, series, units)
       class(engine_results_t), intent(inout) :: self
       !> Joint name
       character(len=*), intent(in) :: joint_name
       type(error_t), allocatable, intent(out) :: error
+      !> Series name under /joints/<joint_name> and its units
+      character(len=*), intent(in), optional :: series, units
       character(len=256) :: path
       call check_not_started(self, 'add_joint_series', error)
       if (allocated(error)) return
       path = '/joints/' // joint_name // '/reaction'
-      call self%h5%create_series(trim(path), REACTION_ROWS, 'N, N m', error)
+      if (present(series)) path = '/joints/' // joint_name // '/' // series
+      if (present(units)) then
+         call self%h5%create_series(trim(path), REACTION_ROWS, units, error)
+      else
+         call self%h5%create_series(trim(path), REACTION_ROWS, 'N, N m', error)
+      end if
       if (allocated(error)) return
       self%joint_paths = [character(len=256) :: self%joint_paths, path]
    end subroutine engine_results_add_joint_series
