@@ -486,7 +486,8 @@ contains
       associate (balance => self%balance, history => self%history)
          call self%results%record(integrator%t, angle, speed, p, [balance%kinetic, &
             balance%strain, balance%work, balance%numerical_dissipation], coordinates, &
-            self%reactions, error, scheme_dissipation=balance%scheme_dissipation)
+            self%reactions, error, scheme_dissipation=balance%scheme_dissipation, &
+            damping_dissipation=balance%physical_dissipation)
          if (allocated(error)) return
          ! Animation history
          n = history%num_steps + 1

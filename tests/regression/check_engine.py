@@ -6,7 +6,7 @@
   dropped rows;
 - energy (conservation law, ffrf_mbs_energy_balance): the work W of the applied loads equals the
   change of kinetic and strain energy plus the numerical dissipation; two measures of the latter
-  are in the file: D = W - dT - dU (the balance's residual, W by the trapezoidal rule on the
+  are in the file: D = W - dT - dU - D_p (D_p: /energy/damping_dissipation; the balance's residual, W by the trapezoidal rule on the
   power) and D_s (/energy/scheme_dissipation), computed from generalized-alpha's own per-step
   identity (work of the step-mean forces over the step increments, minus the change of T + U).
   Checked: D_s >= 0 up to round-off (rho_inf < 1 only removes energy), D and D_s at the end
@@ -108,9 +108,15 @@ def main():
         scheme = f["energy/scheme_dissipation"][()]
         if len(scheme) != n:
             fail(f"energy/scheme_dissipation has {len(scheme)} entries for {n} steps")
-        balance = work - (kinetic + strain - kinetic[0] - strain[0]) - dissipation
+        damping = (f["energy/damping_dissipation"][()] if "energy/damping_dissipation" in f
+                   else np.zeros(n))
+        if len(damping) != n or np.any(np.diff(damping) < -1e-12 * max(damping.max(), 1.0)):
+            fail("energy/damping_dissipation: wrong length or decreasing (modal damping only "
+                 "takes energy)")
+        balance = work - (kinetic + strain - kinetic[0] - strain[0]) - damping - dissipation
         if np.max(np.abs(balance)) > 1e-9 * max(np.max(np.abs(work)), 1.0):
-            fail(f"energy series inconsistent: W - dT - dU - D up to {np.max(np.abs(balance))}")
+            fail(f"energy series inconsistent: W - dT - dU - D_p - D up to "
+                 f"{np.max(np.abs(balance))}")
         if not work[-1] > 0:
             fail(f"work of the loads {work[-1]:.6g} J, expected > 0 (the engine is driven)")
         w = work[-1]

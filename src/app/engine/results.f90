@@ -5,8 +5,9 @@
 !> /engine with attributes rc_set and mpc (also as the string datasets /engine/rc_set and
 !> /engine/mpc: a group needs a dataset to exist); growing series (one entry per step)
 !> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]},
-!> /energy/{kinetic, strain, external_work, numerical_dissipation, scheme_dissipation} [J]
-!> (ffrf_mbs_energy_balance: D = W - dT - dU - D_p and D_s from the integrator's identity),
+!> /energy/{kinetic, strain, external_work, numerical_dissipation, scheme_dissipation,
+!> damping_dissipation} [J] (ffrf_mbs_energy_balance: D = W - dT - dU - D_p, D_s from the
+!> integrator's identity, D_p the energy taken by the modal damping),
 !> /bodies/<body>/{position (3 rows) [m], euler_parameters (4 rows) [1]} (the body frame),
 !> /bodies/<body>/modal_coordinates (num_modes rows, flexible bodies only) [1],
 !> /joints/<joint>/reaction (12 rows: force and moment on each of the two bodies) [N, N m];
@@ -32,16 +33,17 @@ module ffrf_app_engine_results
    private
    public :: engine_results_t
 
-   !> Number of scalar series: 4 /time series and 5 /energy series.
-   integer, parameter :: NUM_SCALARS = 9
+   !> Number of scalar series: 4 /time series and 6 /energy series.
+   integer, parameter :: NUM_SCALARS = 10
    !> Paths of the scalar series, in the order of the buffer columns.
    character(len=*), parameter :: SCALAR_PATHS(NUM_SCALARS) = [character(len=35) :: &
       '/time/t', '/time/crank_angle', '/time/crank_speed', '/time/pressure', &
       '/energy/kinetic', '/energy/strain', '/energy/external_work', &
-      '/energy/numerical_dissipation', '/energy/scheme_dissipation']
+      '/energy/numerical_dissipation', '/energy/scheme_dissipation', &
+      '/energy/damping_dissipation']
    !> Units of the scalar series.
    character(len=*), parameter :: SCALAR_UNITS(NUM_SCALARS) = [character(len=5) :: &
-      's', 'rad', 'rad/s', 'Pa', 'J', 'J', 'J', 'J', 'J']
+      's', 'rad', 'rad/s', 'Pa', 'J', 'J', 'J', 'J', 'J', 'J']
    !> Rows of a joint reaction: force and moment on both bodies.
    integer, parameter :: REACTION_ROWS = 12
 
@@ -199,7 +201,7 @@ contains
    !> Record one step. It is buffered; every `steps_per_flush` steps the buffer is appended to
    !> the series and the file flushed. A non-finite value is an error (nothing is recorded).
    subroutine engine_results_record(self, t, crank_angle, crank_speed, pressure, energies, &
-         modal, reactions, error, scheme_dissipation)
+         modal, reactions, error, scheme_dissipation, damping_dissipation)
       class(engine_results_t), intent(inout) :: self
       !> Time (s)
       real(dp), intent(in) :: t
@@ -219,11 +221,15 @@ contains
       type(error_t), allocatable, intent(out) :: error
       !> Numerical dissipation of the scheme D_s (J); 0 when absent
       real(dp), intent(in), optional :: scheme_dissipation
-      real(dp) :: d_s
+      !> Energy taken by the modal damping D_p (J); 0 when absent
+      real(dp), intent(in), optional :: damping_dissipation
+      real(dp) :: d_s, d_p
       integer :: n
 
       d_s = 0.0_dp
       if (present(scheme_dissipation)) d_s = scheme_dissipation
+      d_p = 0.0_dp
+      if (present(damping_dissipation)) d_p = damping_dissipation
       if (.not. self%h5%is_open()) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'engine results: record called on a file ' // &
             'that is not open; call create first')
@@ -239,7 +245,8 @@ contains
             ' (the bodies and joints added)')
          return
       end if
-      if (.not. (all(ieee_is_finite([t, crank_angle, crank_speed, pressure, energies, d_s])) &
+      if (.not. (all(ieee_is_finite([t, crank_angle, crank_speed, pressure, energies, d_s, &
+         d_p])) &
          .and. &
          all(ieee_is_finite(modal)) .and. all(ieee_is_finite(reactions)))) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'engine results "' // self%file_name // &
@@ -254,7 +261,7 @@ contains
          allocate (self%reactions(REACTION_ROWS, self%steps_per_flush, size(self%joint_paths)))
       end if
       n = self%num_buffered + 1
-      self%scalars(n, :) = [t, crank_angle, crank_speed, pressure, energies, d_s]
+      self%scalars(n, :) = [t, crank_angle, crank_speed, pressure, energies, d_s, d_p]
       self%modal(:, n) = modal
       self%reactions(:, n, :) = reactions
       self%num_buffered = n
