@@ -1033,7 +1033,7 @@ contains
       integer :: k, n
       if (.not. allocated(watch%names)) return
       n = watch%count()
-      call log%info('energy', 'watch: largest spurious energy max(-D, -D_s) = ' // &
+      call log%info('energy', 'watch: largest spurious energy -D_s = ' // &
          to_str(watch%worst_ratio, 3) // ' of the energy scale (t = ' // &
          to_str(watch%worst_time, 6) // ' s; tolerance ' // &
          to_str(watch%settings%tolerance, 3) // '), ' // to_str(n) // ' warning(s)')

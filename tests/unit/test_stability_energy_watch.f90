@@ -5,7 +5,9 @@
 !>   (T = T_0 + c t, W = 0, D = D_s = -c t): the warning comes at the first step past the
 !>   closed-form time t* = tol T_0 / (c (1 - tol)) where c t = tol (T_0 + c t), within one step,
 !>   and names body 2; with energy_watch = 'stop' the same step returns FFRF_NUMERIC_ERROR whose
-!>   message names the watch and the time; with D = -c t but D_s = 0, the other quantity, too.
+!>   message names the watch and the time; D_s = -c t with D = 0 warns alike; D = -c t with
+!>   D_s = 0 (the balance's quadrature part: not energy created) does not, unless D_s is not
+!>   accumulated (has_scheme = .false.), where D stands in.
 !> - a flexible body's strain energy growing as U_0 exp(2 sigma t) sin^2(2 pi f t) at a steady
 !>   T: windows of tau = 0.1 s; the envelope grows by exp(2 sigma tau) per window, so the watch
 !>   must warn at the close of window GROWTH_WINDOWS + 1 (t = 6 tau, within one oscillation
@@ -37,6 +39,7 @@ contains
       tests = [new_unittest('energy_created_at_the_closed_form_time', test_created), &
          new_unittest('energy_created_stops_the_run', test_created_stop), &
          new_unittest('scheme_dissipation_negative_alone', test_scheme_only), &
+         new_unittest('balance_residual_alone_only_without_scheme', test_residual_only), &
          new_unittest('unpaid_strain_growth_at_window_six', test_growth), &
          new_unittest('growth_below_the_factor_not_flagged', test_slow_growth), &
          new_unittest('growth_paid_by_the_forcing_not_flagged', test_paid_growth), &
@@ -145,6 +148,40 @@ contains
       t_star = settings%tolerance * kinetic0 / c
       call check_close(error, 'warning time (D_s alone)', t_warn, t_star, atol=h)
    end subroutine test_scheme_only
+
+   !> D = -c t with D_s = 0: no warning in 2 s while D_s is accumulated (D's quadrature part is
+   !> not energy created); without the scheme (has_scheme = .false.) D stands in and warns at
+   !> t* = tol T_0 / c.
+   subroutine test_residual_only(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(energy_watch_t) :: watch
+      type(energy_watch_settings_t) :: settings
+      real(dp), parameter :: c = 1.0e-3_dp, kinetic0 = 10.0_dp
+      real(dp) :: t, t_warn
+      logical :: new_warning, scheme
+      integer :: n, pass
+      do pass = 1, 2
+         scheme = pass == 1
+         call watch%init(settings, 0.0_dp, ['b1', 'b2'], [.false., .false.], &
+            [kinetic0, 0.0_dp], error)
+         if (allocated(error)) return
+         t_warn = -1.0_dp
+         do n = 1, 20000
+            t = n * h
+            call watch%check(t, kinetic0, 0.0_dp, 0.0_dp, 0.0_dp, -c * t, 0.0_dp, scheme, &
+               [kinetic0, 0.0_dp], [0.0_dp, 0.0_dp], new_warning, error)
+            if (allocated(error)) return
+            if (new_warning .and. t_warn < 0.0_dp) t_warn = t
+         end do
+         if (scheme) then
+            call check(error, 'no warning with D_s accumulated', watch%count() == 0)
+         else
+            call check_close(error, 'warning time (D without D_s)', t_warn, &
+               settings%tolerance * kinetic0 / c, atol=h)
+         end if
+         if (allocated(error)) return
+      end do
+   end subroutine test_residual_only
 
    !> Feed the strain-growth history (module header) for t_end: body 1 rigid (its "strain"
    !> grows too, and must be ignored), body 2 flexible; `paid`: T grows as exp(sigma t).
