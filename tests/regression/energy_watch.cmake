@@ -6,10 +6,11 @@
 #    1 s to 4.4 J at 2 s at a steady crank speed (issue 30, part 2; docs/theory.md 4.5): the run
 #    completes with one warning, 'strain energy of body "crank" grows without work to pay for
 #    it', at the window close the recomputation finds (measured 1.8 s). About 35 s.
-#  - energy_watch_stop: the 0.1 s engine_lc8_rc1 run of engine.cmake with energy_watch = 'stop'
-#    and energy_watch_tolerance = 1e-9, far below the round-off of D (measured up to 1.2e-6 of
-#    the energy scale at the start): exit 4 naming the energy watch, status 'error: ...', the
-#    file holding every step up to the recomputed time of the criterion. A few seconds.
+#  - energy_watch_stop: the all-rigid engine of engine.cmake (its case file) with --set
+#    energy_watch = 'stop' and energy_watch_tolerance = 1e-9, below the round-off of D_s there
+#    (-D_s up to 1.5e-6 of the energy scale in the first steps): exit 4 naming the energy watch,
+#    status 'error: ...', the file holding every step up to the recomputed time of the
+#    criterion. A few seconds.
 #  - the regression engines of engine.cmake (all rigid, RC set 1) under the default watch: no
 #    warning, and the recomputation finds none.
 set(_watch "${PROJECT_BINARY_DIR}/tests/energy_watch")
@@ -31,13 +32,9 @@ add_test(NAME regression_energy_watch_growth_check
 set_tests_properties(regression_energy_watch_growth_check PROPERTIES
   LABELS "regression;engine;postprocess" FIXTURES_REQUIRED energy_watch_growth_results)
 
-ffrf_engine_case(energy_watch_stop engine_rc1 0.1)
-ffrf_replace(_text "rho_inf = 0.8 /"
-  "rho_inf = 0.8, energy_watch = 'stop', energy_watch_tolerance = 1.0e-9 /")
-file(WRITE "${_watch}/energy_watch_stop.nml" "${_text}")
 add_test(NAME regression_energy_watch_stop
   COMMAND ${CMAKE_COMMAND}
-    "-DCOMMAND=$<TARGET_FILE:ffrf>;${_watch}/energy_watch_stop.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_watch}"
+    "-DCOMMAND=$<TARGET_FILE:ffrf>;${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_all_rigid.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_watch};--output;energy_watch_stop.h5;--set;integrator.energy_watch=stop;--set;integrator.energy_watch_tolerance=1e-9"
     -DEXIT_CODE=4 "-DMESSAGE=energy watch .energy_watch = 'stop'.: t = "
     -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
 set_tests_properties(regression_energy_watch_stop PROPERTIES LABELS "regression;engine;errors"
