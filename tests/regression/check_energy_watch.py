@@ -63,7 +63,7 @@ def growth_time(f, t, kinetic, window):
         if t[n] >= start + window * (1.0 - 1e-9):
             closes.append(n)
             start = t[n]
-    first, worst = None, 0.0
+    first, worst, longest = None, 0.0, 0
     for name, u in strain.items():
         env, tenv, lo = [], [], 1
         growing = 0
@@ -72,6 +72,7 @@ def growth_time(f, t, kinetic, window):
             tenv.append(kinetic[lo:n + 1].max())
             lo = n + 1
             growing = growing + 1 if len(env) >= 2 and env[-1] > env[-2] else 0
+            longest = max(longest, growing)
             if growing >= GROWTH_WINDOWS and len(env) > GROWTH_WINDOWS:
                 ratio = env[-1] / env[-1 - GROWTH_WINDOWS]
                 paid = max(1.0, (tenv[-1] / tenv[-1 - GROWTH_WINDOWS]) ** 2)
@@ -80,7 +81,7 @@ def growth_time(f, t, kinetic, window):
                     if first is None or t[n] < first[0]:
                         first = (t[n], name)
                     break
-    return first, worst, strain
+    return first, worst, longest
 
 
 def main():
@@ -98,10 +99,11 @@ def main():
         energy = {k: f["energy/" + k][:] for k in f["energy"]}
         h = np.diff(t).max() if len(t) > 1 else 0.0
         t_created, worst_ratio = created_time(t, energy, args.tolerance, args.window)
-        grown, worst_growth, _ = growth_time(f, t, energy["kinetic"], args.window)
+        grown, worst_growth, longest = growth_time(f, t, energy["kinetic"], args.window)
         print(f"       recomputed: largest -D_s/E_ref = {worst_ratio:.3g} "
               f"(tolerance {args.tolerance:g}); largest unpaid growth / threshold = "
-              f"{worst_growth:.3g}; energy created at {t_created}, growth at {grown}")
+              f"{worst_growth:.3g}; longest run of rising windows {longest}; energy created at "
+              f"{t_created}, growth at {grown}")
         warnings = None
         if "warnings" in f:
             warnings = ([s.decode() if isinstance(s, bytes) else s
