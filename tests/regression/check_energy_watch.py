@@ -9,7 +9,7 @@ with h5py and recomputed independently from the recorded series:
   its modal coordinates and frequencies, U_b = 1/2 sum (2 pi f_j)^2 zeta_j^2 (mass-normalised
   modes; not the code's strain energy), its largest value per window (0.1 s unless --window) and
   the largest T per window; warned when the envelope rose in 5 consecutive windows by more than
-  4 max(1, (T ratio)^2).
+  4 max(1, (T ratio)^2), the latest envelope above 1e-4 of E_ref.
 
 --expect none: no /warnings, status 'complete', and neither criterion holds anywhere in the
 recorded series (the largest S / E_ref and growth ratio are printed: the margins).
@@ -26,6 +26,7 @@ import numpy as np
 
 GROWTH_WINDOWS = 5
 GROWTH_FACTOR = 4.0
+GROWTH_FLOOR = 1e-4
 
 
 def fail(message):
@@ -47,7 +48,7 @@ def created_time(t, energy, tolerance, window):
     return (t[hits[0]] if hits.size else None), ratio.max()
 
 
-def growth_time(f, t, kinetic, window):
+def growth_time(f, t, kinetic, scale, window):
     """First window close where a flexible body's strain envelope rose GROWTH_WINDOWS times by
     more than GROWTH_FACTOR x max(1, (T ratio)^2); (time, body, largest unpaid growth ratio)."""
     strain = {}
@@ -73,7 +74,8 @@ def growth_time(f, t, kinetic, window):
             lo = n + 1
             growing = growing + 1 if len(env) >= 2 and env[-1] > env[-2] else 0
             longest = max(longest, growing)
-            if growing >= GROWTH_WINDOWS and len(env) > GROWTH_WINDOWS:
+            if (growing >= GROWTH_WINDOWS and len(env) > GROWTH_WINDOWS
+                    and env[-1] > GROWTH_FLOOR * scale[n]):
                 ratio = env[-1] / env[-1 - GROWTH_WINDOWS]
                 paid = max(1.0, (tenv[-1] / tenv[-1 - GROWTH_WINDOWS]) ** 2)
                 worst = max(worst, ratio / (GROWTH_FACTOR * paid))
@@ -99,7 +101,9 @@ def main():
         energy = {k: f["energy/" + k][:] for k in f["energy"]}
         h = np.diff(t).max() if len(t) > 1 else 0.0
         t_created, worst_ratio = created_time(t, energy, args.tolerance, args.window)
-        grown, worst_growth, longest = growth_time(f, t, energy["kinetic"], args.window)
+        scale = np.maximum.accumulate(energy["kinetic"] + energy["strain"]
+                                      + np.abs(energy["external_work"]))
+        grown, worst_growth, longest = growth_time(f, t, energy["kinetic"], scale, args.window)
         print(f"       recomputed: largest -D_s/E_ref = {worst_ratio:.3g} "
               f"(tolerance {args.tolerance:g}); largest unpaid growth / threshold = "
               f"{worst_growth:.3g}; longest run of rising windows {longest}; energy created at "

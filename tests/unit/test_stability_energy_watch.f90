@@ -14,7 +14,8 @@
 !>   period) exactly when exp(10 sigma tau) > GROWTH_FACTOR (sigma = 1.2x and 1/1.2x the
 !>   threshold sigma_c = ln(4) / (10 tau): warned at 0.6 s, and never in 3 s).
 !> - the same growth paid by the forcing (T = T_0 exp(sigma t), so (T ratio)^2 equals the strain
-!>   ratio): no warning; a rigid body's (flexible = .false.) growth is not watched.
+!>   ratio): no warning; a rigid body's (flexible = .false.) growth is not watched; nor a growth
+!>   below GROWTH_FLOOR of the energy scale (U_0 = 1e-12 J against T = 100 J, round-off level).
 !> - round-off-sized negative D, D_s (-1e-7 of the energy scale; the engines' measured worst after
 !>   the first window is 4.9e-7, see ffrf_mbs_energy_watch) stays below the default tolerance
 !>   1e-4, and a start transient of -1e-3 of the scale within the first window is not watched.
@@ -44,6 +45,7 @@ contains
          new_unittest('unpaid_strain_growth_at_window_six', test_growth), &
          new_unittest('growth_below_the_factor_not_flagged', test_slow_growth), &
          new_unittest('growth_paid_by_the_forcing_not_flagged', test_paid_growth), &
+         new_unittest('growth_below_the_floor_not_flagged', test_tiny_growth), &
          new_unittest('round_off_not_flagged', test_round_off)]
    end subroutine collect_stability_energy_watch
 
@@ -186,17 +188,21 @@ contains
 
    !> Feed the strain-growth history (module header) for t_end: body 1 rigid (its "strain"
    !> grows too, and must be ignored), body 2 flexible; `paid`: T grows as exp(sigma t).
-   subroutine feed_growth(sigma, paid, t_end, watch, t_warn, error)
+   subroutine feed_growth(sigma, paid, t_end, watch, t_warn, error, strain_start)
       real(dp), intent(in) :: sigma, t_end
       logical, intent(in) :: paid
       type(energy_watch_t), intent(out) :: watch
       real(dp), intent(out) :: t_warn
       type(error_t), allocatable, intent(out) :: error
       type(energy_watch_settings_t) :: settings
-      real(dp), parameter :: kinetic0 = 100.0_dp, strain0 = 0.1_dp
-      real(dp) :: t, kinetic, strain
+      !> U_0 (J; default 0.1 J)
+      real(dp), intent(in), optional :: strain_start
+      real(dp), parameter :: kinetic0 = 100.0_dp
+      real(dp) :: t, kinetic, strain, strain0
       logical :: new_warning
       integer :: n
+      strain0 = 0.1_dp
+      if (present(strain_start)) strain0 = strain_start
       call watch%init(settings, 0.0_dp, ['rigid', 'flex '], [.false., .true.], &
          [kinetic0, 0.0_dp], error)
       if (allocated(error)) return
@@ -260,6 +266,20 @@ contains
       if (allocated(error)) return
       call check(error, 'no warning (t_warn = ' // to_str(t_warn) // ')', watch%count() == 0)
    end subroutine test_paid_growth
+
+   !> sigma = 1.2 sigma_c from U_0 = 1e-12 J (T = 100 J): the envelope reaches 1e-12 e^(2 sigma t)
+   !> = 2e-8 J at 3 s, far below GROWTH_FLOOR x 100 J: no warning.
+   subroutine test_tiny_growth(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(energy_watch_t) :: watch
+      type(energy_watch_settings_t) :: defaults
+      real(dp) :: sigma_c, t_warn
+      sigma_c = log(GROWTH_FACTOR) / (2.0_dp * GROWTH_WINDOWS * defaults%window)
+      call feed_growth(1.2_dp * sigma_c, .false., 3.0_dp, watch, t_warn, error, &
+         strain_start=1.0e-12_dp)
+      if (allocated(error)) return
+      call check(error, 'no warning (t_warn = ' // to_str(t_warn) // ')', watch%count() == 0)
+   end subroutine test_tiny_growth
 
    !> D, D_s = -1e-7 of the energy scale, alternating with +1e-7 (round-off): no warning, and the
    !> largest ratio recorded is 1e-7.
