@@ -8,9 +8,9 @@
 #    it', at the window close the recomputation finds (measured 1.8 s). About 35 s.
 #  - energy_watch_stop: the all-rigid engine of engine.cmake (its case file) with --set
 #    energy_watch = 'stop' and energy_watch_tolerance = 1e-9, below the round-off of D_s there
-#    (-D_s up to 1.5e-6 of the energy scale in the first steps): exit 4 naming the energy watch,
-#    status 'error: ...', the file holding every step up to the recomputed time of the
-#    criterion. A few seconds.
+#    (-D_s up to 7e-9 of the energy scale just after the first window, 4.9e-7 at the first
+#    combustion): exit 4 naming the energy watch, status 'error: ...', the file holding every step
+#    up to the recomputed time of the criterion (measured 0.1254 s). A few seconds.
 #  - the regression engines of engine.cmake (all rigid, RC set 1) under the default watch: no
 #    warning, and the recomputation finds none.
 set(_watch "${PROJECT_BINARY_DIR}/tests/energy_watch")
