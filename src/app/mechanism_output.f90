@@ -42,6 +42,8 @@ module ffrf_app_mechanism_output
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
    use ffrf_mbs_reaction_split, only: reaction_split_t, TOLERANCE_FACTOR
+   use ffrf_mbs_energy_watch, only: energy_watch_t
+   use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_app_mechanism_builder, only: built_body_t
    use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
    use ffrf_model_model, only: model_t
@@ -91,6 +93,8 @@ module ffrf_app_mechanism_output
       type(restart_state_t) :: restart
       type(engine_results_t) :: results
       type(energy_balance_t) :: balance
+      !> The energy watch (issue 30; ffrf_mbs_energy_watch): warnings in the log and /warnings
+      type(energy_watch_t) :: watch
       type(history_t) :: history
       !> Stage times of the run and its total time
       type(stage_times_t) :: times
@@ -237,6 +241,8 @@ contains
                lambda=integrator%lambda, scheme=integrator)
             if (allocated(error)) return
          end if
+         call start_watch(self, resolved, mech, integrator, error)
+         if (allocated(error)) return
       end associate
       self%last_checkpoint = wall_time()
       self%steps_at_checkpoint = integrator%stats%steps
@@ -300,6 +306,7 @@ contains
       if (.not. allocated(error)) call split_reactions(self, mech, bodies, integrator, log, error)
       if (.not. allocated(error)) call record_step(self, mech, bodies, integrator, pressure, &
          has_pressure, error)
+      if (.not. allocated(error)) call watch_step(self, mech, integrator, log, error)
       if (allocated(error)) return
       associate (h => integrator%settings%h, interval => &
             self%case%mechanism%mechanism%progress_interval)
@@ -404,6 +411,7 @@ contains
             call move_alloc(state_error, run_error)
          call timer%begin()
          call write_run_information(results, mech, integrator, error)
+         if (.not. allocated(error)) call write_warnings(results, self%watch, log, error)
          if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
             .not. interrupted(run_error)) call write_animations(case, self%options, bodies, &
             self%history, log, error)
@@ -1038,5 +1046,105 @@ contains
       end do
       history%num_steps = num_steps
    end subroutine history_from
+
+   !> Start the energy watch (ffrf_mbs_energy_watch) with the run's settings (&integrator
+   !> energy_watch ...), the bodies' names and T_b + U_b at the current state.
+   subroutine start_watch(self, resolved, mech, integrator, error)
+      type(mechanism_output_t), intent(inout) :: self
+      type(model_t), intent(in) :: resolved
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(error_t), allocatable, intent(out) :: error
+      character(len=64), allocatable :: names(:)
+      logical, allocatable :: flexible(:)
+      real(dp), allocatable :: kinetic(:), strain(:)
+      integer :: b, n
+      n = size(mech%bodies)
+      allocate (names(n), flexible(n))
+      do b = 1, n
+         names(b) = mech%bodies(b)%name
+         select type (body => mech%bodies(b)%body)
+         class is (flexible_body_t)
+            flexible(b) = .true.
+         class default
+            flexible(b) = .false.
+         end select
+      end do
+      call body_energies(mech, integrator%q, integrator%v, kinetic, strain)
+      call self%watch%init(resolved%mechanism%energy_watch, integrator%t, names, flexible, &
+         kinetic + strain, error)
+   end subroutine start_watch
+
+   !> T_b and U_b of every body of the mechanism at (q, v) (J).
+   subroutine body_energies(mech, q, v, kinetic, strain)
+      type(mechanism_t), intent(in) :: mech
+      real(dp), intent(in) :: q(:), v(:)
+      real(dp), allocatable, intent(out) :: kinetic(:), strain(:)
+      integer :: b, k, nb
+      allocate (kinetic(size(mech%bodies)), strain(size(mech%bodies)))
+      kinetic = 0.0_dp
+      strain = 0.0_dp
+      do b = 1, size(mech%bodies)
+         k = mech%bodies(b)%offset
+         nb = mech%bodies(b)%body%num_coordinates
+         if (nb == 0) cycle
+         kinetic(b) = mech%bodies(b)%body%kinetic_energy(q(k + 1:k + nb), v(k + 1:k + nb))
+         strain(b) = mech%bodies(b)%body%strain_energy(q(k + 1:k + nb))
+      end do
+   end subroutine body_energies
+
+   !> After the balance's update: the energy watch's check of the step; a new warning goes to
+   !> the log (energy_watch = 'stop': the run ends with FFRF_NUMERIC_ERROR).
+   subroutine watch_step(self, mech, integrator, log, error)
+      type(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: kinetic(:), strain(:)
+      character(len=:), allocatable :: text, body
+      real(dp) :: t
+      logical :: new_warning
+      call body_energies(mech, integrator%q, integrator%v, kinetic, strain)
+      associate (b => self%balance)
+         call self%watch%check(b%t, b%kinetic, b%strain, b%work, b%physical_dissipation, &
+            b%numerical_dissipation, b%scheme_dissipation, b%has_scheme, kinetic, strain, &
+            new_warning, error)
+      end associate
+      if (new_warning .and. .not. allocated(error)) then
+         call self%watch%warning(self%watch%count(), text, t, body)
+         call log%note('energy', 'warning: ' // text)
+      end if
+   end subroutine watch_step
+
+   !> The energy watch's warnings (/warnings/{text, time, body}; none: no group) and its largest
+   !> spurious-energy ratio in the log; the status stays what the run reached.
+   subroutine write_warnings(results, watch, log, error)
+      type(engine_results_t), intent(inout) :: results
+      type(energy_watch_t), intent(in) :: watch
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: text, body
+      character(len=1024), allocatable :: texts(:)
+      character(len=64), allocatable :: bodies(:)
+      real(dp), allocatable :: times(:)
+      integer :: k, n
+      if (.not. allocated(watch%names)) return
+      n = watch%count()
+      call log%info('energy', 'watch: largest spurious energy -D_s = ' // &
+         to_str(watch%worst_ratio, 3) // ' of the energy scale (t = ' // &
+         to_str(watch%worst_time, 6) // ' s; tolerance ' // &
+         to_str(watch%settings%tolerance, 3) // '), ' // to_str(n) // ' warning(s)')
+      if (n == 0) return
+      allocate (texts(n), bodies(n), times(n))
+      do k = 1, n
+         call watch%warning(k, text, times(k), body)
+         texts(k) = text
+         bodies(k) = body
+      end do
+      call results%write_strings('/warnings/text', texts, error)
+      if (.not. allocated(error)) call results%write_real('/warnings/time', times, 's', error)
+      if (.not. allocated(error)) call results%write_strings('/warnings/body', bodies, error)
+   end subroutine write_warnings
 
 end module ffrf_app_mechanism_output

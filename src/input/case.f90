@@ -23,6 +23,7 @@ module ffrf_input_case
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_word
    implicit none
    private
    public :: case_input_t, read_case, case_echo, body_index, vector_text, case_groups
@@ -365,6 +366,7 @@ contains
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
       type(galpha_settings_t) :: default_settings
+      type(energy_watch_settings_t) :: default_watch
       integer :: k
       associate (m => mech%mechanism, p => mech%pressure, s => mech%integrator)
          text = '&mechanism crank = ''' // trim(m%crank) // ''', crank_angle_deg = ' // &
@@ -432,6 +434,13 @@ contains
             ', checkpoint_seconds = ' // to_str(s%checkpoint_seconds, 6)
          if (s%checkpoint_steps /= default_settings%checkpoint_steps) text = text // &
             ', checkpoint_steps = ' // to_str(s%checkpoint_steps)
+         ! Energy watch keys only when set (the default watch is in every run)
+         if (mech%energy_watch%mode /= default_watch%mode) text = text // &
+            ', energy_watch = ''' // energy_watch_word(mech%energy_watch%mode) // ''''
+         if (mech%energy_watch%tolerance /= default_watch%tolerance) text = text // &
+            ', energy_watch_tolerance = ' // to_str(mech%energy_watch%tolerance, 6)
+         if (mech%energy_watch%window /= default_watch%window) text = text // &
+            ', energy_watch_window = ' // to_str(mech%energy_watch%window, 6)
          text = text // ' /' // nl
          text = text // '&model selection = ''' // trim(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &

@@ -6,6 +6,7 @@ module ffrf_input_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t
@@ -124,6 +125,9 @@ module ffrf_input_mechanism
       !> Largest number of integration steps (t_end - t_start)/h a run may take (&integrator
       !> max_steps): a guard against a slip such as t_end = 1e5; raise it on purpose
       integer(i8) :: max_steps = 10000000_i8
+      !> Energy watch (&integrator energy_watch, energy_watch_tolerance, energy_watch_window;
+      !> ffrf_mbs_energy_watch)
+      type(energy_watch_settings_t) :: energy_watch
       type(model_input_t) :: model
    end type mechanism_case_input_t
 

@@ -11,7 +11,8 @@
 !>                target_peak_pressure, reference_pressure, table_file    (optional, single)
 !>   &integrator  h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, min_step,
 !>                rank_rtol, jacobian ('adaptive', 'step', 'full'), tangent_reuse,
-!>                checkpoint_seconds, checkpoint_steps                       (optional, single)
+!>                checkpoint_seconds, checkpoint_steps, energy_watch ('off', 'warn', 'stop'),
+!>                energy_watch_tolerance, energy_watch_window [s]             (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
 !> Defaults: ffrf_input_mechanism, ffrf_input_pressure's pressure_input_t (the scene's engine)
@@ -39,7 +40,9 @@
 !>               rank_rtol in (0, 1); tangent_reuse in 0..1000000; max_steps (integer, default
 !>               10 000 000): the largest number of steps (t_end - t_start)/h a run may take,
 !>               raise it on purpose for a longer run; checkpoint_steps integer >= 0,
-!>               checkpoint_seconds in [0, 1e9] s (the checkpoint work)
+!>               checkpoint_seconds in [0, 1e9] s (the checkpoint work); energy_watch
+!>               (default 'warn'; ffrf_mbs_energy_watch), energy_watch_tolerance in (0, 1]
+!>               (default 1e-4), energy_watch_window in (0, 1e6] s (default 0.1 s)
 !>   &model      speed_tolerance, force_tolerance in (0, 1); candidate_modes in 1..200;
 !>               resonance_floor in (0, 1]
 module ffrf_input_nml_mechanism
@@ -55,6 +58,8 @@ module ffrf_input_nml_mechanism
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
    use ffrf_mbs_joints, only: joint_kinds
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
+      energy_watch_word
    implicit none
    private
    public :: read_mechanism_groups
@@ -139,7 +144,10 @@ contains
          integer_key('tangent_reuse', 0_i8, 1000000_i8), &
          integer_key('max_steps', 1_i8, 1000000000000_i8, in_namelist=.false.), &
          integer_key('checkpoint_steps', 0_i8, int(huge(1), i8)), &
-         real_key('checkpoint_seconds', 0.0_dp, 1.0e9_dp, 's')]
+         real_key('checkpoint_seconds', 0.0_dp, 1.0e9_dp, 's'), &
+         choice_key('energy_watch', 16, 'off, warn, stop'), &
+         real_key('energy_watch_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true.), &
+         real_key('energy_watch_window', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.)]
    end function integrator_keys
 
    !> Keys of &model (module header).
@@ -166,7 +174,7 @@ contains
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
       if (.not. allocated(error)) call read_integrator_group(unit, src, input%integrator, &
-         input%model%h_given, error)
+         input%model%h_given, error, input%energy_watch)
       if (.not. allocated(error)) call read_model_group(unit, input%model, error)
       if (.not. allocated(error)) input%max_steps = src%integer_value('integrator', 1, &
          'max_steps', input%max_steps)
@@ -460,20 +468,26 @@ contains
          reference_pressure, input%step_deg)
    end subroutine read_pressure_group
 
-   subroutine read_integrator_group(unit, src, settings, h_given, error)
+   subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
       integer, intent(in) :: unit
       type(nml_source_t), intent(in) :: src
       type(galpha_settings_t), intent(inout) :: settings
       !> .true. when the group gives h
       logical, intent(out) :: h_given
       type(error_t), allocatable, intent(out) :: error
+      !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
+      type(energy_watch_settings_t), intent(inout) :: watch
       real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
-      real(dp) :: checkpoint_seconds
+      real(dp) :: checkpoint_seconds, energy_watch_tolerance, energy_watch_window
       integer :: max_iterations, tangent_reuse, checkpoint_steps, stat
-      character(len=16) :: jacobian
+      character(len=16) :: jacobian, energy_watch
       character(len=512) :: msg
       namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
-         min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps
+         min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps, &
+         energy_watch, energy_watch_tolerance, energy_watch_window
+      energy_watch = energy_watch_word(watch%mode)
+      energy_watch_tolerance = watch%tolerance
+      energy_watch_window = watch%window
       h = -1.0_dp
       checkpoint_seconds = settings%checkpoint_seconds
       checkpoint_steps = settings%checkpoint_steps
@@ -499,7 +513,8 @@ contains
          if (stat /= 0) then
             call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
                'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
-               'tangent_reuse, checkpoint_seconds, checkpoint_steps')
+               'tangent_reuse, checkpoint_seconds, checkpoint_steps, energy_watch, ' // &
+               'energy_watch_tolerance, energy_watch_window')
             return
          end if
       end if
@@ -515,6 +530,14 @@ contains
       settings%tangent_reuse = tangent_reuse
       settings%checkpoint_seconds = checkpoint_seconds
       settings%checkpoint_steps = checkpoint_steps
+      watch%mode = energy_watch_kind(to_lower(energy_watch))
+      if (watch%mode == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&integrator: energy_watch = ''' // &
+            trim(energy_watch) // ''', must be ''off'', ''warn'' or ''stop''')
+         return
+      end if
+      watch%tolerance = energy_watch_tolerance
+      watch%window = energy_watch_window
       select case (to_lower(jacobian))
       case ('adaptive')
          settings%jacobian = GALPHA_NEWTON_ADAPTIVE

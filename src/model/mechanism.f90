@@ -13,6 +13,7 @@ module ffrf_model_mechanism
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
       JOINT_PRISMATIC, JOINT_FIXED, joint_kinds
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, mechanism_model_t
@@ -82,6 +83,8 @@ module ffrf_model_mechanism
       !> Integrator settings (&integrator) and the largest number of steps a run may take
       type(galpha_settings_t) :: integrator
       integer(i8) :: max_steps = 0_i8
+      !> Energy watch of the run (&integrator energy_watch ...; ffrf_mbs_energy_watch)
+      type(energy_watch_settings_t) :: energy_watch
    end type mechanism_model_t
 
 contains

@@ -173,6 +173,7 @@ contains
          m%h_given = input%model%h_given
          m%integrator = input%integrator
          m%max_steps = input%max_steps
+         m%energy_watch = input%energy_watch
       end associate
 
    contains

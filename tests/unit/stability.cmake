@@ -15,3 +15,6 @@ ffrf_add_unit_suite(test_stability_mpc CHECKED LABELS mpc)
 ffrf_add_unit_suite(test_stability_modes CHECKED LABELS modes)
 # Free-free Tet10 beam (beam_lc6) with shifts next to zero through the modal pipeline. ~6 s.
 ffrf_add_unit_suite(test_stability_free_body LABELS modes FIXTURES beam_lc6_mesh)
+# The energy watch of mechanism runs (issue 30, part 3) on energy histories with closed-form
+# warning times: energy created, strain energy growing unpaid, paid growth, round-off. < 1 s.
+ffrf_add_unit_suite(test_stability_energy_watch CHECKED LABELS mbs)
