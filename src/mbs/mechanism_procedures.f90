@@ -821,34 +821,55 @@ contains
    module procedure mechanism_initial_velocities
       real(dp), allocatable :: a(:, :), rhs(:, :), rate(:), jac(:, :)
       real(dp) :: residual, scale
-      integer :: rows, k
+      integer :: rows, k, b, row, attempt
       v = 0.0_dp
       if (present(crank_speed) .and. self%crank == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism initial velocities: a crank ' // &
             'speed was given but no crank body is set; call set_crank first')
          return
       end if
-      rows = self%nc
-      if (present(crank_speed)) rows = rows + 1
-      allocate (a(rows, self%n), rhs(max(rows, self%n), 1), rate(self%nc), jac(self%nc, self%n))
+      allocate (rate(self%nc), jac(self%nc, self%n))
       call self%constraint_jacobian(q, t, jac, error)
       if (allocated(error)) return
       call self%constraint_rate(q, t, rate, error)
       if (allocated(error)) return
-      a(1:self%nc, :) = jac
-      rhs = 0.0_dp
-      rhs(1:self%nc, 1) = -rate
-      if (present(crank_speed)) then
-         k = self%bodies(self%crank)%offset
-         a(rows, :) = 0.0_dp
-         ! omega_z = e_z^T G(theta) theta_dot: the third row of G
-         a(rows, k + 4:k + 7) = row3(euler_g(q(k + 4:k + 7)))
-         rhs(rows, 1) = crank_speed
-      end if
-      call least_squares(a, rhs, 'initial velocities', error)
-      if (allocated(error)) return
-      v = rhs(1:self%n, 1)
-      residual = maxval(abs(matmul(jac, v) + rate))
+      ! The bodies start undeformed and moving rigidly: every modal velocity zero (a flexible
+      ! crank whose flywheel interface rotates in its modes, RC sets 2 and 3, would otherwise
+      ! get the minimum-norm split, a twist rate that leaves the flywheel at rest, issue 30).
+      ! Without a rigid motion that meets the constraints, the minimum-norm solution of all.
+      do attempt = 1, 2
+         rows = self%nc
+         if (present(crank_speed)) rows = rows + 1
+         if (attempt == 1) rows = rows + count_modal()
+         if (allocated(a)) deallocate (a, rhs)
+         allocate (a(rows, self%n), rhs(max(rows, self%n), 1))
+         a = 0.0_dp
+         rhs = 0.0_dp
+         a(1:self%nc, :) = jac
+         rhs(1:self%nc, 1) = -rate
+         row = self%nc
+         if (present(crank_speed)) then
+            k = self%bodies(self%crank)%offset
+            row = row + 1
+            ! omega_z = e_z^T G(theta) theta_dot: the third row of G
+            a(row, k + 4:k + 7) = row3(euler_g(q(k + 4:k + 7)))
+            rhs(row, 1) = crank_speed
+         end if
+         if (attempt == 1) then
+            do b = 1, size(self%bodies)
+               do k = 8, self%bodies(b)%body%num_coordinates
+                  row = row + 1
+                  a(row, self%bodies(b)%offset + k) = 1.0_dp
+               end do
+            end do
+         end if
+         call least_squares(a, rhs, 'initial velocities', error)
+         if (allocated(error)) return
+         v = rhs(1:self%n, 1)
+         residual = maxval(abs(matmul(jac, v) + rate))
+         if (count_modal() == 0 .or. residual <= 1.0e-10_dp * max(maxval(abs(rate)), 1.0_dp) * &
+            max(maxval(abs(v)), 1.0_dp)) exit
+      end do
       scale = max(maxval(abs(rate)), 1.0_dp) * max(maxval(abs(v)), 1.0_dp)
       if (present(crank_speed)) then
          residual = max(residual, abs(self%crank_speed(q, v) - crank_speed))
@@ -858,6 +879,18 @@ contains
             'velocity constraints cannot be met, residual ' // to_str(residual) // &
             ' (a crank speed inconsistent with a drive?)')
       end if
+
+   contains
+
+      !> Modal coordinates of all bodies (coordinates beyond R and theta).
+      integer function count_modal()
+         integer :: bb
+         count_modal = 0
+         do bb = 1, size(self%bodies)
+            count_modal = count_modal + max(self%bodies(bb)%body%num_coordinates - 7, 0)
+         end do
+      end function count_modal
+
    end procedure mechanism_initial_velocities
 
    !> Third row of a 3 x 4 matrix.

@@ -1,7 +1,8 @@
 # The energy watch of mechanism runs (issue 30, part 3; src/mbs/energy_watch.f90), read back and
 # recomputed independently by check_energy_watch.py (the strain energies from the recorded modal
 # coordinates and frequencies, the energy criterion from /energy):
-#  - energy_watch_growth: the undamped engine with the crank of RC set 2 and 30 modes per body
+#  - energy_watch_growth: the undamped engine (modal damping set to 0) with the crank of RC set 2
+#    and 30 modes per body
 #    (lc 8 mm meshes, h = 2.5e-5 s, 2 s), whose crank strain energy grows from about 0.25 J at
 #    1 s to 4.4 J at 2 s at a steady crank speed (issue 30, part 2; docs/theory.md 4.5): the run
 #    completes with one warning, 'strain energy of body "crank" grows without work to pay for
@@ -19,6 +20,11 @@ file(MAKE_DIRECTORY "${_watch}")
 ffrf_engine_case(energy_watch_growth engine_rc2 2.0)
 ffrf_replace(_text "h = 1.0e-4," "h = 2.5e-5,")
 ffrf_replace(_text "num_modes = 10," "num_modes = 30,")
+# undamped (the engine inputs carry 2 % modal damping, which stops the growth)
+ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'"
+  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'")
+ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'"
+  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'")
 file(WRITE "${_watch}/energy_watch_growth.nml" "${_text}")
 add_test(NAME regression_energy_watch_growth
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>

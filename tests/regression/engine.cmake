@@ -44,6 +44,30 @@ endif()
 string(REGEX REPLACE "&interface body = 'conrod'[^/]*/\n" "" _text "${_text}")
 file(WRITE "${_out}/engine_lc8_all_rigid.nml" "${_text}")
 
+# Started at a crank speed (check_start_speed.py): the all-rigid engine and the flexible crank of
+# RC set 2 (whose flywheel interface turns in the modes), 1 ms each, the same kinetic energy at
+# t = 0
+string(REPLACE "crank_speed = 0.0" "crank_speed = 424.0" _spin "${_text}")
+ffrf_replace(_spin "t_end = 0.3" "t_end = 0.001")
+file(WRITE "${_out}/engine_lc8_spin_rigid.nml" "${_spin}")
+ffrf_engine_case(engine_lc8_spin_rc2 engine_rc2 0.001)
+ffrf_replace(_text "crank_speed = 0.0" "crank_speed = 424.0")
+file(WRITE "${_out}/engine_lc8_spin_rc2.nml" "${_text}")
+foreach(case engine_lc8_spin_rigid engine_lc8_spin_rc2)
+  add_test(NAME regression_${case}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf> ${_out}/${case}.nml
+      --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_out} --quiet)
+  set_tests_properties(regression_${case} PROPERTIES LABELS "regression;engine"
+    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh" FIXTURES_SETUP ${case}_results)
+endforeach()
+add_test(NAME regression_engine_start_speed_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_start_speed.py
+    ${_out}/engine_lc8_spin_rc2.h5 ${_out}/engine_lc8_spin_rigid.h5 --speed 424)
+set_tests_properties(regression_engine_start_speed_check PROPERTIES
+  LABELS "regression;engine;postprocess"
+  FIXTURES_REQUIRED "engine_lc8_spin_rigid_results;engine_lc8_spin_rc2_results")
+
+
 foreach(case engine_lc8_all_rigid engine_lc8_rc1)
   add_test(NAME regression_${case}
     COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf> ${_out}/${case}.nml
