@@ -39,6 +39,7 @@ module ffrf_app_joint_free_modes
    use ffrf_core_strings, only: to_str
    use ffrf_la_lapack, only: dgesvd, dsyev
    use ffrf_model_model, only: model_t
+   use ffrf_mbs_rotation, only: frame_from_axis
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
       JOINT_PRISMATIC, JOINT_FIXED
    use ffrf_modes_modal_analysis, only: body_modes_t
@@ -194,7 +195,7 @@ contains
       do j = 1, size(model%mechanism%joints)
          associate (joint => model%mechanism%joints(j))
             locked = locked_components(joint%kind)
-            frame = joint_frame(joint%axis)
+            frame = frame_from_axis(joint%axis)
             point = joint_point(j)
             motion = 0.0_dp
             modal = 0.0_dp
@@ -286,22 +287,6 @@ contains
       end function joint_point
 
    end subroutine lock_equations
-
-   !> The marker frame of a joint axis (ffrf_app_mechanism_builder: z along the axis).
-   pure function joint_frame(axis) result(frame)
-      real(dp), intent(in) :: axis(3)
-      real(dp) :: frame(3, 3)
-      real(dp) :: z(3), x(3), helper(3)
-      z = axis / norm2(axis)
-      helper = [1.0_dp, 0.0_dp, 0.0_dp]
-      if (abs(z(1)) > 0.9_dp) helper = [0.0_dp, 1.0_dp, 0.0_dp]
-      x = helper - dot_product(helper, z) * z
-      x = x / norm2(x)
-      frame(:, 1) = x
-      frame(:, 2) = [z(2) * x(3) - z(3) * x(2), z(3) * x(1) - z(1) * x(3), &
-         z(1) * x(2) - z(2) * x(1)]
-      frame(:, 3) = z
-   end function joint_frame
 
    !> The body's size: the largest distance between its virtual nodes (its bounding-box
    !> diagonal with one interface).

@@ -38,7 +38,7 @@ module ffrf_app_mechanism_builder
    use ffrf_model_mechanism, only: model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
       LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, joint_kind_name
-   use ffrf_mbs_rotation, only: identity3
+   use ffrf_mbs_rotation, only: identity3, frame_from_axis
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
@@ -72,22 +72,6 @@ module ffrf_app_mechanism_builder
    end type marker_list_t
 
 contains
-
-   !> The marker frame of a joint axis (module header); frame_from_axis(e_z) = I.
-   pure function frame_from_axis(axis) result(frame)
-      real(dp), intent(in) :: axis(3)
-      real(dp) :: frame(3, 3)
-      real(dp) :: z(3), x(3), helper(3)
-      z = axis / norm2(axis)
-      helper = [1.0_dp, 0.0_dp, 0.0_dp]
-      if (abs(z(1)) > 0.9_dp) helper = [0.0_dp, 1.0_dp, 0.0_dp]
-      x = helper - dot_product(helper, z) * z
-      x = x / norm2(x)
-      frame(:, 1) = x
-      frame(:, 2) = [z(2) * x(3) - z(3) * x(2), z(3) * x(1) - z(1) * x(3), &
-         z(1) * x(2) - z(2) * x(1)]
-      frame(:, 3) = z
-   end function frame_from_axis
 
    !> Compute the modes of the meshed bodies, build the mechanism and its starting state q, v
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure

@@ -21,6 +21,7 @@ module ffrf_mbs_rotation
    public :: euler_rotation, euler_g_bar, euler_g, euler_constraint, euler_constraint_jacobian
    public :: euler_from_rotation, euler_from_axis_angle, euler_normalized
    public :: rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
+   public :: frame_from_axis
    public :: skew3, axial3, identity3
 
 contains
@@ -238,5 +239,23 @@ contains
          c2 = (1.0_dp - cos(sqrt(a2))) / a2
       end if
    end subroutine exp_coefficients
+
+   !> The marker frame of a joint axis: z along the axis, x the unit projection of e_x (e_y if the
+   !> axis is near e_x) normal to it, y = z x x (ffrf_app_mechanism_builder); frame_from_axis(e_z)
+   !> = I.
+   pure function frame_from_axis(axis) result(frame)
+      real(dp), intent(in) :: axis(3)
+      real(dp) :: frame(3, 3)
+      real(dp) :: z(3), x(3), helper(3)
+      z = axis / norm2(axis)
+      helper = [1.0_dp, 0.0_dp, 0.0_dp]
+      if (abs(z(1)) > 0.9_dp) helper = [0.0_dp, 1.0_dp, 0.0_dp]
+      x = helper - dot_product(helper, z) * z
+      x = x / norm2(x)
+      frame(:, 1) = x
+      frame(:, 2) = [z(2) * x(3) - z(3) * x(2), z(3) * x(1) - z(1) * x(3), &
+         z(1) * x(2) - z(2) * x(1)]
+      frame(:, 3) = z
+   end function frame_from_axis
 
 end module ffrf_mbs_rotation
