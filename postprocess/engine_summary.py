@@ -87,14 +87,22 @@ def elasticity(path, t_start, t_end):
                   if "energy/strain" in results else np.zeros(len(t)))
         selected = results.get("model_selection")
         parts, deflection = [], 0.0
-        for name in sorted(results["bodies"]):
-            body = results["bodies"][name]
+        bodies = results["bodies"] if "bodies" in results else {}
+        for name in sorted(bodies):
+            body = bodies[name]
             if "modal_coordinates" not in body:
                 # a body the automatic model left rigid
                 if selected is not None and name in selected:
                     parts.append(f"{name}: rigid")
                 continue
-            q = np.atleast_2d(body["modal_coordinates"][()])[:len(t)][window]
+            q = np.atleast_2d(body["modal_coordinates"][()])[:len(t)]
+            q = q[window[:len(q)]]   # a killed run's series may end a chunk early
+            if q.shape[0] == 0:
+                parts.append(f"{name}: {q.shape[1]} modes (no step in the regime window)")
+                continue
+            if "modes/virtual_node_shape" not in body or "modes/frequency" not in body:
+                parts.append(f"{name}: {q.shape[1]} modes (no mode data)")
+                continue
             shape = np.atleast_2d(body["modes/virtual_node_shape"][()])   # (modes, 6 n_i)
             omega2 = (2.0 * math.pi * np.atleast_1d(body["modes/frequency"][()])) ** 2
             body_strain = float((0.5 * (q ** 2) @ omega2).max())   # mass-normalised modes
@@ -105,7 +113,8 @@ def elasticity(path, t_start, t_end):
             parts.append(f"{name}: {q.shape[1]} mode{'s' if q.shape[1] > 1 else ''}, "
                          f"{body_strain:.3g} J, {1.0e6 * body_deflection:.3g} um")
     return {"elastic_modes": "; ".join(parts) if parts else "none",
-            "max_strain_energy": float(strain[window].max()) if window.any() else 0.0,
+            "max_strain_energy": (float(strain[window[:len(strain)]].max())
+                                  if window[:len(strain)].any() else 0.0),
             "max_deflection_um": 1.0e6 * deflection}
 
 
