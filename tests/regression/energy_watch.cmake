@@ -38,6 +38,34 @@ add_test(NAME regression_energy_watch_growth_check
 set_tests_properties(regression_energy_watch_growth_check PROPERTIES
   LABELS "regression;engine;postprocess" FIXTURES_REQUIRED energy_watch_growth_results)
 
+# The issue's case, RC set 1: the same undamped engine with the crank of RC set 1 (lc 8 mm, 30
+# modes per body, h = 2.5e-5 s, 2 s) runs stably: no warning, none recomputed, and its energy
+# series close (check_engine.py: W = dT + dU + D_p + D to 1e-9 of the work, D_s >= 0). About 35 s.
+ffrf_engine_case(energy_watch_rc1_undamped engine_rc1 2.0)
+ffrf_replace(_text "h = 1.0e-4," "h = 2.5e-5,")
+ffrf_replace(_text "num_modes = 10," "num_modes = 30,")
+ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'"
+  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'")
+ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'"
+  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'")
+file(WRITE "${_watch}/energy_watch_rc1_undamped.nml" "${_text}")
+add_test(NAME regression_energy_watch_rc1_undamped
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+    ${_watch}/energy_watch_rc1_undamped.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+    --output-dir ${_watch} --quiet)
+set_tests_properties(regression_energy_watch_rc1_undamped PROPERTIES LABELS "regression;engine"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh"
+  FIXTURES_SETUP energy_watch_rc1_undamped_results)
+add_test(NAME regression_energy_watch_rc1_undamped_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_energy_watch.py
+    ${_watch}/energy_watch_rc1_undamped.h5 --expect none)
+add_test(NAME regression_energy_watch_rc1_undamped_balance
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_engine.py
+    ${_watch}/energy_watch_rc1_undamped.h5)
+set_tests_properties(regression_energy_watch_rc1_undamped_check
+  regression_energy_watch_rc1_undamped_balance PROPERTIES
+  LABELS "regression;engine;postprocess" FIXTURES_REQUIRED energy_watch_rc1_undamped_results)
+
 add_test(NAME regression_energy_watch_stop
   COMMAND ${CMAKE_COMMAND}
     "-DCOMMAND=$<TARGET_FILE:ffrf>;${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_all_rigid.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_watch};--output;energy_watch_stop.h5;--set;integrator.energy_watch=stop;--set;integrator.energy_watch_tolerance=1e-9"
