@@ -17,21 +17,26 @@
 set(_watch "${PROJECT_BINARY_DIR}/tests/energy_watch")
 file(MAKE_DIRECTORY "${_watch}")
 
-ffrf_engine_case(energy_watch_growth engine_rc2 2.0)
-ffrf_replace(_text "h = 1.0e-4," "h = 2.5e-5,")
-ffrf_replace(_text "num_modes = 10," "num_modes = 30,")
-# undamped (the engine inputs carry 2 % modal damping, which stops the growth)
-ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'"
-  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'")
-ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'"
-  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'")
-file(WRITE "${_watch}/energy_watch_growth.nml" "${_text}")
-add_test(NAME regression_energy_watch_growth
-  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
-    ${_watch}/energy_watch_growth.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
-    --output-dir ${_watch} --quiet)
-set_tests_properties(regression_energy_watch_growth PROPERTIES LABELS "regression;engine"
-  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh" FIXTURES_SETUP energy_watch_growth_results)
+# ffrf_undamped_engine(<name> <input case>): the engine case on the lc 8 mm meshes, undamped (the
+# engine inputs carry 2 % modal damping), 30 modes per body, h = 2.5e-5 s, 2 s, run as
+# regression_<name> (fixture <name>_results)
+function(ffrf_undamped_engine name source)
+  ffrf_engine_case(${name} ${source} 2.0)
+  ffrf_replace(_text "h = 1.0e-4," "h = 2.5e-5,")
+  ffrf_replace(_text "num_modes = 10," "num_modes = 30,")
+  foreach(mesh crank_lc10 conrod_lc8)
+    ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = '${mesh}.msh'"
+      "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = '${mesh}.msh'")
+  endforeach()
+  file(WRITE "${_watch}/${name}.nml" "${_text}")
+  add_test(NAME regression_${name}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+      ${_watch}/${name}.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_watch} --quiet)
+  set_tests_properties(regression_${name} PROPERTIES LABELS "regression;engine"
+    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh" FIXTURES_SETUP ${name}_results)
+endfunction()
+
+ffrf_undamped_engine(energy_watch_growth engine_rc2)
 add_test(NAME regression_energy_watch_growth_check
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_energy_watch.py
     ${_watch}/energy_watch_growth.h5 --expect growth)
@@ -41,21 +46,7 @@ set_tests_properties(regression_energy_watch_growth_check PROPERTIES
 # The issue's case, RC set 1: the same undamped engine with the crank of RC set 1 (lc 8 mm, 30
 # modes per body, h = 2.5e-5 s, 2 s) runs stably: no warning, none recomputed, and its energy
 # series close (check_engine.py: W = dT + dU + D_p + D to 1e-9 of the work, D_s >= 0). About 35 s.
-ffrf_engine_case(energy_watch_rc1_undamped engine_rc1 2.0)
-ffrf_replace(_text "h = 1.0e-4," "h = 2.5e-5,")
-ffrf_replace(_text "num_modes = 10," "num_modes = 30,")
-ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'"
-  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'crank_lc10.msh'")
-ffrf_replace(_text "modal_damping = 0.02, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'"
-  "modal_damping = 0.0, num_modes = 30,\n      coarse_meshes = 'conrod_lc8.msh'")
-file(WRITE "${_watch}/energy_watch_rc1_undamped.nml" "${_text}")
-add_test(NAME regression_energy_watch_rc1_undamped
-  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
-    ${_watch}/energy_watch_rc1_undamped.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
-    --output-dir ${_watch} --quiet)
-set_tests_properties(regression_energy_watch_rc1_undamped PROPERTIES LABELS "regression;engine"
-  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh"
-  FIXTURES_SETUP energy_watch_rc1_undamped_results)
+ffrf_undamped_engine(energy_watch_rc1_undamped engine_rc1)
 add_test(NAME regression_energy_watch_rc1_undamped_check
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_energy_watch.py
     ${_watch}/energy_watch_rc1_undamped.h5 --expect none)
