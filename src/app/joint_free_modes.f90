@@ -34,10 +34,10 @@
 !> the candidates (their frequencies lie above those of the candidates: interlacing). A
 !> candidate's free share ||N^T e_j||^2 in [0, 1] says how much of it survives.
 module ffrf_app_joint_free_modes
-   use ffrf_core_kinds, only: dp, ip, pi
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_kinds, only: dp, pi
+   use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_str
-   use ffrf_la_lapack, only: dgesvd, dsyev
+   use ffrf_la_dense, only: singular_values, symmetric_eigen, skew
    use ffrf_model_model, only: model_t
    use ffrf_mbs_rotation, only: frame_from_axis
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
@@ -85,7 +85,7 @@ contains
       type(joint_locks_t), intent(out) :: locks
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: C_r(:, :), C_eta(:, :), A(:, :), Q(:, :), N(:, :), W(:, :)
-      real(dp), allocatable :: s(:), free_omega2(:), row_norm(:)
+      real(dp), allocatable :: s(:), free_omega2(:), row_norm(:), Y(:, :)
       !> Per row: component (2 characters) and joint name
       character(len=66), allocatable :: row_label(:)
       character(len=64) :: previous
@@ -103,18 +103,19 @@ contains
       length = body_length(modes)
       call lock_equations(model, k, modes, length, C_r, C_eta, row_label)
       scale = maxval([0.0_dp, abs(C_eta)])
-      ! Q: orthonormal basis of range(C_r)
-      call svd(C_r, s, Q, error=error)
+      ! Q: orthonormal basis of range(C_r), the left singular vectors of C_r (the right ones
+      ! of its transpose)
+      call singular_values(transpose(C_r), s, error, v=Q)
       if (allocated(error)) return
       rank_r = count(s > RIGID_RTOL * maxval([0.0_dp, s]))
       Q = Q(:, 1:rank_r)
       A = C_eta - matmul(Q, matmul(transpose(Q), C_eta))
-      call svd(A, s, vt=N, error=error)
+      call singular_values(A, s, error, v=N)
       if (allocated(error)) return
       rank_a = count(s > LOCK_RTOL * scale)
       locks%num_locked = rank_a
-      ! N: right singular vectors rank_a + 1 .. nc (dgesvd gives V^T, all nc rows)
-      N = transpose(N(rank_a + 1:nc, :))
+      ! N: right singular vectors rank_a + 1 .. nc
+      N = N(:, rank_a + 1:nc)
       locks%free_share = sum(N**2, dim=2)
       ! the joint components the candidates move (rows of C_eta), grouped per joint
       row_norm = norm2(C_eta, dim=2)
@@ -131,9 +132,12 @@ contains
       ! Rayleigh-Ritz in span(Phi N): N^T Omega^2 N y = omega^2 y
       free_omega2 = (2.0_dp * pi * modes%frequency_hz)**2
       W = matmul(transpose(N), N * spread(free_omega2, 2, size(N, 2)))
-      call symmetric_eigen(W, free_omega2, error)
+      allocate (Y(size(W, 1), size(W, 1)))
+      deallocate (free_omega2)
+      allocate (free_omega2(size(W, 1)))
+      if (size(W, 1) > 0) call symmetric_eigen(W, free_omega2, Y, error)
       if (allocated(error)) return
-      W = matmul(N, W)
+      W = matmul(N, Y)
       ! a sign fixed by the candidates (not by the eigen solver's kernel): the largest |entry|
       ! of each free mode's combination positive (the first of near-equal ones)
       do j = 1, size(W, 2)
@@ -235,8 +239,7 @@ contains
             block(3 + i, 3 + i) = block(3 + i, 3 + i) + sign / length
          end do
          ! dtheta x r = -[r]_x dtheta
-         block(1:3, 4:6) = block(1:3, 4:6) - sign / length * reshape([0.0_dp, r(3), -r(2), &
-            -r(3), 0.0_dp, r(1), r(2), -r(1), 0.0_dp], [3, 3])
+         block(1:3, 4:6) = block(1:3, 4:6) - sign / length * skew(r)
       end subroutine add_rigid
 
       !> The virtual-node shapes [Psi_u; Psi_r] of interface i of body k.
@@ -305,71 +308,6 @@ contains
          minval(modes%mesh%xyz, dim=2))
       if (length <= 0.0_dp) length = 1.0_dp
    end function body_length
-
-   !> Singular values of a (descending) with the left singular vectors u (all columns) or the
-   !> right ones as vt (all rows).
-   subroutine svd(a, s, u, vt, error)
-      real(dp), intent(in) :: a(:, :)
-      real(dp), allocatable, intent(out) :: s(:)
-      real(dp), allocatable, intent(out), optional :: u(:, :), vt(:, :)
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: work(:), copy(:, :), uu(:, :), vv(:, :)
-      real(dp) :: query(1)
-      integer(ip) :: m, n, info
-      character :: job_u, job_v
-      m = int(size(a, 1), ip)
-      n = int(size(a, 2), ip)
-      job_u = merge('A', 'N', present(u))
-      job_v = merge('A', 'N', present(vt))
-      allocate (s(max(min(m, n), 1)), uu(max(m, 1), max(m, 1)), vv(max(n, 1), max(n, 1)))
-      s = 0.0_dp
-      if (m == 0 .or. n == 0) then
-         uu = identity(max(m, 1))
-         vv = identity(max(n, 1))
-      else
-         copy = a
-         call dgesvd(job_u, job_v, m, n, copy, m, s, uu, m, vv, n, query, -1_ip, info)
-         allocate (work(max(1, int(query(1)))))
-         call dgesvd(job_u, job_v, m, n, copy, m, s, uu, m, vv, n, work, int(size(work), ip), &
-            info)
-         if (info /= 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'joint-free modes: dgesvd failed, ' // &
-               'info = ' // to_str(int(info)))
-            return
-         end if
-      end if
-      if (present(u)) u = uu(1:m, 1:m)
-      if (present(vt)) vt = vv(1:n, 1:n)
-      if (m == 0) s = s(1:0)
-   end subroutine svd
-
-   !> Eigen decomposition of the symmetric a: eigenvectors in a, eigenvalues ascending in w.
-   subroutine symmetric_eigen(a, w, error)
-      real(dp), intent(inout) :: a(:, :)
-      real(dp), allocatable, intent(out) :: w(:)
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: work(:)
-      real(dp) :: query(1)
-      integer(ip) :: n, info
-      n = int(size(a, 1), ip)
-      allocate (w(n))
-      if (n == 0) return
-      call dsyev('V', 'U', n, a, n, w, query, -1_ip, info)
-      allocate (work(max(1, int(query(1)))))
-      call dsyev('V', 'U', n, a, n, w, work, int(size(work), ip), info)
-      if (info /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'joint-free modes: dsyev ' // &
-         'failed, info = ' // to_str(int(info)))
-   end subroutine symmetric_eigen
-
-   pure function identity(n) result(eye)
-      integer, intent(in) :: n
-      real(dp) :: eye(n, n)
-      integer :: i
-      eye = 0.0_dp
-      do i = 1, n
-         eye(i, i) = 1.0_dp
-      end do
-   end function identity
 
    !> Modes Phi W at the frequencies given; the residual of a free mode is the largest of the
    !> candidates it combines (the eigen solver's accuracy beneath it).
