@@ -44,7 +44,7 @@ module ffrf_mbs_reaction_split
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_la_lapack, only: dgesvd
+   use ffrf_la_dense, only: singular_values
    use ffrf_mbs_galpha_linalg, only: dgeqp3
    implicit none
    private
@@ -168,7 +168,7 @@ contains
       !> Smallest participation s_j / |R_11| (1 when the rigid mechanism has no self-stress)
       real(dp), intent(out) :: sigma_ratio
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: a(:, :), ar(:, :), w(:, :), b(:, :), sb(:), yt(:, :), &
+      real(dp), allocatable :: a(:, :), ar(:, :), w(:, :), b(:, :), sb(:), y(:, :), &
          row_max(:), mu(:), share(:), direction(:)
       real(dp) :: s1
       integer :: n, nr, nrig, d, i, k
@@ -198,7 +198,7 @@ contains
       if (d == 0 .or. .not. s1 > 0.0_dp) return
       ! (2) the whole Jacobian on that space
       b = matmul(a, w)
-      call svd_right(b, sb, yt, error)
+      call singular_values(b, sb, error, v=y)
       if (allocated(error)) return
       sigma_ratio = 0.0_dp
       if (size(sb) == d) sigma_ratio = sb(d) / s1
@@ -208,7 +208,7 @@ contains
          if (k <= size(sb)) then
             if (sb(k) > sigma_rtol * s1) cycle
          end if
-         direction = matmul(w, yt(k, :))
+         direction = matmul(w, y(:, k))
          mu = mu - dot_product(direction, mu) * direction
          share = share + direction**2
       end do
@@ -274,27 +274,5 @@ contains
          end do
       end do
    end subroutine null_space
-
-   !> Singular values (descending) and right singular vectors (rows of vt, size(a, 2) of them)
-   !> of a (dgesvd; a is overwritten).
-   subroutine svd_right(a, s, vt, error)
-      real(dp), intent(inout) :: a(:, :)
-      real(dp), allocatable, intent(out) :: s(:), vt(:, :)
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: work(:)
-      real(dp) :: u(1, 1), query(1)
-      integer(ip) :: m, n, info
-      m = int(size(a, 1), ip)
-      n = int(size(a, 2), ip)
-      allocate (s(max(1_ip, min(m, n))), vt(n, n))
-      s = 0.0_dp
-      call dgesvd('N', 'A', m, n, a, max(1_ip, m), s, u, 1_ip, vt, n, query, -1_ip, info)
-      allocate (work(max(1_ip, int(query(1), ip))))
-      call dgesvd('N', 'A', m, n, a, max(1_ip, m), s, u, 1_ip, vt, n, work, &
-         int(size(work), ip), info)
-      if (info /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'reaction split: the SVD ' // &
-         'of a ' // to_str(int(m)) // ' x ' // to_str(int(n)) // ' block of the constraint ' // &
-         'Jacobian did not converge (dgesvd info = ' // to_str(int(info)) // ')')
-   end subroutine svd_right
 
 end module ffrf_mbs_reaction_split
