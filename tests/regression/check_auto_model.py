@@ -110,15 +110,6 @@ LOCK_RTOL = 1.0e-9
 PREDICTION_FACTOR = 1.5
 
 
-def rotation(p):
-    """Rotation matrix of the Euler parameters p = (e0, e1, e2, e3)."""
-    e0, e1, e2, e3 = p
-    return np.array([
-        [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
-        [2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)],
-        [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)]])
-
-
 def check_joint_free(path):
     """The crank's kept modes are free of the bearing locks and carry strain energy (module
     docstring)."""
@@ -156,7 +147,7 @@ def check_joint_free(path):
     u = shape[:, 6 * pin:6 * pin + 3]
     compliance = (u.T / omega**2) @ u
     window = slice(len(q) - len(q) // 5, len(q))   # the last 0.4 s: two cycles and more
-    frame_force = np.einsum("nji,nj->ni", np.array([rotation(p) for p in euler[window]]),
+    frame_force = np.einsum("nji,nj->ni", study_outputs.rotation_matrix(euler[window]),
                             reaction[window, :3])
     quasi_static = 0.5 * np.einsum("ni,ij,nj->n", frame_force, compliance, frame_force).max()
     strain = (0.5 * (q[window] ** 2) @ omega**2).max()
