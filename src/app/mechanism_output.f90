@@ -35,6 +35,8 @@ module ffrf_app_mechanism_output
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_app_run_options, only: run_options_t
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_modes_fingerprint, only: modes_fingerprint_t
+   use ffrf_mesh_mesh, only: mesh_t
    use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
@@ -47,6 +49,8 @@ module ffrf_app_mechanism_output
    use ffrf_app_mechanism_builder, only: built_body_t
    use ffrf_app_engine_auto_model, only: model_choice_t, write_model_choice
    use ffrf_model_model, only: model_t
+   use ffrf_app_restart_fingerprint, only: RESTART_ENTRY_LENGTH, input_entries, model_entries, &
+      first_difference, entries_hash
    implicit none
    private
    public :: mechanism_output_t
@@ -66,6 +70,8 @@ module ffrf_app_mechanism_output
       !> Names and modes of the bodies of the results
       character(len=:), allocatable :: bodies(:)
       integer(i8), allocatable :: body_modes(:)
+      !> Its restart fingerprint (ffrf_app_restart_fingerprint)
+      character(len=:), allocatable :: fingerprint_input(:), fingerprint_model(:)
    end type restart_state_t
 
    !> Crank angle and modal coordinates of every step, kept for the animation.
@@ -91,6 +97,9 @@ module ffrf_app_mechanism_output
       logical :: restarting = .false.
       type(h5_file_t) :: source
       type(restart_state_t) :: restart
+      !> This run's restart fingerprint: input entries (reserve), model entries (start)
+      character(len=RESTART_ENTRY_LENGTH), allocatable :: fingerprint_input(:), &
+         fingerprint_model(:)
       type(engine_results_t) :: results
       type(energy_balance_t) :: balance
       !> The energy watch (issue 30; ffrf_mbs_energy_watch): warnings in the log and /warnings
@@ -162,8 +171,11 @@ contains
       end if
       self%restarting = .false.
       if (allocated(options%restart_file)) self%restarting = len(options%restart_file) > 0
-      if (self%restarting) call read_restart(options%restart_file, self%source, self%restart, &
-         error)
+      self%fingerprint_input = input_entries(case_echo(case))
+      if (.not. self%restarting) return
+      call read_restart(options%restart_file, self%source, self%restart, error)
+      if (.not. allocated(error)) call check_same_model(options%restart_file, &
+         self%fingerprint_input, self%restart%fingerprint_input, error)
    end subroutine output_reserve
 
    !> Release the lock and the restart source (a run that failed before or while starting).
@@ -196,9 +208,12 @@ contains
       character(len=:), allocatable :: echo
       self%times = times
       associate (case => self%case, options => self%options)
+         self%fingerprint_model = model_fingerprint(mech, bodies, integrator)
          if (self%restarting) then
-            call apply_restart(options%restart_file, self%restart, mech, bodies, integrator, &
-               self%balance, error)
+            call check_same_model(options%restart_file, self%fingerprint_model, &
+               self%restart%fingerprint_model, error)
+            if (.not. allocated(error)) call apply_restart(options%restart_file, self%restart, &
+               mech, bodies, integrator, self%balance, error)
             if (allocated(error)) return
             call log%info('restart', options%restart_file // ': continuing from t = ' // &
                to_str(integrator%t, 8) // ' s, step ' // to_str(integrator%stats%steps) // &
@@ -216,6 +231,9 @@ contains
             call self%results%append_from(self%source, self%restart%num_steps, error)
             if (.not. allocated(error)) call history_from(self%source, self%restart%num_steps, &
                bodies, mech, self%history, error)
+            if (.not. allocated(error)) call write_restart_origin(self%results, self%source, &
+               options%restart_file, integrator%t, [self%fingerprint_input, &
+               self%fingerprint_model], error)
             if (.not. allocated(error)) call self%source%close(error)
          end if
          if (allocated(error)) then
@@ -348,7 +366,8 @@ contains
       if (.not. due) return
       checkpoint_start = wall_time()
       call write_restart_state(self%results, integrator, self%balance, &
-         self%results%num_steps(), mech%crank_reference, mech, bodies, error)
+         self%results%num_steps(), mech%crank_reference, mech, bodies, self%fingerprint_input, &
+         self%fingerprint_model, error)
       if (.not. allocated(error)) call write_checkpoint_file(self%results_file, error)
       if (allocated(error)) return
       self%last_checkpoint = wall_time()
@@ -394,10 +413,12 @@ contains
          ! The restart state of the results file
          if (self%have_before_last .and. integrator%t == integrator%settings%t_end) then
             call write_restart_state(results, self%before_last, self%balance_before_last, &
-               self%rows_before_last, self%reference_before_last, mech, bodies, state_error)
+               self%rows_before_last, self%reference_before_last, mech, bodies, &
+               self%fingerprint_input, self%fingerprint_model, state_error)
          else
             call write_restart_state(results, integrator, self%balance, results%num_steps(), &
-               mech%crank_reference, mech, bodies, state_error)
+               mech%crank_reference, mech, bodies, self%fingerprint_input, &
+               self%fingerprint_model, state_error)
          end if
          if (self%num_checkpoints > 0) call log%info('run', to_str(self%num_checkpoints) // &
             ' restart checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &
@@ -871,9 +892,10 @@ contains
    !> whole state (galpha_export_state), the energy balance, the mechanism's crank-angle
    !> unwrapping reference (the pressure cycle follows the unwrapped angle), the number of
    !> recorded steps that belong to it and what identifies the system (coordinates, bodies,
-   !> modes); then the file is flushed, so that it is consistent on disk.
+   !> modes) and its restart fingerprint (ffrf_app_restart_fingerprint); then the file is
+   !> flushed, so that it is consistent on disk.
    subroutine write_restart_state(results, integrator, balance, num_steps, crank_reference, &
-         mech, bodies, error)
+         mech, bodies, fingerprint_input, fingerprint_model, error)
       type(engine_results_t), intent(inout) :: results
       type(galpha_integrator_t), intent(in) :: integrator
       type(energy_balance_t), intent(in) :: balance
@@ -883,6 +905,7 @@ contains
       real(dp), intent(in) :: crank_reference
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
+      character(len=*), intent(in) :: fingerprint_input(:), fingerprint_model(:)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: reals(:)
       integer(i8), allocatable :: ints(:)
@@ -909,6 +932,10 @@ contains
       if (.not. allocated(error)) call results%write_strings('/checkpoint/bodies', names, error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/body_modes', &
          int(bodies%num_modes, i8), error)
+      if (.not. allocated(error)) call results%write_strings('/checkpoint/fingerprint_input', &
+         fingerprint_input, error)
+      if (.not. allocated(error)) call results%write_strings('/checkpoint/fingerprint_model', &
+         fingerprint_model, error)
       if (.not. allocated(error)) call results%flush(error)
    end subroutine write_restart_state
 
@@ -967,8 +994,91 @@ contains
       if (allocated(error)) then
          error%code = FFRF_INPUT_ERROR
          call add_context(error, '--restart "' // file_name // '": unreadable restart state')
+         return
+      end if
+      if (.not. source%exists('/checkpoint/fingerprint_model')) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": its ' // &
+            'restart state has no restart fingerprint (/checkpoint/fingerprint_input, ' // &
+            '/checkpoint/fingerprint_model: written by ffrf since issue 23), so ffrf cannot ' // &
+            'check that it is a run of this model; run the case from t = 0')
+         return
+      end if
+      call source%read_string_list('/checkpoint/fingerprint_input', restart%fingerprint_input, &
+         error)
+      if (.not. allocated(error)) call source%read_string_list('/checkpoint/fingerprint_model', &
+         restart%fingerprint_model, error)
+      if (allocated(error)) then
+         error%code = FFRF_INPUT_ERROR
+         call add_context(error, '--restart "' // file_name // '": unreadable restart state')
       end if
    end subroutine read_restart
+
+   !> The restart fingerprint's model entries of this run (ffrf_app_restart_fingerprint): the
+   !> modes fingerprint of every meshed body and the integrator's step and rho_inf.
+   function model_fingerprint(mech, bodies, integrator) result(entries)
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      character(len=RESTART_ENTRY_LENGTH), allocatable :: entries(:)
+      character(len=64), allocatable :: names(:)
+      type(modes_fingerprint_t), allocatable :: fingerprints(:)
+      type(mesh_t), allocatable :: meshes(:)
+      integer :: k
+      allocate (names(size(bodies)), fingerprints(size(bodies)), meshes(size(bodies)))
+      do k = 1, size(bodies)
+         names(k) = mech%bodies(bodies(k)%index)%name
+         if (.not. bodies(k)%meshed) cycle
+         fingerprints(k) = bodies(k)%modes%fingerprint
+         meshes(k) = bodies(k)%modes%mesh
+      end do
+      entries = model_entries(names, fingerprints, bodies%meshed, meshes, integrator%settings%h, &
+         integrator%settings%rho_inf)
+   end function model_fingerprint
+
+   !> FFRF_INPUT_ERROR naming the first difference when the restart file's fingerprint entries
+   !> (`there`) differ from this run's (`here`).
+   subroutine check_same_model(file_name, here, there, error)
+      character(len=*), intent(in) :: file_name, here(:), there(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: difference
+      difference = first_difference(here, there)
+      if (len(difference) == 0) return
+      call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": not a run ' // &
+         'of this model: ' // difference // '; continue only a run of the same model (what ' // &
+         'may change, e.g. t_end and the outputs: docs/restart.md)')
+   end subroutine check_same_model
+
+   !> Record in the continued file where it came from: /restart_origin/{file, time,
+   !> fingerprint}, one row per restart (the source's own rows first).
+   subroutine write_restart_origin(results, source, file_name, t, fingerprint, error)
+      type(engine_results_t), intent(inout) :: results
+      type(h5_file_t), intent(in) :: source
+      character(len=*), intent(in) :: file_name, fingerprint(:)
+      real(dp), intent(in) :: t
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: files(:), hashes(:)
+      real(dp), allocatable :: times(:)
+      character(len=max(len(file_name), 16)), allocatable :: all_files(:)
+      character(len=16), allocatable :: all_hashes(:)
+      allocate (all_files(0), all_hashes(0), times(0))
+      if (source%exists('/restart_origin/file')) then
+         call source%read_string_list('/restart_origin/file', files, error)
+         if (.not. allocated(error)) call source%read_string_list('/restart_origin/fingerprint', &
+            hashes, error)
+         if (.not. allocated(error)) call source%read_real('/restart_origin/time', times, error)
+         if (allocated(error)) return
+         all_files = [character(len=len(all_files)) :: files]
+         all_hashes = [character(len=16) :: hashes]
+      end if
+      all_files = [character(len=len(all_files)) :: all_files, file_name]
+      all_hashes = [character(len=16) :: all_hashes, entries_hash(fingerprint)]
+      times = [times, t]
+      call results%write_strings('/restart_origin/file', all_files, error)
+      if (.not. allocated(error)) call results%write_strings('/restart_origin/fingerprint', &
+         all_hashes, error)
+      if (.not. allocated(error)) call results%write_real('/restart_origin/time', times, 's', &
+         error)
+   end subroutine write_restart_origin
 
    !> Check that the restart state belongs to this case (coordinates, bodies, modes) and
    !> restore it into the integrator and the energy balance; FFRF_INPUT_ERROR otherwise.

@@ -199,3 +199,17 @@ add_test(NAME regression_reactions_variant_check
 set_tests_properties(regression_reactions_variant_check PROPERTIES
   LABELS "regression;engine;postprocess"
   FIXTURES_REQUIRED "reactions_variant_flexible;reactions_variant_rigid")
+
+# The restart fingerprint (issue 23 item 3, issue 28 item 2; docs/restart.md), by
+# restart_fingerprint.py on the finished lc 8 mm engine run above: every entry of the file's own
+# /checkpoint/fingerprint_input changed alone through --set is refused by --restart (exit 2, one
+# line naming the entry and both values, before any modes are computed); a mesh node moved by
+# 1e-9 m and Young's modulus changed in its 14th digit (equal in the echo) are refused by the
+# model entries; what may change (t_end, outputs, energy watch, progress, checkpoints) is
+# accepted and the continued file records /restart_origin.
+add_test(NAME regression_restart_fingerprint
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/restart_fingerprint.py
+    $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${_out}/engine_lc8_rc1.nml
+    ${_out}/engine_lc8_rc1.h5 ${PROJECT_BINARY_DIR}/tests/restart_fingerprint)
+set_tests_properties(regression_restart_fingerprint PROPERTIES LABELS "regression;engine"
+  TIMEOUT 300 FIXTURES_REQUIRED "engine_lc8_rc1_results;crank_lc8_mesh;conrod_lc8_mesh")
