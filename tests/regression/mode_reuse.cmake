@@ -5,7 +5,7 @@
 # material, interface RC or number of modes, a rigid body, a modal run) stop with exit 3 or 2 and
 # one line matching a regex; `ffrf --check` on the same cases: 0 on matching files, the run's exit
 # code and message on each refusal.
-foreach(test bitwise errors check)
+foreach(test bitwise errors check fields)
   add_test(NAME regression_mode_reuse_${test}
     COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/mode_reuse.py ${test}
       $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${PROJECT_BINARY_DIR}/tests/engine

@@ -20,6 +20,9 @@ TEST is one of
             refusal of `errors` with the run's exit code and message (the run's own check,
             check_stored_modes), the stderr line of --check equal to the run's for the mesh,
             material and interface cases
+  fields    every entry of the crank's modes fingerprint (read from the source file, so a new
+            entry without a change listed in FIELD_CHANGES fails) changed alone: exit 2 with
+            one line naming the component and the entry ('the material differs (poisson ...')
 CASE_DIR holds engine_lc8_rc1.nml (tests/engine of the build). Any failure exits 1.
 """
 import os
@@ -233,13 +236,134 @@ def test_check(ffrf, mesh_dir, case_dir, work):
                   f'--check, {what}: the run\'s exit code and message')
 
 
+# Every entry of the modes fingerprint (src/modes/fingerprint.f90) and how to change that input
+# alone in the engine case (issue 28 item 2): --set overrides, or a mesh edit. The labels come from
+# the source file, so an entry added to the fingerprint without a row here fails the test.
+# Entries no input changes alone name the entry that is seen first instead (`named`).
+FIELD_CHANGES = {
+    'nodes': {'sets': ['body[crank].mesh_file=crank_lc10.msh']},
+    'elements': {'sets': ['body[crank].mesh_file=crank_lc10.msh'], 'named': 'nodes'},
+    'node coordinates': {'mesh': 'move_node'},
+    'connectivity': {'mesh': 'rotate_tet'},
+    'young': {'sets': ['body[crank].young=2.2e11']},
+    'poisson': {'sets': ['body[crank].poisson=0.29']},
+    'density': {'sets': ['body[crank].density=7800']},
+    'order': {'case': 'swap_interfaces'},
+    'mpc': {'sets': ['interface[{i}].mpc=RBE2']},
+    'weighting': {'sets': ['interface[{i}].weighting=area']},
+    'rc': {'sets': ['interface[{i}].rc={rc}']},
+    'virtual node': {'sets': ['interface[{i}].position={moved}']},
+    # the node set and its weights follow from the mesh and the surface: changed with the mesh,
+    # the mesh entries are named first
+    'nodes@interface': {'sets': ['body[crank].mesh_file=crank_lc10.msh'], 'named': 'nodes'},
+    'node set': {'sets': ['body[crank].mesh_file=crank_lc10.msh'], 'named': 'nodes'},
+    'weights': {'sets': ['interface[{i}].weighting=area'], 'named': '{i}: weighting'},
+    'num_modes': {'sets': ['body[crank].num_modes=8']},
+    'basis': {'sets': ["modes.basis=craig_bampton"]},
+    'formulation': {'sets': ['modes.formulation=null_space']},
+    'shift_hz': {'sets': ['modes.shift_hz=100']},
+    'tolerance': {'sets': ['modes.tolerance=1e-10']},
+    'lanczos_vectors': {'sets': ['modes.lanczos_vectors=40']},
+}
+
+
+def mesh_lines(mesh_dir, work, name, mesh_name):
+    """A copy of the mesh folder for an edited mesh; the lines of mesh `mesh_name`."""
+    edited = os.path.join(work, name)
+    os.makedirs(edited, exist_ok=True)
+    for f in os.listdir(mesh_dir):
+        if f.endswith('.msh'):
+            with open(os.path.join(mesh_dir, f), 'rb') as src, \
+                    open(os.path.join(edited, f), 'wb') as dst:
+                dst.write(src.read())
+    with open(os.path.join(edited, mesh_name)) as f:
+        return edited, f.read().split('\n')
+
+
+def edited_mesh(mesh_dir, work, how, mesh_name):
+    """The crank's mesh (Gmsh 4.1 ASCII) with its first node moved by 1e-9 m in x, or with its first
+    Tet10 listed from another corner (corners 0 1 2 3 -> 1 2 0 3, an even permutation: same
+    element, same orientation, mid-edge nodes following their edges)."""
+    folder, lines = mesh_lines(mesh_dir, work, how, mesh_name)
+    if how == 'move_node':
+        k = lines.index('$Nodes') + 2
+        first = k + 1 + int(lines[k].split()[3])
+        x, y, z = (float(v) for v in lines[first].split()[:3])
+        lines[first] = f'{x + 1e-9!r} {y!r} {z!r}'
+    else:
+        k = lines.index('$Elements') + 2
+        while int(lines[k].split()[2]) != 11:          # element type 11: Tet10
+            k += 1 + int(lines[k].split()[3])
+        tag, *nodes = lines[k + 1].split()
+        order = [1, 2, 0, 3, 5, 6, 4, 9, 7, 8]          # Gmsh edges 01 12 20 30 32 31
+        lines[k + 1] = ' '.join([tag] + [nodes[j] for j in order])
+    with open(os.path.join(folder, mesh_name), 'w') as f:
+        f.write('\n'.join(lines))
+    return folder
+
+
+def test_fields(ffrf, mesh_dir, case_dir, work):
+    case, _ = source_runs(ffrf, mesh_dir, case_dir, work)
+    source = os.path.join(work, 'modes_source.h5')
+    import h5py
+    with h5py.File(source, 'r') as f:
+        group = f['/bodies/crank/modes/fingerprint']
+        entries = [(c, x.decode()) for c in ('mesh', 'material', 'interfaces', 'modes')
+                   for x in group[c][()]]
+    check(len(entries) >= 20, f'{len(entries)} entries in the crank\'s modes fingerprint')
+    text = open(case).read()
+    for component, entry in entries:
+        label = entry.split('=', 1)[0]
+        interface, _, field = label.rpartition(': ')
+        key = field + ('@interface' if interface and field == 'nodes' else '')
+        change = FIELD_CHANGES.get(key)
+        check(change is not None, f'{label}: a change of that input alone is listed')
+        if change is None:
+            continue
+        mesh = mesh_dir
+        sets = [f'body[crank].modes_file={source}']
+        this_case = case
+        value = entry.split('=', 1)[1]
+        if 'mesh' in change:
+            crank_mesh = re.search(r"name = 'crank'[^/]*?mesh_file = '([^']+)'", text).group(1)
+            mesh = edited_mesh(mesh_dir, work, change['mesh'], crank_mesh)
+        if change.get('case') == 'swap_interfaces':
+            groups = re.findall(r"&interface body = 'crank'.*?/\n", text, re.S)
+            swapped = text.replace(groups[0], '@@FIRST@@', 1).replace(groups[-1], groups[0], 1)
+            this_case = os.path.join(work, 'swapped.nml')
+            with open(this_case, 'w') as f:
+                f.write(swapped.replace('@@FIRST@@', groups[-1], 1))
+        if field == 'rc':
+            dofs = value.split() if value != 'none' else []
+            rc = ' '.join(dofs[:-1]) if dofs else 'Tx'
+        else:
+            rc = ''
+        moved = ''
+        if field == 'virtual node':
+            xyz = [float(v) for v in re.findall(r'-?[\d.eE+-]+', value)[:3]]
+            moved = f'{xyz[0]} {xyz[1] + 1e-3} {xyz[2]}'
+        for s_ in change.get('sets', []):
+            sets.append(s_.format(i=interface, rc=rc, moved=moved))
+        named = change.get('named', label).format(i=interface)
+        args = [a for s_ in sets for a in ('--set', s_)]
+        code, out, err = run(ffrf, this_case, mesh, work, '--output', 'refused.h5', '--quiet', *args)
+        words = {'mesh': 'the mesh differs', 'material': 'the material differs',
+                 'interfaces': 'the interfaces differ', 'modes': 'the modes specification differs'}
+        expected_component = 'mesh' if change.get('named') == 'nodes' else component
+        pattern = re.escape(words[expected_component]) + r' \(' + re.escape(named) + " '"
+        check(refused(code, err, 2, pattern),
+              f'{label} changed alone ({" ".join(sets[1:]) or change}): exit {code}, '
+              f'{err.strip()}')
+
+
 def main(argv):
-    if len(argv) != 6 or argv[1] not in ('bitwise', 'errors', 'check'):
+    if len(argv) != 6 or argv[1] not in ('bitwise', 'errors', 'check', 'fields'):
         print(__doc__)
         return 1
     test, ffrf, mesh_dir, case_dir, work = argv[1:]
     os.makedirs(work, exist_ok=True)
-    {'bitwise': test_bitwise, 'errors': test_errors, 'check': test_check}[test](
+    {'bitwise': test_bitwise, 'errors': test_errors, 'check': test_check,
+     'fields': test_fields}[test](
         os.path.abspath(ffrf), os.path.abspath(mesh_dir), os.path.abspath(case_dir),
         os.path.abspath(work))
     print(f'{len(FAILURES)} failure(s)')
