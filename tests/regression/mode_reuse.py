@@ -311,12 +311,20 @@ def test_fields(ffrf, mesh_dir, case_dir, work):
         entries = [(c, x.decode()) for c in ('mesh', 'material', 'interfaces', 'modes')
                    for x in group[c][()]]
     check(len(entries) >= 20, f'{len(entries)} entries in the crank\'s modes fingerprint')
+    # both ways: every input of the table is in the fingerprint (none forgotten by the code) ...
+    present = set()
+    for _, entry in entries:
+        interface, _, field = entry.split('=', 1)[0].rpartition(': ')
+        present.add(field + ('@interface' if interface and field == 'nodes' else ''))
+    for key in FIELD_CHANGES:
+        check(key in present, f'the fingerprint has the entry {key!r} (an input of the modes)')
     text = open(case).read()
     for component, entry in entries:
         label = entry.split('=', 1)[0]
         interface, _, field = label.rpartition(': ')
         key = field + ('@interface' if interface and field == 'nodes' else '')
         change = FIELD_CHANGES.get(key)
+        # ... and every entry has its change here (none forgotten by this test)
         check(change is not None, f'{label}: a change of that input alone is listed')
         if change is None:
             continue

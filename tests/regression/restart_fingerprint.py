@@ -111,6 +111,21 @@ def main():
     check(len(inputs) > 100, f'{len(inputs)} input entries in the restart fingerprint')
     check(not any(re.match(r'(integrator\.t_end|run\.output|run\.title)=', e) for e in inputs),
           'the keys that may change (t_end, output, title) are not in it')
+    # the fingerprint holds every key of the echo but those docs/restart.md says may change
+    echo = subprocess.run([ffrf, case, '--print-input'], capture_output=True, text=True).stdout
+    may_change = documented_may_change()
+    expected = set()
+    for line in echo.splitlines():
+        m = re.match(r'&(\w+) (.*)/\s*$', line)
+        if not m:
+            continue
+        group = m.group(1)
+        for key in re.findall(r"(?:^|, )(\w+) = ", m.group(2)):
+            if key != 'name' and f'{group}.{key}' not in may_change:
+                expected.add(f'{group}.{key}')
+    found = {re.sub(r'\[[^\]]*\]', '', e.split('=', 1)[0]) for e in inputs}
+    check(found == expected, f'fingerprint keys = echo keys but the {len(may_change)} documented '
+          f'ones ({len(found)} keys); missing {sorted(expected - found)}, extra {sorted(found - expected)}')
     names = {}
     for entry in inputs:
         m = re.match(r'(\w+)\[([^\]#]+)\]\.', entry)
@@ -204,6 +219,25 @@ def main():
     if failures:
         print(f'{len(failures)} failure(s)')
         sys.exit(1)
+
+
+def documented_may_change():
+    """GROUP.KEY of the keys docs/restart.md says may change (its table, first column: `a.b`,
+    then keys of the same group as `c`)."""
+    doc = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'docs', 'restart.md')
+    keys = set()
+    with open(doc) as f:
+        for line in f:
+            if not line.startswith('| `'):
+                continue
+            group = None
+            for item in re.findall(r'`([\w.]+)`', line.split('|')[1]):
+                if '.' in item:
+                    group, key = item.split('.')
+                else:
+                    key = item
+                keys.add(f'{group}.{key}')
+    return keys
 
 
 def move_one_node(path):
