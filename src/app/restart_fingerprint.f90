@@ -17,7 +17,7 @@ module ffrf_app_restart_fingerprint
    use ffrf_core_strings, only: to_str
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_modes_fingerprint, only: modes_fingerprint_t, COMPONENT_NAMES, NUM_COMPONENTS, &
-      exact_text
+      exact_text, label_of, value_of
    implicit none
    private
    public :: RESTART_ENTRY_LENGTH, MAY_CHANGE, input_entries, model_entries, first_difference, &
@@ -221,18 +221,6 @@ contains
             inner = text(2:len(text) - 1)
       end if
    end function unquoted
-
-   pure function label_of(entry) result(label)
-      character(len=*), intent(in) :: entry
-      character(len=:), allocatable :: label
-      label = entry(:index(entry, '=') - 1)
-   end function label_of
-
-   pure function value_of(entry) result(value)
-      character(len=*), intent(in) :: entry
-      character(len=:), allocatable :: value
-      value = trim(entry(index(entry, '=') + 1:))
-   end function value_of
 
    pure integer function find_label(entries, label) result(found)
       character(len=*), intent(in) :: entries(:), label

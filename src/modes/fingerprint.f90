@@ -30,7 +30,7 @@ module ffrf_modes_fingerprint
    private
    public :: modes_fingerprint_t, make_fingerprint, set_kept_modes, set_joint_projection, &
       compare_fingerprints, &
-      COMPONENT_NAMES, NUM_COMPONENTS, ENTRY_LENGTH, exact_text
+      COMPONENT_NAMES, NUM_COMPONENTS, ENTRY_LENGTH, exact_text, label_of, value_of
 
    integer, parameter :: NUM_COMPONENTS = 4
    !> Length of one `label=value` entry
@@ -308,6 +308,7 @@ contains
       list%entries = [character(len=ENTRY_LENGTH) :: list%entries, label // '=' // value]
    end subroutine add
 
+   !> The label of a `label=value` entry.
    pure function label_of(entry) result(label)
       character(len=*), intent(in) :: entry
       character(len=:), allocatable :: label
@@ -316,6 +317,7 @@ contains
       label = entry(:max(k - 1, 0))
    end function label_of
 
+   !> The value of a `label=value` entry.
    pure function value_of(entry) result(value)
       character(len=*), intent(in) :: entry
       character(len=:), allocatable :: value
