@@ -13,6 +13,10 @@
 #    1e-10 (compare_driver.py reads the driver's HDF5 results).
 #  - capi_record_driver: that engine advanced in 1 ms chunks with an output folder writes the
 #    driver's results file and animations, bitwise apart from the timings (compare_record.py).
+#  - capi_values_driver: every value-returning entry point on every path (modal and mechanism,
+#    with and without an output folder, after 1 ms chunks and after one run to t_end) against
+#    the driver's results file, or a numpy recomputation where the file does not hold the
+#    value (compare_values.py: the matrix and its tolerances).
 set(_capi_out "${PROJECT_BINARY_DIR}/tests/capi")
 file(MAKE_DIRECTORY "${_capi_out}")
 

@@ -4,11 +4,12 @@ test_capi_values dumps what each entry point returns on six paths (its header: t
 format); this script runs the ffrf driver on the same cases and compares every value with the
 driver's results file, or, where the file does not hold it, with an independent recomputation
 here. Driver runs (OUT_DIR/driver/...):
-  modal/      the modal case (crank lc 8 mm, RC set 2, 8 modes);
+  modal/      the modal case (crank lc 8 mm, RC set 2, 8 modes: `modal file` below);
   mechanism/  the engine case (lc 8 mm, flexible crank and conrod with 10 modes, h = 1e-4 s,
               t_end = 5 ms);
-  t<k>/       the engine case with --set integrator.t_end = k CHUNK (k = 1 .. K-1): its
-              /final_state holds the velocities after chunk k, which no time series holds;
+  t<k>/       the engine case with --set integrator.t_end = the driver's time after k
+              chunks (k = 1 .. K-1), the modes reused from mechanism/ (&body modes_file):
+              its /final_state holds the velocities after chunk k, which no series holds;
   bodies/     a modal case of the engine's meshed bodies (their &body and &interface groups
               of the resolved input): /bodies/<b>/mesh and /mass, which a mechanism file does
               not hold.
@@ -48,9 +49,10 @@ come from compute_body_modes for both, the chunks are multiples of h (docs/api.m
   ffrf_body_state q          c d e  /bodies/<b>/{position, euler_parameters,
                                     modal_coordinates} at that row, and /final_state/q
                                     at t_end                                        bitwise
-  ffrf_body_state v          c d    t = 0: /energy/kinetic is 0 there, so v = 0 (M > 0);
-                                    after chunk k: /final_state/v of the driver run t<k>;
-                                    at t_end: /final_state/v                         bitwise
+  ffrf_body_state v          c d    t = 0: /energy/kinetic is 0 there, so v = 0 (M > 0),
+                                    and at t_end: /final_state/v                    bitwise
+                                    after chunk k < K: /final_state/v of the driver run
+                                    t<k> (its last step is the remainder)      VELOCITY_RTOL
                              e      /final_state/v                                  bitwise
   ffrf_marker_count          c d e  flexible: interfaces/order; rigid: one per distinct
                                     (&marker, joint axis) of the joints' ends and loads
@@ -342,6 +344,7 @@ class Report:
         self.failures = []
         self.worst = {}          # (entry, path) -> (largest difference, tolerance, count)
         self.notes = []
+        self.refusals = {}       # (entry, path) -> the status expected instead of a value
 
     def compare(self, path, entry, what, got, expected, tolerance=0.0, scale=None):
         """|got - expected| <= tolerance (times scale per value, when given); 0: bitwise."""
@@ -377,6 +380,9 @@ class Report:
             self.failures.append(f'{path}: {entry} {what}: {got!r}, expected {expected!r}')
 
     def status(self, path, entry, what, got, expected):
+        if expected != 0:
+            # an answer expected to be a refusal: shown in the summary as "status <code>"
+            self.refusals[(entry, path)] = expected
         if got != expected:
             self.failures.append(f'{path}: {entry} {what}: status {got}, expected {expected}')
 
@@ -507,11 +513,13 @@ def check_state(report, path, dump, k, case_groups, driver, velocity_files):
         status, text = value(dump, 'body_state', str(k), str(b))
         marker_status, marker_text = value(dump, 'marker_count', str(k), str(b))
         if recorded:
-            report.status(path, 'ffrf_body_state', f'{name} after a recorded run', status, 1)
-            report.status(path, 'ffrf_marker_count', f'{name} after a recorded run',
-                          marker_status, 1)
+            for entry, got in (('ffrf_body_state q', status), ('ffrf_body_state v', status),
+                               ('ffrf_marker_count', marker_status),
+                               ('ffrf_marker_state', value(dump, 'marker_state', str(k),
+                                                           str(b), '0')[0])):
+                report.status(path, entry, f'{name} after a recorded run', got, 1)
             continue
-        report.status(path, 'ffrf_body_state', name, status, 0)
+        report.status(path, 'ffrf_body_state q', name, status, 0)
         qv = numbers(text)
         if qv.size != 2 * count:
             report.failures.append(f'{path}: body_state {name}: {qv.size} values, expected '
@@ -575,7 +583,11 @@ def check_state(report, path, dump, k, case_groups, driver, velocity_files):
                            np.maximum(scale, 1e-300))
     status, text = value(dump, 'joint_count', str(k))
     if recorded:
-        report.status(path, 'ffrf_joint_count', 'after a recorded run', status, 1)
+        for entry, got in (('ffrf_joint_count', status),
+                           ('ffrf_joint_name', value(dump, 'joint_name', str(k), '0')[0]),
+                           ('ffrf_joint_reaction', value(dump, 'joint_reaction', str(k),
+                                                         '0')[0])):
+            report.status(path, entry, 'after a recorded run', got, 1)
         return
     report.status(path, 'ffrf_joint_count', '', status, 0)
     report.equal(path, 'ffrf_joint_count', '', int(text), len(joints))
@@ -765,13 +777,17 @@ def main(ffrf, program, modal_case, mechanism_case, mesh_dir, out_dir, chunk):
 
     # summary: entry point x path, largest difference (in units of the tolerance's scale for
     # a relative tolerance) and the tolerance
-    entries = sorted({e for e, _ in report.worst})
+    entries = sorted({e for e, _ in report.worst} | {e for e, _ in report.refusals})
+    print('largest difference per entry point and path: "bitwise" (tolerance 0), or '
+          'difference/scale against the relative tolerance; "status 1": FFRF_BAD_CALL asserted '
+          '(rigid bodies: no mesh, no invariants; after a recorded run: no state)')
     print(f'{"entry point":40s} ' + ' '.join(f'{p:>14s}' for p in PATHS))
     for entry in entries:
         cells = []
         for p in PATHS:
             if (entry, p) not in report.worst:
-                cells.append(f'{"-":>14s}')
+                refused = report.refusals.get((entry, p))
+                cells.append(f'{"-" if refused is None else f"status {refused}":>14s}')
                 continue
             worst, tolerance, count = report.worst[(entry, p)]
             cells.append(f'{worst:9.2g}/{tolerance:<4.0g}' if tolerance else
