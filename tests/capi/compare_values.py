@@ -109,7 +109,9 @@ VELOCITY_RTOL = 1e-12
 MARKER_RTOL = 1e-13
 
 PATHS = ('modal_quiet', 'modal_output', 'chunks_quiet', 'chunks_output', 'run_quiet',
-         'run_output')
+         'run_output', 'arrays_modal')
+RC_WORDS = ('Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz')
+MPC_CODES = {'RBE2': 1, 'RBE3': 2}          # FFRF_RBE2, FFRF_RBE3 of include/ffrf.h
 INVARIANTS = ('mass', 'center_of_mass', 'theta_u', 'M_PhitPsi', 'M_PhitPsit', 'M_xPsi',
               'M_xPsit', 'M_PsitPsi', 'M_PsitPsit', 'M_PsiPsi', 'K_ff')
 
@@ -653,6 +655,41 @@ def bodies_case(mechanism_file, folder):
     return path
 
 
+def write_arrays(modal, groups, path):
+    """The modal case's (single) body as arrays for test_capi_values's path arrays_modal: the
+    driver's mesh, material, number of modes and interfaces (node sets with their weights,
+    virtual nodes and reference conditions as the driver resolved them)."""
+    bodies = [g for n, g in groups if n == 'body']
+    if len(bodies) != 1:
+        sys.exit('arrays path: the modal case must have one body')
+    body = bodies[0]
+    name = body['name'][0]
+    group = modal['/bodies/' + name]
+    xyz = group['mesh/coordinates'][()]
+    tets = group['mesh/tets'][()] - 1
+    order = [x.decode() for x in group['interfaces/order'][()]]
+    weighting = {g['name'][0]: g['weighting'][0] for n, g in groups
+                 if n == 'interface' and g['body'][0] == name}
+    num_modes = int([g for n, g in groups if n == 'modes'][0]['num_modes'][0])
+    lines = [f'{name} {xyz.shape[0]} {tets.shape[1]} {tets.shape[0]} {body["young"][0]} '
+             f'{body["poisson"][0]} {body["density"][0]} {num_modes} {len(order)}',
+             ' '.join(repr(float(x)) for x in xyz.ravel()),
+             ' '.join(str(int(x)) for x in tets.ravel())]
+    for interface in order:
+        g = group['interfaces/' + interface]
+        rc = g['rc_dofs'][()].decode().split()
+        nodes = g['nodes'][()] - 1
+        weighted = weighting[interface] != 'uniform'
+        lines.append(f'{interface} {MPC_CODES[g["mpc"][()].decode()]} {len(nodes)} '
+                     f'{int(weighted)} ' + ' '.join(repr(float(x)) for x in g['virtual_node'][()])
+                     + ' ' + ' '.join('1' if word in rc else '0' for word in RC_WORDS))
+        lines.append(' '.join(str(int(x)) for x in nodes))
+        if weighted:
+            lines.append(' '.join(repr(float(x)) for x in g['weights'][()]))
+    with open(path, 'w') as f:
+        f.write('\n'.join(lines) + '\n')
+
+
 def output_name(case_file):
     for line in open(case_file):
         if line.strip().startswith('&run') and 'output' in line:
@@ -701,7 +738,9 @@ def main(ffrf, program, modal_case, mechanism_case, mesh_dir, out_dir, chunk):
     bodies = h5py.File(os.path.join(driver_dir, 'bodies', 'capi_values_bodies.h5'), 'r')
     driver_seconds = time.time() - start
 
-    run([program, modal_case, mechanism_case, mesh_dir, out_dir, chunk])
+    arrays = os.path.join(out_dir, 'arrays.txt')
+    write_arrays(modal, modal_groups, arrays)
+    run([program, modal_case, mechanism_case, mesh_dir, out_dir, chunk, arrays])
     api_seconds = time.time() - start - driver_seconds
     dumps = {p: read_dump(os.path.join(out_dir, p + '.txt')) for p in PATHS}
 
@@ -736,7 +775,7 @@ def main(ffrf, program, modal_case, mechanism_case, mesh_dir, out_dir, chunk):
     report = Report()
     for path in PATHS:
         dump = dumps[path]
-        mechanism_path = not path.startswith('modal')
+        mechanism_path = path.startswith(('chunks', 'run'))
         groups = mechanism_groups if mechanism_path else modal_groups
         kind = 'mechanism' if mechanism_path else 'modal'
         reference = mechanism if mechanism_path else modal

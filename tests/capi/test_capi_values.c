@@ -15,6 +15,8 @@
  *   run_output     the same with an output folder: body data, time and crank state at t_end;
  *                  the other state queries are FFRF_BAD_CALL there (docs/api.md), dumped with
  *                  their status so that the comparison asserts it
+ *   arrays_modal   the modal case's body built from arrays (the driver's mesh and interface
+ *                  node sets, ARRAYS_FILE), ffrf_case_run: body data
  *
  * Line format ("%.17g": every double exactly; status = the call's return value, values only
  * when it is FFRF_OK):
@@ -36,7 +38,7 @@
  * Every call is also checked here for the status and message pattern of docs/api.md (a
  * successful call leaves ffrf_last_error ""), and a size query (NULL array, capacity 0) must
  * report the size the filled array has.
- * Usage: test_capi_values MODAL_CASE MECHANISM_CASE MESH_DIR OUT_DIR CHUNK_SECONDS */
+ * Usage: test_capi_values MODAL_CASE MECHANISM_CASE MESH_DIR OUT_DIR CHUNK_SECONDS ARRAYS_FILE */
 #include <sys/stat.h>
 
 #include "check.h"
@@ -262,6 +264,62 @@ static void modal_path(const char *case_file, const char *mesh_dir, const char *
     ffrf_case_close(c);
 }
 
+/* (f): a modal case built from arrays (ffrf_case_new, _add_body, _add_interface_nodes,
+ * _set_num_modes) read from ARRAYS_FILE, which compare_values.py writes from the driver's
+ * modal results: one body "<name> <num_nodes> <nodes_per_tet> <num_tets> <young> <poisson>
+ * <density> <num_modes> <num_interfaces>", its 3 num_nodes coordinates, its tets (0-based),
+ * then per interface "<name> <mpc> <num_nodes> <weighted> <virtual node (3)> <rc (6)>", its
+ * nodes (0-based) and, when weighted, their weights. */
+static void arrays_path(const char *arrays_file, const char *out_dir)
+{
+    ffrf_case *c = NULL;
+    char folder[1024], name[128], interface[128];
+    double young, poisson, density, *xyz, *weights, virtual_node[3];
+    int num_nodes, nodes_per_tet, num_tets, num_modes, num_interfaces, *tets, *nodes, i, k;
+    int mpc, count, weighted, rc[6];
+    FILE *in = fopen(arrays_file, "r"), *out;
+    if (in == NULL || fscanf(in, "%127s %d %d %d %lf %lf %lf %d %d", name, &num_nodes,
+                             &nodes_per_tet, &num_tets, &young, &poisson, &density, &num_modes,
+                             &num_interfaces) != 9) {
+        fprintf(stderr, "cannot read %s\n", arrays_file);
+        exit(2);
+    }
+    xyz = malloc((size_t)3 * num_nodes * sizeof *xyz);
+    tets = malloc((size_t)nodes_per_tet * num_tets * sizeof *tets);
+    for (i = 0; i < 3 * num_nodes; i++)
+        CHECK(fscanf(in, "%lf", &xyz[i]) == 1);
+    for (i = 0; i < nodes_per_tet * num_tets; i++)
+        CHECK(fscanf(in, "%d", &tets[i]) == 1);
+    EXPECT(c, ffrf_case_new(&c), FFRF_OK, "");
+    EXPECT(c, ffrf_case_add_body(c, name, num_nodes, xyz, nodes_per_tet, num_tets, tets, young,
+                                 poisson, density), FFRF_OK, "");
+    for (k = 0; k < num_interfaces; k++) {
+        CHECK(fscanf(in, "%127s %d %d %d %lf %lf %lf %d %d %d %d %d %d", interface, &mpc,
+                     &count, &weighted, &virtual_node[0], &virtual_node[1], &virtual_node[2],
+                     &rc[0], &rc[1], &rc[2], &rc[3], &rc[4], &rc[5]) == 13);
+        nodes = malloc((size_t)count * sizeof *nodes);
+        weights = malloc((size_t)count * sizeof *weights);
+        for (i = 0; i < count; i++)
+            CHECK(fscanf(in, "%d", &nodes[i]) == 1);
+        for (i = 0; i < (weighted ? count : 0); i++)
+            CHECK(fscanf(in, "%lf", &weights[i]) == 1);
+        EXPECT(c, ffrf_case_add_interface_nodes(c, 0, interface, mpc, count, nodes,
+                                                weighted ? weights : NULL, virtual_node, rc),
+               FFRF_OK, "");
+        free(nodes);
+        free(weights);
+    }
+    fclose(in);
+    EXPECT(c, ffrf_case_set_num_modes(c, num_modes), FFRF_OK, "");
+    EXPECT(c, ffrf_case_run(c), FFRF_OK, "");
+    out = open_dump(out_dir, "arrays_modal", folder, sizeof folder);
+    dump_bodies(out, c);
+    fclose(out);
+    ffrf_case_close(c);
+    free(xyz);
+    free(tets);
+}
+
 /* (c), (d): a mechanism advanced in chunks, with or without an output folder. */
 static void chunks_path(const char *case_file, const char *mesh_dir, const char *out_dir,
                         const char *path, int with_output, double chunk)
@@ -309,8 +367,9 @@ static void run_path(const char *case_file, const char *mesh_dir, const char *ou
 int main(int argc, char **argv)
 {
     double chunk;
-    if (argc != 6) {
-        fprintf(stderr, "usage: %s MODAL_CASE MECHANISM_CASE MESH_DIR OUT_DIR CHUNK\n", argv[0]);
+    if (argc != 7) {
+        fprintf(stderr, "usage: %s MODAL_CASE MECHANISM_CASE MESH_DIR OUT_DIR CHUNK "
+                "ARRAYS_FILE\n", argv[0]);
         return 2;
     }
     chunk = atof(argv[5]);
@@ -320,6 +379,7 @@ int main(int argc, char **argv)
     chunks_path(argv[2], argv[3], argv[4], "chunks_output", 1, chunk);
     run_path(argv[2], argv[3], argv[4], "run_quiet", 0);
     run_path(argv[2], argv[3], argv[4], "run_output", 1);
+    arrays_path(argv[6], argv[4]);
     if (failures > 0) {
         fprintf(stderr, "%d failure(s)\n", failures);
         return 1;
