@@ -18,7 +18,10 @@ Paths (P): (a) modal_quiet, (b) modal_output: a modal ffrf_case_run without / wi
 folder; (c) chunks_quiet, (d) chunks_output: the engine advanced in 1 ms chunks without / with
 an output folder (state after the first advance to t_start and after every chunk); (e)
 run_quiet, run_output: the engine run to t_end by one ffrf_case_run without / with an output
-folder.
+folder; (f) arrays_modal: the modal case's body built from arrays (ffrf_case_new,
+ffrf_case_add_body, ffrf_case_add_interface_nodes with the driver's interface nodes, virtual
+nodes and reference conditions, ffrf_case_set_num_modes; arrays.txt written here from the
+driver's modal file), then ffrf_case_run: its modes are the driver's bitwise.
 
 Matrix: entry point x paths, reference, tolerance. "bitwise" = 0: the API returns the very
 doubles the driver computed, through the same code and (mechanism) the same steps: the modes
@@ -31,9 +34,9 @@ come from compute_body_modes for both, the chunks are multiples of h (docs/api.m
   ffrf_body_frequencies      all    /bodies/<b>/modes/frequency (rigid: none)       bitwise
   ffrf_body_mode_shapes      all    /bodies/<b>/modes/shape                         bitwise
   ffrf_body_virtual_node_shapes all /bodies/<b>/modes/virtual_node_shape            bitwise
-  ffrf_body_nodes            a b    modal file /bodies/<b>/mesh/coordinates         bitwise
+  ffrf_body_nodes            a b f  modal file /bodies/<b>/mesh/coordinates         bitwise
                              c-e    bodies file, the same                           bitwise
-  ffrf_body_mass_properties  a b    modal file /bodies/<b>/mass/*                   bitwise
+  ffrf_body_mass_properties  a b f  modal file /bodies/<b>/mass/*                   bitwise
                              c-e    bodies file, the same (rigid bodies without a mesh:
                                     FFRF_BAD_CALL)                                  bitwise
                              all    and the consistent mass integrated here in numpy from
@@ -77,6 +80,8 @@ come from compute_body_modes for both, the chunks are multiples of h (docs/api.m
   are still the driver's bitwise.
 The results files the API writes on paths b, d, e hold the driver's frequencies, shapes,
 time series and reactions bitwise (the whole file: capi_record_driver, capi_compare_driver).
+The case-building entry points of path f (ffrf_case_new, _add_body, _add_interface_nodes,
+_set_num_modes) return statuses only (checked in C); their result is f's body data.
 Usage: compare_values.py FFRF TEST_CAPI_VALUES MODAL_CASE MECHANISM_CASE MESH_DIR OUT_DIR CHUNK
 """
 import os
