@@ -72,6 +72,16 @@ come from compute_body_modes for both, the chunks are multiples of h (docs/api.m
                                     raw multipliers, the driver the minimum-norm split of
                                     near-redundant rows (src/mbs/reaction_split.f90); a
                                     flagged component is reported, not compared      bitwise
+                                    This engine has no near-redundant row (every flag 0), so
+                                    raw and reported reactions are one. On a case with such
+                                    rows (issue 30's variant: piston 0.9 kg, compression
+                                    ratio 12, crank lc 10 mm with 4 modes, conrod 2 modes)
+                                    they differ at flagged components (API 3.2e4 N of
+                                    self-stress, driver 0.07 N) and also at some the flags
+                                    leave at 0 (cylinder moment 1914 N m against 2e-4 N m:
+                                    a row whose share of the direction is below
+                                    PARTICIPATION_MIN is changed by the split but not
+                                    flagged); this comparison would then fail there.
   run_output (e, with an output folder): the run is over and written: body_state,
   marker_count, marker_state, joint_count must answer FFRF_BAD_CALL (docs/api.md); the body
   data, time and crank state are compared as above. Status of every call: FFRF_OK where a
