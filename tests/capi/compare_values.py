@@ -96,6 +96,7 @@ Usage: compare_values.py FFRF TEST_CAPI_VALUES MODAL_CASE MECHANISM_CASE MESH_DI
 """
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -718,6 +719,11 @@ def main(ffrf, program, modal_case, mechanism_case, mesh_dir, out_dir, chunk):
         os.path.abspath, (ffrf, program, modal_case, mechanism_case, mesh_dir, out_dir))
     chunk_s = float(chunk)
     driver_dir = os.path.join(out_dir, 'driver')
+    # nothing of an earlier run may stand in for this one's files
+    for stale in [driver_dir] + [os.path.join(out_dir, p) for p in PATHS]:
+        shutil.rmtree(stale, ignore_errors=True)
+        if os.path.exists(stale + '.txt'):
+            os.remove(stale + '.txt')
     for sub in ('modal', 'mechanism', 'bodies'):
         os.makedirs(os.path.join(driver_dir, sub), exist_ok=True)
     quiet = ['--mesh-dir', mesh_dir, '--quiet']
