@@ -13,6 +13,10 @@
 #    1e-10 (compare_driver.py reads the driver's HDF5 results).
 #  - capi_record_driver: that engine advanced in 1 ms chunks with an output folder writes the
 #    driver's results file and animations, bitwise apart from the timings (compare_record.py).
+#  - capi_values_driver: every value-returning entry point on every path (modal and mechanism,
+#    with and without an output folder, after 1 ms chunks and after one run to t_end) against
+#    the driver's results file, or a numpy recomputation where the file does not hold the
+#    value (compare_values.py: the matrix and its tolerances).
 set(_capi_out "${PROJECT_BINARY_DIR}/tests/capi")
 file(MAKE_DIRECTORY "${_capi_out}")
 
@@ -27,12 +31,17 @@ ffrf_replace(_text "type = 'flexible', modal_damping = 0.02,\n"
   "type = 'flexible', modal_damping = 0.02, num_modes = 10,\n")
 ffrf_replace(_text "&run title = '" "&run output = 'capi_engine.h5', title = '")
 file(WRITE "${_capi_out}/capi_engine.nml" "${_text}")
+# the same engine to 5 ms for capi_values_driver (every entry point on every path)
+ffrf_replace(_text "t_end = 0.02" "t_end = 0.005")
+ffrf_replace(_text "output = 'capi_engine.h5'" "output = 'capi_values_engine.h5'")
+file(WRITE "${_capi_out}/capi_values_engine.nml" "${_text}")
 
 set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # linked from the fat objects' ordinary code (-fno-lto: no link-time optimisation of the whole
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
-foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record)
+foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
+    test_capi_values)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -92,6 +101,19 @@ add_test(NAME capi_record_driver
 set_tests_properties(capi_record_driver PROPERTIES LABELS "capi;regression"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
 file(MAKE_DIRECTORY "${_capi_out}/record")
+
+# Every value-returning entry point on every path (modal and mechanism, with and without an
+# output folder, after 1 ms chunks and after a run in one call) against the driver's results
+# file, or an independent recomputation where the file does not hold the value
+# (compare_values.py: the matrix and its tolerances in its docstring)
+add_test(NAME capi_values_driver
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/capi/compare_values.py $<TARGET_FILE:ffrf>
+    $<TARGET_FILE:test_capi_values> "${PROJECT_SOURCE_DIR}/tests/regression/crank_lc8_rc2.nml"
+    "${_capi_out}/capi_values_engine.nml" "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}/values"
+    1.0e-3)
+set_tests_properties(capi_values_driver PROPERTIES LABELS "capi;regression"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
 
 # examples/fortran_host built against the build tree (PACK's ctest builds it against the
 # installed package): the host-torque loop matches the drag run within its derived bound
