@@ -34,7 +34,7 @@ module ffrf_input_nml_source
    private
    public :: key_spec_t, group_spec_t, nml_source_t, read_case_text
    public :: real_key, integer_key, logical_key, string_key, choice_key
-   public :: KEY_REAL, KEY_INTEGER, KEY_LOGICAL, KEY_STRING, MAX_CASE_BYTES
+   public :: KEY_REAL, KEY_INTEGER, KEY_LOGICAL, KEY_STRING, MAX_CASE_BYTES, UTF8_BOM
 
    !> Largest case file read (bytes): ~100 000 lines, far above any hand-written case
    integer(i8), parameter :: MAX_CASE_BYTES = 16_i8 * 1024_i8**2
@@ -45,6 +45,15 @@ module ffrf_input_nml_source
    !> Most values after one key (no key takes more than 16) and most groups in a case: bounds
    !> that keep the work linear in the size of the text
    integer, parameter :: MAX_VALUES = 64, MAX_GROUPS = 2000
+   !> The UTF-8 byte-order mark, skipped at the start of a case (README "Input rules")
+   character(len=*), parameter :: UTF8_BOM = char(239) // char(187) // char(191)
+   !> Characters no value may hold (codes 0-31 and 127)
+   character(len=*), parameter :: CONTROL_CHARACTERS = achar(0) // achar(1) // achar(2) // &
+      achar(3) // achar(4) // achar(5) // achar(6) // achar(7) // achar(8) // achar(9) // &
+      achar(10) // achar(11) // achar(12) // achar(13) // achar(14) // achar(15) // achar(16) // &
+      achar(17) // achar(18) // achar(19) // achar(20) // achar(21) // achar(22) // achar(23) // &
+      achar(24) // achar(25) // achar(26) // achar(27) // achar(28) // achar(29) // achar(30) // &
+      achar(31) // achar(127)
 
    !> One key of a group: its type, how many values, and what is allowed.
    type :: key_spec_t
@@ -306,6 +315,17 @@ contains
       self%groups = groups
       allocate (self%occurrences(16))
       allocate (self%group_count(size(groups)), source=0)
+      ! a UTF-8 byte-order mark (editors on Windows write one) is skipped; UTF-16 is named
+      if (len(text) >= 3) then
+         if (text(1:3) == UTF8_BOM) s%pos = 4
+      end if
+      if (len(text) >= 2) then
+         if (text(1:2) == char(255) // char(254) .or. text(1:2) == char(254) // char(255)) then
+            call fail(self%file_name // ':1: a UTF-16 byte-order mark; save the case as ' // &
+               'UTF-8 or ASCII text')
+            return
+         end if
+      end if
       do
          call skip_blank(text, s, .true.)
          if (s%pos > len(text)) exit
@@ -541,11 +561,9 @@ contains
             do
                if (s%pos > len(text)) exit
                if (text(s%pos:s%pos) == achar(10)) exit
-               if ((iachar(text(s%pos:s%pos)) < 32 .and. text(s%pos:s%pos) /= achar(9)) .or. &
-                  iachar(text(s%pos:s%pos)) == 127) then
+               if (is_control(text(s%pos:s%pos))) then
                   call add_raw(text(start:s%pos))
-                  problem = 'a control character (code ' // to_str(iachar(text(s%pos:s%pos))) &
-                     // ') in a string; use printable characters'
+                  problem = control_problem(text(s%pos:s%pos))
                   return
                end if
                if (text(s%pos:s%pos) == c) then
@@ -741,6 +759,11 @@ contains
                   trim(key%choices)
                return
             end if
+            if (scan(values(k)%text, CONTROL_CHARACTERS) > 0) then
+               problem = what // control_problem(values(k)%text(scan(values(k)%text, &
+                  CONTROL_CHARACTERS):))
+               return
+            end if
             if (len(values(k)%text) > key%length) then
                problem = what // 'has ' // to_str(len(values(k)%text)) // ' characters, ' // &
                   'more than the ' // to_str(key%length) // ' ' // trim(key%name) // &
@@ -909,6 +932,12 @@ contains
       type(entry_t) :: entry
       character(len=:), allocatable :: raw, problem, gname
       integer :: g, k, o, e, matches
+      ! one line of printable characters, as a value of a case file (TAB, NUL, new line refused)
+      k = scan(value, CONTROL_CHARACTERS)
+      if (k > 0) then
+         call fail(origin // ' = ' // quote(value) // ': ' // control_problem(value(k:k)))
+         return
+      end if
       g = 0
       do k = 1, size(self%groups)
          if (trim(self%groups(k)%name) == to_lower(group)) g = k
@@ -1197,6 +1226,21 @@ contains
       shown = trim(shown)
       if (len(text) > MAX_QUOTE) shown = shown // '...'
    end function quote
+
+   !> A control character (codes 0-31, TAB included, and 127): refused in every string value.
+   elemental logical function is_control(c)
+      character, intent(in) :: c
+      is_control = iachar(c) < 32 .or. iachar(c) == 127
+   end function is_control
+
+   !> The message of a control character `c(1:1)` in a value (case file, --set, sweep cell,
+   !> --output: one rule, README "Input rules").
+   pure function control_problem(c) result(problem)
+      character(len=*), intent(in) :: c
+      character(len=:), allocatable :: problem
+      problem = 'a control character (code ' // to_str(iachar(c(1:1))) // ') in a value; ' // &
+         'use printable characters (no TAB, new line or NUL)'
+   end function control_problem
 
    !> `text` has '&' or '$' followed by a letter (a group start to the namelist reads).
    pure logical function group_mark(text) result(found)
