@@ -11,8 +11,9 @@ Classes (one ctest entry each, tests/negative/negative.cmake):
   options     every option with an empty value: exit 1 naming the option
   characters  TAB, 0x01, 0x1b, 0x7f, new line in a --set string, in --output, in a sweep cell and
               in a case-file string: exit 2, "a control character (code N)"
-  file_kinds  a FIFO, a folder and /dev/null as the case, a mesh, --sweep, --restart and a
-              &pressure table: exit 3 naming the argument, within 5 s (a FIFO never blocks)
+  file_kinds  a FIFO, a folder and /dev/null as the case, a mesh, --sweep, --restart, a
+              &pressure table and a &body modes_file: exit 3 naming the argument, within 5 s
+              (a FIFO never blocks)
   sweep       a sweep header naming a key twice (3 spellings): exit 2 naming key and column; a
               UTF-8 byte-order mark in a table and in a case skipped (the values arrive), a
               UTF-16 one named
@@ -293,6 +294,15 @@ def class_file_kinds(args):
         expect(args, 'pressure table is a %s' % name, [table_case, '--output-dir', args.work,
                                                        '--quiet'], 3,
                ['table_file', kind], max_seconds=5, timeout=15)
+        modes_case = write(args, 'kinds_modes_%s.nml' % name, (
+            "&body name = 'block', mesh_file = '%s', volumes = 'block', modes_file = '%s' /\n"
+            "&interface body = 'block', name = 'face_a', rc = '' /\n"
+            "&marker body = 'ground', name = 'g', position = 0, 0, 0 /\n"
+            "&joint name = 'pin', type = 'revolute', body1 = 'ground', marker1 = 'g', "
+            "body2 = 'block', marker2 = 'face_a' /\n")
+            % (os.path.join(args.mesh_dir, 'fuzz_block_tet4_msh41.msh'), path))
+        expect(args, 'modes_file is a %s' % name, [modes_case, '--check'], 3,
+               ['modes_file', kind], max_seconds=5, timeout=15)
 
 
 def class_sweep(args):

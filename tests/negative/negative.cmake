@@ -81,4 +81,5 @@ foreach(_class bounded options characters file_kinds sweep task echo sets restar
     TIMEOUT 60 ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
 endforeach()
 # the mutated base meshes, and the sparse 2 GB files kept out of the time limit: 60 s
-set_tests_properties(negative_rules_bounded PROPERTIES FIXTURES_REQUIRED negative_base_meshes)
+set_tests_properties(negative_rules_bounded negative_rules_file_kinds PROPERTIES
+  FIXTURES_REQUIRED negative_base_meshes)
