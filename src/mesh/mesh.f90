@@ -101,8 +101,9 @@ contains
    end function mesh_num_tris
 
    !> Index into `groups` of the physical group of dimension `dim` called `name` (exact,
-   !> case-sensitive compare; trailing blanks do not count, as everywhere in Fortran, so a
-   !> padded namelist string matches); 0 if there is none.
+   !> case-sensitive compare of the whole group name with `name` without its trailing blanks,
+   !> which a namelist string pads: a group named "left " is not "left"; the reader refuses
+   !> two names equal up to trailing blanks); 0 if there is none.
    pure function mesh_find_group(self, dim, name) result(index)
       class(mesh_t), intent(in) :: self
       !> 0 point, 1 curve, 2 surface, 3 volume
@@ -115,6 +116,7 @@ contains
       if (.not. allocated(self%groups)) return
       do i = 1, size(self%groups, kind=ip)
          if (self%groups(i)%dim /= dim) cycle
+         if (len(self%groups(i)%name) /= len_trim(name)) cycle
          if (self%groups(i)%name == name) then
             index = i
             return

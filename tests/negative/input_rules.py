@@ -26,6 +26,7 @@ Classes (one ctest entry each, tests/negative/negative.cmake):
   restart     a restart to an earlier t_end: exit 2 naming --restart, the file and t_end
   surfaces    a physical surface spanning two bodies: exit 2 naming the surface, the body and
               the number of triangles off it; two physical names equal up to trailing blanks:
+              exit 2; a name with a leading or trailing blank is not the case's plain name:
               exit 2 (gmsh makes the two-box mesh)
 Every failing run must print exactly one stderr line starting 'ffrf: error: '. Exit status 1 if
 any variant fails; each variant prints its exit code, time and first message.
@@ -474,6 +475,14 @@ def class_surfaces(args):
         expect(args, 'names %s and %s' % (old, new), [case, '--check'], 2,
                ['dup_names_%d.msh' % k, "'%s' and '%s', equal up to trailing blanks"
                 % (new.strip('"').rstrip(), new.strip('"'))])
+    # names compared exactly: a group named "left " (one blank) is not the case's 'left'
+    for k, padded in enumerate(('"left "', '"left  "', '" left"')):
+        mesh = write(args, 'padded_%d.msh' % k, text.replace('"left"', padded, 1))
+        case = write(args, 'padded_%d.nml' % k,
+                     "&body name = 'box', mesh_file = 'padded_%d.msh', volumes = 'a' /\n"
+                     "&interface body = 'box', name = 'left' /\n" % k)
+        expect(args, 'only %s in the mesh, the case names left' % padded, [case, '--check'], 2,
+               ['padded_%d.msh' % k, "'left'", padded.strip('"')])
 
 
 def main():
