@@ -24,7 +24,7 @@
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
 module ffrf_input_nml_source
    use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_TOO_LARGE, &
-      READ_NO_MEMORY, READ_FAILED
+      READ_NO_MEMORY, READ_FAILED, read_file_head
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -222,9 +222,10 @@ contains
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      integer :: step
+      integer :: step, got, stat, k, line, j
       integer(i8) :: size_bytes
       character(len=512) :: msg
+      character(len=256) :: head
       if (file_name == '-') then
          call read_standard_input(text, error)
          return
@@ -234,6 +235,38 @@ contains
          if (index(error%message, 'give a regular file') > 0) error%message = error%message // &
             ' (or - to read the case from standard input)'
          return
+      end if
+      ! the first bytes before the whole file: a case starts with a group or a ! comment (after
+      ! blanks and a UTF-8 byte-order mark; UTF-16 is named by the parse)
+      call read_file_head(file_name, 1_i8, head, got, stat, msg)
+      if (stat == 0 .and. got >= 2) then
+         if (head(1:2) == char(255) // char(254) .or. head(1:2) == char(254) // char(255)) got = 0
+      end if
+      if (stat == 0) then
+         k = 1
+         if (got >= 3) then
+            if (head(1:3) == UTF8_BOM) k = 4
+         end if
+         line = 1
+         do while (k <= got)
+            if (head(k:k) == achar(10)) line = line + 1
+            if (index(' ' // achar(9) // achar(10) // achar(13), head(k:k)) == 0) exit
+            k = k + 1
+         end do
+         if (k <= got) then
+            if (head(k:k) /= '&' .and. head(k:k) /= '!') then
+               ! its first line, bytes outside printable ASCII as '?'
+               got = k - 1 + min(got - k + 1, 40)
+               if (index(head(k:got), achar(10)) > 0) got = k - 2 + index(head(k:got), achar(10))
+               do j = k, got
+                  if (iachar(head(j:j)) > 126) head(j:j) = '?'
+               end do
+               call fatal_error(error, FFRF_INPUT_ERROR, file_name // ':' // to_str(line) // &
+                  ': not a namelist case: it starts with "' // quote(head(k:got)) // '"; a ' // &
+                  'case holds &group key = value / groups and ! comments')
+               return
+            end if
+         end if
       end if
       call read_whole_file(file_name, text, step, size_bytes, msg, MAX_CASE_BYTES)
       select case (step)

@@ -6,10 +6,13 @@ each run through the driver and checked for its exact verdict (README "Input rul
 
 Classes (one ctest entry each, tests/negative/negative.cmake):
   sparse      a 2 GB sparse .msh (all NUL, or a valid header then NUL padding) refused in < 5 s
-              with exit 2 and the file's name (ctest TIMEOUT 10 s)
+              with exit 2 and the file's name, a 2 GB sparse case file with exit 3 (ctest
+              TIMEOUT 10 s)
   bounded     peak memory of the worst meshes at most 5x their content, a header with 256 MiB
               of blanks read as its header; declared node/element/entity/name counts larger
-              than the file can hold (exit 2, "cannot be right"), in MSH 4.1 and 2.2
+              than the file can hold (exit 2, "cannot be right"), in MSH 4.1 and 2.2; case
+              files that are no namelist (a mesh, binary bytes, text) named by their first
+              bytes (exit 2)
   options     every option with an empty value: exit 1 naming the option
   characters  TAB, 0x01, 0x1b, 0x7f, new line in a --set string, in --output, in a sweep cell and
               in a case-file string: exit 2, "a control character (code N)"
@@ -133,8 +136,15 @@ def class_sparse(args):
             text = open(case).read().replace('MESH', path)
             expect(args, label, [write(args, 'bounded_case.nml', text), '--check'], 2, fragments,
                    max_seconds=5, timeout=30)
+        # a 2 GB sparse case file: refused by its size before it is opened
+        case_2g = os.path.join(args.work, 'sparse_2g.nml')
+        with open(case_2g, 'wb') as f:
+            f.truncate(gib2)
+        expect(args, 'sparse 2 GB case file', [case_2g, '--check'], 3,
+               ['sparse_2g.nml', '2147483648 bytes, more than the 16777216 allowed'],
+               max_seconds=5, timeout=30)
     finally:
-        for path in (sparse, header):
+        for path in (sparse, header, os.path.join(args.work, 'sparse_2g.nml')):
             if os.path.exists(path):
                 os.remove(path)
 
@@ -201,6 +211,17 @@ def class_bounded(args):
     finally:
         if os.path.exists(padded):
             os.remove(padded)
+    # a case file is checked by its first bytes too: what is no namelist is named at once
+    mesh41 = os.path.join(args.mesh_dir, 'fuzz_block_tet4_msh41.msh')
+    for k, (label, data, shown) in enumerate((
+            ('a mesh given as the case', open(mesh41, 'rb').read(), '$MeshFormat'),
+            ('binary bytes as the case', bytes(range(200, 256)) * 100, '????'),
+            ('text after blank lines', b'\n\n   hello &run /\n', 'hello &run /'),
+            ('a key before any group', b'num_modes = 4\n&modes /\n', 'num_modes = 4'))):
+        line = 3 if label.startswith('text after') else 1
+        path = write(args, 'not_case_%d.nml' % k, data, 'wb')
+        expect(args, label, [path, '--check'], 2,
+               ['not_case_%d.nml:%d: not a namelist case: it starts with "%s' % (k, line, shown)])
     # a valid mesh followed by blanks: read (trailing blanks are no content)
     base41 = open(os.path.join(args.mesh_dir, 'fuzz_block_tet4_msh41.msh')).read()
     base22 = open(os.path.join(args.mesh_dir, 'fuzz_block_tet4_msh22.msh')).read()
