@@ -33,9 +33,8 @@ program ffrf_driver
    type(case_input_t) :: case
    character(len=:), allocatable :: case_file, arg, sweep_file, output_template
    type(override_t), allocatable :: sets(:), overrides(:)
-   type(override_t) :: one
    logical :: check_only, print_input
-   integer :: i, task, threads, threads_used, k
+   integer :: i, task, threads, threads_used, k, num_sets
    character(len=120) :: versions(8)
 
    call start_ranks(options%parallel, error)
@@ -50,7 +49,8 @@ program ffrf_driver
    output_template = ''
    task = NO_TASK
    threads = 0
-   allocate (sets(0))
+   allocate (sets(16))
+   num_sets = 0
    i = 0
    do while (i < command_argument_count())
       i = i + 1
@@ -62,11 +62,13 @@ program ffrf_driver
       case ('--mesh-dir', '--output-dir')
          if (i == command_argument_count()) call bad_usage(arg // ' needs a folder')
          i = i + 1
+         call check_not_empty(arg, argument(i), 'a folder')
          if (arg == '--mesh-dir') options%mesh_dir = argument(i)
          if (arg == '--output-dir') options%output_dir = argument(i)
       case ('--restart')
          if (i == command_argument_count()) call bad_usage(arg // ' needs a results file')
          i = i + 1
+         call check_not_empty(arg, argument(i), 'a results or .checkpoint file')
          options%restart_file = argument(i)
       case ('--no-overwrite')
          options%overwrite = .false.
@@ -89,9 +91,21 @@ program ffrf_driver
          i = i + 1
          select case (arg)
          case ('--set')
-            call parse_override(argument(i), one, error)
+            call check_not_empty(arg, argument(i), 'GROUP.KEY=VALUE')
+         case ('--sweep')
+            call check_not_empty(arg, argument(i), 'a table file')
+         case ('--output')
+            call check_not_empty(arg, argument(i), 'a file name')
+         case default
+            call check_not_empty(arg, argument(i), 'a whole number')
+         end select
+         select case (arg)
+         case ('--set')
+            ! grown by doubling: 20 000 options take linear time (README "Batch runs")
+            if (num_sets == size(sets)) call grow(sets)
+            num_sets = num_sets + 1
+            call parse_override(argument(i), sets(num_sets), error)
             if (allocated(error)) call fail(error)
-            sets = [sets, one]
          case ('--sweep')
             sweep_file = argument(i)
          case ('--output')
@@ -103,6 +117,8 @@ program ffrf_driver
             if (threads < 1) call bad_usage('--threads ' // argument(i) // ': give 1 or more')
          end select
       case default
+         if (len(arg) == 0) call bad_usage('an empty argument where the case file is ' // &
+            'expected; give CASE.nml or -')
          if (index(arg, '-') == 1 .and. arg /= '-') call bad_usage('unknown option ' // arg)
          if (len(case_file) > 0) call bad_usage('one case file only (got ' // case_file // &
             ' and ' // arg // ')')
@@ -117,7 +133,7 @@ program ffrf_driver
    if (.not. allocated(error)) call ignore_file_size_signal()
    log%unit = output_unit
    if (.not. allocated(error)) call batch_overrides(case_name_of(case_file), sweep_file, task, &
-      sets, output_template, overrides, error)
+      sets(:num_sets), output_template, overrides, error)
    if (.not. allocated(error)) call read_case_with_overrides(case_file, overrides, case, error)
    if (.not. allocated(error) .and. print_input) then
       if (options%parallel%is_root()) write (output_unit, '(a)', advance='no') case_echo(case)
@@ -170,6 +186,29 @@ contains
       call end_ranks()
       call c_exit(int(code, c_int))
    end subroutine finish
+
+   !> An option's value must not be empty (`--output ''` would otherwise be taken as not given:
+   !> `--restart ''` after an interrupted run would start again from t_start).
+   subroutine check_not_empty(option, value, what)
+      character(len=*), intent(in) :: option, value, what
+      if (len(value) == 0) call bad_usage(option // ' '''': an empty value; give ' // what)
+   end subroutine check_not_empty
+
+   !> Twice the room for --set options, keeping those parsed (moved, not copied).
+   subroutine grow(list)
+      type(override_t), allocatable, intent(inout) :: list(:)
+      type(override_t), allocatable :: bigger(:)
+      integer :: k
+      allocate (bigger(2 * size(list)))
+      do k = 1, size(list)
+         call move_alloc(list(k)%group, bigger(k)%group)
+         call move_alloc(list(k)%name, bigger(k)%name)
+         call move_alloc(list(k)%key, bigger(k)%key)
+         call move_alloc(list(k)%value, bigger(k)%value)
+         call move_alloc(list(k)%origin, bigger(k)%origin)
+      end do
+      call move_alloc(bigger, list)
+   end subroutine grow
 
    !> The non-negative whole number after `option` (bad command line otherwise).
    integer function whole_number(option, text) result(n)

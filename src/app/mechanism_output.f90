@@ -23,7 +23,8 @@ module ffrf_app_mechanism_output
    use ffrf_core_kinds, only: dp, i8, pi
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
       FFRF_IO_ERROR, FFRF_INTERRUPTED
-   use ffrf_core_posix, only: pending_signal, signal_name, copy_file, rename_file, remove_file
+   use ffrf_core_posix, only: pending_signal, signal_name, copy_file, rename_file, remove_file, &
+      check_input_file
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib, wall_time
@@ -215,6 +216,15 @@ contains
             if (.not. allocated(error)) call apply_restart(options%restart_file, self%restart, &
                mech, bodies, integrator, self%balance, error)
             if (allocated(error)) return
+            ! a restart continues to a later end; say so with the option, the file and t_end
+            if (integrator%t > integrator%settings%t_end + 1.0e-6_dp * integrator%settings%h) then
+               call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // &
+                  options%restart_file // '": its restart state is at t = ' // &
+                  to_str(integrator%t, 12) // ' s, later than this case''s &integrator ' // &
+                  't_end = ' // to_str(integrator%settings%t_end, 12) // ' s; a restart ' // &
+                  'continues a run: give a t_end after ' // to_str(integrator%t, 12) // ' s')
+               return
+            end if
             call log%info('restart', options%restart_file // ': continuing from t = ' // &
                to_str(integrator%t, 8) // ' s, step ' // to_str(integrator%stats%steps) // &
                ', to t_end = ' // to_str(integrator%settings%t_end, 8) // ' s')
@@ -964,6 +974,9 @@ contains
       type(restart_state_t), intent(out) :: restart
       type(error_t), allocatable, intent(out) :: error
       integer(i8), allocatable :: counts(:)
+      ! a regular file: HDF5 would block on a FIFO (exit 3 naming the option otherwise)
+      call check_input_file(file_name, '--restart file', huge(1_i8), error)
+      if (allocated(error)) return
       call source%open(file_name, H5_READ_ONLY, error)
       if (allocated(error)) then
          call add_context(error, '--restart')

@@ -280,16 +280,17 @@ contains
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
       integer :: k, v
-      text = '&run title = ''' // trim(case%run%title) // ''', output = ''' // &
-         trim(case%run%output) // ''', mode_shapes_msh = ''' // &
+      text = '&run title = ''' // nml_string(case%run%title) // ''', output = ''' // &
+         nml_string(case%run%output) // ''', mode_shapes_msh = ''' // &
          msh_name(case%run%mode_shapes_msh) // &
-         ''', log_level = ''' // trim(case%run%log_level) // ''' /' // nl
+         ''', log_level = ''' // nml_string(case%run%log_level) // ''' /' // nl
       do k = 1, size(case%bodies)
          associate (b => case%bodies(k))
-            text = text // '&body name = ''' // trim(b%name) // ''', mesh_file = ''' // &
-               trim(b%mesh_file) // ''', volumes ='
+            text = text // '&body name = ''' // nml_string(b%name) // ''', mesh_file = ''' // &
+               nml_string(b%mesh_file) // ''', volumes ='
             do v = 1, size(b%volumes)
-               if (len_trim(b%volumes(v)) > 0) text = text // ' ''' // trim(b%volumes(v)) // ''''
+               if (len_trim(b%volumes(v)) > 0) text = text // ' ''' // &
+                  nml_string(b%volumes(v)) // ''''
             end do
             text = text // ', young = ' // to_str(b%young, 12) // ', poisson = ' // &
                to_str(b%poisson, 12) // ', density = ' // to_str(b%density, 12)
@@ -298,26 +299,28 @@ contains
                ', geometric_stiffness = ' // &
                trim(merge('.true. ', '.false.', b%geometric_stiffness))
             if (len_trim(b%modes_file) > 0) text = text // ', modes_file = ''' // &
-               trim(b%modes_file) // ''''
+               nml_string(b%modes_file) // ''''
             text = text // ' /' // nl
          end associate
       end do
       do k = 1, size(case%interfaces)
          associate (f => case%interfaces(k))
-            text = text // '&interface body = ''' // trim(f%body) // ''', name = ''' // &
-               trim(f%name) // ''', mpc = ''' // trim(f%mpc) // ''', weighting = ''' // &
-               trim(f%weighting) // ''', virtual_node = ''' // trim(f%virtual_node) // ''''
+            text = text // '&interface body = ''' // nml_string(f%body) // ''', name = ''' // &
+               nml_string(f%name) // ''', mpc = ''' // nml_string(f%mpc) // &
+               ''', weighting = ''' // nml_string(f%weighting) // ''', virtual_node = ''' // &
+               nml_string(f%virtual_node) // ''''
             if (f%virtual_node == 'position') text = text // ', position = ' // &
                to_str(f%position(1), 12) // ' ' // to_str(f%position(2), 12) // ' ' // &
                to_str(f%position(3), 12)
-            text = text // ', rc = ''' // trim(f%rc) // ''' /' // nl
+            text = text // ', rc = ''' // nml_string(f%rc) // ''' /' // nl
          end associate
       end do
       text = text // '&modes num_modes = ' // to_str(case%modes%num_modes) // ', shift_hz = ' // &
          to_str(case%modes%shift_hz, 12) // ', formulation = ''' // &
-         trim(case%modes%formulation) // ''', rc_label = ''' // trim(case%modes%rc_label) // &
+         nml_string(case%modes%formulation) // ''', rc_label = ''' // &
+         nml_string(case%modes%rc_label) // &
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
-         to_str(case%modes%lanczos_vectors) // ', basis = ''' // trim(case%modes%basis) // &
+         to_str(case%modes%lanczos_vectors) // ', basis = ''' // nml_string(case%modes%basis) // &
          '''' // memory_echo(case%modes) // ' /' // nl
       if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
       if (allocated(case%overrides)) text = text // case%overrides
@@ -330,13 +333,15 @@ contains
       character(len=:), allocatable :: text
       text = ''
       if (m%out_of_core) text = text // ', out_of_core = .true.'
-      if (len_trim(m%ooc_tmpdir) > 0) text = text // ', ooc_tmpdir = ''' // trim(m%ooc_tmpdir) &
+      if (len_trim(m%ooc_tmpdir) > 0) text = text // ', ooc_tmpdir = ''' // &
+         nml_string(m%ooc_tmpdir) &
          // ''''
       if (m%memory_limit_mb /= -1) text = text // ', memory_limit_mb = ' // &
          to_str(m%memory_limit_mb)
       if (m%compression_tolerance /= 0.0_dp) text = text // ', compression_tolerance = ' // &
          to_str(m%compression_tolerance, 6)
-      if (m%eigensolver /= 'auto') text = text // ', eigensolver = ''' // trim(m%eigensolver) &
+      if (m%eigensolver /= 'auto') text = text // ', eigensolver = ''' // &
+         nml_string(m%eigensolver) &
          // ''''
       if (m%max_frequency_hz > 0.0_dp) text = text // ', max_frequency_hz = ' // &
          to_str(m%max_frequency_hz, 12)
@@ -347,13 +352,14 @@ contains
    function motion_echo(m) result(text)
       type(body_motion_input_t), intent(in) :: m
       character(len=:), allocatable :: text
-      text = ', type = ''' // trim(m%type) // ''''
+      text = ', type = ''' // nml_string(m%type) // ''''
       if (m%type == 'rigid') then
          text = text // ', mass = ' // to_str(m%mass, 12) // ', center_of_mass = ' // &
             vector_text(m%center_of_mass) // ', inertia = ' // vector_text(m%inertia)
       else
-         text = text // ', num_modes = ' // to_str(m%num_modes) // ', modal_damping = ' // &
-            to_str(m%modal_damping, 6)
+         ! num_modes = -1 (not given: &modes num_modes) is left out, so that the echo reads back
+         if (m%num_modes >= 0) text = text // ', num_modes = ' // to_str(m%num_modes)
+         text = text // ', modal_damping = ' // to_str(m%modal_damping, 6)
          if (len_trim(m%coarse_meshes(1)) > 0) text = text // ', coarse_meshes =' // &
             quoted_list(m%coarse_meshes)
       end if
@@ -369,29 +375,32 @@ contains
       type(energy_watch_settings_t) :: default_watch
       integer :: k
       associate (m => mech%mechanism, p => mech%pressure, s => mech%integrator)
-         text = '&mechanism crank = ''' // trim(m%crank) // ''', crank_angle_deg = ' // &
+         text = '&mechanism crank = ''' // nml_string(m%crank) // ''', crank_angle_deg = ' // &
             to_str(m%crank_angle_deg, 12) // ', crank_speed = ' // to_str(m%crank_speed, 12) // &
-            ', gravity = ' // vector_text(m%gravity) // ', label = ''' // trim(m%label) // &
+            ', gravity = ' // vector_text(m%gravity) // ', label = ''' // nml_string(m%label) // &
             ''', progress_interval = ' // to_str(m%progress_interval, 6) // &
             ', animation_frames = ' // to_str(m%animation_frames) // ' /' // nl
          do k = 1, size(mech%markers)
-            text = text // '&marker body = ''' // trim(mech%markers(k)%body) // ''', name = ''' &
-               // trim(mech%markers(k)%name) // ''', position = ' // &
+            text = text // '&marker body = ''' // nml_string(mech%markers(k)%body) // &
+               ''', name = ''' &
+               // nml_string(mech%markers(k)%name) // ''', position = ' // &
                vector_text(mech%markers(k)%position) // ' /' // nl
          end do
          do k = 1, size(mech%joints)
             associate (j => mech%joints(k))
-               text = text // '&joint name = ''' // trim(j%name) // ''', type = ''' // &
-                  trim(j%type) // ''', body1 = ''' // trim(j%body1) // ''', marker1 = ''' // &
-                  trim(j%marker1) // ''', body2 = ''' // trim(j%body2) // ''', marker2 = ''' &
-                  // trim(j%marker2) // ''', axis = ' // vector_text(j%axis) // ' /' // nl
+               text = text // '&joint name = ''' // nml_string(j%name) // ''', type = ''' // &
+                  nml_string(j%type) // ''', body1 = ''' // nml_string(j%body1) // &
+                  ''', marker1 = ''' // nml_string(j%marker1) // ''', body2 = ''' // &
+                  nml_string(j%body2) // ''', marker2 = ''' &
+                  // nml_string(j%marker2) // ''', axis = ' // vector_text(j%axis) // ' /' // nl
             end associate
          end do
          do k = 1, size(mech%loads)
             associate (l => mech%loads(k))
-               text = text // '&load name = ''' // trim(l%name) // ''', type = ''' // &
-                  trim(l%type) // ''', body = ''' // trim(l%body) // ''', marker = ''' // &
-                  trim(l%marker) // ''', direction = ' // vector_text(l%direction)
+               text = text // '&load name = ''' // nml_string(l%name) // ''', type = ''' // &
+                  nml_string(l%type) // ''', body = ''' // nml_string(l%body) // &
+                  ''', marker = ''' // &
+                  nml_string(l%marker) // ''', direction = ' // vector_text(l%direction)
                select case (trim(l%type))
                case ('force', 'torque')
                   text = text // ', value = ' // to_str(l%value, 12)
@@ -417,7 +426,7 @@ contains
             to_str(p%heat_per_cycle, 12) // ', target_peak_pressure = ' // &
             to_str(p%target_peak_pressure, 12) // ', reference_pressure = ' // &
             to_str(p%reference_pressure, 12) // ', table_file = ''' // &
-            trim(mech%pressure_table) // ''' /' // nl
+            nml_string(mech%pressure_table) // ''' /' // nl
          ! h left out when not given: the model selection or the default chooses it (log)
          text = text // '&integrator '
          if (mech%model%h_given) text = text // 'h = ' // to_str(s%h, 12) // ', '
@@ -442,7 +451,7 @@ contains
          if (mech%energy_watch%window /= default_watch%window) text = text // &
             ', energy_watch_window = ' // to_str(mech%energy_watch%window, 6)
          text = text // ' /' // nl
-         text = text // '&model selection = ''' // trim(mech%model%selection) // &
+         text = text // '&model selection = ''' // nml_string(mech%model%selection) // &
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
             ', candidate_modes = ' // to_str(mech%model%candidate_modes) // &
@@ -465,7 +474,7 @@ contains
       do k = 1, size(items)
          if (len_trim(items(k)) == 0) cycle
          if (len(text) > 0) text = text // ','
-         text = text // ' ''' // trim(items(k)) // ''''
+         text = text // ' ''' // nml_string(items(k)) // ''''
       end do
    end function quoted_list
 
@@ -623,13 +632,39 @@ contains
       if (len(text) == 0) text = 'none'
    end function interface_list
 
-   !> The mode-shape file name, 'none' when no file is written.
+   !> The mode-shape file name, 'none' when no file is written (quotes doubled as nml_string).
    pure function msh_name(file_name) result(name)
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable :: name
-      name = trim(file_name)
+      name = nml_string(file_name)
       if (len(name) == 0) name = 'none'
    end function msh_name
+
+   !> A string value for the echo between single quotes: trailing blanks dropped, each ' doubled
+   !> (title = 'it''s'), so that the echo reads back as the same input.
+   pure function nml_string(text) result(quoted)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: quoted
+      integer :: k, n
+      n = len_trim(text)
+      quoted = repeat(' ', n + count_quotes())
+      n = 0
+      do k = 1, len_trim(text)
+         n = n + 1
+         quoted(n:n) = text(k:k)
+         if (text(k:k) /= '''') cycle
+         n = n + 1
+         quoted(n:n) = ''''
+      end do
+   contains
+      pure integer function count_quotes()
+         integer :: j
+         count_quotes = 0
+         do j = 1, len_trim(text)
+            if (text(j:j) == '''') count_quotes = count_quotes + 1
+         end do
+      end function count_quotes
+   end function nml_string
 
    !> "input/crank_rc1.nml" -> "crank_rc1"; "-" (standard input) -> "stdin".
    pure function case_name_of(file_name) result(name)

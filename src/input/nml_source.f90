@@ -24,7 +24,7 @@
 !> hold '&' or '$' directly followed by a letter (the namelist reads would take it for a group).
 module ffrf_input_nml_source
    use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_TOO_LARGE, &
-      READ_NO_MEMORY, READ_FAILED
+      READ_NO_MEMORY, READ_FAILED, read_file_head
    use, intrinsic :: iso_fortran_env, only: input_unit
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
@@ -34,7 +34,7 @@ module ffrf_input_nml_source
    private
    public :: key_spec_t, group_spec_t, nml_source_t, read_case_text
    public :: real_key, integer_key, logical_key, string_key, choice_key
-   public :: KEY_REAL, KEY_INTEGER, KEY_LOGICAL, KEY_STRING, MAX_CASE_BYTES
+   public :: KEY_REAL, KEY_INTEGER, KEY_LOGICAL, KEY_STRING, MAX_CASE_BYTES, UTF8_BOM
 
    !> Largest case file read (bytes): ~100 000 lines, far above any hand-written case
    integer(i8), parameter :: MAX_CASE_BYTES = 16_i8 * 1024_i8**2
@@ -45,6 +45,15 @@ module ffrf_input_nml_source
    !> Most values after one key (no key takes more than 16) and most groups in a case: bounds
    !> that keep the work linear in the size of the text
    integer, parameter :: MAX_VALUES = 64, MAX_GROUPS = 2000
+   !> The UTF-8 byte-order mark, skipped at the start of a case (README "Input rules")
+   character(len=*), parameter :: UTF8_BOM = char(239) // char(187) // char(191)
+   !> Characters no value may hold (codes 0-31 and 127)
+   character(len=*), parameter :: CONTROL_CHARACTERS = achar(0) // achar(1) // achar(2) // &
+      achar(3) // achar(4) // achar(5) // achar(6) // achar(7) // achar(8) // achar(9) // &
+      achar(10) // achar(11) // achar(12) // achar(13) // achar(14) // achar(15) // achar(16) // &
+      achar(17) // achar(18) // achar(19) // achar(20) // achar(21) // achar(22) // achar(23) // &
+      achar(24) // achar(25) // achar(26) // achar(27) // achar(28) // achar(29) // achar(30) // &
+      achar(31) // achar(127)
 
    !> One key of a group: its type, how many values, and what is allowed.
    type :: key_spec_t
@@ -213,9 +222,10 @@ contains
       character(len=*), intent(in) :: file_name
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      integer :: step
+      integer :: step, got, stat, k, line, j
       integer(i8) :: size_bytes
       character(len=512) :: msg
+      character(len=256) :: head
       if (file_name == '-') then
          call read_standard_input(text, error)
          return
@@ -225,6 +235,38 @@ contains
          if (index(error%message, 'give a regular file') > 0) error%message = error%message // &
             ' (or - to read the case from standard input)'
          return
+      end if
+      ! the first bytes before the whole file: a case starts with a group or a ! comment (after
+      ! blanks and a UTF-8 byte-order mark; UTF-16 is named by the parse)
+      call read_file_head(file_name, 1_i8, head, got, stat, msg)
+      if (stat == 0 .and. got >= 2) then
+         if (head(1:2) == char(255) // char(254) .or. head(1:2) == char(254) // char(255)) got = 0
+      end if
+      if (stat == 0) then
+         k = 1
+         if (got >= 3) then
+            if (head(1:3) == UTF8_BOM) k = 4
+         end if
+         line = 1
+         do while (k <= got)
+            if (head(k:k) == achar(10)) line = line + 1
+            if (index(' ' // achar(9) // achar(10) // achar(13), head(k:k)) == 0) exit
+            k = k + 1
+         end do
+         if (k <= got) then
+            if (head(k:k) /= '&' .and. head(k:k) /= '!') then
+               ! its first line, bytes outside printable ASCII as '?'
+               got = k - 1 + min(got - k + 1, 40)
+               if (index(head(k:got), achar(10)) > 0) got = k - 2 + index(head(k:got), achar(10))
+               do j = k, got
+                  if (iachar(head(j:j)) > 126) head(j:j) = '?'
+               end do
+               call fatal_error(error, FFRF_INPUT_ERROR, file_name // ':' // to_str(line) // &
+                  ': not a namelist case: it starts with "' // quote(head(k:got)) // '"; a ' // &
+                  'case holds &group key = value / groups and ! comments')
+               return
+            end if
+         end if
       end if
       call read_whole_file(file_name, text, step, size_bytes, msg, MAX_CASE_BYTES)
       select case (step)
@@ -306,6 +348,17 @@ contains
       self%groups = groups
       allocate (self%occurrences(16))
       allocate (self%group_count(size(groups)), source=0)
+      ! a UTF-8 byte-order mark (editors on Windows write one) is skipped; UTF-16 is named
+      if (len(text) >= 3) then
+         if (text(1:3) == UTF8_BOM) s%pos = 4
+      end if
+      if (len(text) >= 2) then
+         if (text(1:2) == char(255) // char(254) .or. text(1:2) == char(254) // char(255)) then
+            call fail(self%file_name // ':1: a UTF-16 byte-order mark; save the case as ' // &
+               'UTF-8 or ASCII text')
+            return
+         end if
+      end if
       do
          call skip_blank(text, s, .true.)
          if (s%pos > len(text)) exit
@@ -541,11 +594,9 @@ contains
             do
                if (s%pos > len(text)) exit
                if (text(s%pos:s%pos) == achar(10)) exit
-               if ((iachar(text(s%pos:s%pos)) < 32 .and. text(s%pos:s%pos) /= achar(9)) .or. &
-                  iachar(text(s%pos:s%pos)) == 127) then
+               if (is_control(text(s%pos:s%pos))) then
                   call add_raw(text(start:s%pos))
-                  problem = 'a control character (code ' // to_str(iachar(text(s%pos:s%pos))) &
-                     // ') in a string; use printable characters'
+                  problem = control_problem(text(s%pos:s%pos))
                   return
                end if
                if (text(s%pos:s%pos) == c) then
@@ -741,6 +792,11 @@ contains
                   trim(key%choices)
                return
             end if
+            if (scan(values(k)%text, CONTROL_CHARACTERS) > 0) then
+               problem = what // control_problem(values(k)%text(scan(values(k)%text, &
+                  CONTROL_CHARACTERS):))
+               return
+            end if
             if (len(values(k)%text) > key%length) then
                problem = what // 'has ' // to_str(len(values(k)%text)) // ' characters, ' // &
                   'more than the ' // to_str(key%length) // ' ' // trim(key%name) // &
@@ -909,6 +965,12 @@ contains
       type(entry_t) :: entry
       character(len=:), allocatable :: raw, problem, gname
       integer :: g, k, o, e, matches
+      ! one line of printable characters, as a value of a case file (TAB, NUL, new line refused)
+      k = scan(value, CONTROL_CHARACTERS)
+      if (k > 0) then
+         call fail(origin // ' = ' // quote(value) // ': ' // control_problem(value(k:k)))
+         return
+      end if
       g = 0
       do k = 1, size(self%groups)
          if (trim(self%groups(k)%name) == to_lower(group)) g = k
@@ -1197,6 +1259,21 @@ contains
       shown = trim(shown)
       if (len(text) > MAX_QUOTE) shown = shown // '...'
    end function quote
+
+   !> A control character (codes 0-31, TAB included, and 127): refused in every string value.
+   elemental logical function is_control(c)
+      character, intent(in) :: c
+      is_control = iachar(c) < 32 .or. iachar(c) == 127
+   end function is_control
+
+   !> The message of a control character `c(1:1)` in a value (case file, --set, sweep cell,
+   !> --output: one rule, README "Input rules").
+   pure function control_problem(c) result(problem)
+      character(len=*), intent(in) :: c
+      character(len=:), allocatable :: problem
+      problem = 'a control character (code ' // to_str(iachar(c(1:1))) // ') in a value; ' // &
+         'use printable characters (no TAB, new line or NUL)'
+   end function control_problem
 
    !> `text` has '&' or '$' followed by a letter (a group start to the namelist reads).
    pure logical function group_mark(text) result(found)

@@ -102,12 +102,25 @@ contains
    function overrides_echo(overrides) result(text)
       type(override_t), intent(in) :: overrides(:)
       character(len=:), allocatable :: text
-      integer :: k
-      text = ''
+      integer :: k, n, pos
+      ! sized first, then filled: linear in the number of overrides (not text = text // ...)
+      n = 0
       do k = 1, size(overrides)
-         text = text // '! ' // overrides(k)%origin // ' = ' // overrides(k)%value // &
-            new_line('a')
+         n = n + len(line_of(overrides(k)))
       end do
+      allocate (character(len=n) :: text)
+      pos = 0
+      do k = 1, size(overrides)
+         n = len(line_of(overrides(k)))
+         text(pos + 1:pos + n) = line_of(overrides(k))
+         pos = pos + n
+      end do
+   contains
+      pure function line_of(ov) result(line)
+         type(override_t), intent(in) :: ov
+         character(len=:), allocatable :: line
+         line = '! ' // ov%origin // ' = ' // ov%value // new_line('a')
+      end function line_of
    end function overrides_echo
 
    !> .true. when an override sets `key` of the single group `group`.

@@ -11,7 +11,10 @@
 !> Every problem is an input error (FFRF_INPUT_ERROR) naming the table line or the option.
 module ffrf_input_sweep
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
-   use ffrf_core_strings, only: to_str
+   use ffrf_core_kinds, only: i8
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_posix, only: check_input_file
+   use ffrf_input_nml_source, only: UTF8_BOM
    use ffrf_input_overrides, only: override_t, parse_override_key
    implicit none
    private
@@ -21,6 +24,8 @@ module ffrf_input_sweep
    integer, parameter :: NO_TASK = -1
    !> Longest line of a sweep table read
    integer, parameter :: MAX_LINE = 65536
+   !> Largest sweep table read (bytes): 64 MiB, a million rows of 64 characters
+   integer(i8), parameter :: MAX_TABLE_BYTES = 64_i8 * 1024_i8**2
    !> The job-array variables, in the order they are looked at
    character(len=*), parameter :: TASK_VARIABLES(3) = [character(len=19) :: &
       'SLURM_ARRAY_TASK_ID', 'PBS_ARRAY_INDEX', 'LSB_JOBINDEX']
@@ -42,17 +47,22 @@ contains
       integer, intent(out) :: task
       character(len=:), allocatable, intent(out) :: source
       type(error_t), allocatable, intent(out) :: error
-      character(len=64) :: text
+      character(len=:), allocatable :: text
       integer :: k, length, stat
       task = given
       source = '--task'
       if (given /= NO_TASK) return
       do k = 1, size(TASK_VARIABLES)
-         call get_environment_variable(trim(TASK_VARIABLES(k)), text, length, stat)
+         ! the length first, then the whole value (a long value is an error, never "unset")
+         call get_environment_variable(trim(TASK_VARIABLES(k)), length=length, status=stat)
          if (stat /= 0 .or. length == 0) cycle
-         if (verify(trim(text), '0123456789') /= 0 .or. length > 9) then
+         if (allocated(text)) deallocate (text)
+         allocate (character(len=length) :: text)
+         call get_environment_variable(trim(TASK_VARIABLES(k)), text, status=stat)
+         if (verify(text, '0123456789') /= 0 .or. length > 9) then
             call fatal_error(error, FFRF_INPUT_ERROR, trim(TASK_VARIABLES(k)) // ' = "' // &
-               trim(text) // '": not a task index (a non-negative integer)')
+               shown(text) // '" (' // to_str(length) // ' characters): not a task index ' // &
+               '(a non-negative integer of at most 9 digits)')
             return
          end if
          read (text, *) task
@@ -65,6 +75,18 @@ contains
       end do
       source = ''
    end subroutine job_task_index
+
+   !> At most 60 characters of `text` for a message, control characters as '?'.
+   pure function shown(text) result(short)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: short
+      integer :: k
+      short = text(:min(len(text), 60))
+      do k = 1, len(short)
+         if (iachar(short(k:k)) < 32 .or. iachar(short(k:k)) == 127) short(k:k) = '?'
+      end do
+      if (len(text) > 60) short = short // '...'
+   end function shown
 
    !> `template` with {case} -> case_name and {task} -> task; {task} with task = NO_TASK and any
    !> other {...} are errors.
@@ -123,8 +145,11 @@ contains
       character(len=512) :: msg
       type(field_list_t) :: header, fields, chosen
       character(len=:), allocatable :: line, problem
-      integer :: unit, stat, line_number, rows, chosen_line, k, length
+      integer :: unit, stat, line_number, rows, chosen_line, k, length, j
       logical :: have_header
+      ! a regular file of bounded size: a FIFO would block, a folder is no table (exit 3)
+      call check_input_file(file_name, '--sweep table', MAX_TABLE_BYTES, error)
+      if (allocated(error)) return
       open (newunit=unit, file=file_name, status='old', action='read', iostat=stat, iomsg=msg)
       if (stat /= 0) then
          call fatal_error(error, FFRF_IO_ERROR, 'cannot open the sweep table "' // file_name // &
@@ -150,6 +175,10 @@ contains
             return
          end if
          line = trim(buffer(:length))
+         ! a UTF-8 byte-order mark (spreadsheets write one) before the header is skipped
+         if (line_number == 1 .and. len(line) >= 3) then
+            if (line(1:3) == UTF8_BOM) line = line(4:)
+         end if
          if (len(line) > 0) then
             if (line(len(line):) == achar(13)) line = line(:len(line) - 1)
          end if
@@ -199,6 +228,16 @@ contains
                ' "' // header%items(k)%text // '" of the header: ' // problem)
             return
          end if
+         do j = 1, k - 1
+            if (to_lower(overrides(j)%group) == to_lower(overrides(k)%group) .and. &
+               overrides(j)%name == overrides(k)%name .and. &
+               to_lower(overrides(j)%key) == to_lower(overrides(k)%key)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, file_name // ': column ' // &
+                  to_str(k) // ' "' // header%items(k)%text // '" of the header names the ' // &
+                  'key of column ' // to_str(j) // ' again; give each key once')
+               return
+            end if
+         end do
          overrides(k)%value = chosen%items(k)%text
          overrides(k)%origin = file_name // ':' // to_str(chosen_line) // ' ' // &
             header%items(k)%text

@@ -40,13 +40,19 @@
 !>
 !> File-level checks (each an FFRF_INPUT_ERROR naming the file and the tag or line): the file is a
 !> regular file of at most MAX_MESH_BYTES (else FFRF_IO_ERROR, before it is opened: a FIFO would
-!> block); every count is checked against the bytes left in the file before anything is
-!> allocated for it; header counts and tag ranges must match the data; node and element tags
+!> block); its first bytes are $MeshFormat (checked before it is read whole: a 2 GB file of zeros
+!> is refused at once); only its content is read, up to the last byte that is not NUL or blank
+!> when that ends a $End... line (NUL padding after it is refused, blanks are not read); every
+!> count (nodes, elements, blocks, entities, names) is checked against the bytes left in the
+!> content before anything is allocated for it, so that memory stays within a multiple of the
+!> content (README "Input rules": at most 5x, measured 3.9x for the worst files);
+!> header counts and tag ranges must match the data; node and element tags
 !> are >= 1; coordinates are finite; ASCII coordinates and element nodes stay on their line (a
 !> missing value is reported where it is missing); a physical name appears once per dimension;
 !> an element block's type matches its entity's dimension.
 module ffrf_mesh_gmsh
-   use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_NO_MEMORY, READ_FAILED
+   use ffrf_core_whole_file, only: read_whole_file, READ_OPEN_FAILED, READ_NO_MEMORY, &
+      READ_FAILED, read_file_head, content_end
    use ffrf_core_error, only: error_t
    use ffrf_mesh_mesh, only: mesh_t
    implicit none
@@ -335,6 +341,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer(ip) :: num, i, j
       integer(i8) :: value, closing
+      character(len=:), allocatable :: problem
 
       call read_count(r%c, 'number of physical names', num, error)
       if (allocated(error)) return
@@ -374,13 +381,20 @@ contains
       do i = 2, num
          do j = 1, i - 1
             if (r%names(i)%dim /= r%names(j)%dim) cycle
-            if (r%names(i)%name == r%names(j)%name .and. &
-               len(r%names(i)%name) == len(r%names(j)%name)) then
+            ! names are compared exactly, but a case's names are blank-padded strings: two
+            ! names equal up to trailing blanks could not be told apart from a case
+            if (r%names(i)%name == r%names(j)%name) then
+               if (len(r%names(i)%name) == len(r%names(j)%name)) then
+                  problem = 'are named ''' // r%names(i)%name // ''''
+               else
+                  problem = 'are named ''' // r%names(j)%name // ''' and ''' // &
+                     r%names(i)%name // ''', equal up to trailing blanks'
+               end if
                call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // r%c%file_name // &
                   ''': $PhysicalNames: two physical ' // dimension_word(r%names(i)%dim) // &
-                  's are named ''' // r%names(i)%name // ''' (tags ' // &
-                  to_str(r%names(j)%tag) // ' and ' // to_str(r%names(i)%tag) // &
-                  '); give each physical group its own name in the .geo')
+                  's ' // problem // ' (tags ' // to_str(r%names(j)%tag) // ' and ' // &
+                  to_str(r%names(i)%tag) // '); give each physical group its own name in ' // &
+                  'the .geo')
                return
             else if (r%names(i)%tag == r%names(j)%tag) then
                call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // r%c%file_name // &
@@ -409,7 +423,15 @@ contains
          call read_size(r%c, binary, 'number of ' // dimension_word(dim) // ' entities', &
             counts(dim), error)
          if (allocated(error)) return
+         ! an entity takes a tag, 3 or 6 coordinates and a count: 5 tokens of 2 bytes at least
+         ! (ASCII), 4 + 3 * 8 + 8 bytes (binary)
+         call check_count_fits(r%c, 'number of ' // dimension_word(dim) // ' entities', &
+            counts(dim), merge(36_i8, 10_i8, binary), error)
+         if (allocated(error)) return
       end do
+      call check_count_fits(r%c, 'number of entities', sum(counts), merge(36_i8, 10_i8, binary), &
+         error)
+      if (allocated(error)) return
       do dim = 0, 3
          do k = 1, counts(dim)
             call read_tag(r%c, binary, dimension_word(dim) // ' entity tag', tag, error)
@@ -1496,9 +1518,12 @@ contains
       type(cursor_t), intent(out) :: c
       type(error_t), allocatable, intent(out) :: error
       character(len=512) :: message
-      integer(i8) :: file_size
-      integer :: step, kind
+      character(len=64) :: head
+      integer(i8) :: file_size, content_bytes
+      integer :: step, kind, got, stat, first, last_line
+      logical :: nul_after
       c%file_name = file_name
+      content_bytes = huge(1_i8)
       c%section = 'start of file'
       ! A FIFO or device would block or never end, a folder cannot be read: only a regular file
       ! of bounded size is opened (a missing one gets the open error below, with its hint).
@@ -1510,8 +1535,45 @@ contains
       if (kind /= FILE_MISSING) then
          call check_input_file(file_name, 'mesh file', MAX_MESH_BYTES, error)
          if (allocated(error)) return
+         ! bounded reads (README "Input rules"): the first bytes say whether it is a mesh at
+         ! all, and only its content (up to the last byte that is not NUL or blank) is read
+         call read_file_head(file_name, 1_i8, head, got, stat, message)
+         if (stat == 0) then
+            first = verify(head(:got), ' ' // achar(9) // achar(10) // achar(13))
+            if (first == 0 .or. index(head(max(first, 1):got), '$MeshFormat') /= 1) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_name // ''' (' // &
+                  to_str(file_size) // ' bytes) is not a Gmsh MSH file: it does not start ' // &
+                  'with $MeshFormat (first bytes: "' // printable(head(:min(got, 24))) // '")')
+               return
+            end if
+            call content_end(file_name, content_bytes, nul_after, stat)
+            if (stat /= 0) content_bytes = huge(1_i8)
+         end if
+         ! only after a complete last section ($End... line) is the rest padding: a file cut in
+         ! binary data may end in zero bytes of that data, and is read whole (the parser then
+         ! says where it ends)
+         if (stat == 0) call read_file_head(file_name, max(1_i8, content_bytes - 63_i8), head, &
+            got, stat, message)
+         if (stat == 0) then
+            ! the tail of the content only (the padding after it is not looked at)
+            got = int(min(int(got, i8), content_bytes - max(1_i8, content_bytes - 63_i8) + 1))
+            last_line = index(head(:got), achar(10), back=.true.) + 1
+            if (index(head(last_line:got), '$End') /= 1) content_bytes = huge(1_i8)
+            if (index(head(last_line:got), '$End') /= 1) nul_after = .false.
+         end if
+         if (stat == 0 .and. nul_after) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_name // ''': ' // &
+               to_str(file_size - content_bytes) // ' bytes of NUL padding after its last ' // &
+               'section (content ends at byte ' // to_str(content_bytes) // ' of ' // &
+               to_str(file_size) // '); a mesh file ends with its last $End... line: was ' // &
+               'it cut short or padded? write it again with gmsh')
+            return
+         end if
+         ! the content and the line end after it (a trailing blank run is not read)
+         if (stat == 0) content_bytes = min(content_bytes, huge(1_i8) - 1) + 1
       end if
-      call read_whole_file(file_name, c%text, step, file_size, message)
+      call read_whole_file(file_name, c%text, step, file_size, message, &
+         content_bytes=content_bytes)
       select case (step)
       case (READ_OPEN_FAILED)
          call fatal_error(error, FFRF_IO_ERROR, 'mesh ''' // file_name // ''': cannot open: ' // &
@@ -1524,6 +1586,17 @@ contains
             'read: ' // trim(message))
       end select
    end subroutine load_file
+
+   !> `text` with control characters and bytes above 126 as '?', for a one-line message.
+   pure function printable(text) result(shown)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: shown
+      integer :: k
+      shown = text
+      do k = 1, len(shown)
+         if (iachar(shown(k:k)) < 32 .or. iachar(shown(k:k)) > 126) shown(k:k) = '?'
+      end do
+   end function printable
 
    !> Skip blanks and line ends, counting lines.
    pure subroutine skip_space(text, pos, line)

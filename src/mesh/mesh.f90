@@ -68,6 +68,9 @@ module ffrf_mesh_mesh
       integer(i8), allocatable :: other_volume_elements(:, :)
       !> For a body cut by extract_body: its physical volumes, "'crank'" (for messages)
       character(len=:), allocatable :: volumes
+      !> For a body cut by extract_body: the surface entity of each triangle of the whole mesh
+      !> that is not a face of the body's tetrahedra (an interface surface must not hold any)
+      integer(ip), allocatable :: off_body_tri_entity(:)
    contains
       procedure :: num_tets => mesh_num_tets
       procedure :: num_tris => mesh_num_tris
@@ -98,8 +101,9 @@ contains
    end function mesh_num_tris
 
    !> Index into `groups` of the physical group of dimension `dim` called `name` (exact,
-   !> case-sensitive compare; trailing blanks do not count, as everywhere in Fortran, so a
-   !> padded namelist string matches); 0 if there is none.
+   !> case-sensitive compare of the whole group name with `name` without its trailing blanks,
+   !> which a namelist string pads: a group named "left " is not "left"; the reader refuses
+   !> two names equal up to trailing blanks); 0 if there is none.
    pure function mesh_find_group(self, dim, name) result(index)
       class(mesh_t), intent(in) :: self
       !> 0 point, 1 curve, 2 surface, 3 volume
@@ -112,6 +116,7 @@ contains
       if (.not. allocated(self%groups)) return
       do i = 1, size(self%groups, kind=ip)
          if (self%groups(i)%dim /= dim) cycle
+         if (len(self%groups(i)%name) /= len_trim(name)) cycle
          if (self%groups(i)%name == name) then
             index = i
             return
@@ -145,13 +150,28 @@ contains
       !> Triangle indices 1..num_tris
       integer(ip), allocatable, intent(out) :: indices(:)
       type(error_t), allocatable, intent(out) :: error
-      integer(ip) :: k
+      integer(ip) :: k, off_body
       k = self%find_group(2_ip, name)
       if (k == 0) then
          call unknown_group_error(self, 2_ip, name, error)
          return
       end if
       indices = pack_indices(in_entities(self%tri_entity, self%groups(k)%entities))
+      if (size(indices) > 0 .and. allocated(self%off_body_tri_entity)) then
+         ! a surface that spans two bodies would silently be cut to the part on this one
+         off_body = count(in_entities(self%off_body_tri_entity, self%groups(k)%entities), &
+            kind=ip)
+         if (off_body > 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
+               ''': physical surface ''' // trim(name) // ''' does not lie wholly on the ' // &
+               'body of physical volume(s) ' // self%volumes // ': ' // to_str(off_body) // &
+               ' of its ' // to_str(off_body + size(indices, kind=ip)) // ' triangles are ' // &
+               'not faces of the body''s tetrahedra (its area and centroid would be those ' // &
+               'of the part on the body); split the surface in the .geo so that each ' // &
+               'interface names a surface of one body')
+            return
+         end if
+      end if
       if (size(indices) == 0) then
          if (allocated(self%volumes)) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
@@ -368,6 +388,7 @@ contains
       allocate (body%other_volume_elements(4, 0))
       body%file_name = file_of(mesh)
       body%volumes = quoted_list(volume_names)
+      body%off_body_tri_entity = pack(mesh%tri_entity, .not. keep_tri)
 
       call check_duplicate_tets(body, error)
       if (allocated(error)) return

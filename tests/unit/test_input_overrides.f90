@@ -292,7 +292,8 @@ contains
       call check(error, 'a missing table: a file error', allocated(got))
       if (allocated(error)) return
       call check(error, 'missing: ' // got%message, got%code == FFRF_IO_ERROR .and. &
-         index(got%message, 'cannot open the sweep table') == 1)
+         index(got%message, '--sweep table "test_input_overrides_missing.csv" does not ' // &
+         'exist') == 1)
       call remove_file(file)
    contains
       subroutine expect(name, row, start)

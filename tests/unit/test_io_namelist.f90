@@ -1,7 +1,8 @@
 !> Tests of the strict case reading (ffrf_input_nml_source, ffrf_input_case): the resolved input
 !> echo of every case in input/ is bitwise the one the solver wrote before the strict reader (the
-!> reference files in tests/data/input_echo were written by case_echo of the previous reader), so
-!> no value of a valid case changes; lines of any length; quotes and repeat counts handed to the
+!> reference files in tests/data/input_echo were written by case_echo of the previous reader;
+!> since issue 23 a flexible body's num_modes = -1, "not given", is left out so that the echo
+!> reads back), so no value of a valid case changes; lines of any length; quotes and repeat counts handed to the
 !> namelist read unchanged; FILE:LINE of a key for the readers' cross checks; the structural
 !> errors named by line.
 module test_io_namelist
