@@ -103,7 +103,7 @@ contains
                a_entry=outputs(i)%entry)
             if (allocated(error)) return
             if (same) then
-               call refuse(outputs(i), inputs(j), 'an input', error)
+               call refuse(case%file_name, outputs(i), inputs(j), 'an input', error)
                return
             end if
          end do
@@ -112,19 +112,22 @@ contains
                a_entry=outputs(i)%entry, b_entry=outputs(j)%entry)
             if (allocated(error)) return
             if (same) then
-               call refuse(outputs(i), outputs(j), 'another output', error)
+               call refuse(case%file_name, outputs(i), outputs(j), 'another output', error)
                return
             end if
          end do
       end do
    end subroutine check_output_paths
 
-   subroutine refuse(output, other, what, error)
+   subroutine refuse(case_file, output, other, what, error)
+      !> The case file, named first
+      character(len=*), intent(in) :: case_file
       type(named_path_t), intent(in) :: output, other
       !> "an input" or "another output"
       character(len=*), intent(in) :: what
       type(error_t), allocatable, intent(out) :: error
-      call fatal_error(error, FFRF_INPUT_ERROR, 'output path refused: ' // output%role // &
+      call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': output path refused: ' // &
+         output%role // &
          ' "' // output%path // '" is the same file as ' // other%role // ' "' // other%path // &
          '" (' // what // ' of this run); give the output another name (&run output, ' // &
          'mode_shapes_msh, --output or --output-dir)')

@@ -9,5 +9,5 @@ foreach(test signal_stages output_paths memory_limit)
       ${PROJECT_BINARY_DIR}/tests/faults_io/${test})
   set_tests_properties(regression_faults_io_${test} PROPERTIES
     LABELS "regression;engine;output" TIMEOUT 120
-    FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+    FIXTURES_REQUIRED "crank_lc8_mesh;crank_lc10_mesh;conrod_lc8_mesh")
 endforeach()

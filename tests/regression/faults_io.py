@@ -9,8 +9,8 @@ TEST is one of
                  test points of src/core/posix.c): before, during and after the METIS ordering
                  (whose own handlers used to leave ffrf's one-shot), the MUMPS factorisation
                  (during: from a thread while MUMPS runs), the Lanczos loop and the integration,
-                 of a modal run (two cranks, lc 8 mm) and a mechanism run (engine lc 8 mm,
-                 5 ms): exit 5, one stderr line "interrupted by SIGTERM", status
+                 of a modal run (two cranks, lc 10 mm) and a mechanism run (engine, crank
+                 lc 10 mm, 5 ms): exit 5, one stderr line "interrupted by SIGTERM", status
                  "interrupted: SIGTERM", the file readable, /final_state and the restart state
                  (mechanism); a signal after the last step lets the run complete (exit 0). SIGINT
                  twice in the Lanczos loop ends the run at once (by SIGINT, as documented); twice
@@ -64,11 +64,11 @@ def status_of(path):
         return f.attrs['status'].decode()
 
 
-def two_crank_case(path, num_modes=6):
+def two_crank_case(path, num_modes=4, mesh='crank_lc10.msh'):
     with open(path, 'w') as f:
         f.write(f"&run title = 'two cranks' /\n&modes num_modes = {num_modes} /\n")
         for body in ('crank_a', 'crank_b'):
-            f.write(f"&body name = '{body}', mesh_file = 'crank_lc8.msh', volumes = 'crank',\n"
+            f.write(f"&body name = '{body}', mesh_file = '{mesh}', volumes = 'crank',\n"
                     "      young = 210.0e9, poisson = 0.3, density = 7850.0 /\n"
                     f"&interface body = '{body}', name = 'B1', mpc = 'RBE3', rc = 'Tx Ty Tz' /\n"
                     f"&interface body = '{body}', name = 'B2', mpc = 'RBE3', rc = '' /\n"
@@ -79,12 +79,18 @@ def two_crank_case(path, num_modes=6):
 def one_crank_case(path, num_modes=4):
     with open(path, 'w') as f:
         f.write(f"&run title = 'crank' /\n&modes num_modes = {num_modes} /\n"
-                "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank',\n"
+                "&body name = 'crank', mesh_file = 'crank_lc10.msh', volumes = 'crank',\n"
                 "      young = 210.0e9, poisson = 0.3, density = 7850.0 /\n"
                 "&interface body = 'crank', name = 'B1', mpc = 'RBE3', rc = 'Tx Ty Tz' /\n"
                 "&interface body = 'crank', name = 'B2', mpc = 'RBE3', rc = '' /\n"
                 "&interface body = 'crank', name = 'B3', mpc = 'RBE3', rc = 'Tx Ty Tz Rz' /\n")
     return path
+
+
+# the engine with the coarser crank mesh and 4 modes a body: the stages are the same, the runs
+# shorter
+SMALL_ENGINE = ['--set', "body[crank].mesh_file='crank_lc10.msh'", '--set',
+                'body[crank].num_modes=4', '--set', 'body[conrod].num_modes=4']
 
 
 def engine_case(case_dir, path, t_end='0.005', more=''):
@@ -106,15 +112,12 @@ def test_signal_stages(ffrf, mesh_dir, case_dir, work):
     # (case, stage, count, signal, async, expected exit, bodies kept (modal))
     trials = [(modal, 'ordering:before', 2), (modal, 'ordering:during', 3),
               (modal, 'ordering:end', 2), (modal, 'ordering:after', 3),
-              (modal, 'factorisation:during', 2), (modal, 'factorisation:after', 3),
+              (modal, 'factorisation:before', 2), (modal, 'factorisation:during', 3),
+              (modal, 'factorisation:after', 2), (modal, 'lanczos:before', 3),
               (modal, 'lanczos:during', 2), (modal, 'lanczos:after', 3),
-              (mech, 'ordering:during', 3), (mech, 'ordering:after', 2),
-              (mech, 'factorisation:before', 3), (mech, 'factorisation:during', 2),
-              (mech, 'lanczos:during', 3), (mech, 'lanczos:after', 2),
-              (mech, 'integration:before', 3), (mech, 'integration:during', 2),
-              (mech, 'integration:after', 3)]
-    # 4 modes a body: the stages are the same, the runs shorter
-    fewer_modes = ['--set', 'body[crank].num_modes=4', '--set', 'body[conrod].num_modes=4']
+              (mech, 'ordering:after', 2), (mech, 'factorisation:during', 3),
+              (mech, 'lanczos:during', 2), (mech, 'integration:before', 3),
+              (mech, 'integration:during', 2), (mech, 'integration:after', 3)]
     for case, stage, count in trials:
         kind = 'modal' if case == modal else 'mechanism'
         name = f'{kind} {stage} x{count}'
@@ -124,7 +127,7 @@ def test_signal_stages(ffrf, mesh_dir, case_dir, work):
             os.remove(results)
         code, stdout, stderr, seconds = run([ffrf, case, '--mesh-dir', mesh_dir,
                                              '--output-dir', out,
-                                             *(fewer_modes if kind == 'mechanism' else [])],
+                                             *(SMALL_ENGINE if kind == 'mechanism' else [])],
                                             {'FFRF_TEST_SIGNALS': spec})
         if stage == 'integration:after':
             # every step done when the signals come: the run completes
@@ -212,7 +215,8 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
     os.symlink(victim, os.path.join(mech_out, 'e.h5.checkpoint.part'))
     os.symlink(victim, os.path.join(mech_out, 'e_crank_animation.msh.part'))
     keep = snapshot(victim)
-    code, _, stderr, _ = run([ffrf, mech, '--mesh-dir', mesh_dir, '--output-dir', mech_out])
+    code, _, stderr, _ = run([ffrf, mech, '--mesh-dir', mesh_dir, '--output-dir', mech_out,
+                              *SMALL_ENGINE])
     check(code == 0 and snapshot(victim) == keep,
           f'mechanism run with checkpoints over stale links: exit 0, target untouched ({code})')
 
@@ -231,8 +235,8 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
          ['--output-dir', os.path.join(work, 'work_link'), '--output', 'm.nml'],
          case, ['the results file', 'the case file']),
         ('--output naming the mesh', ['--mesh-dir', meshes, '--output-dir', meshes, '--output',
-                                     'crank_lc8.msh'],
-         os.path.join(meshes, 'crank_lc8.msh'), ['the results file', 'the mesh of body "crank"']),
+                                     'crank_lc10.msh'],
+         os.path.join(meshes, 'crank_lc10.msh'), ['the results file', 'the mesh of body "crank"']),
         ('--output naming the --sweep table', ['--output-dir', work, '--sweep', table, '--task',
                                                '1', '--output', 'table.csv'],
          table, ['the results file', 'the --sweep table']),
@@ -244,8 +248,8 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
          None, ['the results file', 'the mode shapes file']),
         ('--output naming the mesh through the mode shapes file',
          ['--mesh-dir', meshes, '--output-dir', meshes, '--set',
-          'run.mode_shapes_msh=crank_lc8.msh'],
-         os.path.join(meshes, 'crank_lc8.msh'), ['the mode shapes file', 'the mesh of body']),
+          'run.mode_shapes_msh=crank_lc10.msh'],
+         os.path.join(meshes, 'crank_lc10.msh'), ['the mode shapes file', 'the mesh of body']),
     ]
     for what, args, guarded, roles in refusals:
         keep = snapshot(guarded) if guarded else None
@@ -263,14 +267,14 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
     previous = os.path.join(mech_out, 'e_crank_animation.msh')
     keep = snapshot(previous)
     code, _, stderr, _ = run([ffrf, mech, '--mesh-dir', mesh_dir, '--output-dir', mech_out,
-                              '--restart', previous])
+                              '--restart', previous, *SMALL_ENGINE])
     check(code == 2 and one_error_line(stderr, ['output path refused', 'the animation of body "crank"',
                                                 'the --restart file']) and snapshot(previous) == keep,
           f'animation naming the --restart file: exit 2 ({code}: {stderr.strip()[:200]})')
     longer = engine_case(case_dir, os.path.join(work, 'e.nml'), t_end='0.006',
                          more=', checkpoint_steps = 10')
     code, _, stderr, _ = run([ffrf, longer, '--mesh-dir', mesh_dir, '--output-dir', mech_out,
-                              '--restart', os.path.join(mech_out, 'e.h5')])
+                              '--restart', os.path.join(mech_out, 'e.h5'), *SMALL_ENGINE])
     check(code == 0, f'restart in place (--restart the run\'s own results file) still runs ({code}: '
           f'{stderr.strip()[:120]})')
 
@@ -278,7 +282,7 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
 # ------------------------------------------------------------------------------ memory limit
 
 def test_memory_limit(ffrf, mesh_dir, case_dir, work):
-    case = two_crank_case(os.path.join(work, 'modal.nml'), num_modes=12)
+    case = two_crank_case(os.path.join(work, 'modal.nml'), num_modes=12, mesh='crank_lc8.msh')
     out = os.path.join(work, 'out')
     os.makedirs(out)
     for limit_kib in LIMITS_KIB:
