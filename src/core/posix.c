@@ -167,39 +167,59 @@ int ffrf_signals_install(void)
  * run. Around such a call the run signals are blocked in the calling thread (a signal that
  * arrives meanwhile stays pending) and every handler is saved; afterwards the saved handlers
  * are put back with sigaction, whatever the library left, and the mask is restored, which
- * delivers a pending signal to ffrf's handler. Calls nest (depth per thread). */
-static _Thread_local int hold_depth = 0;
+ * delivers a pending signal to ffrf's handler. Calls nest. */
+static pthread_mutex_t hold_lock = PTHREAD_MUTEX_INITIALIZER;
+static int hold_count = 0;                 /* holds open in the process */
+static struct sigaction held_actions[NUM_RUN_SIGNALS + 1];
+static _Thread_local int thread_depth = 0; /* holds open in this thread */
 static _Thread_local sigset_t held_mask;
-static _Thread_local struct sigaction held_actions[NUM_RUN_SIGNALS + 1];
 static _Thread_local int held_blocked = 0;
 
-/* block = 0: the handlers are saved (and restored by ffrf_signals_release) but the signals
- * stay deliverable, for a library known to install no handlers whose calls may last long (a
- * second Ctrl-C must still end the run at once). */
+/* The handlers are saved by the first hold of the process and put back by its last release
+ * (threads of a host may hold at once: a METIS ordering in one, a MUMPS call in another; a
+ * save taken while METIS's handler is in place would otherwise put it back for good). The
+ * mask is per thread. block = 0: the handlers are saved and put back, the signals stay
+ * deliverable (a library known to install no handlers whose calls may last long: a second
+ * Ctrl-C must still end the run at once). */
 int ffrf_signals_hold(int block)
 {
-    sigset_t set;
-    if (hold_depth++ > 0) return 0;
-    held_blocked = 0;
-    for (size_t k = 0; k < NUM_RUN_SIGNALS; ++k)
-        if (sigaction(run_signals[k], NULL, &held_actions[k]) != 0) return errno;
-    if (sigaction(SIGABRT, NULL, &held_actions[NUM_RUN_SIGNALS]) != 0) return errno;
-    if (!block) return 0;
-    run_signal_set(&set);
-    held_blocked = pthread_sigmask(SIG_BLOCK, &set, &held_mask) == 0;
-    return held_blocked ? 0 : errno;
+    int status = 0;
+    if (thread_depth++ == 0 && block) {
+        sigset_t set;
+        run_signal_set(&set);
+        held_blocked = pthread_sigmask(SIG_BLOCK, &set, &held_mask) == 0;
+        if (!held_blocked) status = errno;
+    }
+    pthread_mutex_lock(&hold_lock);
+    if (hold_count++ == 0) {
+        for (size_t k = 0; k < NUM_RUN_SIGNALS; ++k)
+            if (sigaction(run_signals[k], NULL, &held_actions[k]) != 0 && status == 0)
+                status = errno;
+        if (sigaction(SIGABRT, NULL, &held_actions[NUM_RUN_SIGNALS]) != 0 && status == 0)
+            status = errno;
+    }
+    pthread_mutex_unlock(&hold_lock);
+    return status;
 }
 
 int ffrf_signals_release(void)
 {
     int status = 0;
-    if (hold_depth == 0 || --hold_depth > 0) return 0;
-    for (size_t k = 0; k < NUM_RUN_SIGNALS; ++k)
-        if (sigaction(run_signals[k], &held_actions[k], NULL) != 0 && status == 0) status = errno;
-    if (sigaction(SIGABRT, &held_actions[NUM_RUN_SIGNALS], NULL) != 0 && status == 0)
-        status = errno;
-    if (held_blocked && pthread_sigmask(SIG_SETMASK, &held_mask, NULL) != 0 && status == 0)
-        status = errno;
+    if (thread_depth == 0) return 0;
+    pthread_mutex_lock(&hold_lock);
+    if (--hold_count == 0) {
+        for (size_t k = 0; k < NUM_RUN_SIGNALS; ++k)
+            if (sigaction(run_signals[k], &held_actions[k], NULL) != 0 && status == 0)
+                status = errno;
+        if (sigaction(SIGABRT, &held_actions[NUM_RUN_SIGNALS], NULL) != 0 && status == 0)
+            status = errno;
+    }
+    pthread_mutex_unlock(&hold_lock);
+    /* unblocked after the handlers are back: a signal held meanwhile goes to them */
+    if (--thread_depth == 0 && held_blocked) {
+        held_blocked = 0;
+        if (pthread_sigmask(SIG_SETMASK, &held_mask, NULL) != 0 && status == 0) status = errno;
+    }
     return status;
 }
 
