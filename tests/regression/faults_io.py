@@ -8,9 +8,9 @@ TEST is one of
   signal_stages  2 or 3 signals sent by the run itself at exact stages (FFRF_TEST_SIGNALS, the
                  test points of src/core/posix.c): before, during and after the METIS ordering
                  (whose own handlers used to leave ffrf's one-shot), the MUMPS factorisation
-                 (during: from a thread while MUMPS runs), the Lanczos loop and the integration,
-                 of a modal run (two cranks, lc 10 mm) and a mechanism run (engine, crank
-                 lc 10 mm, 5 ms): exit 5, one stderr line "interrupted by SIGTERM", status
+                 (during: from a thread while MUMPS runs) and the Lanczos loop of a modal run
+                 (two cranks, lc 10 mm) and of a mechanism run (engine, crank lc 10 mm, 5 ms),
+                 and the mechanism's integration: exit 5, one stderr line "interrupted by SIGTERM", status
                  "interrupted: SIGTERM", the file readable, /final_state and the restart state
                  (mechanism); a signal after the last step lets the run complete (exit 0). SIGINT
                  twice in the Lanczos loop ends the run at once (by SIGINT, as documented); twice
@@ -115,9 +115,12 @@ def test_signal_stages(ffrf, mesh_dir, case_dir, work):
               (modal, 'factorisation:before', 2), (modal, 'factorisation:during', 3),
               (modal, 'factorisation:after', 2), (modal, 'lanczos:before', 3),
               (modal, 'lanczos:during', 2), (modal, 'lanczos:after', 3),
-              (mech, 'ordering:after', 2), (mech, 'factorisation:during', 3),
-              (mech, 'lanczos:during', 2), (mech, 'integration:before', 3),
-              (mech, 'integration:during', 2), (mech, 'integration:after', 3)]
+              (mech, 'ordering:before', 3), (mech, 'ordering:during', 2),
+              (mech, 'ordering:after', 3), (mech, 'factorisation:before', 2),
+              (mech, 'factorisation:during', 3), (mech, 'factorisation:after', 2),
+              (mech, 'lanczos:before', 3), (mech, 'lanczos:during', 2),
+              (mech, 'lanczos:after', 3), (mech, 'integration:before', 2),
+              (mech, 'integration:during', 3), (mech, 'integration:after', 2)]
     for case, stage, count in trials:
         kind = 'modal' if case == modal else 'mechanism'
         name = f'{kind} {stage} x{count}'
