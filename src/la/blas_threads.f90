@@ -66,9 +66,10 @@ contains
    end function blas_threads
 
    !> Take the work buffer of OpenBLAS's calling thread (and one more when it fits) now, while
-   !> the process is small: OpenBLAS 0.3.21 retries a failed buffer mapping forever, deaf to signals, so a run
-   !> under an address-space limit (ulimit -v) must never map one later (blas_threads.c; issue
-   !> 23). After the BLAS threads are set. FFRF_NUMERIC_ERROR (exit 4) when there is no room.
+   !> the process is small: OpenBLAS 0.3.21 retries a failed buffer mapping forever, deaf to
+   !> signals, so a run under an address-space limit (ulimit -v) must never map one later
+   !> (blas_threads.c; issue 23). After the BLAS threads are set. FFRF_NUMERIC_ERROR (exit 4)
+   !> when there is no room.
    subroutine reserve_blas_buffers(error)
       type(error_t), allocatable, intent(out) :: error
       integer(c_int) :: status, count

@@ -10,9 +10,9 @@ TEST is one of
                  (whose own handlers used to leave ffrf's one-shot), the MUMPS factorisation
                  (during: from a thread while MUMPS runs) and the Lanczos loop of a modal run
                  (two cranks, lc 10 mm) and of a mechanism run (engine, crank lc 10 mm, 5 ms),
-                 and the mechanism's integration: exit 5, one stderr line "interrupted by SIGTERM", status
-                 "interrupted: SIGTERM", the file readable, /final_state and the restart state
-                 (mechanism); a signal after the last step lets the run complete (exit 0). SIGINT
+                 and the mechanism's integration: exit 5, one stderr line "interrupted by
+                 SIGTERM", status "interrupted: SIGTERM", the file readable, /final_state and
+                 the restart state (mechanism); a signal after the last step lets the run complete (exit 0). SIGINT
                  twice in the Lanczos loop ends the run at once (by SIGINT, as documented); twice
                  while METIS runs (held) it counts once: exit 5.
   output_paths   stale temporaries and a final name that are symbolic links (the link targets
@@ -72,7 +72,8 @@ def two_crank_case(path, num_modes=4, mesh='crank_lc10.msh'):
                     "      young = 210.0e9, poisson = 0.3, density = 7850.0 /\n"
                     f"&interface body = '{body}', name = 'B1', mpc = 'RBE3', rc = 'Tx Ty Tz' /\n"
                     f"&interface body = '{body}', name = 'B2', mpc = 'RBE3', rc = '' /\n"
-                    f"&interface body = '{body}', name = 'B3', mpc = 'RBE3', rc = 'Tx Ty Tz Rz' /\n")
+                    f"&interface body = '{body}', name = 'B3', mpc = 'RBE3', "
+                    "rc = 'Tx Ty Tz Rz' /\n")
     return path
 
 
@@ -170,7 +171,8 @@ def test_signal_stages(ffrf, mesh_dir, case_dir, work):
     code, _, stderr, _ = run([ffrf, modal, '--mesh-dir', mesh_dir, '--output-dir', out],
                              {'FFRF_TEST_SIGNALS': 'ordering:during:2:INT'})
     check(code == 5 and one_error_line(stderr, ['interrupted by SIGINT']),
-          f'SIGINT twice while METIS runs: one clean end, exit 5 (got {code}: {stderr.strip()[:100]})')
+          f'SIGINT twice while METIS runs: one clean end, exit 5 '
+          f'(got {code}: {stderr.strip()[:100]})')
 
 
 # ------------------------------------------------------------------------------ output paths
@@ -271,15 +273,17 @@ def test_output_paths(ffrf, mesh_dir, case_dir, work):
     keep = snapshot(previous)
     code, _, stderr, _ = run([ffrf, mech, '--mesh-dir', mesh_dir, '--output-dir', mech_out,
                               '--restart', previous, *SMALL_ENGINE])
-    check(code == 2 and one_error_line(stderr, ['output path refused', 'the animation of body "crank"',
-                                                'the --restart file']) and snapshot(previous) == keep,
+    check(code == 2 and one_error_line(stderr, ['output path refused',
+                                                'the animation of body "crank"',
+                                                'the --restart file'])
+          and snapshot(previous) == keep,
           f'animation naming the --restart file: exit 2 ({code}: {stderr.strip()[:200]})')
     longer = engine_case(case_dir, os.path.join(work, 'e.nml'), t_end='0.006',
                          more=', checkpoint_steps = 10')
     code, _, stderr, _ = run([ffrf, longer, '--mesh-dir', mesh_dir, '--output-dir', mech_out,
                               '--restart', os.path.join(mech_out, 'e.h5'), *SMALL_ENGINE])
-    check(code == 0, f'restart in place (--restart the run\'s own results file) still runs ({code}: '
-          f'{stderr.strip()[:120]})')
+    check(code == 0, 'restart in place (--restart the run\'s own results file) still runs '
+          f'({code}: {stderr.strip()[:120]})')
 
 
 # ------------------------------------------------------------------------------ memory limit
