@@ -12,9 +12,9 @@ TEST is one of
                  (two cranks, lc 10 mm) and of a mechanism run (engine, crank lc 10 mm, 5 ms),
                  and the mechanism's integration: exit 5, one stderr line "interrupted by
                  SIGTERM", status "interrupted: SIGTERM", the file readable, /final_state and
-                 the restart state (mechanism); a signal after the last step lets the run complete (exit 0). SIGINT
-                 twice in the Lanczos loop ends the run at once (by SIGINT, as documented); twice
-                 while METIS runs (held) it counts once: exit 5.
+                 the restart state (mechanism); a signal after the last step lets the run
+                 complete (exit 0). SIGINT twice in the Lanczos loop ends the run at once (by
+                 SIGINT, as documented); twice while METIS runs (held) it counts once: exit 5.
   output_paths   stale temporaries and a final name that are symbolic links (the link targets
                  stay byte for byte and mtime, the outputs are regular files); outputs naming the
                  case file, a mesh, the --sweep table, the --restart file, and two outputs naming
