@@ -16,7 +16,8 @@ program ffrf_driver
       case_input_t, FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, &
       FFRF_INTERRUPTED, LOG_QUIET, LOG_DEBUG, install_signal_handlers, signals_restart_calls, &
       ignore_file_size_signal, override_t, parse_override, batch_overrides, NO_TASK, &
-      read_case_with_overrides, case_echo, case_name_of, set_blas_threads, build_versions
+      read_case_with_overrides, case_echo, case_name_of, set_blas_threads, build_versions, &
+      reserve_blas_buffers, fit_blas_address_limit, exit_guard
    use ffrf_driver_ranks, only: start_ranks, end_ranks
    implicit none
    interface
@@ -37,6 +38,8 @@ program ffrf_driver
    integer :: i, task, threads, threads_used, k, num_sets
    character(len=120) :: versions(8)
 
+   ! under ulimit -v: again with one BLAS thread (OpenBLAS's workers could spin forever)
+   call fit_blas_address_limit()
    call start_ranks(options%parallel, error)
    if (allocated(error)) call fail(error)
    options%mesh_dir = ''
@@ -126,7 +129,10 @@ program ffrf_driver
       end select
    end do
    if (len(case_file) == 0) call bad_usage('no case file given')
+   options%sweep_file = sweep_file
 
+   ! an allocation failure the Fortran runtime ends the run for: exit 4 with an error line
+   call exit_guard(.true.)
    ! SIGTERM & co. end a run cleanly after its current step; a file size limit makes writes fail
    call install_signal_handlers(error)
    if (.not. allocated(error)) call signals_restart_calls(error)
@@ -149,6 +155,9 @@ program ffrf_driver
       if (.not. allocated(error) .and. options%log_level /= LOG_QUIET .and. &
          options%parallel%is_root()) write (output_unit, '(a, i0)') 'BLAS threads: ', threads_used
    end if
+   ! OpenBLAS's work buffers taken now: a buffer mapped later under an address-space limit
+   ! would spin forever in OpenBLAS (issue 23)
+   if (.not. allocated(error) .and. .not. check_only) call reserve_blas_buffers(error)
    if (.not. allocated(error)) then
       if (check_only) then
          call check_case(case, options, log, error)
@@ -181,6 +190,7 @@ contains
    !> End the run with exit status `code` (MPI build: after MPI_Finalize).
    subroutine finish(code)
       integer, intent(in) :: code
+      call exit_guard(.false.)
       flush (output_unit)
       flush (error_unit)
       call end_ranks()

@@ -21,7 +21,7 @@ module ffrf
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
       FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED
    use ffrf_core_posix, only: install_signal_handlers, signals_restart_calls, &
-      ignore_file_size_signal, pending_signal, signal_name
+      ignore_file_size_signal, pending_signal, signal_name, exit_guard
    use ffrf_core_log, only: logger_t, stage_times_t, LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
@@ -42,7 +42,8 @@ module ffrf
       case_name_of
    use ffrf_input_overrides, only: override_t, parse_override
    use ffrf_input_sweep, only: batch_overrides, NO_TASK
-   use ffrf_la_blas_threads, only: set_blas_threads, blas_threads
+   use ffrf_la_blas_threads, only: set_blas_threads, blas_threads, reserve_blas_buffers, &
+      fit_blas_address_limit
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
    use ffrf_app_mechanism_run, only: run_mechanism_case, run_mechanism

@@ -17,6 +17,7 @@ module ffrf_app_check_case
    use ffrf_mpc_interface, only: interface_t, build_interface
    use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_app_output_paths, only: check_output_paths
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model
@@ -47,6 +48,9 @@ contains
       integer :: k, f
 
       call set_log_level(log, options, log_level_code(case%run%log_level))
+      ! as the runs: no output on an input or on another output
+      call check_output_paths(case, options, error)
+      if (allocated(error)) return
       call build_model(case, model, error)
       if (allocated(error)) then
          call add_context(error, case%file_name)

@@ -35,6 +35,7 @@ module ffrf_app_mechanism_output
       check_no_overwrite
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_app_run_options, only: run_options_t
+   use ffrf_app_output_paths, only: check_output_paths
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_modes_fingerprint, only: modes_fingerprint_t
    use ffrf_mesh_mesh, only: mesh_t
@@ -163,6 +164,9 @@ contains
       self%options = options
       self%case = case
       self%results_file = join_path(options%output_dir, trim(case%run%output))
+      ! no output on an input or on another output (exit 2), before anything is written
+      call check_output_paths(case, options, error)
+      if (allocated(error)) return
       call self%lock%acquire(self%results_file, error)
       if (allocated(error)) return
       self%reserved = .true.

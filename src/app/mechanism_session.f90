@@ -25,7 +25,7 @@ module ffrf_app_mechanism_session
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR, &
       FFRF_INTERRUPTED
-   use ffrf_core_posix, only: pending_signal, signal_name
+   use ffrf_core_posix, only: pending_signal, signal_name, signal_test_point
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_times_t, stage_timer_t, wall_time
    use ffrf_app_run_options, only: run_options_t
@@ -271,6 +271,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: signal
       associate (integrator => self%integrator)
+         call signal_test_point('integration:before')
          do while (integrator%t < min(t, t_end) - tolerance)
             if (self%recording) call self%output%before_step(self%mech, integrator, t_end)
             if (t < t_end - tolerance .and. t - integrator%t < integrator%h * &
@@ -286,6 +287,7 @@ contains
                self%mech, self%bodies, integrator, self%pressure, self%has_pressure, t_end, &
                self%log, error)
             if (allocated(error)) return
+            if (integrator%stats%steps == 10) call signal_test_point('integration:during')
             signal = pending_signal()
             if (signal /= 0) then
                if (self%recording) then
@@ -306,6 +308,7 @@ contains
                if (allocated(error)) return
             end if
          end do
+         call signal_test_point('integration:after')
       end associate
    end subroutine step_to
 

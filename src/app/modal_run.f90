@@ -12,6 +12,7 @@ module ffrf_app_modal_run
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib
    use ffrf_app_run_options, only: run_options_t, set_log_level
+   use ffrf_app_output_paths, only: check_output_paths
    use ffrf_core_parallel, only: parallel_t, use_ranks
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_input_case, only: case_input_t, read_case, case_echo
@@ -80,7 +81,9 @@ contains
       call log%info('input', 'resolved input:' // new_line('a') // echo(:len(echo) - 1))
 
       results_file = join_path(options%output_dir, trim(case%run%output))
-      if (ranks%is_root()) call lock%acquire(results_file, error)
+      ! no output on an input or on another output (exit 2), before anything is written
+      call check_output_paths(case, options, error)
+      if (.not. allocated(error) .and. ranks%is_root()) call lock%acquire(results_file, error)
       call ranks%agree(error)
       if (allocated(error)) return
       call compute_and_write(error)

@@ -21,6 +21,9 @@ module ffrf_app_run_options
       !> Results (or checkpoint) file of an earlier run of the case to continue from
       !> (--restart FILE; '' = start from t_start)
       character(len=:), allocatable :: restart_file
+      !> The --sweep table the case's overrides came from ('' or unallocated: none); an input
+      !> no output may overwrite (ffrf_app_output_paths)
+      character(len=:), allocatable :: sweep_file
       !> The ranks of the run (MPI build: the driver's MPI_COMM_WORLD, the API's communicator;
       !> default one process); only rank 0 logs and writes files
       type(parallel_t) :: parallel

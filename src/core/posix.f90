@@ -15,7 +15,8 @@ module ffrf_core_posix
    public :: install_signal_handlers, pending_signal, clear_pending_signal, signal_name
    public :: ERRNO_WOULD_BLOCK
    public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of
-   public :: signals_restart_calls
+   public :: signals_restart_calls, hold_signals, release_signals, signal_test_point
+   public :: create_new_file, same_file, exit_guard
 
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
@@ -90,6 +91,32 @@ module ffrf_core_posix
             bind(c, name='ffrf_signals_restart_calls')
          import :: c_int
       end function c_signals_restart_calls
+      integer(c_int) function c_signals_hold(block) bind(c, name='ffrf_signals_hold')
+         import :: c_int
+         integer(c_int), value :: block
+      end function c_signals_hold
+      integer(c_int) function c_signals_release() bind(c, name='ffrf_signals_release')
+         import :: c_int
+      end function c_signals_release
+      subroutine c_signal_test_point(stage) bind(c, name='ffrf_signal_test_point')
+         import :: c_char
+         character(kind=c_char), intent(in) :: stage(*)
+      end subroutine c_signal_test_point
+      subroutine c_exit_guard(on) bind(c, name='ffrf_exit_guard')
+         import :: c_int
+         integer(c_int), value :: on
+      end subroutine c_exit_guard
+      integer(c_int) function c_create_new_file(path) bind(c, name='ffrf_create_new_file')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+      end function c_create_new_file
+      integer(c_int) function c_same_file(a, b, a_entry, b_entry, same) &
+            bind(c, name='ffrf_same_file')
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: a(*), b(*)
+         integer(c_int), value :: a_entry, b_entry
+         integer(c_int), intent(out) :: same
+      end function c_same_file
       integer(c_int) function c_fsync_folder_of(path) bind(c, name='ffrf_fsync_folder_of')
          import :: c_int, c_char
          character(kind=c_char), intent(in) :: path(*)
@@ -313,5 +340,72 @@ contains
       if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot set the signal ' // &
          'handlers to restart system calls: ' // errno_text(int(status)))
    end subroutine signals_restart_calls
+
+   !> Around a call into a library that installs signal handlers of its own (METIS_NodeND):
+   !> the run signals are blocked in this thread and their handlers saved; release_signals puts
+   !> the saved handlers back with sigaction (whatever the library left) and unblocks, which
+   !> delivers a signal that arrived meanwhile to them (posix.c, issue 23). Pairs nest.
+   subroutine hold_signals(block)
+      !> .false.: handlers saved and restored, the signals not blocked (default .true.)
+      logical, intent(in), optional :: block
+      integer(c_int) :: status, c_block
+      c_block = 1
+      if (present(block)) c_block = merge(1, 0, block)
+      status = c_signals_hold(c_block)
+   end subroutine hold_signals
+
+   !> The end of hold_signals (module notes there).
+   subroutine release_signals()
+      integer(c_int) :: status
+      status = c_signals_release()
+   end subroutine release_signals
+
+   !> A named point of the run where a test may send signals (FFRF_TEST_SIGNALS=STAGE:N:NAME,
+   !> posix.c); nothing without that variable.
+   subroutine signal_test_point(stage)
+      character(len=*), intent(in) :: stage
+      call c_signal_test_point(c_string(stage))
+   end subroutine signal_test_point
+
+   !> Create `path` as a new, empty regular file, never through a symbolic link: whatever the
+   !> name holds is removed first (a stale temporary file, or a link, not its target), then the
+   !> file is created exclusively (O_CREAT | O_EXCL | O_NOFOLLOW). FFRF_IO_ERROR naming the
+   !> file when it cannot be made.
+   subroutine create_new_file(path, error)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_int) :: status
+      status = c_create_new_file(c_string(path))
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot create "' // path // &
+         '": ' // errno_text(int(status)) // '; check that its folder exists and is writable')
+   end subroutine create_new_file
+
+   !> Whether the paths `a` and `b` name one file: the same device and inode when both exist
+   !> (links followed), else the same resolved path (the folder's links resolved, the last
+   !> component's link followed when it is one). A path flagged `*_entry` stands for its folder
+   !> entry instead, a link there not followed (a temporary file, removed and made anew).
+   subroutine same_file(a, b, same, error, a_entry, b_entry)
+      character(len=*), intent(in) :: a, b
+      logical, intent(out) :: same
+      type(error_t), allocatable, intent(out) :: error
+      logical, intent(in), optional :: a_entry, b_entry
+      integer(c_int) :: status, c_same, entry_a, entry_b
+      entry_a = 0
+      entry_b = 0
+      if (present(a_entry)) entry_a = merge(1, 0, a_entry)
+      if (present(b_entry)) entry_b = merge(1, 0, b_entry)
+      status = c_same_file(c_string(a), c_string(b), entry_a, entry_b, c_same)
+      same = c_same /= 0
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot compare "' // a // &
+         '" with "' // b // '": ' // errno_text(int(status)))
+   end subroutine same_file
+
+   !> A program's guard (the driver's): while on, an exit the program did not ask for (the
+   !> Fortran runtime ending the run when an allocation finds no memory) gets one
+   !> "ffrf: error:" line and exit status 4 (posix.c). Off before the program's own exit.
+   subroutine exit_guard(on)
+      logical, intent(in) :: on
+      call c_exit_guard(merge(1_c_int, 0_c_int, on))
+   end subroutine exit_guard
 
 end module ffrf_core_posix

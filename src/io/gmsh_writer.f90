@@ -297,7 +297,10 @@ contains
       integer :: unit, stat, mode, i
       diagonal = 0.0_dp
       if (size(xyz) > 0) diagonal = norm2(maxval(xyz, dim=2) - minval(xyz, dim=2))
-      open (newunit=unit, file=file_name // '.part', status='replace', action='write', &
+      ! never through a link left at the name (issue 23; as text_stream_open)
+      call remove_file(file_name // '.part', error)
+      if (allocated(error)) return
+      open (newunit=unit, file=file_name // '.part', status='new', action='write', &
          iostat=stat, iomsg=msg)
       if (stat /= 0) then
          call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh option file "' // &

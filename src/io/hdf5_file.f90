@@ -515,8 +515,9 @@ submodule (ffrf_io_hdf5) ffrf_io_hdf5_impl
    use ffrf_core_error, only: fatal_error, FFRF_IO_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_HDF5
+   use ffrf_core_posix, only: remove_file
    use hdf5, only: hsize_t, size_t, h5open_f, h5dont_atexit_f, h5eset_auto_f, h5kind_to_type, &
-      H5_INTEGER_KIND, h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_TRUNC_F, &
+      H5_INTEGER_KIND, h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, H5F_ACC_EXCL_F, &
       H5F_ACC_RDWR_F, H5F_ACC_RDONLY_F, H5F_SCOPE_GLOBAL_F, h5gcreate_f, h5gclose_f, &
       h5lexists_f, h5ldelete_f, h5oopen_f, h5oclose_f, h5iget_type_f, H5I_DATASET_F, &
       H5I_GROUP_F, h5screate_f, h5screate_simple_f, h5sclose_f, H5S_SCALAR_F, &
@@ -546,7 +547,12 @@ contains
          integer :: hdferr
          call prepare_open(self, file_name, error)
          if (allocated(error)) exit section
-         call h5fcreate_f(file_name, H5F_ACC_TRUNC_F, self%id, hdferr)
+         ! a new file, never written through a link left at its name (issue 23): the name is
+         ! removed first (a link itself, never its target), and H5F_ACC_EXCL creates with
+         ! O_CREAT | O_EXCL, which refuses a link that reappears in between
+         call remove_file(file_name, error)
+         if (allocated(error)) exit section
+         call h5fcreate_f(file_name, H5F_ACC_EXCL_F, self%id, hdferr)
          self%writable = .true.
          if (hdferr < 0) then
             self%id = -1

@@ -9,6 +9,8 @@
 module ffrf_io_text_stream
    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char
    use ffrf_core_kinds, only: dp, i8
+   use ffrf_core_error, only: error_t
+   use ffrf_core_posix, only: remove_file
    implicit none
    private
    public :: text_stream_t, es_e3_text
@@ -76,8 +78,19 @@ contains
    subroutine text_stream_open(self, file_name)
       class(text_stream_t), intent(out) :: self
       character(len=*), intent(in) :: file_name
+      type(error_t), allocatable :: error
+      ! a new file, never written through a link left at its name (issue 23): the name is
+      ! removed first (a link itself, never its target); status 'new' creates it with O_EXCL,
+      ! which refuses a link that reappears in between
+      call remove_file(file_name, error)
+      if (allocated(error)) then
+         self%unit = -1
+         self%stat = 1
+         self%msg = error%message
+         return
+      end if
       open (newunit=self%unit, file=file_name, access='stream', form='unformatted', &
-         status='replace', action='write', iostat=self%stat, iomsg=self%msg)
+         status='new', action='write', iostat=self%stat, iomsg=self%msg)
       if (self%stat /= 0) then
          self%unit = -1
          return

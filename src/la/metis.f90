@@ -10,6 +10,7 @@ module ffrf_la_metis
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_la_sparse, only: sort_indices
+   use ffrf_core_posix, only: hold_signals, release_signals, signal_test_point
    implicit none
    private
    public :: nested_dissection, pattern_adjacency, pattern_nested_dissection
@@ -122,7 +123,16 @@ contains
       ! METIS 5.1 draws from GKlib's random generator, whose state is a process-wide static:
       ! two orderings at once would interleave its draws and differ from run to run
       call enter_serial_section(SECTION_METIS)
+      ! METIS_NodeND installs handlers of its own for SIGTERM and SIGABRT and puts the previous
+      ! ones back with SysV signal() (one-shot, no SA_RESTART): the run signals are held
+      ! meanwhile and their handlers restored after (ffrf_core_posix hold_signals; issue 23)
+      call signal_test_point('ordering:before')
+      call hold_signals()
+      call signal_test_point('ordering:during')
       stat = metis_nodend(nvtxs, xadj_c, adjncy_c, vwgt_ptr, options, perm, iperm)
+      call signal_test_point('ordering:end')
+      call release_signals()
+      call signal_test_point('ordering:after')
       call leave_serial_section(SECTION_METIS)
       select case (stat)
       case (metis_ok)

@@ -29,6 +29,7 @@ module ffrf_la_mumps
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
+   use ffrf_core_posix, only: hold_signals, release_signals, signal_test_point
    use ffrf_core_memory, only: available_memory_mb, resident_memory_mb
    use ffrf_la_metis, only: pattern_nested_dissection
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_MUMPS
@@ -385,6 +386,8 @@ contains
          id%job = 2
          self%num_workspace_retries = 0
          t0 = wall_time()
+         call signal_test_point('factorisation:before')
+         call signal_test_point('factorisation:during')
          do attempt = 0, max_workspace_retries
             call serial_dmumps(id)
             if (id%infog(1) /= -8 .and. id%infog(1) /= -9) exit
@@ -392,6 +395,7 @@ contains
             id%icntl(14) = 2 * max(id%icntl(14), 10)
             self%num_workspace_retries = self%num_workspace_retries + 1
          end do
+         call signal_test_point('factorisation:after')
          self%time_factorisation = wall_time() - t0
          self%workspace_percent = id%icntl(14)
          self%status = id%infog(1)
@@ -741,7 +745,11 @@ contains
    subroutine serial_dmumps(id)
       type(DMUMPS_STRUC), intent(inout) :: id
       call enter_serial_section(SECTION_MUMPS)
+      ! MUMPS 5.5 installs no signal handlers (it imports neither signal nor sigaction); the
+      ! run signals' handlers are restored after it all the same (issue 23)
+      call hold_signals(block=.false.)
       call dmumps(id)
+      call release_signals()
       call leave_serial_section(SECTION_MUMPS)
    end subroutine serial_dmumps
 

@@ -7,6 +7,7 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
    use ffrf_core_interrupt, only: interrupt_t
+   use ffrf_core_posix, only: signal_test_point
    use ffrf_la_sparse, only: csr_add, csr_upper_coo, csr_matvec, csr_row_gram
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
@@ -836,6 +837,7 @@ contains
       ipntr = 0
       ido = 0
       info = 1                            ! resid holds the start vector
+      call signal_test_point('lanczos:before')
       do
          call dsaupd(ido, 'G', n, 'LM', nev, tol, resid, ncv, v, n, iparam, ipntr, workd, &
                      workl, lworkl, info)
@@ -868,6 +870,7 @@ contains
             return
          end select
       end do
+      call signal_test_point('lanczos:after')
       result%num_iterations = result%num_iterations + iparam(3)
       call log%debug(stage, 'dsaupd: info = ' // to_str(info) // ', ' // to_str(iparam(5)) // &
          ' converged, ' // to_str(iparam(9)) // ' OP, ' // to_str(iparam(10)) // ' B, ' // &
@@ -891,6 +894,7 @@ contains
 
       subroutine check_interrupt(error)
          type(error_t), allocatable, intent(out) :: error
+         if (solver%num_solves == 5) call signal_test_point('lanczos:during')
          call interrupt%check('in the eigen loop (ARPACK) after ' // &
             to_str(solver%num_solves) // ' solves', error)
       end subroutine check_interrupt

@@ -793,6 +793,7 @@ def namelist_mutations(text, base, not_hdf5=NOT_HDF5_MODES):
                     ['&' + group, key], new))
 
     out += issue12_mutations(text, groups, not_hdf5)
+    out += issue23_mutations(text, groups)
 
     # whole file
     out.append(('empty_file', [2], [], ''))
@@ -855,6 +856,52 @@ def issue12_mutations(text, groups, not_hdf5):
     return out
 
 
+def issue23_mutations(text, groups):
+    """Outputs of a modal case that are one file (issue 23, item 2; names start 'issue23_',
+    every modal case gets them): with one body, mode_shapes_msh naming the results file (also
+    as './x.h5'), its temporary or its lock, the results file naming the mode shapes' option
+    file; with two or more bodies, the results file naming a body's mode shapes file or its
+    option file, the lock a body's mode shapes file. Exit 2 before any work (also by --check),
+    naming mode_shapes_msh. Outputs stay inside --output-dir (refused otherwise), so an output
+    naming an input is tested where inputs sit there (regression_faults_io_output_paths)."""
+    if any(g.name == 'mechanism' for g in groups):
+        return []
+    bodies = [g for g in groups if g.name == 'body']
+    names = [text[k[2]:k[3]].strip().strip('\'"') for g in bodies[:1] for k in g.keys
+             if k[0] == 'name']
+    if len(bodies) == 1:
+        variants = [('msh_is_results', 'x.h5', 'x.h5'), ('msh_is_results_dot', './x.h5', 'x.h5'),
+                    ('msh_is_results_part', 'x.h5', 'x.h5.part'),
+                    ('msh_is_results_lock', 'x.h5', 'x.h5.lock'),
+                    ('results_is_msh_option', 'm.msh.opt', 'm.msh')]
+    elif names:
+        # two or more bodies: one mode shapes file each, <stem>_<body>.msh
+        variants = [('results_is_body_msh', 'x_%s.msh' % names[0], 'x.msh'),
+                    ('results_is_body_msh_option', 'x_%s.msh.opt' % names[0], 'x.msh'),
+                    ('lock_is_body_msh', 'x_%s' % names[0], 'x.lock')]
+    else:
+        variants = []
+
+    def with_run(output, msh):
+        run = [g for g in groups if g.name == 'run']
+        if not run:
+            return text + "&run output = '%s', mode_shapes_msh = '%s' /\n" % (output, msh)
+        g, new = run[0], text
+        # replace the keys given, from the last one back (offsets stay valid), then add the rest
+        given = sorted([k for k in g.keys if k[0] in ('output', 'mode_shapes_msh')],
+                       key=lambda k: -k[2])
+        for k in given:
+            new = splice(new, k[2], k[3], " '%s'" % (output if k[0] == 'output' else msh))
+        missing = [(key, value) for key, value in (('output', output), ('mode_shapes_msh', msh))
+                   if key not in [k[0] for k in given]]
+        insert = ''.join(", %s = '%s' " % kv for kv in missing)
+        end = g.end + sum(len(" '%s'" % (output if k[0] == 'output' else msh)) - (k[3] - k[2])
+                          for k in given)
+        return splice(new, end, end, insert) if insert else new
+    return [('issue23_' + name, [2], ['mode_shapes_msh'], with_run(output, msh))
+            for name, output, msh in variants]
+
+
 def generate_namelists(input_dir, out_dir, per_case_random):
     bases = sorted(f for f in os.listdir(input_dir) if f.endswith('.nml'))
     entries = []
@@ -873,6 +920,7 @@ def generate_namelists(input_dir, out_dir, per_case_random):
         plan = [(n, e, x, t) for i, (n, e, x, t) in
                 enumerate(namelist_mutations(text, base, not_hdf5))
                 if n == 'unchanged' or n.startswith('issue_') or n.startswith('issue12_')
+                or n.startswith('issue23_')
                 or (n not in WHOLE_FILE and (i + case_index) % 2 == 0)
                 or (n in WHOLE_FILE and case_index < 2)]
         case_index += 1
