@@ -16,9 +16,10 @@ set(_ri_env ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1)
 set(_ri_out "${PROJECT_BINARY_DIR}/tests/regression")
 
 add_test(NAME results_independent_modal
-  COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2.h5 --kind modal)
+  COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2.h5 --kind modal
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes)
 set_tests_properties(results_independent_modal PROPERTIES LABELS "regression;postprocess"
-  FIXTURES_REQUIRED crank_lc8_results)
+  FIXTURES_REQUIRED "crank_lc8_results;crank_lc8_mesh")
 
 add_test(NAME results_independent_craig_bampton_run
   COMMAND ${_ri_env} $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/regression/crank_lc8_rc2.nml
@@ -27,9 +28,10 @@ add_test(NAME results_independent_craig_bampton_run
 set_tests_properties(results_independent_craig_bampton_run PROPERTIES LABELS regression
   FIXTURES_REQUIRED crank_lc8_mesh FIXTURES_SETUP crank_lc8_cb_results)
 add_test(NAME results_independent_craig_bampton
-  COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2_cb.h5 --kind craig_bampton)
+  COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2_cb.h5 --kind craig_bampton
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes)
 set_tests_properties(results_independent_craig_bampton PROPERTIES LABELS "regression;postprocess"
-  FIXTURES_REQUIRED crank_lc8_cb_results)
+  FIXTURES_REQUIRED "crank_lc8_cb_results;crank_lc8_mesh")
 
 add_test(NAME results_independent_mechanism
   COMMAND ${_ri_env} ${_ri_checker} ${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.h5
@@ -65,6 +67,7 @@ set_property(TEST mpi_modes_crank_rc2_rbe2 APPEND PROPERTY FIXTURES_SETUP
   mpi_crank_rc2_rbe2_results)
 add_test(NAME results_independent_mpi_crank_rc2_rbe2
   COMMAND ${_ri_env} ${_ri_checker}
-    ${PROJECT_BINARY_DIR}/tests/mpi/crank_rc2_rbe2/mpi/result.h5 --kind modal --skip-missing)
+    ${PROJECT_BINARY_DIR}/tests/mpi/crank_rc2_rbe2/mpi/result.h5 --kind modal --skip-missing
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes)
 set_tests_properties(results_independent_mpi_crank_rc2_rbe2 PROPERTIES LABELS "mpi;postprocess"
-  SKIP_RETURN_CODE 77 FIXTURES_REQUIRED mpi_crank_rc2_rbe2_results)
+  SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "mpi_crank_rc2_rbe2_results;crank_lc8_mesh")
