@@ -6,6 +6,12 @@ own mesh (modal files) or from the mesh file of the input echo (mechanism files,
 the material of /input/namelist.
 
     check_results_independent.py RESULTS [--mesh-dir DIR] [--kind modal|craig_bampton|mechanism]
+                                 [--reused] [--restarted] [--skip-missing]
+
+M is assembled twice: integrated exactly (peer_tet10) and with ffrf's 14-point degree-5 rule
+(written here, checked by its moments); on curved Tet10 they differ by the rule's error, so the
+identities (mass normalisation, eigen residuals, kinetic energy) use the latter and the exact one
+bounds that error.
 
 Modal files, every body: the assembly itself (K times the six rigid motions vanishes, 1^T M 1 =
 rho V with V integrated here); /modes/shape mass-normalised (Psi M Psi^T = I) and K-orthogonal
@@ -16,7 +22,8 @@ the 1e-8 of the house style and against /modes/residual; /modes/virtual_node_sha
 the interface nodes' rows of the shapes (RBE3: Nastran's weighted rigid fit G = (S^T W S)^-1 S^T W
 with the file's weights; RBE2: least-squares rigid fit, exact: the face follows it); the RC rows
 of the virtual-node shapes zero; /mass/{mass, center_of_mass, inertia} from M; the Sturm count
-identity. Craig-Bampton (basis attribute): the same, and the basis split back into its parts:
+identity; /interfaces/<name>/{mpc, rc_dofs, weights} against the echo and, with --mesh-dir, the
+nodes, area and area centroid (the virtual node) from the mesh file's Tri6 faces. Craig-Bampton (basis attribute): the same, and the basis split back into its parts:
 the combinations of the modes with every virtual node held are the fixed-interface modes (their
 Rayleigh-Ritz values against /modes/fixed_interface_frequency, their residuals on the
 fixed-interface space with the independent K and M), the K-orthogonal complement holds the
@@ -32,11 +39,18 @@ Euler parameters and zeta, docs/theory.md 3.1); /final_state against the last re
 balance D = W - (T + U - T0 - U0) - D_p of the stored series; the main bearings' virtual nodes of
 the crank on their ground points and the crank pin / piston pin / cylinder joints closed at every
 step (R + A (x_V + Psi_V zeta)); the crank angle against 2 atan2(e3, e0) of the crank and the
-crank speed against e_z . G(theta) theta_dot at the end. Invariants (docs/theory.md 3.2) are not
+crank speed against e_z . G(theta) theta_dot at the end; the joint reactions' action and reaction;
+each rigid body's momentum and angular momentum (planar about z) at the end against the impulse
+of the stored reactions, pressure load and gravity (a run from rest). Invariants (docs/theory.md 3.2) are not
 stored in results files, so there is nothing of them to check.
 
-Tolerances: each check states its reason and the value measured beside it (TOLERANCES.md,
-"check_results_independent"). Any failure exits 1 after all checks ran.
+Not checked by value: /energy/{external_work, scheme_dissipation, damping_dissipation} beyond the
+balance identity (and D_p non-decreasing)
+(the rates per step are not stored), /time/pressure (the pressure model), reaction_min_norm,
+counters, timings, solver statistics, fingerprints.
+
+Tolerances: each check states its reason and the value measured beside it (tests/TOLERANCES.md,
+"results_independent_*"). Any failure exits 1 after all checks ran.
 """
 import argparse
 import os
