@@ -747,6 +747,16 @@ def check_mechanism(h5, groups, mesh_dir):
     check(same and float(h5['final_state/t'][0]) == t[-1],
           '/final_state/{t, q} equal the last recorded step of /time/t and the body histories')
 
+    # the time axis and the Euler normalisation theta^T theta = 1 (a constraint of every body)
+    t_end = float(namelist.find(groups, 'integrator').get('t_end'))
+    check(bool(np.all(np.diff(t) > 0)) and abs(t[-1] - t_end) <= 1e-12 * t_end,
+          f'/time/t increasing from {t[0]} to t_end = {t_end} s of the echo (1e-12 relative)')
+    worst = max(float(np.abs((h5[f'bodies/{text(g.get("name"))}/euler_parameters'][()] ** 2)
+                             .sum(axis=1) - 1).max()) for g in bodies)
+    check_le('Euler parameters of every body at every step: |theta^T theta - 1|', worst, 1e-13,
+             'a constraint of the converged Newton steps: round-off growing with the steps, '
+             'measured 3.3e-16 (0.02, 0.1 s), 1.6e-15 (0.2 s)')
+
     strain = np.zeros(nsteps)
     kinetic = 0.0
     vn_global = {}
