@@ -14,6 +14,8 @@
 set(_ri_checker ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_results_independent.py)
 set(_ri_env ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1)
 set(_ri_out "${PROJECT_BINARY_DIR}/tests/regression")
+set(_ri_cb "${PROJECT_BINARY_DIR}/tests/results_independent")
+file(MAKE_DIRECTORY "${_ri_cb}")
 
 add_test(NAME results_independent_modal
   COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2.h5 --kind modal
@@ -23,12 +25,12 @@ set_tests_properties(results_independent_modal PROPERTIES LABELS "regression;pos
 
 add_test(NAME results_independent_craig_bampton_run
   COMMAND ${_ri_env} $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/regression/crank_lc8_rc2.nml
-    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_ri_out} --output crank_lc8_rc2_cb.h5
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_ri_cb} --output crank_lc8_rc2_cb.h5
     --set modes.basis=craig_bampton --quiet)
 set_tests_properties(results_independent_craig_bampton_run PROPERTIES LABELS regression
   FIXTURES_REQUIRED crank_lc8_mesh FIXTURES_SETUP crank_lc8_cb_results)
 add_test(NAME results_independent_craig_bampton
-  COMMAND ${_ri_env} ${_ri_checker} ${_ri_out}/crank_lc8_rc2_cb.h5 --kind craig_bampton
+  COMMAND ${_ri_env} ${_ri_checker} ${_ri_cb}/crank_lc8_rc2_cb.h5 --kind craig_bampton
     --mesh-dir ${PROJECT_BINARY_DIR}/meshes)
 set_tests_properties(results_independent_craig_bampton PROPERTIES LABELS "regression;postprocess"
   FIXTURES_REQUIRED "crank_lc8_cb_results;crank_lc8_mesh")
@@ -80,9 +82,9 @@ set_tests_properties(results_independent_mpi_crank_rc2_rbe2 PROPERTIES LABELS "m
 add_test(NAME results_independent_faults
   COMMAND ${_ri_env} ${Python3_EXECUTABLE}
     ${CMAKE_CURRENT_SOURCE_DIR}/regression/results_independent_faults.py
-    ${_ri_out}/crank_lc8_rc2.h5 ${_ri_out}/crank_lc8_rc2_cb.h5
+    ${_ri_out}/crank_lc8_rc2.h5 ${_ri_cb}/crank_lc8_rc2_cb.h5
     ${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.h5 ${PROJECT_BINARY_DIR}/meshes
-    ${PROJECT_BINARY_DIR}/tests/results_independent_faults)
+    ${_ri_cb}/faults)
 set_tests_properties(results_independent_faults PROPERTIES LABELS "regression;postprocess"
   FIXTURES_REQUIRED
     "crank_lc8_results;crank_lc8_cb_results;engine_lc8_rc1_results;crank_lc8_mesh;conrod_lc8_mesh")
