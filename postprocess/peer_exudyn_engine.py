@@ -8,8 +8,9 @@ bodies (`--modes`, checked against the mechanism run's mode fingerprints), and t
 (the input echo of the mechanism run, `--ffrf`: step, rho_inf, t_end, modal damping). What does
 not: the mass and stiffness matrices (assembled in numpy, peer_tet10.py; checked by the Rayleigh
 quotients of ffrf's modes), every reduced FFRF term (Exudyn's ObjectFFRFreducedOrderInterface
-computes them from M, K and Psi), the RBE3 (Exudyn's MarkerSuperElementRigid: the weighted rigid
-fit of the interface nodes, offset to ffrf's virtual node), the joints (Exudyn GenericJoint), the
+computes them from M, K and Psi), the RBE3 (theory.md 1.2 in numpy, carried by Exudyn's
+MarkerSuperElementRigid on six points around the virtual node; --marker nodes: the marker's own
+fit of the interface nodes, slow), the joints (Exudyn GenericJoint), the
 pressure (single-zone model of theory.md 6, re-implemented here with scipy), the integrator
 (Exudyn's generalized-alpha, index 3, or its index-2 trapezoidal rule).
 
@@ -18,7 +19,7 @@ pressure (single-zone model of theory.md 6, re-implemented here with scipy), the
 
 Prints a CSV (quantity, ffrf, exudyn, unit) to stdout (and --csv): body check (step 1), crank
 speed difference over time, strain-energy envelopes per 0.1 s window, growth rate and frequency
-of the crank vibration. With --speed-tol / --mean-speed-tol / --energy-ratio it is a check:
+of the crank vibration. With --speed-tol / --mean-speed-tol / --strain-tol it is a check:
 exit 1 when a tolerance is exceeded (the failing line names it).
 """
 import argparse
@@ -125,8 +126,6 @@ class Case:
             self.ffrf_dropped = run["integrator/dropped_rows"][()]
             self.ffrf_modal = {}
             self.run_hash = {}
-            self.ffrf_warnings = [text(w) for w in run["warnings/text"][()]] \
-                if "warnings/text" in run else []
             for b in ("crank", "conrod"):
                 self.ffrf_modal[b] = run[f"bodies/{b}/modal_coordinates"][()]
                 self.run_hash[b] = text(run[f"bodies/{b}/modes/fingerprint/hash"][()][-1])
@@ -420,7 +419,7 @@ def simulate(case, exu, info, solver, t_end, rho_inf):
     ss.solutionSettings.writeSolutionToFile = False
     ss.solutionSettings.sensorsWritePeriod = case.h
     ss.linearSolverType = exu.LinearSolverType.EXUdense
-    ss.displayStatistics = bool(os.environ.get("PEER_EXUDYN_STATS"))
+    ss.displayStatistics = False
     ss.displayComputationTime = False
     if solver == "alpha":
         ti.generalizedAlpha.spectralRadius = rho_inf
@@ -566,7 +565,8 @@ def main(argv=None):
     p_check = np.array([info["pressure"](a) for a in case.ffrf_angle[::50]])
     row("pressure at ffrf's crank angles, max |p - p_ffrf|", 0.0,
         float(np.max(np.abs(p_check - case.ffrf_pressure[::50]))), "Pa")
-    row("peak pressure", float(case.ffrf_pressure.max()), info["pressure"].peak, "Pa")
+    row("peak pressure (ffrf: largest recorded in the run)", float(case.ffrf_pressure.max()),
+        info["pressure"].peak, "Pa")
 
     res = simulate(case, exu, info, args.solver, t_end, rho_inf)
     row("Exudyn solver", "generalized-alpha index 3, rho_inf %g" % case.rho_inf,
