@@ -56,7 +56,7 @@ def _duffy(order=5):
 
 def _jacobians(xe, dn):
     """J (e, g, 3, 3) = dx/dxi and det J (e, g) for element coordinates xe (e, 10, 3)."""
-    jac = np.einsum("eai,gaj->egij", xe, dn)
+    jac = np.einsum("eai,gaj->egij", xe, dn, optimize=True)
     return jac, np.linalg.det(jac)
 
 
@@ -82,7 +82,7 @@ def assemble(xyz, tets, young, poisson, density):
     jac, det = _jacobians(xe, dn)
     if np.any(det <= 0.0):
         raise ValueError(f"{np.count_nonzero(det <= 0.0)} Gauss points with det J <= 0 (inverted Tet10)")
-    dndx = np.einsum("gaj,egji->egai", dn, np.linalg.inv(jac))   # (e, g, 10, 3)
+    dndx = np.einsum("gaj,egji->egai", dn, np.linalg.inv(jac), optimize=True)   # (e, g, 10, 3)
     e, g = det.shape
     b = np.zeros((e, g, 6, 10, 3))
     for i in range(3):
@@ -94,14 +94,14 @@ def assemble(xyz, tets, young, poisson, density):
     b[:, :, 5, :, 0] = dndx[:, :, :, 1]
     b[:, :, 5, :, 1] = dndx[:, :, :, 0]
     b = b.reshape(e, g, 6, 30)
-    ke = np.einsum("egia,ij,egjb,eg->eab", b, d, b, det * wts)
+    ke = np.einsum("egia,ij,egjb,eg->eab", b, d, b, det * wts, optimize=True)
     stiffness = sp.csr_matrix((ke.ravel(), (rows, cols)), shape=(num_dofs, num_dofs))
 
     # consistent mass: rho N_a N_b I3
     pts, wts = _duffy(5)
     n, dn = _shape(pts)
     _, det = _jacobians(xe, dn)
-    me = density * np.einsum("ga,gb,eg->eab", n, n, det * wts)     # (e, 10, 10)
+    me = density * np.einsum("ga,gb,eg->eab", n, n, det * wts, optimize=True)     # (e, 10, 10)
     me3 = np.zeros((e, 10, 3, 10, 3))
     for i in range(3):
         me3[:, :, i, :, i] = me

@@ -72,21 +72,6 @@ _ASSEMBLED = {}
 DOFS = ('Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz')
 
 
-class _Numpy:
-    """numpy, with einsum's contraction order optimised: peer_tet10's 4-operand einsums then take
-    a second instead of a minute on the lc 8 mm crank; same sums, another order (round-off)."""
-
-    def __getattr__(self, name):
-        return getattr(np, name)
-
-    @staticmethod
-    def einsum(*operands, **kwargs):
-        return np.einsum(*operands, optimize=True, **kwargs)
-
-
-peer_tet10.np = _Numpy()
-
-
 def check(condition, what):
     if REPORT:
         print(('ok     ' if condition else 'FAILED ') + what, flush=True)
