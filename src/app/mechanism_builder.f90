@@ -42,8 +42,9 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
-   use ffrf_mbs_mechanism_loads, only: load_t, starter_torque_t, drag_torque_t, &
-      constant_load_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, LOAD_FORCE, &
+      LOAD_TORQUE
+   use ffrf_app_engine_starter_load, only: starter_torque_t
    use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_auto_model, only: model_choice_t, start_model_selection, selects_body, &
@@ -138,7 +139,7 @@ contains
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
-         call mech%set_crank(bodies(resolved%mechanism%crank)%index, error)
+         call mech%set_rotor(bodies(resolved%mechanism%crank)%index, error)
          if (allocated(error)) return
       end if
       call starting_state(case, resolved, bodies, mech, q, v, error)
@@ -560,10 +561,10 @@ contains
       ! off their ideal places by round-off of the mesh (~1e-8 m on the crank), which a few
       ! modes cannot always absorb exactly (a 1e-11 m misfit was seen on the reference engine).
       tolerance = resolved%mechanism%integrator%newton_atol
-      if (mech%crank > 0) then
-         call mech%assemble(q, 0.0_dp, error, crank_angle=angle, tolerance=tolerance)
+      if (mech%rotor > 0) then
+         call mech%assemble(q, 0.0_dp, error, rotor_angle=angle, tolerance=tolerance)
          if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error, &
-            crank_speed=case%mechanism%mechanism%crank_speed)
+            rotor_speed=case%mechanism%mechanism%crank_speed)
       else
          call mech%assemble(q, 0.0_dp, error, tolerance=tolerance)
          if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error)

@@ -312,7 +312,7 @@ contains
       if (t_end - integrator%t <= integrator%h * (1.0_dp + 1.0e-6_dp)) then
          self%before_last = integrator
          self%balance_before_last = self%balance
-         self%reference_before_last = mech%crank_reference
+         self%reference_before_last = mech%rotor_reference
          self%rows_before_last = self%results%num_steps()
          self%have_before_last = .true.
       end if
@@ -348,8 +348,8 @@ contains
             call log%info('run', 't = ' // to_str(integrator%t, 5) // ' s, ' // &
                to_str(integrator%stats%steps) // ' steps (' // &
                to_str(integrator%stats%rejected_steps) // ' rejected), ' // &
-               to_str(integrator%stats%newton_iterations) // ' Newton iterations, crank ' // &
-               to_str(mech%crank_speed(integrator%q, integrator%v), 6) // ' rad/s, wall ' // &
+               to_str(integrator%stats%newton_iterations) // ' Newton iterations' // &
+               crank_progress(mech, integrator) // ', wall ' // &
                to_str(wall, 4) // ' s (' // to_str(integrator%t / max(wall, 1.0e-9_dp), 3) // &
                ' x real time)')
             do while (self%next_progress <= integrator%t + 1.0e-3_dp * h)
@@ -380,7 +380,7 @@ contains
       if (.not. due) return
       checkpoint_start = wall_time()
       call write_restart_state(self%results, integrator, self%balance, &
-         self%results%num_steps(), mech%crank_reference, mech, bodies, self%fingerprint_input, &
+         self%results%num_steps(), mech%rotor_reference, mech, bodies, self%fingerprint_input, &
          self%fingerprint_model, error)
       if (.not. allocated(error)) call write_checkpoint_file(self%results_file, error)
       if (allocated(error)) return
@@ -431,7 +431,7 @@ contains
                self%fingerprint_input, self%fingerprint_model, state_error)
          else
             call write_restart_state(results, integrator, self%balance, results%num_steps(), &
-               mech%crank_reference, mech, bodies, self%fingerprint_input, &
+               mech%rotor_reference, mech, bodies, self%fingerprint_input, &
                self%fingerprint_model, state_error)
          end if
          if (self%num_checkpoints > 0) call log%info('run', to_str(self%num_checkpoints) // &
@@ -510,8 +510,8 @@ contains
       real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
       real(dp), allocatable :: coordinates(:)
       integer :: j, k, first, n
-      angle = mech%crank_angle(integrator%q)
-      speed = mech%crank_speed(integrator%q, integrator%v)
+      angle = mech%rotor_angle(integrator%q)
+      speed = mech%rotor_speed(integrator%q, integrator%v)
       p = 0.0_dp
       if (has_pressure) p = pressure%pressure(angle)
       do j = 1, size(mech%joints)
@@ -803,11 +803,23 @@ contains
             ' s, other (predictor, output hook) ' // to_str(s%wall_seconds - &
             s%residual_seconds - s%tangent_seconds - s%factor_seconds - s%solve_seconds, 3) // &
             ' s')
-         call log%info('run', 'final crank angle ' // to_str(mech%crank_angle(integrator%q) * &
-            180.0_dp / pi, 8) // ' deg, speed ' // &
-            to_str(mech%crank_speed(integrator%q, integrator%v), 8) // ' rad/s')
+         ! The engine's crank is the mechanism's rotor; a mechanism without one says nothing of it
+         if (mech%rotor > 0) call log%info('run', 'final crank angle ' // &
+            to_str(mech%rotor_angle(integrator%q) * 180.0_dp / pi, 8) // ' deg, speed ' // &
+            to_str(mech%rotor_speed(integrator%q, integrator%v), 8) // ' rad/s')
       end associate
    end subroutine log_statistics
+
+   !> The progress line's crank part, ', crank <speed> rad/s', for a mechanism with a crank (the
+   !> engine's crank is the mechanism's rotor, set from &mechanism crank); empty without one.
+   function crank_progress(mech, integrator) result(text)
+      type(mechanism_t), intent(in) :: mech
+      type(galpha_integrator_t), intent(in) :: integrator
+      character(len=:), allocatable :: text
+      text = ''
+      if (mech%rotor > 0) text = ', crank ' // &
+         to_str(mech%rotor_speed(integrator%q, integrator%v), 6) // ' rad/s'
+   end function crank_progress
 
    !> Integrator counters and the last converged state (also after a failure).
    subroutine write_run_information(results, mech, integrator, error)
@@ -834,7 +846,7 @@ contains
       if (.not. allocated(error)) call results%write_real('/final_state/lambda', &
          integrator%lambda, '1', error)
       if (.not. allocated(error)) call results%write_real('/final_state/crank_angle', &
-         [mech%crank_angle(integrator%q)], 'rad', error)
+         [mech%rotor_angle(integrator%q)], 'rad', error)
    end subroutine write_run_information
 
    !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
@@ -915,7 +927,7 @@ contains
       type(energy_balance_t), intent(in) :: balance
       !> Recorded steps (rows of the series) up to this state
       integer, intent(in) :: num_steps
-      !> mechanism_t%crank_reference at this state (rad)
+      !> mechanism_t%rotor_reference at this state (rad)
       real(dp), intent(in) :: crank_reference
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
@@ -1140,7 +1152,7 @@ contains
             '": its energy balance or crank reference state has the wrong size')
          return
       end if
-      mech%crank_reference = restart%crank_reference(1)
+      mech%rotor_reference = restart%crank_reference(1)
    end subroutine apply_restart
 
    !> The animation history (time, crank angle, modal coordinates) of the first num_steps

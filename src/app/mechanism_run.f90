@@ -83,8 +83,8 @@ contains
       if (present(final_state)) then
          final_state = 0.0_dp
          if (allocated(session%integrator%q)) final_state = [session%integrator%t, &
-            session%mech%crank_angle(session%integrator%q), &
-            session%mech%crank_speed(session%integrator%q, session%integrator%v)]
+            session%mech%rotor_angle(session%integrator%q), &
+            session%mech%rotor_speed(session%integrator%q, session%integrator%v)]
       end if
    end subroutine run_mechanism
 

@@ -341,14 +341,14 @@ contains
    pure real(dp) function session_crank_angle(self)
       class(mechanism_session_t), intent(in) :: self
       session_crank_angle = 0.0_dp
-      if (self%prepared) session_crank_angle = self%mech%crank_angle(self%integrator%q)
+      if (self%prepared) session_crank_angle = self%mech%rotor_angle(self%integrator%q)
    end function session_crank_angle
 
    !> Crank speed of the current state (rad/s; 0 without crank).
    pure real(dp) function session_crank_speed(self)
       class(mechanism_session_t), intent(in) :: self
       session_crank_speed = 0.0_dp
-      if (self%prepared) session_crank_speed = self%mech%crank_speed(self%integrator%q, &
+      if (self%prepared) session_crank_speed = self%mech%rotor_speed(self%integrator%q, &
          self%integrator%v)
    end function session_crank_speed
 

@@ -28,7 +28,7 @@
 !> trapezoidal rule on the power and the step-mean force times the increment (h/4 dv . dQ per
 !> step) and the work of the constraint forces over the steps. Measured (tests/regression,
 !> h = 1e-4 s, rho_inf = 0.8): the all-rigid engine, 0.3 s, D = 1.76e-4 W, D_s = 8.0e-5 W,
-!> |D - D_s| <= 1.02e-4 W; the flexible crank (RC set 1) and conrod, 0.1 s, D = 6.05e-6 W,
+!> |D - D_s| <= 1.02e-4 W; the flexible RC set 1 rotating link and conrod, 0.1 s, D = 6.05e-6 W,
 !> D_s = 4.0e-6 W, |D - D_s| <= 2.15e-6 W; both can dip to round-off-sized negative values at
 !> the start (down to -2.4e-8 W and -4.8e-8 W).
 !>

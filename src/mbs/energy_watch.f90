@@ -33,7 +33,7 @@
 !>    E_ref (below, a modal response at round-off level: a conrod mode left unexcited grew from
 !>    5e-49 J to 3e-42 J in 0.5 s on the engine of input/engine_rigid.nml with OpenBLAS's
 !>    Nehalem kernel). A run speeding up from rest (T growing) therefore does not trigger it; a
-!>    crank at a steady speed whose strain energy grows does (the undamped RC set 2 engine:
+!>    rotor at a steady speed whose strain energy grows does (the undamped RC set 2 engine:
 !>    1.7 J against a floor of 0.36 J at its warning).
 !>
 !> Each criterion warns once per body (criterion 1 names the body whose T_b + U_b grew most over

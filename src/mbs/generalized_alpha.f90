@@ -33,7 +33,7 @@
 !>   and for constraint rows that are redundant for rigid bodies but kept because stiff modal
 !>   coordinates make them independent (an over-constrained loop through a flexible body):
 !>   their multipliers are statically indeterminate reactions fixed by K_ff, and their
-!>   round-off grows with K_ff. Measured on the engine with the crank of RC set 1 (8 modes,
+!>   round-off grows with K_ff. Measured on the engine with the RC set 1 rotating link (8 modes,
 !>   eigenvalues x s; 7 such rows, smallest singular value 3.4e-4 of the row-normalised Phi_q),
 !>   newton_atol 1e-12, rtol 1e-10, h = 1e-4 s: before, Newton (even full Newton with iterative
 !>   refinement of the solves) cycled at weighted increments 1e2..7e3, the
@@ -48,7 +48,7 @@
 !>   skip_rate = 0.1) and the residual predicted there, theta times the one at the iterate the
 !>   increment started from, passes; only Phi is evaluated there, and must pass (the constraint
 !>   statistics stay exact). On the reference engine this took the residual evaluations from
-!>   3.4 to 2.7 per step, with the same crank angle and speed to the 8 digits printed.
+!>   3.4 to 2.7 per step, with the same rotor angle and speed to the 8 digits printed.
 !> - Iteration matrix (factor): S = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]]
 !>   from the current M and Phi_q (known from the residual evaluation; they change fastest, with
 !>   the bodies' rotation) and tangents K_t, C_t that a factorisation at the predictor of a step
@@ -57,13 +57,13 @@
 !>   gamma h times smaller than M). A refactorisation within a step (slow convergence) and the
 !>   retry of a failed attempt always compute fresh tangents. Measured on the reference engine
 !>   (engine_rc1, 20000 steps of 1e-4 s): tangents in 2503 of 20010 factorisations, the same
-!>   crank angle and speed to the 8 digits printed as with fresh tangents at every one.
+!>   rotor angle and speed to the 8 digits printed as with fresh tangents at every one.
 !> - Jacobian policies (settings%jacobian): GALPHA_NEWTON_STEP (default) factorises at every
 !>   step's predictor and keeps the factors within the step while they converge;
 !>   GALPHA_NEWTON_FULL refactorises at every iteration; GALPHA_NEWTON_ADAPTIVE also keeps
 !>   them across steps. On the reference engine (before the predicted-residual acceptance
 !>   above) STEP needed 2.7 iterations and 3.4 residual evaluations per step against
-!>   ADAPTIVE's 4.2 and 4.6 with 0.64 factorisations (the rotating crank makes old factors
+!>   ADAPTIVE's 4.2 and 4.6 with 0.64 factorisations (the rotating link makes old factors
 !>   converge at rates 0.03-0.1): 2.1 s against 2.6 s for the 2 s run.
 !>   Within a step (both) and across steps (ADAPTIVE) the factors are refactored at the current
 !>   iterate:
@@ -698,7 +698,7 @@ contains
    !> (test_stability_constraints): the 1 m pendulum at h = 1e-2 s reaches 0.25 of |lambda| at
    !> 4-5 s with rho_inf = 0.99 and 0.999 (unchecked, 0.99 went on to lambda = 1400 times the
    !> closed form) while healthy runs stay below 1e-4 (rigid engine, pendulum at 0.8); the
-   !> flexible reference engine (crank and conrod vibrating at 1.4-12 kHz, h = 1e-4 s) stays
+   !> flexible reference engine (rotating link and conrod vibrating at 1.4-12 kHz, h = 1e-4 s) stays
    !> near 0.03 of its largest reaction.
    subroutine check_alternation(self, h, last, error)
       type(galpha_integrator_t), intent(inout) :: self

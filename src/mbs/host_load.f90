@@ -4,7 +4,7 @@
 !> The host gives a global vector F (N) or M (N m) that stays constant over the next interval:
 !> it is stored as its length `value` along the unit `direction` (load_t's form), so the
 !> mechanism applies value * direction at the marker like any other load (theory.md 3.5). Its
-!> magnitude does not depend on t, the crank angle or the crank speed, so the Newton tangent
+!> magnitude does not depend on t, the rotor angle or the rotor speed, so the Newton tangent
 !> sees the marker-force term only (mechanism header).
 module ffrf_mbs_host_load
    use ffrf_core_kinds, only: dp

@@ -12,14 +12,17 @@
 !>     f     = sum_b [f_v,b + Q_e,b] + sum_loads (L_r^T F + L_w^T M) + gravity (theory.md 3.4, 3.5)
 !>     Phi_q = joint blocks dPhi/dq_a, dPhi/dq_b (ffrf_mbs_joints), the drive row, rows 2 theta^T
 !>
-!> Crank angle and speed. The crank is a chosen body (set_crank); its angle phi is the rotation of
-!> its reference frame about the global z axis, the twist angle of the swing-twist decomposition
-!> of its Euler parameters, phi = 2 atan2(e3, e0) (exact when the body turns about z only).
-!> atan2 gives phi modulo 2 pi (theta and -theta differ by 2 pi), so the angle is unwrapped
+!> Rotor angle and speed. The rotor is an optional chosen body (set_rotor) whose turning about the
+!> global z axis the loads may depend on (mechanism_loads: magnitude(t, angle, speed)); an
+!> application gives it its own meaning (a shaft, a wheel, a rotating link). Its angle phi
+!> is the rotation of its reference frame about z, the twist angle of the swing-twist
+!> decomposition of its Euler parameters, phi = 2 atan2(e3, e0) (exact when the body turns about z
+!> only). atan2 gives phi modulo 2 pi (theta and -theta differ by 2 pi), so the angle is unwrapped
 !> against a reference phi_ref, the angle at the last accepted step (accepted_step hook, or
-!> assemble / set_crank_reference): phi = phi_ref + wrap(phi_raw - phi_ref) with wrap into
-!> [-pi, pi). This counts revolutions correctly while the crank turns less than pi per step.
-!> The crank speed is the z component of the global angular velocity omega = G(theta) theta_dot.
+!> assemble / set_rotor_reference): phi = phi_ref + wrap(phi_raw - phi_ref) with wrap into
+!> [-pi, pi). This counts revolutions correctly while the rotor turns less than pi per step.
+!> The rotor speed is the z component of the global angular velocity omega = G(theta) theta_dot.
+!> Without a rotor both are 0 and no load sees them.
 !>
 !> Driving constraint (set_drive): the reference frame of a body turns about z by a prescribed
 !> f(t). Equation Phi_d = n(f) . (A(theta) e_x) = 0 with n(f) = (-sin f, cos f, 0): for a rotation
@@ -45,7 +48,7 @@
 !>     quadratic velocity vectors, modal K_ff and D_ff); loads: the marker force at fixed
 !>     magnitude by body%marker_force_tangent (rigid exact; flexible exact but for the derivative
 !>     of the exponential map's tangent operator, a 3 x 3 difference) plus the magnitude's
-!>     dependence on the crank angle and speed (exact d(angle)/dtheta, d(speed)/d(theta,
+!>     dependence on the rotor angle and speed (exact d(angle)/dtheta, d(speed)/d(theta,
 !>     theta_dot); d(magnitude)/d(angle, speed) by a central difference of the scalar load law,
 !>     which has no derivative in its interface); gravity exact;
 !>   * mass stiffness d(M a)/dq: body%mass_stiffness (rigid and flexible exact).
@@ -53,9 +56,9 @@
 !>   mechanism (2 n evaluations each per factorisation), the reference the tests compare with.
 !>
 !> Consistent initial state (assemble, initial_velocities): Gauss-Newton on Phi(q, t) = 0, plus
-!> optionally the crank angle equation, each step the minimum-norm least-squares solution of
+!> optionally the rotor angle equation, each step the minimum-norm least-squares solution of
 !> Phi_q dq = -Phi by a complete orthogonal factorisation (LAPACK dgelsy, rank-revealing: the 3D
-!> mechanisms are over-constrained, theory.md 4.3); then v from Phi_q v = -Phi_t (+ the crank
+!> mechanisms are over-constrained, theory.md 4.3); then v from Phi_q v = -Phi_t (+ the rotor
 !> speed) in the same least-squares sense.
 module ffrf_mbs_mechanism
    use ffrf_core_kinds, only: dp
@@ -110,10 +113,10 @@ module ffrf_mbs_mechanism
       integer :: n = 0, nc = 0
       !> Gravity acceleration, global (m/s^2); zero (off) by default, rigid bodies only
       real(dp) :: gravity(3) = 0.0_dp
-      !> Mechanism index of the crank body (0: none; crank angle and speed are then zero)
-      integer :: crank = 0
-      !> Unwrapped crank angle at the last accepted step (rad)
-      real(dp) :: crank_reference = 0.0_dp
+      !> Mechanism index of the rotor body (0: none; rotor angle and speed are then zero)
+      integer :: rotor = 0
+      !> Unwrapped rotor angle at the last accepted step (rad)
+      real(dp) :: rotor_reference = 0.0_dp
       !> Mechanism index of the driven body (0: no driving constraint)
       integer :: drive_body = 0
       !> Row of the driving constraint (0: none)
@@ -133,18 +136,18 @@ module ffrf_mbs_mechanism
       procedure :: add_joint => mechanism_add_joint
       !> Add an applied load (copied)
       procedure :: add_load => mechanism_add_load
-      !> Choose the crank body (crank angle and speed for the loads)
-      procedure :: set_crank => mechanism_set_crank
-      !> Set the unwrapping reference of the crank angle from q (near a known angle)
-      procedure :: set_crank_reference => mechanism_set_crank_reference
+      !> Choose the rotor body (rotor angle and speed for the loads)
+      procedure :: set_rotor => mechanism_set_rotor
+      !> Set the unwrapping reference of the rotor angle from q (near a known angle)
+      procedure :: set_rotor_reference => mechanism_set_rotor_reference
       !> Prescribe a body's rotation about z (driving constraint)
       procedure :: set_drive => mechanism_set_drive
       !> Coordinates of body b out of q
       procedure :: body_coordinates => mechanism_body_coordinates
-      !> Unwrapped crank angle (rad)
-      procedure :: crank_angle => mechanism_crank_angle
-      !> Crank speed (rad/s)
-      procedure :: crank_speed => mechanism_crank_speed
+      !> Unwrapped rotor angle (rad)
+      procedure :: rotor_angle => mechanism_rotor_angle
+      !> Rotor speed (rad/s)
+      procedure :: rotor_speed => mechanism_rotor_speed
       !> Generalized applied force: loads and gravity
       procedure :: applied_force => mechanism_applied_force
       !> Kinetic energy (J)
@@ -155,9 +158,9 @@ module ffrf_mbs_mechanism
       procedure :: applied_power => mechanism_applied_power
       !> Reaction force and moment of joint j from the multipliers
       procedure :: reaction => mechanism_reaction
-      !> Solve Phi(q, t) = 0 (and the crank angle) by minimum-norm Gauss-Newton
+      !> Solve Phi(q, t) = 0 (and the rotor angle) by minimum-norm Gauss-Newton
       procedure :: assemble => mechanism_assemble
-      !> Velocities with Phi_q v = -Phi_t (and the crank speed), minimum norm
+      !> Velocities with Phi_q v = -Phi_t (and the rotor speed), minimum norm
       procedure :: initial_velocities => mechanism_initial_velocities
       ! dae_system_t
       procedure :: num_coordinates => mechanism_num_coordinates
@@ -177,7 +180,7 @@ module ffrf_mbs_mechanism
    end type mechanism_t
 
    interface
-      !> Add a copy of `body`; `index` is its mechanism index for joints, loads, crank and drive.
+      !> Add a copy of `body`; `index` is its mechanism index for joints, loads, rotor and drive.
       module subroutine mechanism_add_body(self, body, name, index, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
@@ -220,24 +223,24 @@ module ffrf_mbs_mechanism
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_add_load
 
-      !> The crank is body `body` (with Euler parameters); its angle is unwrapped from 0.
-      module subroutine mechanism_set_crank(self, body, error)
+      !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
+      module subroutine mechanism_set_rotor(self, body, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Mechanism index of the crank
+         !> Mechanism index of the rotor
          integer, intent(in) :: body
          type(error_t), allocatable, intent(out) :: error
-      end subroutine mechanism_set_crank
+      end subroutine mechanism_set_rotor
 
-      !> Unwrap the crank angle of q against `angle` (rad) and keep the result as the reference.
-      module subroutine mechanism_set_crank_reference(self, q, angle)
+      !> Unwrap the rotor angle of q against `angle` (rad) and keep the result as the reference.
+      module subroutine mechanism_set_rotor_reference(self, q, angle)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
          !> Coordinates, n
          real(dp), intent(in) :: q(:)
-         !> A crank angle within pi of the one of q (rad)
+         !> A rotor angle within pi of the one of q (rad)
          real(dp), intent(in) :: angle
-      end subroutine mechanism_set_crank_reference
+      end subroutine mechanism_set_rotor_reference
 
       !> Prescribe the rotation about z of body `body` as law%evaluate(t) (one rheonomic row).
       module subroutine mechanism_set_drive(self, body, law, error)
@@ -261,18 +264,18 @@ module ffrf_mbs_mechanism
          real(dp) :: qb(self%bodies(b)%body%num_coordinates)
       end function mechanism_body_coordinates
 
-      !> Unwrapped crank angle phi_ref + wrap(2 atan2(e3, e0) - phi_ref) (module header); 0 without
-      !> a crank.
-      module pure function mechanism_crank_angle(self, q) result(angle)
+      !> Unwrapped rotor angle phi_ref + wrap(2 atan2(e3, e0) - phi_ref) (module header); 0 without
+      !> a rotor.
+      module pure function mechanism_rotor_angle(self, q) result(angle)
          !> The mechanism
          class(mechanism_t), intent(in) :: self
          !> Coordinates, n
          real(dp), intent(in) :: q(:)
          real(dp) :: angle
-      end function mechanism_crank_angle
+      end function mechanism_rotor_angle
 
-      !> Crank speed e_z . G(theta) theta_dot (rad/s); 0 without a crank.
-      module pure function mechanism_crank_speed(self, q, v) result(speed)
+      !> Rotor speed e_z . G(theta) theta_dot (rad/s); 0 without a rotor.
+      module pure function mechanism_rotor_speed(self, q, v) result(speed)
          !> The mechanism
          class(mechanism_t), intent(in) :: self
          !> Coordinates, n
@@ -280,7 +283,7 @@ module ffrf_mbs_mechanism
          !> Velocities, n
          real(dp), intent(in) :: v(:)
          real(dp) :: speed
-      end function mechanism_crank_speed
+      end function mechanism_rotor_speed
 
       !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
       !> gravity (m g at the centre of mass of rigid bodies).
@@ -459,7 +462,7 @@ module ffrf_mbs_mechanism
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_acceleration_rhs
 
-      !> After an accepted step: the state must be finite; the crank angle becomes the new
+      !> After an accepted step: the state must be finite; the rotor angle becomes the new
       !> unwrapping reference.
       module subroutine mechanism_accepted_step(self, t, q, v, qdd, lambda, error)
          !> The mechanism
@@ -536,10 +539,10 @@ module ffrf_mbs_mechanism
       end subroutine mechanism_mass_stiffness
 
       !> Solve Phi(q, t) = 0 from an approximate q by Gauss-Newton, each step the minimum-norm
-      !> least-squares correction (dgelsy). With crank_angle, the crank's rotation about z is fixed
+      !> least-squares correction (dgelsy). With rotor_angle, the rotor's rotation about z is fixed
       !> too (equation n(angle) . A e_x = 0, as the drive) and becomes the unwrapping reference.
       !> Converged when max |Phi| <= tolerance (default 1e-12).
-      module subroutine mechanism_assemble(self, q, t, error, crank_angle, tolerance, iterations)
+      module subroutine mechanism_assemble(self, q, t, error, rotor_angle, tolerance, iterations)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
          !> Coordinates: approximate in, assembled out, n
@@ -547,17 +550,17 @@ module ffrf_mbs_mechanism
          !> Time (s), for a driving constraint
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
-         !> Crank angle to assemble at (rad); needs set_crank
-         real(dp), intent(in), optional :: crank_angle
+         !> Rotor angle to assemble at (rad); needs set_rotor
+         real(dp), intent(in), optional :: rotor_angle
          !> Largest |Phi_i| accepted (default 1e-12)
          real(dp), intent(in), optional :: tolerance
          !> Gauss-Newton iterations used
          integer, intent(out), optional :: iterations
       end subroutine mechanism_assemble
 
-      !> Velocities v with Phi_q v = -Phi_t, and the crank speed if given, in the minimum-norm
+      !> Velocities v with Phi_q v = -Phi_t, and the rotor speed if given, in the minimum-norm
       !> least-squares sense (dgelsy); error if the residual exceeds 1e-10 of the scale.
-      module subroutine mechanism_initial_velocities(self, q, t, v, error, crank_speed)
+      module subroutine mechanism_initial_velocities(self, q, t, v, error, rotor_speed)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
          !> Assembled coordinates, n
@@ -567,8 +570,8 @@ module ffrf_mbs_mechanism
          !> Velocities, n
          real(dp), intent(out) :: v(:)
          type(error_t), allocatable, intent(out) :: error
-         !> Crank speed (rad/s); needs set_crank
-         real(dp), intent(in), optional :: crank_speed
+         !> Rotor speed (rad/s); needs set_rotor
+         real(dp), intent(in), optional :: rotor_speed
       end subroutine mechanism_initial_velocities
    end interface
 

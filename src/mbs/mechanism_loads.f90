@@ -2,15 +2,19 @@
 !>
 !> A load acts on one body at one of its markers, either as a force along a fixed global direction
 !> (LOAD_FORCE) or as a moment about a fixed global axis (LOAD_TORQUE). Its magnitude is a
-!> function of the time t, the crank angle phi (rad, unwrapped over many revolutions) and the
-!> crank speed omega = dphi/dt (rad/s) that the mechanism measures on its crank body; each kind of
-!> load is a small type that extends `load_t` and implements `magnitude(t, phi, omega)`
-!> (the engine's gas force, pressure_force_t, lives in src/app/engine/pressure_load.f90):
+!> function of the time t, the rotor angle phi (rad, unwrapped over many revolutions) and the
+!> rotor speed omega = dphi/dt (rad/s) that the mechanism measures on its rotor body (0 without
+!> one; ffrf_mbs_mechanism set_rotor). `load_t` is the extension point for applied loads: each
+!> kind of load is a small type that extends it and implements `magnitude(t, phi, omega)`; the
+!> mechanism applies magnitude * direction at the marker, differentiates it for the Newton
+!> tangent (marker force exactly, the magnitude's dependence on phi and omega by a central
+!> difference) and counts its power in the energy balance. Applications register their own
+!> kinds with add_load (an application's own loads live with it, under src/app/). General
+!> laws kept here:
 !>
 !> | type                 | magnitude                                                      |
 !> |----------------------|----------------------------------------------------------------|
 !> | constant_load_t      | value                                                          |
-!> | starter_torque_t     | max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0          |
 !> | drag_torque_t        | -c omega |omega|  (= -c omega^2 for omega >= 0, always opposing) |
 !>
 !> The generalized force of a load on its body is L_r^T F + L_w^T M (theory.md 3.5; body_t
@@ -22,7 +26,7 @@ module ffrf_mbs_mechanism_loads
    use ffrf_core_kinds, only: dp
    implicit none
    private
-   public :: load_t, constant_load_t, starter_torque_t, drag_torque_t
+   public :: load_t, constant_load_t, drag_torque_t
    public :: drive_law_t, polynomial_drive_t
    public :: LOAD_FORCE, LOAD_TORQUE
 
@@ -49,18 +53,18 @@ module ffrf_mbs_mechanism_loads
    end type load_t
 
    abstract interface
-      !> Magnitude of a load (N or N m) from the time and the crank state.
-      pure function load_magnitude(self, t, crank_angle, crank_speed) result(value)
+      !> Magnitude of a load (N or N m) from the time and the rotor state.
+      pure function load_magnitude(self, t, rotor_angle, rotor_speed) result(value)
          import :: load_t, dp
          implicit none
          !> The load
          class(load_t), intent(in) :: self
          !> Time (s)
          real(dp), intent(in) :: t
-         !> Crank angle, unwrapped (rad)
-         real(dp), intent(in) :: crank_angle
-         !> Crank speed (rad/s)
-         real(dp), intent(in) :: crank_speed
+         !> Rotor angle, unwrapped (rad)
+         real(dp), intent(in) :: rotor_angle
+         !> Rotor speed (rad/s)
+         real(dp), intent(in) :: rotor_speed
          real(dp) :: value
       end function load_magnitude
    end interface
@@ -73,21 +77,9 @@ module ffrf_mbs_mechanism_loads
       procedure :: magnitude => constant_magnitude
    end type constant_load_t
 
-   !> Starter motor (scene.md): T = T0 (1 - omega / omega_0) for t <= t_off and only while
-   !> positive; kind LOAD_TORQUE about +z.
-   type, extends(load_t) :: starter_torque_t
-      !> Stall torque T0 (N m)
-      real(dp) :: stall_torque = 40.0_dp
-      !> No-load speed omega_0 (rad/s)
-      real(dp) :: free_speed = 157.0_dp
-      !> Switch-off time t_off (s)
-      real(dp) :: switch_off = 0.5_dp
-   contains
-      procedure :: magnitude => starter_magnitude
-   end type starter_torque_t
-
-   !> External load (scene.md): T = -c omega |omega| about +z (= -c omega^2 while omega >= 0; the
-   !> |omega| keeps it opposing the motion if the crank ever turns back).
+   !> Quadratic drag torque (scene.md "external load"): T = -c omega |omega| about +z, omega the
+   !> rotor speed (= -c omega^2 while omega >= 0; the |omega| keeps it opposing the motion if the
+   !> rotor ever turns back).
    type, extends(load_t) :: drag_torque_t
       !> Coefficient c (N m s^2)
       real(dp) :: coefficient = 3.6e-4_dp
@@ -130,44 +122,29 @@ module ffrf_mbs_mechanism_loads
 contains
 
    !> value.
-   pure function constant_magnitude(self, t, crank_angle, crank_speed) result(value)
+   pure function constant_magnitude(self, t, rotor_angle, rotor_speed) result(value)
       class(constant_load_t), intent(in) :: self
       !> Time (s)
       real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
+      !> Rotor angle (rad)
+      real(dp), intent(in) :: rotor_angle
+      !> Rotor speed (rad/s)
+      real(dp), intent(in) :: rotor_speed
       real(dp) :: value
-      value = self%value + 0.0_dp * (t + crank_angle + crank_speed)
+      value = self%value + 0.0_dp * (t + rotor_angle + rotor_speed)
    end function constant_magnitude
 
-   !> max(0, T0 (1 - omega/omega_0)) for t <= t_off, else 0.
-   pure function starter_magnitude(self, t, crank_angle, crank_speed) result(value)
-      class(starter_torque_t), intent(in) :: self
-      !> Time (s)
-      real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
-      real(dp) :: value
-      value = 0.0_dp * crank_angle
-      if (t <= self%switch_off) value = max(0.0_dp, self%stall_torque * &
-         (1.0_dp - crank_speed / self%free_speed))
-   end function starter_magnitude
-
    !> -c omega |omega|.
-   pure function drag_magnitude(self, t, crank_angle, crank_speed) result(value)
+   pure function drag_magnitude(self, t, rotor_angle, rotor_speed) result(value)
       class(drag_torque_t), intent(in) :: self
       !> Time (s)
       real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
+      !> Rotor angle (rad)
+      real(dp), intent(in) :: rotor_angle
+      !> Rotor speed (rad/s)
+      real(dp), intent(in) :: rotor_speed
       real(dp) :: value
-      value = -self%coefficient * crank_speed * abs(crank_speed) + 0.0_dp * (t + crank_angle)
+      value = -self%coefficient * rotor_speed * abs(rotor_speed) + 0.0_dp * (t + rotor_angle)
    end function drag_magnitude
 
    !> [angle + speed t + acceleration t^2/2, speed + acceleration t, acceleration].

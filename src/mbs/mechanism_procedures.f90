@@ -1,5 +1,5 @@
 !> Bodies of ffrf_mbs_mechanism (a submodule, as the house style asks of long modules): building,
-!> crank state, loads and energies, the dae_system_t procedures, the consistent initial state, and
+!> rotor state, loads and energies, the dae_system_t procedures, the consistent initial state, and
 !> the private helpers they share (layout, least squares by LAPACK dgelsy, drive normals).
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -27,7 +27,7 @@ contains
    ! ----------------------------------------------------------------------------------------------
    ! Building
 
-   !> Add a copy of `body`; `index` is its mechanism index for joints, loads, crank and drive.
+   !> Add a copy of `body`; `index` is its mechanism index for joints, loads, rotor and drive.
    module procedure mechanism_add_body
       type(mechanism_body_t), allocatable :: grown(:)
       integer :: i, nb
@@ -129,22 +129,22 @@ contains
       call move_alloc(grown, self%loads)
    end procedure mechanism_add_load
 
-   !> The crank is body `body` (with Euler parameters); its angle is unwrapped from 0.
-   module procedure mechanism_set_crank
+   !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
+   module procedure mechanism_set_rotor
       if (.not. rotating_body(self, body)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: crank body ' // to_str(body) // &
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: rotor body ' // to_str(body) // &
             ' must be a body with Euler parameters added by add_body')
          return
       end if
-      self%crank = body
-      self%crank_reference = 0.0_dp
-   end procedure mechanism_set_crank
+      self%rotor = body
+      self%rotor_reference = 0.0_dp
+   end procedure mechanism_set_rotor
 
-   !> Unwrap the crank angle of q against `angle` (rad) and keep the result as the reference.
-   module procedure mechanism_set_crank_reference
-      self%crank_reference = angle
-      self%crank_reference = self%crank_angle(q)
-   end procedure mechanism_set_crank_reference
+   !> Unwrap the rotor angle of q against `angle` (rad) and keep the result as the reference.
+   module procedure mechanism_set_rotor_reference
+      self%rotor_reference = angle
+      self%rotor_reference = self%rotor_angle(q)
+   end procedure mechanism_set_rotor_reference
 
    !> Prescribe the rotation about z of body `body` as law%evaluate(t) (one rheonomic row).
    module procedure mechanism_set_drive
@@ -210,34 +210,34 @@ contains
    end function rotating_body
 
    ! ----------------------------------------------------------------------------------------------
-   ! Crank state, loads, energies
+   ! Rotor state, loads, energies
 
    !> q(offset + 1 : offset + num_coordinates) of body b (empty for the ground).
    module procedure mechanism_body_coordinates
       qb = q(self%bodies(b)%offset + 1:self%bodies(b)%offset + size(qb))
    end procedure mechanism_body_coordinates
 
-   !> Unwrapped crank angle phi_ref + wrap(2 atan2(e3, e0) - phi_ref) (module header); 0 without
-   !> a crank.
-   module procedure mechanism_crank_angle
+   !> Unwrapped rotor angle phi_ref + wrap(2 atan2(e3, e0) - phi_ref) (module header); 0 without
+   !> a rotor.
+   module procedure mechanism_rotor_angle
       real(dp) :: theta(4), raw
       angle = 0.0_dp
-      if (self%crank == 0) return
-      theta = q(self%bodies(self%crank)%offset + 4:self%bodies(self%crank)%offset + 7)
+      if (self%rotor == 0) return
+      theta = q(self%bodies(self%rotor)%offset + 4:self%bodies(self%rotor)%offset + 7)
       raw = 2.0_dp * atan2(theta(4), theta(1))
-      angle = self%crank_reference + modulo(raw - self%crank_reference + pi, 2.0_dp * pi) - pi
-   end procedure mechanism_crank_angle
+      angle = self%rotor_reference + modulo(raw - self%rotor_reference + pi, 2.0_dp * pi) - pi
+   end procedure mechanism_rotor_angle
 
-   !> Crank speed e_z . G(theta) theta_dot (rad/s); 0 without a crank.
-   module procedure mechanism_crank_speed
+   !> Rotor speed e_z . G(theta) theta_dot (rad/s); 0 without a rotor.
+   module procedure mechanism_rotor_speed
       real(dp) :: omega(3)
       integer :: k
       speed = 0.0_dp
-      if (self%crank == 0) return
-      k = self%bodies(self%crank)%offset
+      if (self%rotor == 0) return
+      k = self%bodies(self%rotor)%offset
       omega = matmul(euler_g(q(k + 4:k + 7)), v(k + 4:k + 7))
       speed = omega(3)
-   end procedure mechanism_crank_speed
+   end procedure mechanism_rotor_speed
 
    !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
    !> gravity (m g at the centre of mass of rigid bodies).
@@ -246,8 +246,8 @@ contains
       integer :: i, b, k, nb
       f = 0.0_dp
       zero = 0.0_dp
-      angle = self%crank_angle(q)
-      speed = self%crank_speed(q, v)
+      angle = self%rotor_angle(q)
+      speed = self%rotor_speed(q, v)
       if (allocated(self%loads)) then
          do i = 1, size(self%loads)
             associate (load => self%loads(i)%load)
@@ -258,7 +258,7 @@ contains
                value = load%magnitude(t, angle, speed)
                if (.not. ieee_is_finite(value)) then
                   call fatal_error(error, FFRF_NUMERIC_ERROR, 'load "' // trim(load%name) // &
-                     '" is not finite at t = ' // to_str(t) // ' s, crank angle ' // &
+                     '" is not finite at t = ' // to_str(t) // ' s, rotor angle ' // &
                      to_str(angle) // ' rad, speed ' // to_str(speed) // ' rad/s')
                   return
                end if
@@ -531,7 +531,7 @@ contains
          'mechanism: acceleration right-hand side not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_acceleration_rhs
 
-   !> After an accepted step: the state must be finite; the crank angle becomes the new
+   !> After an accepted step: the state must be finite; the rotor angle becomes the new
    !> unwrapping reference.
    module procedure mechanism_accepted_step
       if (.not. (all(ieee_is_finite(q)) .and. all(ieee_is_finite(v)) .and. &
@@ -540,7 +540,7 @@ contains
             to_str(t) // ' s; reduce the time step')
          return
       end if
-      self%crank_reference = self%crank_angle(q)
+      self%rotor_reference = self%rotor_angle(q)
    end procedure mechanism_accepted_step
 
    ! ----------------------------------------------------------------------------------------------
@@ -604,7 +604,7 @@ contains
 
    !> Subtract the derivatives of the applied loads and gravity from K_t (-df/dq) and C_t
    !> (-df/dq'): marker force at fixed magnitude, plus magnitude(t, angle, speed) through the
-   !> crank angle 2 atan2(e3, e0) and speed e_z . G(theta) theta_dot = -e_z . G(theta_dot) theta.
+   !> rotor angle 2 atan2(e3, e0) and speed e_z . G(theta) theta_dot = -e_z . G(theta_dot) theta.
    subroutine applied_tangents(self, q, v, t, K_t, C_t, error)
       type(mechanism_t), intent(inout) :: self
       real(dp), intent(in) :: q(:), v(:)
@@ -616,11 +616,11 @@ contains
       real(dp) :: d_speed_v(4), g_rows(3, 4), da, ds, dm_da, dm_ds, radius2
       integer :: i, b, k, nb, kc, j
       zero = 0.0_dp
-      angle = self%crank_angle(q)
-      speed = self%crank_speed(q, v)
+      angle = self%rotor_angle(q)
+      speed = self%rotor_speed(q, v)
       kc = 0
-      if (self%crank > 0) then
-         kc = self%bodies(self%crank)%offset
+      if (self%rotor > 0) then
+         kc = self%bodies(self%rotor)%offset
          theta = q(kc + 4:kc + 7)
          radius2 = max(theta(1)**2 + theta(4)**2, tiny(1.0_dp))
          d_angle = [-2.0_dp * theta(4), 0.0_dp, 0.0_dp, 2.0_dp * theta(1)] / radius2
@@ -651,7 +651,7 @@ contains
                      load%marker, zero, load%direction)
                end if
                K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
-               if (self%crank > 0) then
+               if (self%rotor > 0) then
                   da = fd_step(angle)
                   ds = fd_step(speed)
                   dm_da = (load%magnitude(t, angle + da, speed) - &
@@ -764,24 +764,24 @@ contains
    ! Consistent initial state
 
    !> Solve Phi(q, t) = 0 from an approximate q by Gauss-Newton, each step the minimum-norm
-   !> least-squares correction (dgelsy). With crank_angle, the crank's rotation about z is fixed
+   !> least-squares correction (dgelsy). With rotor_angle, the rotor's rotation about z is fixed
    !> too (equation n(angle) . A e_x = 0, as the drive) and becomes the unwrapping reference.
    !> Converged when max |Phi| <= tolerance (default 1e-12).
    module procedure mechanism_assemble
       real(dp), allocatable :: a(:, :), rhs(:, :), phi(:), jac(:, :)
       real(dp) :: tol, violation
       integer :: rows, it, k
-      logical :: with_crank
+      logical :: with_rotor
       tol = 1.0e-12_dp
       if (present(tolerance)) tol = tolerance
-      with_crank = present(crank_angle)
-      if (with_crank .and. self%crank == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism assembly: a crank angle was ' // &
-            'given but no crank body is set; call set_crank first')
+      with_rotor = present(rotor_angle)
+      if (with_rotor .and. self%rotor == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism assembly: a rotor angle was ' // &
+            'given but no rotor body is set; call set_rotor first')
          return
       end if
       rows = self%nc
-      if (with_crank) rows = rows + 1
+      if (with_rotor) rows = rows + 1
       allocate (a(rows, self%n), rhs(max(rows, self%n), 1), phi(self%nc), jac(self%nc, self%n))
       violation = huge(1.0_dp)
       do it = 1, 50
@@ -792,12 +792,12 @@ contains
          call self%constraint_jacobian(q, t, jac, error)
          if (allocated(error)) return
          a(1:self%nc, :) = jac
-         if (with_crank) then
-            k = self%bodies(self%crank)%offset
+         if (with_rotor) then
+            k = self%bodies(self%rotor)%offset
             a(rows, :) = 0.0_dp
-            a(rows, k + 4:k + 7) = matmul(drive_normal(crank_angle), &
+            a(rows, k + 4:k + 7) = matmul(drive_normal(rotor_angle), &
                rotated_vector_jacobian(q(k + 4:k + 7), e_x))
-            rhs(rows, 1) = -dot_product(drive_normal(crank_angle), &
+            rhs(rows, 1) = -dot_product(drive_normal(rotor_angle), &
                matmul(euler_rotation(q(k + 4:k + 7)), e_x))
          end if
          violation = maxval(abs(rhs(1:rows, 1)))
@@ -813,19 +813,19 @@ contains
             to_str(violation) // '); start from poses closer to the assembled ones')
          return
       end if
-      if (with_crank) call self%set_crank_reference(q, crank_angle)
+      if (with_rotor) call self%set_rotor_reference(q, rotor_angle)
    end procedure mechanism_assemble
 
-   !> Velocities v with Phi_q v = -Phi_t, and the crank speed if given, in the minimum-norm
+   !> Velocities v with Phi_q v = -Phi_t, and the rotor speed if given, in the minimum-norm
    !> least-squares sense (dgelsy); error if the residual exceeds 1e-10 of the scale.
    module procedure mechanism_initial_velocities
       real(dp), allocatable :: a(:, :), rhs(:, :), rate(:), jac(:, :)
       real(dp) :: residual, scale
       integer :: rows, k, b, row, attempt
       v = 0.0_dp
-      if (present(crank_speed) .and. self%crank == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism initial velocities: a crank ' // &
-            'speed was given but no crank body is set; call set_crank first')
+      if (present(rotor_speed) .and. self%rotor == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism initial velocities: a rotor ' // &
+            'speed was given but no rotor body is set; call set_rotor first')
          return
       end if
       allocate (rate(self%nc), jac(self%nc, self%n))
@@ -834,12 +834,12 @@ contains
       call self%constraint_rate(q, t, rate, error)
       if (allocated(error)) return
       ! The bodies start undeformed and moving rigidly: every modal velocity zero (a flexible
-      ! crank whose flywheel interface rotates in its modes, RC sets 2 and 3, would otherwise
-      ! get the minimum-norm split, a twist rate that leaves the flywheel at rest, issue 30).
+      ! body whose interface ring rotates in its modes (issue 30) would otherwise
+      ! get the minimum-norm split, a twist rate that leaves that interface at rest).
       ! Without a rigid motion that meets the constraints, the minimum-norm solution of all.
       do attempt = 1, 2
          rows = self%nc
-         if (present(crank_speed)) rows = rows + 1
+         if (present(rotor_speed)) rows = rows + 1
          if (attempt == 1) rows = rows + count_modal()
          if (allocated(a)) deallocate (a, rhs)
          allocate (a(rows, self%n), rhs(max(rows, self%n), 1))
@@ -848,12 +848,12 @@ contains
          a(1:self%nc, :) = jac
          rhs(1:self%nc, 1) = -rate
          row = self%nc
-         if (present(crank_speed)) then
-            k = self%bodies(self%crank)%offset
+         if (present(rotor_speed)) then
+            k = self%bodies(self%rotor)%offset
             row = row + 1
             ! omega_z = e_z^T G(theta) theta_dot: the third row of G
             a(row, k + 4:k + 7) = row3(euler_g(q(k + 4:k + 7)))
-            rhs(row, 1) = crank_speed
+            rhs(row, 1) = rotor_speed
          end if
          if (attempt == 1) then
             do b = 1, size(self%bodies)
@@ -871,13 +871,13 @@ contains
             max(maxval(abs(v)), 1.0_dp)) exit
       end do
       scale = max(maxval(abs(rate)), 1.0_dp) * max(maxval(abs(v)), 1.0_dp)
-      if (present(crank_speed)) then
-         residual = max(residual, abs(self%crank_speed(q, v) - crank_speed))
+      if (present(rotor_speed)) then
+         residual = max(residual, abs(self%rotor_speed(q, v) - rotor_speed))
       end if
       if (.not. residual <= 1.0e-10_dp * scale) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'mechanism initial velocities: the ' // &
             'velocity constraints cannot be met, residual ' // to_str(residual) // &
-            ' (a crank speed inconsistent with a drive?)')
+            ' (a rotor speed inconsistent with a drive?)')
       end if
 
    contains

@@ -10,7 +10,8 @@ module ffrf_test_rigid_engine
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_joints, only: JOINT_PRISMATIC, JOINT_REVOLUTE
-   use ffrf_mbs_mechanism_loads, only: starter_torque_t, drag_torque_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_mechanism_loads, only: drag_torque_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_starter_load, only: starter_torque_t
    use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_app_engine_pressure, only: pressure_input_t
    use ffrf_app_engine_slider_crank, only: piston_position
@@ -58,9 +59,9 @@ contains
       call add_engine_loads(mech, ic, ip_, 1, error)
       if (allocated(error)) return
       q = tdc_pose()
-      call mech%assemble(q, 0.0_dp, error, crank_angle=0.0_dp)
+      call mech%assemble(q, 0.0_dp, error, rotor_angle=0.0_dp)
       if (allocated(error)) return
-      call mech%initial_velocities(q, 0.0_dp, v, error, crank_speed=0.0_dp)
+      call mech%initial_velocities(q, 0.0_dp, v, error, rotor_speed=0.0_dp)
    end subroutine build_engine
 
    !> The engine's loads: the cylinder pressure on the piston (body `piston`, marker 1, along y),
@@ -148,7 +149,7 @@ contains
          error)
       if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
-      if (.not. allocated(error)) call mech%set_crank(ic, error)
+      if (.not. allocated(error)) call mech%set_rotor(ic, error)
    end subroutine build_slider_crank
 
    !> Crank mass properties (module header), with the flywheel if asked: total mass, centre of

@@ -164,8 +164,8 @@ contains
       if (allocated(error)) return
       call step_to(mech, integrator, t_end, error)
       if (allocated(error)) return
-      angle = mech%crank_angle(integrator%q)
-      speed = mech%crank_speed(integrator%q, integrator%v)
+      angle = mech%rotor_angle(integrator%q)
+      speed = mech%rotor_speed(integrator%q, integrator%v)
       call mech%reaction(piston_pin, integrator%q, integrator%lambda, force, moment)
       pin = force(1:2, 2)
       call mech%reaction(crank_pin, integrator%q, integrator%lambda, force, moment)
@@ -346,10 +346,10 @@ contains
       subroutine sample(error)
          type(error_t), allocatable, intent(out) :: error
          history%t(n) = integrator%t
-         history%phi(n) = mech%crank_angle(integrator%q)
-         history%w(n) = mech%crank_speed(integrator%q, integrator%v)
+         history%phi(n) = mech%rotor_angle(integrator%q)
+         history%w(n) = mech%rotor_speed(integrator%q, integrator%v)
          ! d/dt (G theta_dot) = G theta_ddot, since G(theta_dot) theta_dot = 0
-         history%wdot(n) = mech%crank_speed(integrator%q, integrator%qdd)
+         history%wdot(n) = mech%rotor_speed(integrator%q, integrator%qdd)
          history%energy(n) = mech%kinetic_energy(integrator%q, integrator%v)
          call mech%applied_power(integrator%q, integrator%v, integrator%t, history%power(n), &
             error)

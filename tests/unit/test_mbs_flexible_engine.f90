@@ -179,7 +179,7 @@ contains
          error)
       if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
-      if (.not. allocated(error)) call mech%set_crank(ic, error)
+      if (.not. allocated(error)) call mech%set_rotor(ic, error)
       if (allocated(error)) return
       call add_engine_loads(mech, ic, ip_, 3, error)
       if (allocated(error)) return
@@ -194,9 +194,9 @@ contains
       q(4) = 1.0_dp
       q(nc + 7 + 1:nc + 7 + 3) = b2                   ! conrod R
       q(nc + 14 + 1:nc + 14 + 3) = b2 + [0.0_dp, rod_length, 0.0_dp]   ! piston R
-      call mech%assemble(q, 0.0_dp, error, crank_angle=0.0_dp)
+      call mech%assemble(q, 0.0_dp, error, rotor_angle=0.0_dp)
       if (allocated(error)) return
-      call mech%initial_velocities(q, 0.0_dp, v, error, crank_speed=0.0_dp)
+      call mech%initial_velocities(q, 0.0_dp, v, error, rotor_speed=0.0_dp)
    end subroutine build_engine
 
    !> Integrate an engine to num_samples * sample_interval with steps of `step`; crank speeds
@@ -237,7 +237,7 @@ contains
             if (crank_body%num_coordinates > 7) zeta_max = max(zeta_max, &
                maxval(abs(integrator%q(8:crank_body%num_coordinates))))
          end do
-         speeds(k) = mech%crank_speed(integrator%q, integrator%v)
+         speeds(k) = mech%rotor_speed(integrator%q, integrator%v)
       end do
       rejected = int(integrator%stats%rejected_steps)
       call report(what // ': t = ' // to_str(integrator%t, 6) // ' s, crank speed ' // &
@@ -247,7 +247,7 @@ contains
          to_str(integrator%stats%newton_iterations) // ' iterations, ' // &
          to_str(integrator%stats%factorizations) // ' factorisations, ' // &
          to_str(integrator%stats%wall_seconds, 3) // ' s, max |zeta| ' // to_str(zeta_max, 3) &
-         // ', crank angle ' // to_str(mech%crank_angle(integrator%q), 6) // ' rad')
+         // ', crank angle ' // to_str(mech%rotor_angle(integrator%q), 6) // ' rad')
    end subroutine run_engine
 
    !> Rigid engine vs flexible engine (module header): the true stiffness (the modes move), the

@@ -21,8 +21,8 @@ module test_mbs_mechanism
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_kinematic_projection, only: consistent_motion
-   use ffrf_mbs_mechanism_loads, only: polynomial_drive_t, starter_torque_t, drag_torque_t, &
-      LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_mechanism_loads, only: polynomial_drive_t, drag_torque_t, LOAD_FORCE, LOAD_TORQUE
+   use ffrf_app_engine_starter_load, only: starter_torque_t
    use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_app_engine_pressure, only: pressure_input_t
    use ffrf_app_engine_slider_crank, only: piston_position, piston_dy_dtheta, piston_d2y_dtheta2
@@ -115,9 +115,9 @@ contains
       if (allocated(error)) return
       call mech%initial_velocities(q, t, v, error)
       if (allocated(error)) return
-      call report('assembled at t = 0.013 s: crank angle ' // to_str(mech%crank_angle(q), 12) &
+      call report('assembled at t = 0.013 s: crank angle ' // to_str(mech%rotor_angle(q), 12) &
          // ' rad (drive ' // to_str(law%angle + law%speed * t + 0.5_dp * law%acceleration * &
-         t**2, 12) // '), crank speed ' // to_str(mech%crank_speed(q, v), 12) // ' rad/s')
+         t**2, 12) // '), crank speed ' // to_str(mech%rotor_speed(q, v), 12) // ' rad/s')
       ! The identities hold off the constraint manifold too: move q off it (0.02) so that the
       ! terms that vanish on it (e.g. f'^2 n . A e_x) are checked as well.
       do j = 1, 21
@@ -471,14 +471,14 @@ contains
       call mech%add_load(drag, error)
       if (allocated(error)) return
       q = slider_crank_pose(0.0_dp, 2.0e-3_dp)
-      call mech%assemble(q, 0.0_dp, error, crank_angle=0.0_dp, iterations=iterations)
+      call mech%assemble(q, 0.0_dp, error, rotor_angle=0.0_dp, iterations=iterations)
       if (allocated(error)) return
       call report('engine assembled at crank angle 0 in ' // to_str(iterations) // &
          ' Gauss-Newton iterations: piston y = ' // to_str(q(piston_y), 15) // ' m')
       call check_close(error, 'assembled piston y (r + l)', q(piston_y), &
          crank_radius + rod_length, rtol=1.0e-12_dp)
       if (allocated(error)) return
-      call mech%initial_velocities(q, 0.0_dp, v, error, crank_speed=0.0_dp)
+      call mech%initial_velocities(q, 0.0_dp, v, error, rotor_speed=0.0_dp)
       if (allocated(error)) return
       settings%h = 1.0e-4_dp
       settings%t_end = 0.3_dp
@@ -511,7 +511,7 @@ contains
       do while (integrator%t < settings%t_end)
          call integrator%step(mech, error)
          if (allocated(error)) return
-         speed = mech%crank_speed(integrator%q, integrator%v)
+         speed = mech%rotor_speed(integrator%q, integrator%v)
          angle_integral = angle_integral + 0.5_dp * (speed + speed_old) * settings%h
          call mech%applied_power(integrator%q, integrator%v, integrator%t, power, error)
          if (allocated(error)) return
@@ -526,7 +526,7 @@ contains
          end if
          speed_old = speed
       end do
-      call report('t = 0.3 s: crank angle ' // to_str(mech%crank_angle(integrator%q), 8) // &
+      call report('t = 0.3 s: crank angle ' // to_str(mech%rotor_angle(integrator%q), 8) // &
          ' rad (integral of speed ' // to_str(angle_integral, 8) // '), speed ' // &
          to_str(speed, 6) // ' rad/s (' // to_str(speed_005, 6) // ' at 0.05 s); ' // &
          to_str(integrator%stats%steps) // ' steps, ' // to_str(integrator%stats%rejected_steps) &
@@ -535,14 +535,14 @@ contains
       call report('energy: kinetic ' // to_str(mech%kinetic_energy(integrator%q, &
          integrator%v) - energy0, 8) // ' J, work of the loads ' // to_str(work, 8) // ' J')
       call check_close(error, 'unwrapped crank angle vs integral of speed', &
-         mech%crank_angle(integrator%q), angle_integral, atol=1.0e-2_dp)
+         mech%rotor_angle(integrator%q), angle_integral, atol=1.0e-2_dp)
       if (allocated(error)) return
       call check_close(error, 'kinetic energy gained vs work of the loads', &
          mech%kinetic_energy(integrator%q, integrator%v) - energy0, work, rtol=1.0e-3_dp)
       if (allocated(error)) return
       call check(error, 'crank passed one revolution: ' // &
-         to_str(mech%crank_angle(integrator%q)) // ' rad', &
-         mech%crank_angle(integrator%q) > 2.0_dp * pi)
+         to_str(mech%rotor_angle(integrator%q)) // ' rad', &
+         mech%rotor_angle(integrator%q) > 2.0_dp * pi)
    end subroutine test_engine_start
 
 end module test_mbs_mechanism

@@ -149,7 +149,7 @@ contains
          error)
       if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'cylinder', ig, 2, ip_, 2, &
          error)
-      if (.not. allocated(error)) call mech%set_crank(ic, error)
+      if (.not. allocated(error)) call mech%set_rotor(ic, error)
       if (allocated(error)) return
       call add_engine_loads(mech, ic, ip_, 3, error)
    end subroutine build_engine
@@ -537,15 +537,15 @@ contains
          end do
          q(15:17) = [0.0_dp, crank_radius, 0.0_dp]
          q(22:24) = [0.0_dp, crank_radius + rod_length, 0.0_dp]
-         call mech%assemble(q, 0.0_dp, error, crank_angle=0.0_dp)
+         call mech%assemble(q, 0.0_dp, error, rotor_angle=0.0_dp)
          if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error, &
-            crank_speed=0.0_dp)
+            rotor_speed=0.0_dp)
          if (.not. allocated(error)) call integrator%init(mech, settings, q, v, error)
          if (allocated(error)) return
          do i = 1, merge(1500, 500, run == 1)
             call integrator%step(mech, error)
             if (allocated(error)) return
-            if (i == 500) speeds(run) = mech%crank_speed(integrator%q, integrator%v)
+            if (i == 500) speeds(run) = mech%rotor_speed(integrator%q, integrator%v)
          end do
          call report(names(run) // ' tangents: crank speed ' // &
             to_str(speeds(run), 14) // ' rad/s at 0.05 s; ' // to_str(integrator%stats%steps) // &

@@ -266,7 +266,7 @@ contains
             if (allocated(error)) return
             lambda(:, n) = integ%lambda
          end do
-         angle(i) = mech%crank_angle(integ%q)
+         angle(i) = mech%rotor_angle(integ%q)
          alternating(i) = 0.0_dp
          second = 0.0_dp
          do j = 1, size(lambda, 1)

@@ -21,16 +21,17 @@ module ffrf_app_engine_pressure_load
 contains
 
    !> Gas force along +y at the unwrapped crank angle (pressure_model_t%piston_force).
-   pure function pressure_magnitude(self, t, crank_angle, crank_speed) result(value)
+   !> (The mechanism's rotor is the crankshaft: its angle and speed are the crank's.)
+   pure function pressure_magnitude(self, t, rotor_angle, rotor_speed) result(value)
       class(pressure_force_t), intent(in) :: self
       !> Time (s)
       real(dp), intent(in) :: t
-      !> Crank angle (rad)
-      real(dp), intent(in) :: crank_angle
-      !> Crank speed (rad/s)
-      real(dp), intent(in) :: crank_speed
+      !> Crank angle: the mechanism's rotor angle (rad)
+      real(dp), intent(in) :: rotor_angle
+      !> Crank speed: the mechanism's rotor speed (rad/s)
+      real(dp), intent(in) :: rotor_speed
       real(dp) :: value
-      value = self%model%piston_force(crank_angle) + 0.0_dp * (t + crank_speed)
+      value = self%model%piston_force(rotor_angle) + 0.0_dp * (t + rotor_speed)
    end function pressure_magnitude
 
 end module ffrf_app_engine_pressure_load
