@@ -145,6 +145,17 @@ int ffrf_joint_name(const ffrf_case *c, int joint, char *buf, size_t len);
  * 3 x 2 arrays, column 0 on the joint's body 1, column 1 on its body 2. */
 int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double moment[6]);
 
+/* Sensors (&sensor groups in input order, then an engine case's "crank_angle" and
+ * "crank_speed"; docs/sensors.md): their number, the name of sensor `sensor` (0..n-1,
+ * NUL-terminated; len: size of buf including the NUL), and its values at the current state
+ * (*count = their number: 3 for position, velocity, acceleration, angular_velocity, 9 for
+ * orientation, 1 for joint_coordinate, 12 for reaction, 2 for energy; values may be NULL to
+ * ask the count). */
+int ffrf_sensor_count(const ffrf_case *c, int *n);
+int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len);
+int ffrf_sensor_values(const ffrf_case *c, int sensor, double *values, int capacity,
+                       int *count);
+
 /* Apply a global force (N) and moment (N m) at a marker from now on, until set again (the
  * host's load of the next interval of co-simulation). NULL means zero. After the first
  * ffrf_mechanism_advance (advance to t_start to set a load for the first interval). */

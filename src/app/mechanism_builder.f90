@@ -45,6 +45,8 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, LOAD_FORCE, &
       LOAD_TORQUE
    use ffrf_app_engine_starter_load, only: starter_torque_t
+   use ffrf_app_engine_crank_sensors, only: add_crank_sensors
+   use ffrf_mbs_sensors, only: sensor_t
    use ffrf_app_engine_pressure_load, only: pressure_force_t
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_auto_model, only: model_choice_t, start_model_selection, selects_body, &
@@ -78,7 +80,7 @@ contains
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
    !> model when a &load of type pressure exists (has_pressure).
    subroutine build_mechanism(case, resolved, mesh_dir, log, times, mech, bodies, q, v, &
-         pressure, has_pressure, error, choice)
+         pressure, has_pressure, error, choice, sensors)
       type(case_input_t), intent(in) :: case
       !> The case resolved once (build_model): bodies, interfaces as marker handles, modes,
       !> joints, loads
@@ -96,7 +98,11 @@ contains
       !> The automatic model (&model selection; ffrf_app_engine_auto_model): what it chose, with the
       !> time step when &integrator gives none (choice%h > 0)
       type(model_choice_t), intent(out), optional :: choice
+      !> The sensors of the case (&sensor, input order), then an engine case's crank sensors
+      !> (ffrf_app_engine_crank_sensors)
+      type(sensor_t), allocatable, intent(out), optional :: sensors(:)
       type(model_choice_t) :: model
+      integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
       integer, allocatable :: ends(:, :)
@@ -118,7 +124,7 @@ contains
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(resolved, lists, ends)
+      call resolve_markers(resolved, lists, ends, sensor_markers)
       call check_interface_markers(resolved, error)
       if (allocated(error)) return
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
@@ -142,18 +148,52 @@ contains
          call mech%set_rotor(bodies(resolved%mechanism%crank)%index, error)
          if (allocated(error)) return
       end if
+      if (present(sensors)) then
+         call make_sensors(case, resolved, bodies, ground_index, sensor_markers, sensors, error)
+         if (allocated(error)) return
+      end if
       call starting_state(case, resolved, bodies, mech, q, v, error)
    end subroutine build_mechanism
+
+   !> The sensors of the case resolved to mechanism indices; an engine case (a crank) gets the
+   !> engine's crank sensors after them.
+   subroutine make_sensors(case, resolved, bodies, ground_index, sensor_markers, sensors, error)
+      type(case_input_t), intent(in) :: case
+      type(model_t), intent(in) :: resolved
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index
+      !> Marker of each sensor on its body (resolve_markers; 0: none)
+      integer, intent(in) :: sensor_markers(:)
+      type(sensor_t), allocatable, intent(out) :: sensors(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      associate (given => resolved%mechanism%sensors)
+         allocate (sensors(size(given)))
+         do k = 1, size(given)
+            sensors(k)%name = given(k)%name
+            sensors(k)%kind = given(k)%kind
+            sensors(k)%marker = sensor_markers(k)
+            if (sensors(k)%marker > 0) sensors(k)%marker_name = case%mechanism%sensors(k)%marker
+            sensors(k)%joint = given(k)%joint
+            sensors(k)%body = ground_index
+            if (given(k)%body > 0) sensors(k)%body = bodies(given(k)%body)%index
+         end do
+      end associate
+      if (resolved%mechanism%crank > 0) call add_crank_sensors(sensors, error)
+   end subroutine make_sensors
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the
    !> model. Rigid bodies and the ground: a new marker per distinct (&marker point, axis) in
    !> `lists`.
-   subroutine resolve_markers(resolved, lists, ends)
+   subroutine resolve_markers(resolved, lists, ends, sensor_markers)
       !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
       integer, allocatable, intent(out) :: ends(:, :)
+      !> Marker of each &sensor with a marker (0: none); a rigid body's or the ground's sensor
+      !> point gets a marker of its own, with the body's axes, after those of joints and loads
+      integer, allocatable, intent(out) :: sensor_markers(:)
       integer :: j, l
       associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
          allocate (ends(3, max(size(joints), size(loads))), source=0)
@@ -163,6 +203,13 @@ contains
          end do
          do l = 1, size(loads)
             call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], ends(3, l))
+         end do
+      end associate
+      associate (sensors => resolved%mechanism%sensors)
+         allocate (sensor_markers(size(sensors)), source=0)
+         do l = 1, size(sensors)
+            if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
+               [0.0_dp, 0.0_dp, 1.0_dp], sensor_markers(l))
          end do
       end associate
 

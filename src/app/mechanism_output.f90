@@ -42,6 +42,8 @@ module ffrf_app_mechanism_output
    use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_sensors, only: sensor_t, sensor_size, sensor_unit, sensor_word
+   use ffrf_mbs_joints, only: JOINT_REVOLUTE
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
    use ffrf_mbs_energy_balance, only: energy_balance_t
@@ -130,6 +132,8 @@ module ffrf_app_mechanism_output
       !> multipliers of the current state (nc)
       type(reaction_split_t) :: split
       real(dp), allocatable :: reported(:)
+      !> The sensors of the run (/sensors/<name>, every recorded step; ffrf_mbs_sensors)
+      type(sensor_t), allocatable :: sensors(:)
    contains
       !> Before the run is built: lock the output, check overwrite, read --restart
       procedure :: reserve => output_reserve
@@ -197,7 +201,7 @@ contains
    !> (series, modes, redundant equations, the automatic model's choice, the earlier run's
    !> steps) and record the first state. `times` holds the stages so far.
    subroutine output_start(self, resolved, mech, bodies, integrator, choice, log, times, &
-         timer, error)
+         timer, error, sensors)
       class(mechanism_output_t), intent(inout) :: self
       type(model_t), intent(in) :: resolved
       type(mechanism_t), intent(inout) :: mech
@@ -209,9 +213,16 @@ contains
       !> Started at the start of the integration
       type(stage_timer_t), intent(in) :: timer
       type(error_t), allocatable, intent(out) :: error
+      !> Sensors recorded every step (none when absent)
+      type(sensor_t), intent(in), optional :: sensors(:)
       type(error_t), allocatable :: close_error
       character(len=:), allocatable :: echo
       self%times = times
+      if (present(sensors)) then
+         self%sensors = sensors
+      else
+         allocate (self%sensors(0))
+      end if
       associate (case => self%case, options => self%options)
          self%fingerprint_model = model_fingerprint(mech, bodies, integrator)
          if (self%restarting) then
@@ -239,7 +250,7 @@ contains
          echo = case_echo(case)
          self%temp_file = partial_name(self%results_file)
          call open_results(self%results, self%temp_file, case, resolved, echo, mech, bodies, &
-            integrator, error)
+            integrator, self%sensors, error)
          if (.not. allocated(error)) call write_model_choice(self%results, case, choice, error)
          if (.not. allocated(error) .and. self%restarting) then
             call self%results%append_from(self%source, self%restart%num_steps, error)
@@ -508,7 +519,7 @@ contains
       logical, intent(in) :: has_pressure
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
-      real(dp), allocatable :: coordinates(:)
+      real(dp), allocatable :: coordinates(:), sensor_values(:), values(:)
       integer :: j, k, first, n
       angle = mech%rotor_angle(integrator%q)
       speed = mech%rotor_speed(integrator%q, integrator%v)
@@ -526,11 +537,18 @@ contains
                bodies(k)%num_modes)]
          end associate
       end do
+      sensor_values = [real(dp) ::]
+      do k = 1, size(self%sensors)
+         call self%sensors(k)%evaluate(mech, integrator%q, integrator%v, integrator%qdd, &
+            self%reported, values, error)
+         if (allocated(error)) return
+         sensor_values = [sensor_values, values]
+      end do
       associate (balance => self%balance, history => self%history)
          call self%results%record(integrator%t, angle, speed, p, [balance%kinetic, &
             balance%strain, balance%work, balance%numerical_dissipation], coordinates, &
             self%reactions, error, scheme_dissipation=balance%scheme_dissipation, &
-            damping_dissipation=balance%physical_dissipation)
+            damping_dissipation=balance%physical_dissipation, sensors=sensor_values)
          if (allocated(error)) return
          ! Animation history
          n = history%num_steps + 1
@@ -691,7 +709,7 @@ contains
 
    !> Create the results file with its series and the redundant-equation flags.
    subroutine open_results(results, results_file, case, resolved, echo, mech, bodies, &
-         integrator, error)
+         integrator, sensors, error)
       type(engine_results_t), intent(inout) :: results
       character(len=*), intent(in) :: results_file, echo
       type(case_input_t), intent(in) :: case
@@ -700,11 +718,14 @@ contains
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(galpha_integrator_t), intent(in) :: integrator
+      type(sensor_t), intent(in) :: sensors(:)
       type(error_t), allocatable, intent(out) :: error
       integer, allocatable :: flags(:)
       integer :: k, j
       call results%create(results_file, case%name, trim(case%run%title), &
-         trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error)
+         trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error, &
+         has_crank=mech%rotor > 0)
+      call add_sensor_series(results, mech, sensors, error)
       do k = 1, size(bodies)
          if (allocated(error)) exit
          call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
@@ -727,6 +748,34 @@ contains
       end do
       if (allocated(error)) call add_context(error, 'results file "' // results_file // '"')
    end subroutine open_results
+
+   !> A series /sensors/<name> per sensor, with its type and what it measures as attributes.
+   subroutine add_sensor_series(results, mech, sensors, error)
+      type(engine_results_t), intent(inout) :: results
+      type(mechanism_t), intent(in) :: mech
+      type(sensor_t), intent(in) :: sensors(:)
+      type(error_t), allocatable, intent(inout) :: error
+      character(len=:), allocatable :: body, marker, joint
+      integer :: k, joint_kind
+      do k = 1, size(sensors)
+         if (allocated(error)) return
+         associate (x => sensors(k))
+            body = ''
+            marker = ''
+            joint = ''
+            joint_kind = 0
+            if (x%body > 0) body = mech%bodies(x%body)%name
+            if (x%marker > 0) marker = trim(x%marker_name)
+            if (x%joint > 0) then
+               joint = mech%joints(x%joint)%name
+               if (mech%joints(x%joint)%joint%kind_name() == 'revolute') &
+                  joint_kind = JOINT_REVOLUTE
+            end if
+            call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
+               sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, error)
+         end associate
+      end do
+   end subroutine add_sensor_series
 
    !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
    !> virtual-node rows, basis, interfaces), engine_results_write_modes.
@@ -845,8 +894,8 @@ contains
          error)
       if (.not. allocated(error)) call results%write_real('/final_state/lambda', &
          integrator%lambda, '1', error)
-      if (.not. allocated(error)) call results%write_real('/final_state/crank_angle', &
-         [mech%rotor_angle(integrator%q)], 'rad', error)
+      if (.not. allocated(error) .and. mech%rotor > 0) call results%write_real( &
+         '/final_state/crank_angle', [mech%rotor_angle(integrator%q)], 'rad', error)
    end subroutine write_run_information
 
    !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
@@ -949,8 +998,9 @@ contains
          error)
       if (.not. allocated(error)) call results%write_real('/checkpoint/energy_balance', &
          balance%export_state(), '1', error)
-      if (.not. allocated(error)) call results%write_real('/checkpoint/crank_reference', &
-         [crank_reference], 'rad', error)
+      ! the crank angle's unwrapping reference: an engine (a mechanism with a crank) only
+      if (.not. allocated(error) .and. mech%rotor > 0) call results%write_real( &
+         '/checkpoint/crank_reference', [crank_reference], 'rad', error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_steps', &
          [int(num_steps, i8)], error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_coordinates', &
@@ -1009,8 +1059,14 @@ contains
          restart%ints, error)
       if (.not. allocated(error)) call source%read_real('/checkpoint/energy_balance', &
          restart%balance, error)
-      if (.not. allocated(error)) call source%read_real('/checkpoint/crank_reference', &
-         restart%crank_reference, error)
+      if (.not. allocated(error)) then
+         if (source%exists('/checkpoint/crank_reference')) then
+            call source%read_real('/checkpoint/crank_reference', restart%crank_reference, error)
+         else
+            ! a run without a crank writes none: the unwrapping reference stays 0
+            restart%crank_reference = [0.0_dp]
+         end if
+      end if
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_steps', counts, error)
       if (.not. allocated(error)) restart%num_steps = int(counts(1))
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_coordinates', counts, &

@@ -34,6 +34,7 @@ module ffrf_app_mechanism_session
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
    use ffrf_mbs_host_load, only: host_load_t
+   use ffrf_mbs_sensors, only: sensor_t, sensor_size
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t, galpha_settings_t
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
@@ -78,6 +79,8 @@ module ffrf_app_mechanism_session
       type(mechanism_output_t) :: output
       !> The progress log of the run (prepare's)
       type(logger_t) :: log
+      !> The sensors of the case, then an engine case's crank sensors (ffrf_mbs_sensors)
+      type(sensor_t), allocatable :: sensors(:)
    contains
       !> Modes, mechanism, start of the integration
       procedure :: prepare => session_prepare
@@ -98,6 +101,11 @@ module ffrf_app_mechanism_session
       procedure :: num_markers => session_num_markers
       !> Global position, velocity and angular velocity of a marker
       procedure :: marker_motion => session_marker_motion
+      !> Sensors: how many, the name and number of values of one, its values now
+      procedure :: num_sensors => session_num_sensors
+      procedure :: sensor_name => session_sensor_name
+      procedure :: sensor_size => session_sensor_size
+      procedure :: sensor_values => session_sensor_values
       !> Number of joints
       procedure :: num_joints => session_num_joints
       !> Reaction force and moment of a joint on its two bodies
@@ -116,7 +124,7 @@ contains
    !> and start its integration: the integrator settings of the case (h of the automatic model
    !> when it chose one), the max_steps check, galpha_init (prepare's first part).
    subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, pressure, &
-         has_pressure, model, integrator, error, timer)
+         has_pressure, model, integrator, sensors, error, timer)
       type(case_input_t), intent(in) :: case
       !> The case resolved (build_model), built here
       type(model_t), intent(out) :: resolved
@@ -130,6 +138,8 @@ contains
       logical, intent(out) :: has_pressure
       type(model_choice_t), intent(out) :: model
       type(galpha_integrator_t), intent(out) :: integrator
+      !> The sensors (build_mechanism)
+      type(sensor_t), allocatable, intent(out) :: sensors(:)
       type(error_t), allocatable, intent(out) :: error
       !> Started after the bodies are built (the caller's timer of the integration start)
       type(stage_timer_t), intent(inout), optional :: timer
@@ -139,7 +149,7 @@ contains
       case_file = case%file_name
       call build_model(case, resolved, error)
       if (.not. allocated(error)) call build_mechanism(case, resolved, mesh_dir, log, times, &
-         mech, bodies, q, v, pressure, has_pressure, error, model)
+         mech, bodies, q, v, pressure, has_pressure, error, model, sensors)
       if (allocated(error)) then
          call add_context(error, case_file)
          return
@@ -197,10 +207,11 @@ contains
       call ranks%agree(error)
       if (allocated(error)) return
       call start_integration(case, self%resolved, mesh_dir, log, times, self%mech, self%bodies, &
-         self%pressure, self%has_pressure, self%model, self%integrator, error, timer)
+         self%pressure, self%has_pressure, self%model, self%integrator, self%sensors, error, &
+         timer)
       if (.not. allocated(error) .and. present(options)) then
          call self%output%start_recording(self%resolved, self%mech, self%bodies, &
-            self%integrator, self%model, log, times, timer, error)
+            self%integrator, self%model, log, times, timer, error, self%sensors)
          if (.not. allocated(error)) call self%output%record_first(self%mech, self%bodies, &
             self%integrator, self%pressure, self%has_pressure, error)
       end if
@@ -444,6 +455,63 @@ contains
          angular_velocity = matmul(x%marker_rotation_jacobian(qb, marker), vb)
       end associate
    end subroutine session_marker_motion
+
+   !> Number of sensors (&sensor groups in input order, then an engine case's crank_angle and
+   !> crank_speed).
+   pure integer function session_num_sensors(self)
+      class(mechanism_session_t), intent(in) :: self
+      session_num_sensors = 0
+      if (allocated(self%sensors)) session_num_sensors = size(self%sensors)
+   end function session_num_sensors
+
+   !> Check a sensor number.
+   subroutine sensor_of(self, sensor, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. self%prepared) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: not prepared')
+      else if (sensor < 1 .or. sensor > self%num_sensors()) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: sensor ' // to_str(sensor) // &
+            ' does not exist; the case has ' // to_str(self%num_sensors()) // ' sensors')
+      end if
+   end subroutine sensor_of
+
+   !> Name of sensor `sensor` (1..num_sensors).
+   subroutine session_sensor_name(self, sensor, name, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      character(len=:), allocatable, intent(out) :: name
+      type(error_t), allocatable, intent(out) :: error
+      name = ''
+      call sensor_of(self, sensor, error)
+      if (.not. allocated(error)) name = trim(self%sensors(sensor)%name)
+   end subroutine session_sensor_name
+
+   !> Number of values of sensor `sensor` (1..num_sensors).
+   subroutine session_sensor_size(self, sensor, size_, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      integer, intent(out) :: size_
+      type(error_t), allocatable, intent(out) :: error
+      size_ = 0
+      call sensor_of(self, sensor, error)
+      if (.not. allocated(error)) size_ = sensor_size(self%sensors(sensor)%kind)
+   end subroutine session_sensor_size
+
+   !> Values of sensor `sensor` at the current state (the integrator's multipliers for a
+   !> reaction; docs/sensors.md).
+   subroutine session_sensor_values(self, sensor, values, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      real(dp), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      allocate (values(0))
+      call sensor_of(self, sensor, error)
+      if (allocated(error)) return
+      call self%sensors(sensor)%evaluate(self%mech, self%integrator%q, self%integrator%v, &
+         self%integrator%qdd, self%integrator%lambda, values, error)
+   end subroutine session_sensor_values
 
    !> Number of joints (&joint groups in input order).
    pure integer function session_num_joints(self)

@@ -20,7 +20,8 @@ module ffrf_capi
       ffrf_case_close, ffrf_body_sizes, ffrf_body_nodes, ffrf_body_mode_shapes, &
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
-      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
+      ffrf_sensor_name, ffrf_sensor_values
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes
@@ -726,6 +727,77 @@ contains
       call c_f_pointer(moment, p, [6])
       p = reshape(m, [6])
    end function ffrf_joint_reaction
+
+   !> int ffrf_sensor_count(const ffrf_case *c, int *n)
+   integer(c_int) function ffrf_sensor_count(c, n) result(stat) bind(c, name='ffrf_sensor_count')
+      type(c_ptr), value :: c, n
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      integer(c_int), pointer :: out
+      integer :: count
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. c_associated(n)) then
+         stat = bad_call(h, 'ffrf_sensor_count: n is NULL')
+         return
+      end if
+      call h%case%sensor_count(count, error)
+      call c_f_pointer(n, out)
+      out = int(count, c_int)
+      stat = status_of(h, error)
+   end function ffrf_sensor_count
+
+   !> int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len)
+   integer(c_int) function ffrf_sensor_name(c, sensor, buf, length) result(stat) &
+         bind(c, name='ffrf_sensor_name')
+      type(c_ptr), value :: c, buf
+      integer(c_int), value :: sensor
+      integer(c_size_t), value :: length
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: name
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      call h%case%sensor_name(int(sensor) + 1, name, error)
+      stat = status_of(h, error)
+      if (stat == 0) stat = copy_name(h, 'ffrf_sensor_name', name, buf, length)
+   end function ffrf_sensor_name
+
+   !> int ffrf_sensor_values(const ffrf_case *c, int sensor, double *values, int capacity,
+   !> int *count)
+   integer(c_int) function ffrf_sensor_values(c, sensor, values, capacity, count) result(stat) &
+         bind(c, name='ffrf_sensor_values')
+      type(c_ptr), value :: c, values, count
+      integer(c_int), value :: sensor, capacity
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: x(:)
+      integer(c_int), pointer :: out
+      integer(c_size_t) :: n
+      h => handle_of(c)
+      if (.not. associated(h)) then
+         stat = FFRF_BAD_CALL
+         return
+      end if
+      if (.not. c_associated(count) .or. capacity < 0) then
+         stat = bad_call(h, 'ffrf_sensor_values: count is NULL or capacity negative')
+         return
+      end if
+      call c_f_pointer(count, out)
+      out = 0
+      call h%case%sensor_values(int(sensor) + 1, x, error)
+      stat = status_of(h, error)
+      if (stat /= 0) return
+      out = int(size(x), c_int)
+      if (c_associated(values)) stat = copy_out(h, 'ffrf_sensor_values', x, values, &
+         int(capacity, c_size_t), n)
+   end function ffrf_sensor_values
 
    !> int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[3],
    !> const double moment[3])

@@ -130,6 +130,9 @@ module ffrf_capi_case
       procedure :: joint_count => case_joint_count
       procedure :: joint_name => case_joint_name
       procedure :: joint_reaction => case_joint_reaction
+      procedure :: sensor_count => case_sensor_count
+      procedure :: sensor_name => case_sensor_name
+      procedure :: sensor_values => case_sensor_values
       procedure :: set_marker_load => case_set_marker_load
       !> Release everything
       procedure :: close => case_close
@@ -1074,6 +1077,51 @@ contains
       call check_joint(self, 'joint_reaction', joint, error)
       if (.not. allocated(error)) call self%session%joint_reaction(joint, force, moment, error)
    end subroutine case_joint_reaction
+
+   !> Number of sensors (&sensor groups, then an engine case's crank_angle and crank_speed).
+   subroutine case_sensor_count(self, n, error)
+      class(ffrf_case_t), intent(in) :: self
+      integer, intent(out) :: n
+      type(error_t), allocatable, intent(out) :: error
+      n = 0
+      call check_session(self, 'sensor_count', error)
+      if (.not. allocated(error)) n = self%session%num_sensors()
+   end subroutine case_sensor_count
+
+   !> FFRF_BAD_CALL unless the sensor exists.
+   subroutine check_sensor(self, what, sensor, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: sensor
+      type(error_t), allocatable, intent(out) :: error
+      call check_session(self, what, error)
+      if (allocated(error)) return
+      if (sensor < 1 .or. sensor > self%session%num_sensors()) call bad_call(error, what // &
+         ': sensor ' // to_str(sensor - 1) // ' does not exist; the case has ' // &
+         to_str(self%session%num_sensors()) // ' sensors')
+   end subroutine check_sensor
+
+   !> Name of sensor `sensor`.
+   subroutine case_sensor_name(self, sensor, name, error)
+      class(ffrf_case_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      character(len=:), allocatable, intent(out) :: name
+      type(error_t), allocatable, intent(out) :: error
+      name = ''
+      call check_sensor(self, 'sensor_name', sensor, error)
+      if (.not. allocated(error)) call self%session%sensor_name(sensor, name, error)
+   end subroutine case_sensor_name
+
+   !> Values of sensor `sensor` at the current state (docs/sensors.md).
+   subroutine case_sensor_values(self, sensor, values, error)
+      class(ffrf_case_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      real(dp), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      allocate (values(0))
+      call check_sensor(self, 'sensor_values', sensor, error)
+      if (.not. allocated(error)) call self%session%sensor_values(sensor, values, error)
+   end subroutine case_sensor_values
 
    !> Apply a global force (N) and moment (N m) at a marker from now on, until set again.
    subroutine case_set_marker_load(self, body, marker, force, moment, error)

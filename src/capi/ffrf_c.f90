@@ -15,7 +15,8 @@ module ffrf_c
       ffrf_case_close, ffrf_body_sizes, ffrf_body_nodes, ffrf_body_mode_shapes, &
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
-      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load
+      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
+      ffrf_sensor_name, ffrf_sensor_values
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
@@ -221,6 +222,33 @@ module ffrf_c
          integer(c_int), value :: joint
          real(c_double), intent(out) :: force(6), moment(6)
       end function ffrf_joint_reaction
+
+      integer(c_int) function ffrf_sensor_count(c, n) bind(c, name='ffrf_sensor_count')
+         import :: c_int, c_ptr
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), intent(out) :: n
+      end function ffrf_sensor_count
+
+      integer(c_int) function ffrf_sensor_name(c, sensor, buf, length) &
+            bind(c, name='ffrf_sensor_name')
+         import :: c_int, c_ptr, c_char, c_size_t
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: sensor
+         character(kind=c_char), intent(out) :: buf(*)
+         integer(c_size_t), value :: length
+      end function ffrf_sensor_name
+
+      integer(c_int) function ffrf_sensor_values(c, sensor, values, capacity, count) &
+            bind(c, name='ffrf_sensor_values')
+         import :: c_int, c_ptr, c_double
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: sensor, capacity
+         real(c_double), intent(out) :: values(*)
+         integer(c_int), intent(out) :: count
+      end function ffrf_sensor_values
 
       integer(c_int) function ffrf_marker_set_load(c, body, marker, force, moment) &
             bind(c, name='ffrf_marker_set_load')

@@ -20,6 +20,7 @@ module ffrf_input_case
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
+   use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
@@ -57,7 +58,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(11))
+      allocate (groups(12))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -69,6 +70,7 @@ contains
       call set(9, 'pressure', .false., pressure_keys())
       call set(10, 'integrator', .false., integrator_keys())
       call set(11, 'model', .false., model_keys())
+      call set(12, 'sensor', .true., sensor_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -151,6 +153,11 @@ contains
       if (.not. allocated(error)) then
          case%is_mechanism = src%count('joint') > 0
          if (case%is_mechanism) call read_mechanism_groups(unit, src, case%mechanism, error)
+         if (case%is_mechanism .and. .not. allocated(error)) call read_sensor_groups(unit, src, &
+            case%mechanism%sensors, error)
+         if (.not. case%is_mechanism .and. src%count('sensor') > 0) call fatal_error(error, &
+            FFRF_INPUT_ERROR, src%where('sensor', 1, '') // ': a modal run has no sensors ' // &
+            '(they measure a mechanism run, a case with &joint groups); remove it')
       end if
       close (unit)
       if (allocated(error)) then
@@ -375,9 +382,16 @@ contains
       type(energy_watch_settings_t) :: default_watch
       integer :: k
       associate (m => mech%mechanism, p => mech%pressure, s => mech%integrator)
-         text = '&mechanism crank = ''' // nml_string(m%crank) // ''', crank_angle_deg = ' // &
-            to_str(m%crank_angle_deg, 12) // ', crank_speed = ' // to_str(m%crank_speed, 12) // &
-            ', gravity = ' // vector_text(m%gravity) // ', label = ''' // nml_string(m%label) // &
+         ! A mechanism without a crank (and its defaults) has no crank keys in its echo
+         if (len_trim(m%crank) == 0 .and. m%crank_angle_deg == 0.0_dp .and. &
+            m%crank_speed == 0.0_dp) then
+            text = '&mechanism gravity = '
+         else
+            text = '&mechanism crank = ''' // nml_string(m%crank) // ''', crank_angle_deg = ' &
+               // to_str(m%crank_angle_deg, 12) // ', crank_speed = ' // &
+               to_str(m%crank_speed, 12) // ', gravity = '
+         end if
+         text = text // vector_text(m%gravity) // ', label = ''' // nml_string(m%label) // &
             ''', progress_interval = ' // to_str(m%progress_interval, 6) // &
             ', animation_frames = ' // to_str(m%animation_frames) // ' /' // nl
          do k = 1, size(mech%markers)
@@ -411,6 +425,19 @@ contains
                case ('drag')
                   text = text // ', coefficient = ' // to_str(l%coefficient, 12)
                end select
+               text = text // ' /' // nl
+            end associate
+         end do
+         do k = 1, sensor_count(mech)
+            associate (x => mech%sensors(k))
+               text = text // '&sensor name = ''' // nml_string(x%name) // ''', type = ''' // &
+                  nml_string(x%type) // ''''
+               if (len_trim(x%body) > 0) text = text // ', body = ''' // nml_string(x%body) // &
+                  ''''
+               if (len_trim(x%marker) > 0) text = text // ', marker = ''' // &
+                  nml_string(x%marker) // ''''
+               if (len_trim(x%joint) > 0) text = text // ', joint = ''' // &
+                  nml_string(x%joint) // ''''
                text = text // ' /' // nl
             end associate
          end do
@@ -571,6 +598,8 @@ contains
                end if
             end associate
          end do
+         call check_sensor_names(src, case, error)
+         if (allocated(error)) return
          if (len_trim(mech%mechanism%crank) > 0) then
             if (body_index(case, mech%mechanism%crank) == 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, src%at('mechanism', 1, 'crank') // &
@@ -581,6 +610,49 @@ contains
          end if
       end associate
    end subroutine check_mechanism_names
+
+   !> Number of &sensor groups (0 for a case built in memory without them).
+   pure integer function sensor_count(mech)
+      type(mechanism_case_input_t), intent(in) :: mech
+      sensor_count = 0
+      if (allocated(mech%sensors)) sensor_count = size(mech%sensors)
+   end function sensor_count
+
+   !> The body, marker and joint a &sensor names exist (the marker as check_marker asks).
+   subroutine check_sensor_names(src, case, error)
+      type(nml_source_t), intent(in) :: src
+      type(case_input_t), intent(in) :: case
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      associate (mech => case%mechanism)
+         if (.not. allocated(mech%sensors)) return
+         do k = 1, size(mech%sensors)
+            associate (x => mech%sensors(k))
+               if (len_trim(x%marker) > 0) then
+                  call check_marker(case, src%at('sensor', k, 'marker') // ': &sensor "' // &
+                     trim(x%name) // '"', x%body, x%marker, error)
+               else if (len_trim(x%body) > 0) then
+                  if (body_index(case, x%body) == 0) call fatal_error(error, &
+                     FFRF_INPUT_ERROR, src%at('sensor', k, 'body') // ': &sensor "' // &
+                     trim(x%name) // '": body "' // trim(x%body) // '" is not a &body of ' // &
+                     'this case (bodies: ' // join_words(case%bodies%name, ', ') // ')')
+               end if
+               if (.not. allocated(error) .and. len_trim(mech%mechanism%crank) > 0 .and. &
+                  (x%name == 'crank_angle' .or. x%name == 'crank_speed')) call fatal_error( &
+                  error, FFRF_INPUT_ERROR, src%at('sensor', k, 'name') // ': &sensor "' // &
+                  trim(x%name) // '": the name belongs to the engine''s own sensor (a case ' // &
+                  'with &mechanism crank has crank_angle and crank_speed); name it otherwise')
+               if (.not. allocated(error) .and. len_trim(x%joint) > 0) then
+                  if (.not. any(mech%joints%name == x%joint)) call fatal_error(error, &
+                     FFRF_INPUT_ERROR, src%at('sensor', k, 'joint') // ': &sensor "' // &
+                     trim(x%name) // '": joint "' // trim(x%joint) // '" is not a &joint ' // &
+                     'of this case (joints: ' // join_words(mech%joints%name, ', ') // ')')
+               end if
+               if (allocated(error)) return
+            end associate
+         end do
+      end associate
+   end subroutine check_sensor_names
 
    !> body is 'ground' or a &body, and marker one of its markers (module header).
    subroutine check_marker(case, where, body, marker, error)

@@ -9,7 +9,7 @@ module ffrf_input_mechanism
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    implicit none
    private
-   public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t
+   public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
@@ -78,6 +78,21 @@ module ffrf_input_mechanism
       real(dp) :: coefficient = 3.6e-4_dp
    end type load_input_t
 
+   !> A sensor: a named measurement written every recorded step under /sensors/<name> (&sensor;
+   !> ffrf_mbs_sensors lists the types, docs/sensors.md the results).
+   type :: sensor_input_t
+      !> Name, unique among the sensors
+      character(len=64) :: name = ''
+      !> position, velocity, acceleration, orientation, angular_velocity (body, marker);
+      !> joint_coordinate, reaction (joint); energy (body)
+      character(len=16) :: type = ''
+      !> Body ('ground' for the ground) and marker: a &marker point or a flexible body's
+      !> &interface (its virtual node)
+      character(len=64) :: body = '', marker = ''
+      !> Joint name (joint types)
+      character(len=64) :: joint = ''
+   end type sensor_input_t
+
    !> Mechanism-wide settings (&mechanism).
    type :: mechanism_input_t
       !> Body whose rotation about z is the crank angle (pressure, starter, drag, output)
@@ -117,6 +132,8 @@ module ffrf_input_mechanism
       type(marker_input_t), allocatable :: markers(:)
       type(joint_input_t), allocatable :: joints(:)
       type(load_input_t), allocatable :: loads(:)
+      !> Sensors (&sensor), in input order
+      type(sensor_input_t), allocatable :: sensors(:)
       !> Pressure model data (&pressure); table_file: angle (deg) and absolute pressure (Pa) per
       !> line instead of the single-zone model
       type(pressure_input_t) :: pressure

@@ -15,6 +15,8 @@
 !>                energy_watch_tolerance, energy_watch_window [s]             (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
+!>   &sensor      name, type, body, marker, joint: read by ffrf_input_nml_sensor (repeatable;
+!>                docs/sensors.md)
 !> Defaults: ffrf_input_mechanism, ffrf_input_pressure's pressure_input_t (the scene's engine)
 !> and galpha_settings_t. Names are checked against each other by ffrf_input_case.
 !> Types, counts and ranges (checked by ffrf_input_nml_source from the *_keys functions below; every

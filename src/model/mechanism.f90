@@ -16,7 +16,7 @@ module ffrf_model_mechanism
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    implicit none
    private
-   public :: model_joint_t, model_load_t, model_marker_t, mechanism_model_t
+   public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -67,11 +67,24 @@ module ffrf_model_mechanism
       real(dp) :: coefficient = 0.0_dp
    end type model_load_t
 
+   !> A sensor (&sensor), resolved: its kind (SENSOR_* of ffrf_mbs_sensors) and what it measures.
+   type :: model_sensor_t
+      character(len=64) :: name = ''
+      !> SENSOR_*
+      integer :: kind = 0
+      !> Model body index (0: the ground) and marker handle (module header; 0: none)
+      integer :: body = 0, marker = 0
+      !> Joint number (&joint order; 0: none)
+      integer :: joint = 0
+   end type model_sensor_t
+
    !> The mechanism of a case, resolved (empty arrays for a modal case).
    type :: mechanism_model_t
       type(model_marker_t), allocatable :: markers(:)
       type(model_joint_t), allocatable :: joints(:)
       type(model_load_t), allocatable :: loads(:)
+      !> Sensors (&sensor), input order
+      type(model_sensor_t), allocatable :: sensors(:)
       !> Model body index of the crank (0: none)
       integer :: crank = 0
       !> .true. when a load of kind LOAD_PRESSURE exists (the cylinder pressure model is made)

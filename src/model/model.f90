@@ -18,6 +18,7 @@ module ffrf_model_model
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
       load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
+   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
    implicit none
    private
    public :: model_body_t, model_t, build_model, body_spec_of
@@ -112,7 +113,7 @@ contains
       integer :: k
       if (.not. case%is_mechanism) then
          allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
-            model%mechanism%loads(0))
+            model%mechanism%loads(0), model%mechanism%sensors(0))
          return
       end if
       associate (input => case%mechanism, m => model%mechanism)
@@ -154,6 +155,35 @@ contains
                   'moving body (a &body)')
                if (allocated(error)) then
                   call add_context(error, '&load "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+         allocate (m%sensors(0))
+         if (allocated(input%sensors)) then
+            deallocate (m%sensors)
+            allocate (m%sensors(size(input%sensors)))
+         end if
+         do k = 1, size(m%sensors)
+            associate (sensor => m%sensors(k), given => input%sensors(k))
+               sensor%name = given%name
+               sensor%kind = sensor_kind_of(given%type)
+               if (sensor%kind == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'type = "' // &
+                  trim(given%type) // '" is not a sensor type; use one of ' // sensor_words)
+               if (.not. allocated(error) .and. len_trim(given%marker) > 0) then
+                  call resolve_end(given%body, given%marker, sensor%body, sensor%marker, error)
+               else if (.not. allocated(error) .and. len_trim(given%body) > 0) then
+                  sensor%body = model%body_index(given%body)
+                  if (sensor%body == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'body "' // &
+                     trim(given%body) // '" is not a &body')
+               end if
+               if (.not. allocated(error) .and. len_trim(given%joint) > 0) then
+                  sensor%joint = findloc(input%joints%name, given%joint, dim=1)
+                  if (sensor%joint == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'joint "' // &
+                     trim(given%joint) // '" is not a &joint')
+               end if
+               if (allocated(error)) then
+                  call add_context(error, '&sensor "' // trim(given%name) // '"')
                   return
                end if
             end associate

@@ -7,6 +7,8 @@
 #  - capi_node_sets: interfaces on node sets (ffrf_case_add_interface_nodes) give the modes of
 #    the surface interfaces with the same nodes and weights (uniform, tributary and consistent
 #    area weights, to 1e-12) on a Tet10 block built from arrays.
+#  - capi_sensors: ffrf_sensor_count/name/values on a crank-less slider mechanism (closed
+#    forms) and the engine (crank sensors = ffrf_crank_state), failure paths included.
 #  - capi_compare_driver: the C API's frequencies (crank lc 8 mm, RC set 2) equal the driver's
 #    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
 #    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
@@ -52,7 +54,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
 foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
-    test_capi_values)
+    test_capi_values test_capi_sensors)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -80,6 +82,14 @@ if(VALGRIND_EXECUTABLE)
   list(APPEND _capi_tests capi_bad_calls_valgrind)
 endif()
 set_tests_properties(${_capi_tests} PROPERTIES LABELS "capi")
+
+# Sensors through the C API (test_capi_sensors.c): a crank-less slider mechanism against closed
+# forms at every 10 ms chunk, the engine's crank sensors equal to ffrf_crank_state, bad calls
+add_test(NAME capi_sensors COMMAND test_capi_sensors
+  "${PROJECT_SOURCE_DIR}/tests/data/sensors/slider_wheel.nml" "${_capi_out}/capi_engine.nml"
+  "${PROJECT_BINARY_DIR}/meshes")
+set_tests_properties(capi_sensors PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
 
 add_test(NAME capi_compare_driver
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}

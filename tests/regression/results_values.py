@@ -92,6 +92,10 @@ RULES = [
     ("*.h5:final_state/crank_angle", Rule("value", atol=1e-6)),
     ("*.h5:checkpoint/crank_reference", Rule("value", atol=1e-6)),
     ("*.h5:time/*", Rule("value", rtol=1e-6)),
+    # the engine's crank sensors: the numbers of /time/crank_angle and /time/crank_speed
+    ("*.h5:sensors/crank_angle", Rule("value", atol=1e-6)),
+    ("*.h5:sensors/crank_speed", Rule("value", rtol=1e-6)),
+    ("*.h5:sensors/*", Rule("value", rtol=1e-6, atol=1e-12, per_component=True)),
     ("*.h5:bodies/*/position", Rule("value", rtol=1e-6, atol=1e-12)),
     ("*.h5:bodies/*/euler_parameters", Rule("value", rtol=1e-6, atol=1e-12)),
     ("*.h5:bodies/*/modal_coordinates", Rule("value", rtol=1e-6, atol=1e-10, sign_axis=1)),

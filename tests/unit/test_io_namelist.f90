@@ -21,6 +21,7 @@ contains
       type(unittest_t), allocatable, intent(out) :: tests(:)
       tests = [ &
          new_unittest('echo_of_inputs_unchanged', test_echo_unchanged), &
+         new_unittest('sensor_echo_reads_back', test_sensor_echo), &
          new_unittest('long_line', test_long_line), &
          new_unittest('quotes_and_repeat_counts', test_quotes_and_repeats), &
          new_unittest('key_location', test_key_location), &
@@ -54,6 +55,38 @@ contains
          end if
       end do
    end subroutine test_echo_unchanged
+
+   !> The &sensor groups are in the echo, one line each with the keys their type needs, and the
+   !> echo reads back to the same echo (tests/data/sensors/slider_wheel.nml, 11 sensors); a
+   !> mechanism without a crank has no crank keys in its &mechanism line.
+   subroutine test_sensor_echo(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(case_input_t) :: case, again
+      character(len=:), allocatable :: echo
+      character(len=*), parameter :: file_name = 'test_io_namelist_sensor_echo.nml'
+      integer :: unit, stat
+      call read_case(data_dir() // '/sensors/slider_wheel.nml', case, error)
+      if (allocated(error)) return
+      call check(error, '11 sensors read', size(case%mechanism%sensors) == 11)
+      if (allocated(error)) return
+      echo = case_echo(case)
+      call check(error, 'a joint sensor echoed', index(echo, '&sensor name = ''bearing_angle''' &
+         // ', type = ''joint_coordinate'', joint = ''bearing'' /') > 0)
+      if (allocated(error)) return
+      call check(error, 'a marker sensor echoed', index(echo, '&sensor name = ' // &
+         '''slider_position'', type = ''position'', body = ''slider'', marker = ''S'' /') > 0)
+      if (allocated(error)) return
+      call check(error, 'no crank key in a crank-less echo', index(echo, 'crank') == 0)
+      if (allocated(error)) return
+      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat)
+      if (stat == 0) write (unit, '(a)', iostat=stat) echo
+      if (stat == 0) close (unit, iostat=stat)
+      call check(error, 'echo written to ' // file_name, stat == 0)
+      if (allocated(error)) return
+      call read_case(file_name, again, error)
+      if (allocated(error)) return
+      call check(error, 'the echo reads back to the same echo', case_echo(again) == echo)
+   end subroutine test_sensor_echo
 
    !> A 5000-character line is read whole: the key after column 4000 arrives.
    subroutine test_long_line(error)

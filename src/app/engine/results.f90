@@ -4,7 +4,10 @@
 !> root attributes status, case_name, title, ffrf_version; /input/namelist; /build/versions;
 !> /engine with attributes rc_set and mpc (also as the string datasets /engine/rc_set and
 !> /engine/mpc: a group needs a dataset to exist); growing series (one entry per step)
-!> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]},
+!> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]} (the crank
+!> series only when the run has a crank: create's has_crank),
+!> /sensors/<name> (one per sensor, sum of their values per step; attributes units, type, body,
+!> marker, joint; docs/sensors.md),
 !> /energy/{kinetic, strain, external_work, numerical_dissipation, scheme_dissipation,
 !> damping_dissipation} [J] (ffrf_mbs_energy_balance: D = W - dT - dU - D_p, D_s from the
 !> integrator's identity, D_p the energy taken by the modal damping),
@@ -65,6 +68,13 @@ module ffrf_app_engine_results
       character(len=256), allocatable :: body_paths(:), joint_paths(:)
       !> Modes per body
       integer, allocatable :: num_modes(:)
+      !> The run has a crank: /time/crank_angle and /time/crank_speed are written (create)
+      logical :: has_crank = .true.
+      !> Sensor series /sensors/<name> and their numbers of values
+      character(len=256), allocatable :: sensor_paths(:)
+      integer, allocatable :: sensor_rows(:)
+      !> Buffered sensor values (sum(sensor_rows), steps_per_flush)
+      real(dp), allocatable :: sensor_buffer(:, :)
       !> Buffered scalars (steps_per_flush, NUM_SCALARS)
       real(dp), allocatable :: scalars(:, :)
       !> Buffered coordinates [R; theta; zeta] of all bodies, stacked
@@ -77,6 +87,7 @@ module ffrf_app_engine_results
       procedure :: set_steps_per_flush => engine_results_set_steps_per_flush
       procedure :: add_body_series => engine_results_add_body_series
       procedure :: add_joint_series => engine_results_add_joint_series
+      procedure :: add_sensor_series => engine_results_add_sensor_series
       procedure :: record => engine_results_record
       procedure :: flush => engine_results_flush
       procedure :: finish => engine_results_finish
@@ -95,7 +106,7 @@ contains
    !> Create the file (truncated if it exists) with status 'running', the input echo, the
    !> /engine attributes and the empty /time and /energy series.
    subroutine engine_results_create(self, file_name, case_name, title, rc_set_label, mpc_label, &
-         echo, error)
+         echo, error, has_crank)
       class(engine_results_t), intent(inout) :: self
       !> Results file
       character(len=*), intent(in) :: file_name
@@ -106,8 +117,15 @@ contains
       !> Resolved input as namelist text
       character(len=*), intent(in) :: echo
       type(error_t), allocatable, intent(out) :: error
+      !> .false.: a run without a crank, no /time/crank_angle nor /time/crank_speed (default .true.)
+      logical, intent(in), optional :: has_crank
       integer :: k
 
+      self%has_crank = .true.
+      if (present(has_crank)) self%has_crank = has_crank
+      self%sensor_paths = [character(len=256) ::]
+      self%sensor_rows = [integer ::]
+      if (allocated(self%sensor_buffer)) deallocate (self%sensor_buffer)
       self%file_name = file_name
       self%num_buffered = 0
       self%num_recorded = 0
@@ -122,6 +140,7 @@ contains
          error)
       if (.not. allocated(error)) call self%h5%set_attribute('/engine', 'mpc', mpc_label, error)
       do k = 1, NUM_SCALARS
+         if (.not. self%has_crank .and. (k == 2 .or. k == 3)) cycle
          if (.not. allocated(error)) call self%h5%create_series(trim(SCALAR_PATHS(k)), 0, &
             trim(SCALAR_UNITS(k)), error)
       end do
@@ -198,10 +217,37 @@ contains
       self%joint_paths = [character(len=256) :: self%joint_paths, path]
    end subroutine engine_results_add_joint_series
 
+   !> A sensor series /sensors/<name>: `rows` values per step (a (num_steps x rows) dataset in
+   !> h5py) with the attributes units, type and, when given, body, marker and joint.
+   subroutine engine_results_add_sensor_series(self, name, rows, unit, type, body, marker, &
+         joint, error)
+      class(engine_results_t), intent(inout) :: self
+      !> Sensor name, unit of its values, its type word, what it measures ('' when not)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: rows
+      character(len=*), intent(in) :: unit, type, body, marker, joint
+      type(error_t), allocatable, intent(out) :: error
+      character(len=256) :: path
+      call check_not_started(self, 'add_sensor_series', error)
+      if (allocated(error)) return
+      path = '/sensors/' // name
+      call self%h5%create_series(trim(path), rows, unit, error)
+      if (.not. allocated(error)) call self%h5%set_attribute(trim(path), 'type', type, error)
+      if (.not. allocated(error) .and. len_trim(body) > 0) call self%h5%set_attribute( &
+         trim(path), 'body', body, error)
+      if (.not. allocated(error) .and. len_trim(marker) > 0) call self%h5%set_attribute( &
+         trim(path), 'marker', marker, error)
+      if (.not. allocated(error) .and. len_trim(joint) > 0) call self%h5%set_attribute( &
+         trim(path), 'joint', joint, error)
+      if (allocated(error)) return
+      self%sensor_paths = [character(len=256) :: self%sensor_paths, path]
+      self%sensor_rows = [self%sensor_rows, rows]
+   end subroutine engine_results_add_sensor_series
+
    !> Record one step. It is buffered; every `steps_per_flush` steps the buffer is appended to
    !> the series and the file flushed. A non-finite value is an error (nothing is recorded).
    subroutine engine_results_record(self, t, crank_angle, crank_speed, pressure, energies, &
-         modal, reactions, error, scheme_dissipation, damping_dissipation)
+         modal, reactions, error, scheme_dissipation, damping_dissipation, sensors)
       class(engine_results_t), intent(inout) :: self
       !> Time (s)
       real(dp), intent(in) :: t
@@ -223,6 +269,8 @@ contains
       real(dp), intent(in), optional :: scheme_dissipation
       !> Energy taken by the modal damping D_p (J); 0 when absent
       real(dp), intent(in), optional :: damping_dissipation
+      !> Values of the sensors added, concatenated in the order of add_sensor_series
+      real(dp), intent(in), optional :: sensors(:)
       real(dp) :: d_s, d_p
       integer :: n
 
@@ -255,6 +303,28 @@ contains
             'integration diverged; reduce the time step')
          return
       end if
+      if (sum(self%sensor_rows) > 0) then
+         if (.not. present(sensors)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+               '": record got no sensor values; expected ' // to_str(sum(self%sensor_rows)))
+            return
+         end if
+         if (size(sensors) /= sum(self%sensor_rows)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'engine results "' // self%file_name // &
+               '": record got ' // to_str(size(sensors)) // ' sensor values, expected ' // &
+               to_str(sum(self%sensor_rows)))
+            return
+         end if
+         if (.not. all(ieee_is_finite(sensors))) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'engine results "' // self%file_name &
+               // '": non-finite sensor value at step ' // to_str(self%num_recorded + 1) // &
+               ', t = ' // to_str(t) // ' s: the integration diverged; reduce the time step')
+            return
+         end if
+         if (.not. allocated(self%sensor_buffer)) allocate (self%sensor_buffer( &
+            sum(self%sensor_rows), self%steps_per_flush))
+         self%sensor_buffer(:, self%num_buffered + 1) = sensors
+      end if
       if (.not. allocated(self%scalars)) then
          allocate (self%scalars(self%steps_per_flush, NUM_SCALARS))
          allocate (self%modal(sum(self%num_modes + 7), self%steps_per_flush))
@@ -279,8 +349,16 @@ contains
       n = self%num_buffered
       if (n > 0) then
          do k = 1, NUM_SCALARS
+            if (.not. self%has_crank .and. (k == 2 .or. k == 3)) cycle
             call self%h5%append(trim(SCALAR_PATHS(k)), self%scalars(1:n, k), error)
             if (allocated(error)) return
+         end do
+         first = 1
+         do k = 1, size(self%sensor_paths)
+            block = self%sensor_buffer(first:first + self%sensor_rows(k) - 1, 1:n)
+            call self%h5%append(trim(self%sensor_paths(k)), block, error)
+            if (allocated(error)) return
+            first = first + self%sensor_rows(k)
          end do
          first = 1
          do k = 1, size(self%body_paths)
@@ -472,7 +550,12 @@ contains
       call check_not_started(self, 'append_from', error)
       if (allocated(error)) return
       do k = 1, NUM_SCALARS
+         if (.not. self%has_crank .and. (k == 2 .or. k == 3)) cycle
          call copy_series(trim(SCALAR_PATHS(k)), .true.)
+         if (allocated(error)) return
+      end do
+      do k = 1, size(self%sensor_paths)
+         call copy_series(trim(self%sensor_paths(k)), .false.)
          if (allocated(error)) return
       end do
       do k = 1, size(self%body_paths)

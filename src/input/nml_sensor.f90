@@ -1,0 +1,91 @@
+!> Namelist group &sensor of a mechanism run (repeatable): a named measurement written every
+!> recorded step under /sensors/<name> of the results file (docs/sensors.md).
+!>   &sensor  name, type, body, marker, joint                                 (repeatable)
+!>   type: position [m], velocity [m/s], acceleration [m/s^2], orientation [1, the marker frame's
+!>         axes], angular_velocity [rad/s] (body and marker: a &marker point of a rigid body or
+!>         the ground, or an &interface of a flexible body, its virtual node with its elastic
+!>         motion); joint_coordinate [rad for a revolute, m for a prismatic], reaction [N, N m]
+!>         (joint); energy [J, kinetic and strain] (body)
+!>   name: unique among the sensors, at most 64 characters (default: the type).
+!> The body, marker and joint names are checked against the case by ffrf_input_case.
+module ffrf_input_nml_sensor
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_lower
+   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key, nml_source_t
+   use ffrf_input_mechanism, only: sensor_input_t
+   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words, sensor_needs_marker, &
+      sensor_needs_joint, sensor_needs_body
+   implicit none
+   private
+   public :: read_sensor_groups, sensor_keys
+
+contains
+
+   !> Keys of &sensor (module header).
+   function sensor_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), choice_key('type', 16, sensor_words), &
+         string_key('body', 64), string_key('marker', 64), string_key('joint', 64)]
+   end function sensor_keys
+
+   !> Every &sensor group, in input order; the keys a type needs must be given.
+   subroutine read_sensor_groups(unit, src, sensors, error)
+      integer, intent(in) :: unit
+      !> The checked case text (FILE:LINE of the keys)
+      type(nml_source_t), intent(in) :: src
+      type(sensor_input_t), allocatable, intent(out) :: sensors(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(sensor_input_t) :: defaults
+      character(len=64) :: name, body, marker, joint
+      character(len=16) :: type
+      integer :: stat, k, kind
+      character(len=512) :: msg
+      character(len=:), allocatable :: where
+      namelist /sensor/ name, type, body, marker, joint
+      allocate (sensors(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         type = defaults%type
+         body = defaults%body
+         marker = defaults%marker
+         joint = defaults%joint
+         read (unit, nml=sensor, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(sensors) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'sensor', k, msg, 'name, type, body, marker, joint')
+            return
+         end if
+         type = to_lower(type)
+         if (len_trim(name) == 0) name = type
+         where = src%where('sensor', k, '') // ' "' // trim(name) // '"'
+         kind = sensor_kind_of(type)
+         if (kind == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'type') // &
+               ': type = ''' // trim(type) // ''', must be one of ' // sensor_words)
+         else if (any(sensors%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
+               ': sensor "' // trim(name) // '" is given twice; sensor names must be unique')
+         else if (scan(trim(name), '/.') > 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
+               ': name = ''' // trim(name) // ''' holds a "/" or "."; a sensor name is ' // &
+               'one word of the results file (/sensors/<name>)')
+         else if (sensor_needs_marker(kind) .and. (len_trim(body) == 0 .or. &
+            len_trim(marker) == 0)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
+               ''' needs body and marker (a &marker point, or an &interface of a flexible body)')
+         else if (sensor_needs_joint(kind) .and. len_trim(joint) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
+               ''' needs joint = ''<a &joint name>''')
+         else if (sensor_needs_body(kind) .and. len_trim(body) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
+               ''' needs body = ''<a &body name>''')
+         end if
+         if (allocated(error)) return
+         sensors = [sensors, sensor_input_t(name, type, body, marker, joint)]
+      end do
+   end subroutine read_sensor_groups
+
+end module ffrf_input_nml_sensor

@@ -1,0 +1,229 @@
+!> Sensors: named measurements of a mechanism's state, evaluated at a state (q, v, q'', lambda)
+!> and written once per recorded step (docs/sensors.md). One table lists the kinds: the words a
+!> user writes (&sensor type), the kind each maps to, the number of values and their unit.
+!>
+!> | word             | values                                                    | unit     |
+!> |------------------|-----------------------------------------------------------|----------|
+!> | position         | r_k(q), global position of the marker                     | m        |
+!> | velocity         | L_r v (theory.md 3.5)                                     | m/s      |
+!> | acceleration     | L_r q'' + (d L_r / dt) v                                  | m/s^2    |
+!> | orientation      | the marker frame, global: its x, y, z axes (9, by column) | 1        |
+!> | angular_velocity | L_w v, global                                             | rad/s    |
+!> | joint_coordinate | revolute: angle of marker b's x axis about marker a's z   | rad or m |
+!> |                  | axis, in (-pi, pi]; prismatic: (r_b - r_a) . z_a; other   |          |
+!> |                  | kinds: |r_b - r_a|                                         |          |
+!> | reaction         | force and moment on body a, then on body b (12, global)   | N, N m   |
+!> | energy           | kinetic v^T M v / 2 and strain energy of a body (2)       | J        |
+!>
+!> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
+!> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
+!> body's own marker functions). (d L_r / dt) v is the central difference of L_r(q + s v) v in
+!> s (s = eps**(1/3) relative): exact but for round-off on rigid bodies (L_r is quadratic in
+!> the Euler parameters), O(s^2) on flexible ones. Two further kinds are not user words: the
+!> rotor angle and speed of the mechanism (ffrf_mbs_mechanism set_rotor), which applications
+!> attach under their own names.
+module ffrf_mbs_sensors
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
+   implicit none
+   private
+   public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
+   public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body
+   public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
+      SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
+      SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
+
+   integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
+      SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
+      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_ROTOR_ANGLE = 9, SENSOR_ROTOR_SPEED = 10
+   !> Number of user words (the first kinds of the table)
+   integer, parameter :: NUM_WORDS = 8
+   !> The table (module header): word, number of values, unit, in the order of the kinds
+   character(len=*), parameter :: WORDS(10) = [character(len=16) :: 'position', 'velocity', &
+      'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
+      'energy', 'rotor_angle', 'rotor_speed']
+   integer, parameter :: SIZES(10) = [3, 3, 3, 9, 3, 1, 12, 2, 1, 1]
+   character(len=*), parameter :: UNITS(10) = [character(len=8) :: 'm', 'm/s', 'm/s^2', '1', &
+      'rad/s', 'rad', 'N, N m', 'J', 'rad', 'rad/s']
+   !> The words &sensor type accepts, ', '-separated
+   character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
+      'orientation, angular_velocity, joint_coordinate, reaction, energy'
+
+   !> A sensor, resolved to mechanism indices.
+   type :: sensor_t
+      !> Name (the results group /sensors/<name>)
+      character(len=64) :: name = ''
+      !> SENSOR_*
+      integer :: kind = 0
+      !> Mechanism index of the body (marker and energy kinds)
+      integer :: body = 0
+      !> Marker of the body (marker kinds) and its name, for the output
+      integer :: marker = 0
+      character(len=64) :: marker_name = ''
+      !> Mechanism joint number (joint kinds)
+      integer :: joint = 0
+   contains
+      !> Its values at a state (sensor_size(kind) of them)
+      procedure :: evaluate => sensor_evaluate
+   end type sensor_t
+
+contains
+
+   !> The kind of a &sensor type word (a user word; 0 if none).
+   pure integer function sensor_kind_of(word) result(kind)
+      character(len=*), intent(in) :: word
+      do kind = 1, NUM_WORDS
+         if (trim(WORDS(kind)) == trim(adjustl(word))) return
+      end do
+      kind = 0
+   end function sensor_kind_of
+
+   !> The word of a kind (the rotor kinds included).
+   pure function sensor_word(kind) result(word)
+      integer, intent(in) :: kind
+      character(len=:), allocatable :: word
+      word = 'unknown'
+      if (kind >= 1 .and. kind <= size(WORDS)) word = trim(WORDS(kind))
+   end function sensor_word
+
+   !> Number of values of a kind.
+   pure integer function sensor_size(kind)
+      integer, intent(in) :: kind
+      sensor_size = 0
+      if (kind >= 1 .and. kind <= size(SIZES)) sensor_size = SIZES(kind)
+   end function sensor_size
+
+   !> Unit of a kind; joint_coordinate: 'rad' for a revolute joint, else 'm'.
+   pure function sensor_unit(kind, joint_kind) result(unit)
+      integer, intent(in) :: kind
+      !> JOINT_* of the sensor's joint (joint kinds; else ignored)
+      integer, intent(in) :: joint_kind
+      character(len=:), allocatable :: unit
+      unit = '1'
+      if (kind >= 1 .and. kind <= size(UNITS)) unit = trim(UNITS(kind))
+      if (kind == SENSOR_JOINT_COORDINATE .and. joint_kind /= JOINT_REVOLUTE) unit = 'm'
+   end function sensor_unit
+
+   !> .true. for the kinds measured at a marker of a body.
+   pure logical function sensor_needs_marker(kind)
+      integer, intent(in) :: kind
+      sensor_needs_marker = kind >= SENSOR_POSITION .and. kind <= SENSOR_ANGULAR_VELOCITY
+   end function sensor_needs_marker
+
+   !> .true. for the kinds of a joint.
+   pure logical function sensor_needs_joint(kind)
+      integer, intent(in) :: kind
+      sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION
+   end function sensor_needs_joint
+
+   !> .true. for the kinds of a body without a marker.
+   pure logical function sensor_needs_body(kind)
+      integer, intent(in) :: kind
+      sensor_needs_body = kind == SENSOR_ENERGY
+   end function sensor_needs_body
+
+   !> The sensor's values at the state (q, v, q'', lambda) of `mech` (module header).
+   subroutine sensor_evaluate(self, mech, q, v, qdd, lambda, values, error)
+      class(sensor_t), intent(in) :: self
+      type(mechanism_t), intent(in) :: mech
+      !> Coordinates, velocities, accelerations (n), multipliers (nc)
+      real(dp), intent(in) :: q(:), v(:), qdd(:), lambda(:)
+      !> sensor_size(kind) values
+      real(dp), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: qb(:), vb(:), ab(:)
+      real(dp) :: force(3, 2), moment(3, 2), frame_a(3, 3), frame_b(3, 3), s
+      integer :: a, b
+      allocate (values(sensor_size(self%kind)), source=0.0_dp)
+      if (sensor_needs_marker(self%kind) .or. sensor_needs_body(self%kind)) then
+         if (self%body < 1 .or. self%body > size(mech%bodies)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+               '": the mechanism has no body ' // to_str(self%body))
+            return
+         end if
+         qb = mech%body_coordinates(q, self%body)
+         vb = mech%body_coordinates(v, self%body)
+         ab = mech%body_coordinates(qdd, self%body)
+      end if
+      if (sensor_needs_marker(self%kind)) then
+         if (self%marker < 1 .or. self%marker > mech%bodies(self%body)%body%num_markers) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+               '": body "' // mech%bodies(self%body)%name // '" has no marker ' // &
+               to_str(self%marker))
+            return
+         end if
+      end if
+      if (sensor_needs_joint(self%kind)) then
+         if (self%joint < 1 .or. self%joint > size(mech%joints)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+               '": the mechanism has no joint ' // to_str(self%joint))
+            return
+         end if
+      end if
+      select case (self%kind)
+      case (SENSOR_POSITION)
+         values = mech%bodies(self%body)%body%marker_position(qb, self%marker)
+      case (SENSOR_VELOCITY)
+         values = matmul(mech%bodies(self%body)%body%marker_velocity_jacobian(qb, &
+            self%marker), vb)
+      case (SENSOR_ACCELERATION)
+         associate (x => mech%bodies(self%body)%body)
+            values = matmul(x%marker_velocity_jacobian(qb, self%marker), ab)
+            if (size(vb) > 0) then
+               if (maxval(abs(vb)) > 0.0_dp) then
+                  s = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(1.0_dp, maxval(abs(qb))) / &
+                     maxval(abs(vb))
+                  values = values + (matmul(x%marker_velocity_jacobian(qb + s * vb, &
+                     self%marker), vb) - matmul(x%marker_velocity_jacobian(qb - s * vb, &
+                     self%marker), vb)) / (2.0_dp * s)
+               end if
+            end if
+         end associate
+      case (SENSOR_ORIENTATION)
+         frame_a = mech%bodies(self%body)%body%marker_orientation(qb, self%marker)
+         values = reshape(frame_a, [9])
+      case (SENSOR_ANGULAR_VELOCITY)
+         values = matmul(mech%bodies(self%body)%body%marker_rotation_jacobian(qb, &
+            self%marker), vb)
+      case (SENSOR_JOINT_COORDINATE)
+         associate (jt => mech%joints(self%joint))
+            a = jt%body_a
+            b = jt%body_b
+            associate (body_a => mech%bodies(a)%body, body_b => mech%bodies(b)%body, &
+                  qa => mech%body_coordinates(q, a), qbb => mech%body_coordinates(q, b))
+               frame_a = body_a%marker_orientation(qa, jt%joint%marker_a)
+               frame_b = body_b%marker_orientation(qbb, jt%joint%marker_b)
+               select case (jt%joint%kind_name())
+               case ('revolute')
+                  ! x axis of b in the frame of a: its angle about z_a
+                  values(1) = atan2(dot_product(frame_a(:, 2), frame_b(:, 1)), &
+                     dot_product(frame_a(:, 1), frame_b(:, 1)))
+               case ('prismatic')
+                  values(1) = dot_product(body_b%marker_position(qbb, jt%joint%marker_b) - &
+                     body_a%marker_position(qa, jt%joint%marker_a), frame_a(:, 3))
+               case default
+                  values(1) = norm2(body_b%marker_position(qbb, jt%joint%marker_b) - &
+                     body_a%marker_position(qa, jt%joint%marker_a))
+               end select
+            end associate
+         end associate
+      case (SENSOR_REACTION)
+         call mech%reaction(self%joint, q, lambda, force, moment)
+         values = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]
+      case (SENSOR_ENERGY)
+         values = [mech%bodies(self%body)%body%kinetic_energy(qb, vb), &
+            mech%bodies(self%body)%body%strain_energy(qb)]
+      case (SENSOR_ROTOR_ANGLE)
+         values(1) = mech%rotor_angle(q)
+      case (SENSOR_ROTOR_SPEED)
+         values(1) = mech%rotor_speed(q, v)
+      case default
+         call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+            '": unknown kind ' // to_str(self%kind) // '; the types are ' // sensor_words)
+      end select
+   end subroutine sensor_evaluate
+
+end module ffrf_mbs_sensors
