@@ -4,6 +4,9 @@
 #    revolute angle against the body orientation, velocity and acceleration against central
 #    differences to O(h^2), reaction against /joints, energy against J omega^2 / 2; its log and
 #    results file say nothing of a crank;
+#  - sensors_flexible_marker: a flexible conrod's small-end virtual node (elastic motion included)
+#    against R + A (x_V + Psi_V zeta) of its series, its velocity against the central difference,
+#    its strain energy against 1/2 sum omega_i^2 zeta_i^2;
 #  - sensors_engine_crank: the engine's crank sensors equal /time/crank_angle and
 #    /time/crank_speed bitwise (the all-rigid lc8 engine of engine.cmake);
 #  - sensors_error_*: a bad &sensor gets one line naming the place, and --check refuses it.
@@ -20,6 +23,22 @@ add_test(NAME sensors_engine_crank
     ${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_all_rigid.h5)
 set_tests_properties(sensors_engine_crank PROPERTIES LABELS "regression;sensors;engine"
   FIXTURES_REQUIRED engine_lc8_all_rigid_results)
+
+# A flexible body's marker: the lc 8 mm engine of engine.cmake (flexible crank and conrod, 10
+# modes each) to 10 ms with sensors on the conrod's small-end virtual node and energy
+file(READ "${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.nml" _flexible)
+ffrf_replace(_flexible "t_end = 0.1," "t_end = 0.01,")
+string(APPEND _flexible "&sensor name = 'small_end_position', type = 'position', body = 'conrod', "
+  "marker = 'small_end' /\n&sensor name = 'small_end_velocity', type = 'velocity', "
+  "body = 'conrod', marker = 'small_end' /\n&sensor name = 'conrod_energy', type = 'energy', "
+  "body = 'conrod' /\n")
+file(WRITE "${_out}/engine_flexible_sensors.nml" "${_flexible}")
+add_test(NAME sensors_flexible_marker
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_sensors.py flexible $<TARGET_FILE:ffrf>
+    ${_out}/engine_flexible_sensors.nml ${PROJECT_BINARY_DIR}/meshes ${_out})
+set_tests_properties(sensors_flexible_marker PROPERTIES LABELS "regression;sensors"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
 
 # ffrf_sensor_error(<name> <old> <new> <regex>): the slider-crank with <old> replaced by <new>
 # must fail --check with exit code 2 and one line matching <regex> (the driver's exit code is
