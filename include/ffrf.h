@@ -149,8 +149,8 @@ int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double m
  * "crank_speed"; docs/sensors.md): their number, the name of sensor `sensor` (0..n-1,
  * NUL-terminated; len: size of buf including the NUL), and its values at the current state
  * (*count = their number: 3 for position, velocity, acceleration, angular_velocity, 9 for
- * orientation, 1 for joint_coordinate, 12 for reaction, 2 for energy; values may be NULL to
- * ask the count). */
+ * orientation, 1 for joint_coordinate, 12 for reaction, 2 for energy, 3 for node_displacement
+ * and node_position; values may be NULL to ask the count). */
 int ffrf_sensor_count(const ffrf_case *c, int *n);
 int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len);
 int ffrf_sensor_values(const ffrf_case *c, int sensor, double *values, int capacity,

@@ -177,10 +177,45 @@ contains
             sensors(k)%joint = given(k)%joint
             sensors(k)%body = ground_index
             if (given(k)%body > 0) sensors(k)%body = bodies(given(k)%body)%index
+            if (given(k)%node > 0) then
+               call node_rows(bodies(given(k)%body), given(k)%node, sensors(k), error)
+               if (allocated(error)) then
+                  call add_context(error, '&sensor "' // trim(given(k)%name) // '"')
+                  return
+               end if
+            end if
          end do
       end associate
       if (resolved%mechanism%crank > 0) call add_crank_sensors(sensors, error)
    end subroutine make_sensors
+
+   !> A node sensor's node (a Gmsh node tag of the body's mesh): its position in the body frame
+   !> and its rows of the kept mode shapes (none for a rigid body).
+   subroutine node_rows(body, node, sensor, error)
+      type(built_body_t), intent(in) :: body
+      integer, intent(in) :: node
+      type(sensor_t), intent(inout) :: sensor
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i
+      if (.not. body%meshed .or. .not. allocated(body%modes%mesh%xyz)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ': the body ' // &
+            'has no mesh; measure a body with a mesh_file')
+         return
+      end if
+      i = node
+      if (allocated(body%modes%mesh%node_tags)) i = findloc(body%modes%mesh%node_tags, &
+         int(node, i8), dim=1)
+      if (i < 1 .or. i > size(body%modes%mesh%xyz, 2)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ' is not a ' // &
+            'node of the body''s mesh (' // to_str(size(body%modes%mesh%xyz, 2)) // ' nodes)')
+         return
+      end if
+      sensor%node = node
+      sensor%node_xyz = body%modes%mesh%xyz(:, i)
+      allocate (sensor%node_shape(3, 0))
+      if (body%num_modes > 0 .and. allocated(body%modes%shape)) &
+         sensor%node_shape = body%modes%shape(3 * i - 2:3 * i, 1:body%num_modes)
+   end subroutine node_rows
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the

@@ -771,8 +771,15 @@ contains
                if (mech%joints(x%joint)%joint%kind_name() == 'revolute') &
                   joint_kind = JOINT_REVOLUTE
             end if
-            call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
-               sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, error)
+            if (x%node > 0) then
+               call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
+                  sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, &
+                  error, node=x%node)
+            else
+               call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
+                  sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, &
+                  error)
+            end if
          end associate
       end do
    end subroutine add_sensor_series

@@ -438,6 +438,7 @@ contains
                   nml_string(x%marker) // ''''
                if (len_trim(x%joint) > 0) text = text // ', joint = ''' // &
                   nml_string(x%joint) // ''''
+               if (x%node > 0) text = text // ', node = ' // to_str(x%node)
                text = text // ' /' // nl
             end associate
          end do
@@ -632,10 +633,18 @@ contains
                   call check_marker(case, src%at('sensor', k, 'marker') // ': &sensor "' // &
                      trim(x%name) // '"', x%body, x%marker, error)
                else if (len_trim(x%body) > 0) then
-                  if (body_index(case, x%body) == 0) call fatal_error(error, &
-                     FFRF_INPUT_ERROR, src%at('sensor', k, 'body') // ': &sensor "' // &
-                     trim(x%name) // '": body "' // trim(x%body) // '" is not a &body of ' // &
-                     'this case (bodies: ' // join_words(case%bodies%name, ', ') // ')')
+                  if (body_index(case, x%body) == 0) then
+                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'body') // &
+                        ': &sensor "' // trim(x%name) // '": body "' // trim(x%body) // &
+                        '" is not a &body of this case (bodies: ' // &
+                        join_words(case%bodies%name, ', ') // ')')
+                  else if (x%node > 0 .and. &
+                     len_trim(case%bodies(body_index(case, x%body))%mesh_file) == 0) then
+                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'node') // &
+                        ': &sensor "' // trim(x%name) // '": body "' // trim(x%body) // &
+                        '" has no mesh, so no node ' // to_str(x%node) // '; measure a ' // &
+                        'body with a mesh_file')
+                  end if
                end if
                if (.not. allocated(error) .and. len_trim(mech%mechanism%crank) > 0 .and. &
                   (x%name == 'crank_angle' .or. x%name == 'crank_speed')) call fatal_error( &

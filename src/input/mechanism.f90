@@ -84,13 +84,16 @@ module ffrf_input_mechanism
       !> Name, unique among the sensors
       character(len=64) :: name = ''
       !> position, velocity, acceleration, orientation, angular_velocity (body, marker);
-      !> joint_coordinate, reaction (joint); energy (body)
-      character(len=16) :: type = ''
+      !> joint_coordinate, reaction (joint); energy (body); node_displacement, node_position
+      !> (body with a mesh, node)
+      character(len=20) :: type = ''
       !> Body ('ground' for the ground) and marker: a &marker point or a flexible body's
       !> &interface (its virtual node)
       character(len=64) :: body = '', marker = ''
       !> Joint name (joint types)
       character(len=64) :: joint = ''
+      !> Mesh node of the body (node types: its Gmsh node tag; 0: none)
+      integer :: node = 0
    end type sensor_input_t
 
    !> Mechanism-wide settings (&mechanism).

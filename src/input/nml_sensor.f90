@@ -1,21 +1,25 @@
 !> Namelist group &sensor of a mechanism run (repeatable): a named measurement written every
 !> recorded step under /sensors/<name> of the results file (docs/sensors.md).
-!>   &sensor  name, type, body, marker, joint                                 (repeatable)
+!>   &sensor  name, type, body, marker, joint, node                           (repeatable)
 !>   type: position [m], velocity [m/s], acceleration [m/s^2], orientation [1, the marker frame's
 !>         axes], angular_velocity [rad/s] (body and marker: a &marker point of a rigid body or
 !>         the ground, or an &interface of a flexible body, its virtual node with its elastic
 !>         motion); joint_coordinate [rad for a revolute, m for a prismatic], reaction [N, N m]
-!>         (joint); energy [J, kinetic and strain] (body)
+!>         (joint); energy [J, kinetic and strain] (body); node_displacement [m, elastic, body
+!>         frame], node_position [m, global] (body with a mesh, node: a Gmsh node tag of its mesh,
+!>         integer >= 1, checked against the mesh when the run builds the body)
 !>   name: unique among the sensors, at most 64 characters (default: the type).
 !> The body, marker and joint names are checked against the case by ffrf_input_case.
 module ffrf_input_nml_sensor
+   use ffrf_core_kinds, only: i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
    use ffrf_input_nml_common, only: namelist_read_error
-   use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key, nml_source_t
+   use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key, integer_key, &
+      nml_source_t
    use ffrf_input_mechanism, only: sensor_input_t
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words, sensor_needs_marker, &
-      sensor_needs_joint, sensor_needs_body
+      sensor_needs_joint, sensor_needs_body, sensor_needs_node
    implicit none
    private
    public :: read_sensor_groups, sensor_keys
@@ -25,8 +29,9 @@ contains
    !> Keys of &sensor (module header).
    function sensor_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [string_key('name', 64), choice_key('type', 16, sensor_words), &
-         string_key('body', 64), string_key('marker', 64), string_key('joint', 64)]
+      keys = [string_key('name', 64), choice_key('type', 20, sensor_words), &
+         string_key('body', 64), string_key('marker', 64), string_key('joint', 64), &
+         integer_key('node', 1_i8, int(huge(1), i8))]
    end function sensor_keys
 
    !> Every &sensor group, in input order; the keys a type needs must be given.
@@ -38,11 +43,11 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(sensor_input_t) :: defaults
       character(len=64) :: name, body, marker, joint
-      character(len=16) :: type
-      integer :: stat, k, kind
+      character(len=20) :: type
+      integer :: stat, k, kind, node
       character(len=512) :: msg
       character(len=:), allocatable :: where
-      namelist /sensor/ name, type, body, marker, joint
+      namelist /sensor/ name, type, body, marker, joint, node
       allocate (sensors(0))
       rewind (unit)
       do
@@ -51,11 +56,13 @@ contains
          body = defaults%body
          marker = defaults%marker
          joint = defaults%joint
+         node = defaults%node
          read (unit, nml=sensor, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(sensors) + 1
          if (stat /= 0) then
-            call namelist_read_error(error, 'sensor', k, msg, 'name, type, body, marker, joint')
+            call namelist_read_error(error, 'sensor', k, msg, 'name, type, body, marker, ' // &
+               'joint, node')
             return
          end if
          type = to_lower(type)
@@ -82,9 +89,12 @@ contains
          else if (sensor_needs_body(kind) .and. len_trim(body) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
                ''' needs body = ''<a &body name>''')
+         else if (sensor_needs_node(kind) .and. node < 1) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
+               ''' needs node = <a node tag of the body''s mesh>')
          end if
          if (allocated(error)) return
-         sensors = [sensors, sensor_input_t(name, type, body, marker, joint)]
+         sensors = [sensors, sensor_input_t(name, type, body, marker, joint, node)]
       end do
    end subroutine read_sensor_groups
 

@@ -14,12 +14,17 @@
 !> |                  | kinds: |r_b - r_a|                                         |          |
 !> | reaction         | force and moment on body a, then on body b (12, global)   | N, N m   |
 !> | energy           | kinetic v^T M v / 2 and strain energy of a body (2)       | J        |
+!> | node_displacement| elastic displacement Psi_n zeta of a mesh node, body frame | m        |
+!> | node_position    | R + A(theta) (x_n + Psi_n zeta), global                   | m        |
 !>
 !> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
 !> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
 !> body's own marker functions). (d L_r / dt) v is the central difference of L_r(q + s v) v in
 !> s (s = eps**(1/3) relative): exact but for round-off on rigid bodies (L_r is quadratic in
-!> the Euler parameters), O(s^2) on flexible ones. Two further kinds are not user words: the
+!> the Euler parameters), O(s^2) on flexible ones. A mesh node's rows Psi_n of the mode shapes
+!> (3 x num_modes) and its position x_n in the body frame are given by the application that
+!> builds the sensor (node_shape, node_xyz; a rigid body has no rows). Two further kinds are not
+!> user words: the
 !> rotor angle and speed of the mechanism (ffrf_mbs_mechanism set_rotor), which applications
 !> attach under their own names.
 module ffrf_mbs_sensors
@@ -28,29 +33,32 @@ module ffrf_mbs_sensors
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
+   use ffrf_mbs_rotation, only: euler_rotation
    implicit none
    private
    public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
-   public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body
+   public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body, sensor_needs_node
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
-      SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
+      SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
 
    integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
       SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
-      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_ROTOR_ANGLE = 9, SENSOR_ROTOR_SPEED = 10
+      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
+      SENSOR_NODE_POSITION = 10, SENSOR_ROTOR_ANGLE = 11, SENSOR_ROTOR_SPEED = 12
    !> Number of user words (the first kinds of the table)
-   integer, parameter :: NUM_WORDS = 8
+   integer, parameter :: NUM_WORDS = 10
    !> The table (module header): word, number of values, unit, in the order of the kinds
-   character(len=*), parameter :: WORDS(10) = [character(len=16) :: 'position', 'velocity', &
+   character(len=*), parameter :: WORDS(12) = [character(len=17) :: 'position', 'velocity', &
       'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
-      'energy', 'rotor_angle', 'rotor_speed']
-   integer, parameter :: SIZES(10) = [3, 3, 3, 9, 3, 1, 12, 2, 1, 1]
-   character(len=*), parameter :: UNITS(10) = [character(len=8) :: 'm', 'm/s', 'm/s^2', '1', &
-      'rad/s', 'rad', 'N, N m', 'J', 'rad', 'rad/s']
+      'energy', 'node_displacement', 'node_position', 'rotor_angle', 'rotor_speed']
+   integer, parameter :: SIZES(12) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 1, 1]
+   character(len=*), parameter :: UNITS(12) = [character(len=8) :: 'm', 'm/s', 'm/s^2', '1', &
+      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'rad', 'rad/s']
    !> The words &sensor type accepts, ', '-separated
    character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
-      'orientation, angular_velocity, joint_coordinate, reaction, energy'
+      'orientation, angular_velocity, joint_coordinate, reaction, energy, node_displacement, ' &
+      // 'node_position'
 
    !> A sensor, resolved to mechanism indices.
    type :: sensor_t
@@ -65,6 +73,11 @@ module ffrf_mbs_sensors
       character(len=64) :: marker_name = ''
       !> Mechanism joint number (joint kinds)
       integer :: joint = 0
+      !> Node kinds: the mesh node (for the output), its position in the body frame (m) and its
+      !> rows of the mode shapes (3, num_modes; 0 columns for a rigid body)
+      integer :: node = 0
+      real(dp) :: node_xyz(3) = 0.0_dp
+      real(dp), allocatable :: node_shape(:, :)
    contains
       !> Its values at a state (sensor_size(kind) of them)
       procedure :: evaluate => sensor_evaluate
@@ -119,11 +132,17 @@ contains
       sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION
    end function sensor_needs_joint
 
-   !> .true. for the kinds of a body without a marker.
+   !> .true. for the kinds of a body without a marker (energy, mesh nodes).
    pure logical function sensor_needs_body(kind)
       integer, intent(in) :: kind
-      sensor_needs_body = kind == SENSOR_ENERGY
+      sensor_needs_body = kind == SENSOR_ENERGY .or. sensor_needs_node(kind)
    end function sensor_needs_body
+
+   !> .true. for the kinds of a mesh node of a body.
+   pure logical function sensor_needs_node(kind)
+      integer, intent(in) :: kind
+      sensor_needs_node = kind == SENSOR_NODE_DISPLACEMENT .or. kind == SENSOR_NODE_POSITION
+   end function sensor_needs_node
 
    !> The sensor's values at the state (q, v, q'', lambda) of `mech` (module header).
    subroutine sensor_evaluate(self, mech, q, v, qdd, lambda, values, error)
@@ -135,8 +154,8 @@ contains
       real(dp), allocatable, intent(out) :: values(:)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: qb(:), vb(:), ab(:)
-      real(dp) :: force(3, 2), moment(3, 2), frame_a(3, 3), frame_b(3, 3), s
-      integer :: a, b
+      real(dp) :: force(3, 2), moment(3, 2), frame_a(3, 3), frame_b(3, 3), s, u(3)
+      integer :: a, b, m
       allocate (values(sensor_size(self%kind)), source=0.0_dp)
       if (sensor_needs_marker(self%kind) .or. sensor_needs_body(self%kind)) then
          if (self%body < 1 .or. self%body > size(mech%bodies)) then
@@ -216,6 +235,27 @@ contains
       case (SENSOR_ENERGY)
          values = [mech%bodies(self%body)%body%kinetic_energy(qb, vb), &
             mech%bodies(self%body)%body%strain_energy(qb)]
+      case (SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION)
+         u = 0.0_dp
+         m = 0
+         if (allocated(self%node_shape)) m = size(self%node_shape, 2)
+         if (m > 0) then
+            if (size(qb) < 7 + m) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+                  '": body "' // mech%bodies(self%body)%name // '" has ' // &
+                  to_str(max(size(qb) - 7, 0)) // ' modal coordinates, the node rows ' // &
+                  to_str(m))
+               return
+            end if
+            u = matmul(self%node_shape, qb(8:7 + m))
+         end if
+         if (self%kind == SENSOR_NODE_DISPLACEMENT) then
+            values = u
+         else if (size(qb) >= 7) then
+            values = qb(1:3) + matmul(euler_rotation(qb(4:7)), self%node_xyz + u)
+         else
+            values = self%node_xyz
+         end if
       case (SENSOR_ROTOR_ANGLE)
          values(1) = mech%rotor_angle(q)
       case (SENSOR_ROTOR_SPEED)

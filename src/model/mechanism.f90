@@ -76,6 +76,8 @@ module ffrf_model_mechanism
       integer :: body = 0, marker = 0
       !> Joint number (&joint order; 0: none)
       integer :: joint = 0
+      !> Mesh node (Gmsh node tag; 0: none)
+      integer :: node = 0
    end type model_sensor_t
 
    !> The mechanism of a case, resolved (empty arrays for a modal case).

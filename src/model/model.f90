@@ -167,6 +167,7 @@ contains
          do k = 1, size(m%sensors)
             associate (sensor => m%sensors(k), given => input%sensors(k))
                sensor%name = given%name
+               sensor%node = given%node
                sensor%kind = sensor_kind_of(given%type)
                if (sensor%kind == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'type = "' // &
                   trim(given%type) // '" is not a sensor type; use one of ' // sensor_words)

@@ -26,7 +26,9 @@
         series: position = R + A(theta) (x_V + Psi_V zeta) (theory.md 3.1; the virtual-node rows
         /modes/virtual_node_shape), to round-off; velocity = the central difference of position
         to O(h^2); the elastic part is seen (the sensor differs from the rigid motion of x_V);
-        strain energy = 1/2 sum (2 pi f_i)^2 zeta_i^2 (mass-normalised modes), kinetic >= 0.
+        strain energy = 1/2 sum (2 pi f_i)^2 zeta_i^2 (mass-normalised modes), kinetic >= 0;
+        a mesh node (tag 100 of conrod_lc8.msh): displacement = its rows of /modes/shape times
+        zeta, position = R + A (x_n + u) with x_n read from the mesh file.
 """
 import math
 import os
@@ -188,6 +190,10 @@ def flexible(driver, case, mesh_dir, out_dir):
         rows = g["modes/virtual_node_shape"][()]                       # (m, 6 n_if)
         freq = g["modes/frequency"][()]
         basis = text_of(g["modes"].attrs.get("basis", b"rc_normal"))
+        shape = g["modes/shape"][()]                                   # (m, 3 n)
+        node_u = f["/sensors/conrod_node_u"][()]
+        node_x = f["/sensors/conrod_node_x"][()]
+        node_attrs = dict(f["/sensors/conrod_node_u"].attrs)
         position = f["/sensors/small_end_position"][()]
         velocity = f["/sensors/small_end_velocity"][()]
         energy = f["/sensors/conrod_energy"][()]
@@ -211,12 +217,41 @@ def flexible(driver, case, mesh_dir, out_dir):
     check(err <= bound, "flexible marker velocity = central difference of its position: "
           "%.2e <= O(h^2) bound %.2e" % (err, bound))
     check(np.all(energy[:, 0] >= 0.0), "kinetic energy >= 0")
+    tags, xyz = msh41_nodes(os.path.join(mesh_dir, "conrod_lc8.msh"))
+    i = tags.index(100)
+    check(int(node_attrs["node"]) == 100 and text_of(node_attrs["units"]) == "m",
+          "a node sensor's attributes: node 100, m")
+    u = Z @ shape[:, 3 * i:3 * i + 3]
+    err = np.abs(node_u - u).max()
+    check(err <= 1e-12 * max(np.abs(u).max(), 1e-30) + 1e-20 and np.abs(u).max() > 0.0,
+          "node displacement = its /modes/shape rows times zeta: max error %.2e m of %.2e m"
+          % (err, np.abs(u).max()))
+    x_n = np.array([R[s] + euler_rotation(E[s]) @ (xyz[i] + u[s]) for s in range(len(t))])
+    err = np.abs(node_x - x_n).max()
+    check(err <= 1e-12, "node position = R + A (x_n + u), x_n from the mesh file: max error "
+          "%.2e m" % err)
     if basis == "rc_normal":
         strain = 0.5 * ((2.0 * math.pi * freq) ** 2 * Z ** 2).sum(axis=1)
         err = np.abs(energy[:, 1] - strain).max()
         check(err <= 1e-10 * max(strain.max(), 1e-30),
               "strain energy = 1/2 sum (2 pi f_i)^2 zeta_i^2: max error %.2e J (max %.2e J)"
               % (err, strain.max()))
+
+
+def msh41_nodes(path):
+    """Node tags (file order) and coordinates of a Gmsh 4.1 ASCII mesh."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    k = lines.index("$Nodes") + 1
+    blocks = int(lines[k].split()[0])
+    k += 1
+    tags, xyz = [], []
+    for _ in range(blocks):
+        count = int(lines[k].split()[3])
+        tags += [int(x) for x in lines[k + 1:k + 1 + count]]
+        xyz += [[float(v) for v in x.split()[:3]] for x in lines[k + 1 + count:k + 1 + 2 * count]]
+        k += 1 + 2 * count
+    return tags, np.array(xyz)
 
 
 def text_of(x):

@@ -6,7 +6,8 @@
 #    results file say nothing of a crank;
 #  - sensors_flexible_marker: a flexible conrod's small-end virtual node (elastic motion included)
 #    against R + A (x_V + Psi_V zeta) of its series, its velocity against the central difference,
-#    its strain energy against 1/2 sum omega_i^2 zeta_i^2;
+#    its strain energy against 1/2 sum omega_i^2 zeta_i^2; a mesh node's displacement and position
+#    against its /modes/shape rows and the mesh file;
 #  - sensors_engine_crank: the engine's crank sensors equal /time/crank_angle and
 #    /time/crank_speed bitwise (the all-rigid lc8 engine of engine.cmake);
 #  - sensors_error_*: a bad &sensor gets one line naming the place, and --check refuses it.
@@ -31,7 +32,9 @@ ffrf_replace(_flexible "t_end = 0.1," "t_end = 0.01,")
 string(APPEND _flexible "&sensor name = 'small_end_position', type = 'position', body = 'conrod', "
   "marker = 'small_end' /\n&sensor name = 'small_end_velocity', type = 'velocity', "
   "body = 'conrod', marker = 'small_end' /\n&sensor name = 'conrod_energy', type = 'energy', "
-  "body = 'conrod' /\n")
+  "body = 'conrod' /\n&sensor name = 'conrod_node_u', type = 'node_displacement', "
+  "body = 'conrod', node = 100 /\n&sensor name = 'conrod_node_x', type = 'node_position', "
+  "body = 'conrod', node = 100 /\n")
 file(WRITE "${_out}/engine_flexible_sensors.nml" "${_flexible}")
 add_test(NAME sensors_flexible_marker
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
@@ -68,3 +71,6 @@ ffrf_sensor_error(unknown_type "type = 'energy', body = 'wheel'"
 ffrf_sensor_error(missing_marker "body = 'slider', marker = 'S' /\n&sensor name = 'pin_position'"
   "body = 'slider' /\n&sensor name = 'pin_position'"
   "missing_marker.nml:[0-9]+: &sensor #3 \"slider_position\": type 'position' needs body and marker")
+ffrf_sensor_error(node_without_mesh "type = 'energy', body = 'wheel'"
+  "type = 'node_position', body = 'wheel', node = 5"
+  "node_without_mesh.nml:[0-9]+: &sensor \"wheel_energy\": body \"wheel\" has no mesh, so no node 5")

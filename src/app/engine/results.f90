@@ -218,15 +218,17 @@ contains
    end subroutine engine_results_add_joint_series
 
    !> A sensor series /sensors/<name>: `rows` values per step (a (num_steps x rows) dataset in
-   !> h5py) with the attributes units, type and, when given, body, marker and joint.
+   !> h5py) with the attributes units, type and, when given, body, marker, joint and node.
    subroutine engine_results_add_sensor_series(self, name, rows, unit, type, body, marker, &
-         joint, error)
+         joint, error, node)
       class(engine_results_t), intent(inout) :: self
       !> Sensor name, unit of its values, its type word, what it measures ('' when not)
       character(len=*), intent(in) :: name
       integer, intent(in) :: rows
       character(len=*), intent(in) :: unit, type, body, marker, joint
       type(error_t), allocatable, intent(out) :: error
+      !> Mesh node (Gmsh tag) of a node sensor
+      integer, intent(in), optional :: node
       character(len=256) :: path
       call check_not_started(self, 'add_sensor_series', error)
       if (allocated(error)) return
@@ -239,6 +241,8 @@ contains
          trim(path), 'marker', marker, error)
       if (.not. allocated(error) .and. len_trim(joint) > 0) call self%h5%set_attribute( &
          trim(path), 'joint', joint, error)
+      if (.not. allocated(error) .and. present(node)) call self%h5%set_attribute(trim(path), &
+         'node', node, error)
       if (allocated(error)) return
       self%sensor_paths = [character(len=256) :: self%sensor_paths, path]
       self%sensor_rows = [self%sensor_rows, rows]
