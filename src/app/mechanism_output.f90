@@ -43,6 +43,7 @@ module ffrf_app_mechanism_output
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_sensors, only: sensor_t, sensor_size, sensor_unit, sensor_word
+   use ffrf_app_engine_crank_log, only: crank_progress, crank_summary
    use ffrf_mbs_joints, only: JOINT_REVOLUTE
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t
@@ -360,7 +361,7 @@ contains
                to_str(integrator%stats%steps) // ' steps (' // &
                to_str(integrator%stats%rejected_steps) // ' rejected), ' // &
                to_str(integrator%stats%newton_iterations) // ' Newton iterations' // &
-               crank_progress(mech, integrator) // ', wall ' // &
+               crank_progress(mech, integrator%q, integrator%v) // ', wall ' // &
                to_str(wall, 4) // ' s (' // to_str(integrator%t / max(wall, 1.0e-9_dp), 3) // &
                ' x real time)')
             do while (self%next_progress <= integrator%t + 1.0e-3_dp * h)
@@ -844,6 +845,7 @@ contains
       type(logger_t), intent(in) :: log
       type(galpha_integrator_t), intent(in) :: integrator
       type(mechanism_t), intent(in) :: mech
+      character(len=:), allocatable :: summary
       associate (s => integrator%stats)
          call log%info('run', to_str(s%steps) // ' steps, ' // to_str(s%rejected_steps) // &
             ' rejected, ' // to_str(s%newton_iterations) // ' Newton iterations, ' // &
@@ -859,23 +861,11 @@ contains
             ' s, other (predictor, output hook) ' // to_str(s%wall_seconds - &
             s%residual_seconds - s%tangent_seconds - s%factor_seconds - s%solve_seconds, 3) // &
             ' s')
-         ! The engine's crank is the mechanism's rotor; a mechanism without one says nothing of it
-         if (mech%rotor > 0) call log%info('run', 'final crank angle ' // &
-            to_str(mech%rotor_angle(integrator%q) * 180.0_dp / pi, 8) // ' deg, speed ' // &
-            to_str(mech%rotor_speed(integrator%q, integrator%v), 8) // ' rad/s')
+         ! the engine's summary (ffrf_app_engine_crank_log); a mechanism without a crank has none
+         summary = crank_summary(mech, integrator%q, integrator%v)
+         if (len(summary) > 0) call log%info('run', summary)
       end associate
    end subroutine log_statistics
-
-   !> The progress line's crank part, ', crank <speed> rad/s', for a mechanism with a crank (the
-   !> engine's crank is the mechanism's rotor, set from &mechanism crank); empty without one.
-   function crank_progress(mech, integrator) result(text)
-      type(mechanism_t), intent(in) :: mech
-      type(galpha_integrator_t), intent(in) :: integrator
-      character(len=:), allocatable :: text
-      text = ''
-      if (mech%rotor > 0) text = ', crank ' // &
-         to_str(mech%rotor_speed(integrator%q, integrator%v), 6) // ' rad/s'
-   end function crank_progress
 
    !> Integrator counters and the last converged state (also after a failure).
    subroutine write_run_information(results, mech, integrator, error)
