@@ -10,6 +10,7 @@
 #    against its /modes/shape rows and the mesh file;
 #  - sensors_engine_crank: the engine's crank sensors equal /time/crank_angle and
 #    /time/crank_speed bitwise (the all-rigid lc8 engine of engine.cmake);
+#  - sensors_plot: postprocess/plot_sensors.py plots (and writes as CSV) the slider's 11 sensors;
 #  - sensors_error_*: a bad &sensor gets one line naming the place, and --check refuses it.
 set(_out "${PROJECT_BINARY_DIR}/tests/sensors")
 file(MAKE_DIRECTORY "${_out}")
@@ -18,7 +19,15 @@ add_test(NAME sensors_slider_wheel
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
     ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_sensors.py slider $<TARGET_FILE:ffrf> ${_case}
     ${PROJECT_BINARY_DIR}/meshes ${_out})
-set_tests_properties(sensors_slider_wheel PROPERTIES LABELS "regression;sensors")
+set_tests_properties(sensors_slider_wheel PROPERTIES LABELS "regression;sensors"
+  FIXTURES_SETUP sensors_slider_results)
+# One postprocess command plots any case's sensors (and writes them as CSV)
+add_test(NAME sensors_plot
+  COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/postprocess/plot_sensors.py
+    ${_out}/slider_wheel.h5 --output ${_out}/slider_wheel_sensors.png
+    --csv ${_out}/slider_wheel_sensors.csv)
+set_tests_properties(sensors_plot PROPERTIES LABELS "regression;sensors;postprocess"
+  FIXTURES_REQUIRED sensors_slider_results PASS_REGULAR_EXPRESSION "11 sensors -> ")
 add_test(NAME sensors_engine_crank
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_sensors.py engine
     ${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_all_rigid.h5)
