@@ -49,8 +49,8 @@
 !>     magnitude by body%marker_force_tangent (rigid exact; flexible exact but for the derivative
 !>     of the exponential map's tangent operator, a 3 x 3 difference) plus the magnitude's
 !>     dependence on the rotor angle and speed (exact d(angle)/dtheta, d(speed)/d(theta,
-!>     theta_dot); d(magnitude)/d(angle, speed) by a central difference of the scalar load law,
-!>     which has no derivative in its interface); gravity exact;
+!>     theta_dot); d(magnitude)/d(angle, speed) from load_t%magnitude_rates (a central difference
+!>     of the scalar load law unless the load gives exact derivatives); gravity exact;
 !>   * mass stiffness d(M a)/dq: body%mass_stiffness (rigid and flexible exact).
 !>   analytic_tangents = .false. selects dae_system_t's central differences over the whole
 !>   mechanism (2 n evaluations each per factorisation), the reference the tests compare with.

@@ -7,8 +7,9 @@
 !> one; ffrf_mbs_mechanism set_rotor). `load_t` is the extension point for applied loads: each
 !> kind of load is a small type that extends it and implements `magnitude(t, phi, omega)`; the
 !> mechanism applies magnitude * direction at the marker, differentiates it for the Newton
-!> tangent (marker force exactly, the magnitude's dependence on phi and omega by a central
-!> difference) and counts its power in the energy balance. Applications register their own
+!> tangent (the marker force exactly, the magnitude's dependence on phi and omega through
+!> `magnitude_rates`, a central difference unless the load overrides it with its exact
+!> derivatives) and counts its power Q . v in the energy balance. Applications register their own
 !> kinds with add_load (an application's own loads live with it, under src/app/). General
 !> laws kept here:
 !>
@@ -24,6 +25,7 @@
 !> constraint in ffrf_mbs_mechanism); `drive_law_t%evaluate(t)` returns f, f' and f''.
 module ffrf_mbs_mechanism_loads
    use ffrf_core_kinds, only: dp
+   use ffrf_mbs_dae_system, only: fd_step
    implicit none
    private
    public :: load_t, constant_load_t, drag_torque_t
@@ -50,6 +52,9 @@ module ffrf_mbs_mechanism_loads
    contains
       !> Signed magnitude along direction (N or N m)
       procedure(load_magnitude), deferred :: magnitude
+      !> d(magnitude)/d(rotor angle) and d(magnitude)/d(rotor speed), for the Newton tangent;
+      !> the default is a central difference of magnitude, a load may give exact ones
+      procedure :: magnitude_rates => load_magnitude_rates
    end type load_t
 
    abstract interface
@@ -120,6 +125,25 @@ module ffrf_mbs_mechanism_loads
    end type polynomial_drive_t
 
 contains
+
+   !> Central differences of the magnitude in the rotor angle and speed (steps fd_step: the
+   !> tangent's default; exact for magnitudes linear in them).
+   pure subroutine load_magnitude_rates(self, t, rotor_angle, rotor_speed, d_angle, d_speed)
+      class(load_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Rotor angle (rad) and speed (rad/s)
+      real(dp), intent(in) :: rotor_angle, rotor_speed
+      !> d(magnitude)/d(angle) (per rad) and d(magnitude)/d(speed) (per rad/s)
+      real(dp), intent(out) :: d_angle, d_speed
+      real(dp) :: da, ds
+      da = fd_step(rotor_angle)
+      ds = fd_step(rotor_speed)
+      d_angle = (self%magnitude(t, rotor_angle + da, rotor_speed) - &
+         self%magnitude(t, rotor_angle - da, rotor_speed)) / (2.0_dp * da)
+      d_speed = (self%magnitude(t, rotor_angle, rotor_speed + ds) - &
+         self%magnitude(t, rotor_angle, rotor_speed - ds)) / (2.0_dp * ds)
+   end subroutine load_magnitude_rates
 
    !> value.
    pure function constant_magnitude(self, t, rotor_angle, rotor_speed) result(value)

@@ -10,7 +10,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
       rotated_vector_jacobian
    use ffrf_mbs_rigid_body, only: rigid_body_t, euler_hessian, point_load_tangent
-   use ffrf_mbs_dae_system, only: fd_step, dae_stiffness_fd, dae_damping_fd, &
+   use ffrf_mbs_dae_system, only: dae_stiffness_fd, dae_damping_fd, &
       dae_constraint_stiffness_fd, dae_mass_stiffness_fd
    use ffrf_mbs_joints, only: new_joint, joint_reaction
    use ffrf_la_lapack, only: dgelsy
@@ -613,7 +613,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: tangent(:, :), unit_force(:)
       real(dp) :: angle, speed, value, vector(3), zero(3), theta(4), d_angle(4), d_speed_q(4)
-      real(dp) :: d_speed_v(4), g_rows(3, 4), da, ds, dm_da, dm_ds, radius2
+      real(dp) :: d_speed_v(4), g_rows(3, 4), dm_da, dm_ds, radius2
       integer :: i, b, k, nb, kc, j
       zero = 0.0_dp
       angle = self%rotor_angle(q)
@@ -652,12 +652,7 @@ contains
                end if
                K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
                if (self%rotor > 0) then
-                  da = fd_step(angle)
-                  ds = fd_step(speed)
-                  dm_da = (load%magnitude(t, angle + da, speed) - &
-                     load%magnitude(t, angle - da, speed)) / (2.0_dp * da)
-                  dm_ds = (load%magnitude(t, angle, speed + ds) - &
-                     load%magnitude(t, angle, speed - ds)) / (2.0_dp * ds)
+                  call load%magnitude_rates(t, angle, speed, dm_da, dm_ds)
                   do j = 1, 4
                      K_t(k + 1:k + nb, kc + 3 + j) = K_t(k + 1:k + nb, kc + 3 + j) - &
                         unit_force * (dm_da * d_angle(j) + dm_ds * d_speed_q(j))
