@@ -897,7 +897,8 @@ contains
 
    !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
    !> Psi zeta (body frame) at animation_frames instants evenly spread over the last 720 deg of
-   !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle.
+   !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle;
+   !> without a crank, evenly in time over the whole run.
    subroutine write_animations(case, options, bodies, history, log, error)
       type(case_input_t), intent(in) :: case
       type(run_options_t), intent(in) :: options
@@ -908,20 +909,31 @@ contains
       integer :: frames, f, k, first, n, s
       integer, allocatable :: steps(:)
       real(dp) :: angle_end, angle_start, target
-      real(dp), allocatable :: fields(:, :)
-      character(len=:), allocatable :: file_name
+      real(dp), allocatable :: fields(:, :), x(:)
+      character(len=:), allocatable :: file_name, span
       n = history%num_steps
       if (n < 2 .or. .not. any(bodies%num_modes > 0)) return
       frames = case%mechanism%mechanism%animation_frames
-      angle_end = history%angle(n)
-      angle_start = max(history%angle(1), angle_end - 4.0_dp * pi)
+      if (history%angle(n) /= history%angle(1)) then
+         ! an engine: the last 720 deg of its crank
+         x = history%angle(:n)
+         angle_end = x(n)
+         angle_start = max(x(1), angle_end - 4.0_dp * pi)
+         span = 'the last cycle'
+      else
+         ! a mechanism without a crank (no angle): evenly in time over the whole run
+         x = history%t(:n)
+         angle_end = x(n)
+         angle_start = x(1)
+         span = 'the run'
+      end if
       allocate (steps(frames))
       s = 1
       do f = 1, frames
          target = angle_start + (angle_end - angle_start) * real(f - 1, dp) / real(max(frames - &
             1, 1), dp)
          do while (s < n)
-            if (abs(history%angle(s + 1) - target) > abs(history%angle(s) - target)) exit
+            if (abs(x(s + 1) - target) > abs(x(s) - target)) exit
             s = s + 1
          end do
          steps(f) = s
@@ -937,8 +949,8 @@ contains
             call write_displacement_frames_msh(file_name, modes%mesh%xyz, modes%mesh%tets, &
                fields, history%t(steps), error)
             if (allocated(error)) return
-            call log%info('output', modes%name // ': elastic deformation over the last ' // &
-               'cycle for gmsh: ' // file_name)
+            call log%info('output', modes%name // ': elastic deformation over ' // span // &
+               ' for gmsh: ' // file_name)
             first = first + m
          end associate
       end do
@@ -1223,8 +1235,14 @@ contains
       allocate (history%t(capacity), history%angle(capacity), &
          history%zeta(sum(bodies%num_modes), capacity))
       call source%read_real('/time/t', t, error)
-      if (.not. allocated(error)) call source%read_real('/time/crank_angle', angle, error)
       if (allocated(error)) return
+      if (mech%rotor > 0) then
+         call source%read_real('/time/crank_angle', angle, error)
+         if (allocated(error)) return
+      else
+         ! a run without a crank records no angle (write_animations then spreads over time)
+         allocate (angle(size(t)), source=0.0_dp)
+      end if
       history%t(:num_steps) = t(:num_steps)
       history%angle(:num_steps) = angle(:num_steps)
       first = 0

@@ -17,7 +17,9 @@
         - the bearing reaction sensor = /joints/bearing/reaction, bitwise (the same multipliers);
         - energy: strain 0 for a rigid body, kinetic >= 0, and = J_O omega^2 / 2 for the wheel
           turning about its fixed axis (J_O about the axis through O: inertia + m |c|^2);
-        - a ground marker's position is constant.
+        - a ground marker's position is constant;
+        - --restart of this crank-less run to a later t_end gives the sensors of an
+          uninterrupted run, bitwise (its restart state holds no crank reference).
     check_sensors.py engine RESULTS.h5
         the engine's crank sensors equal /time/crank_angle and /time/crank_speed bitwise.
     check_sensors.py flexible DRIVER CASE MESH_DIR OUT_DIR
@@ -161,6 +163,23 @@ def slider(driver, case, mesh_dir, out_dir):
     err = np.abs(energy[:, 0] - expected).max()
     check(err <= 1e-9 * max(expected.max(), 1e-12),
           "kinetic energy = J_O omega^2 / 2 about the fixed axis: max error %.2e J" % err)
+    # --restart to a later end against the uninterrupted run
+    results = os.path.join(out_dir, name + ".h5")
+    outputs = []
+    for label, extra in (("restarted", ["--restart", results]), ("straight", [])):
+        output = name + "_" + label + ".h5"
+        run = subprocess.run([driver, case, "--mesh-dir", mesh_dir, "--output-dir", out_dir,
+                              "--output", output, "--set", "integrator.t_end=%r" % (t[-1] + 0.1)]
+                             + extra, capture_output=True, text=True)
+        if run.returncode != 0:
+            fail("the %s run failed (%d):\n%s" % (label, run.returncode, run.stdout + run.stderr))
+        outputs.append(os.path.join(out_dir, output))
+    with h5py.File(outputs[0], "r") as a, h5py.File(outputs[1], "r") as b:
+        same = all(np.array_equal(a["/sensors/" + k][()], b["/sensors/" + k][()])
+                   for k in b["/sensors"]) and len(a["/sensors"]) == len(b["/sensors"])
+        check(same and a["/time/t"].shape == b["/time/t"].shape and len(a["/time/t"]) > n,
+              "--restart of the crank-less run: its sensors equal the uninterrupted run's, "
+              "bitwise (%d steps)" % len(a["/time/t"]))
     check(np.all(s["ground_point"] == s["ground_point"][0]) and
           abs(s["ground_point"][0, 0] - 0.241732618519) < 1e-15,
           "a ground marker stays where it is")
