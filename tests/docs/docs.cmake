@@ -5,8 +5,9 @@
 #   docs_developer_modules    docs/developer.md's module map names every module of src/
 #                             (check_module_map.py)
 #   example_own_part_commands the four commands of docs/own_part.md (also in README.md) run as
-#                             written; the lever's mass against rho V and its two lowest
-#                             frequencies against the Euler-Bernoulli cantilever (own_part_commands.py)
+#                             written; the lever's mass against rho V, its two lowest frequencies
+#                             against the Euler-Bernoulli cantilever; then its mechanism command,
+#                             the swing against the rigid pendulum's half period (own_part_commands.py)
 add_test(NAME docs_citations
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/docs/check_citations.py
     ${PROJECT_SOURCE_DIR})
