@@ -16,6 +16,9 @@ CMakeLists.txt and README.md and checks each citation:
 - every relative Markdown link `](path)` of README.md and docs/*.md names a file that exists, and
   its `#anchor`, if any, a heading of that file (GitHub's slug).
 
+Also: the command CI runs (the last line of .ci/run) is one of the README's fenced command
+lines, the quick start's test command, so that the README's "tests from zero" is what CI runs.
+
 A citation may wrap onto the next comment line (`!>`, `!`, `#`, `//`, `*` are skipped). Exit 1
 listing every citation that does not resolve, with file and line; also when fewer citations than
 a floor are found (the patterns would otherwise be able to match nothing and pass).
@@ -130,6 +133,10 @@ def main():
                         if anchor not in {slug(h) for h in headings(dest)}:
                             failures.append(f'{rel}:{n}: link ({link}): no heading #{anchor} in '
                                             f'{target or path.name}')
+    ci = [l.strip() for l in (root / '.ci' / 'run').read_text().split('\n') if l.strip()][-1]
+    readme_lines = [l.strip() for l in (root / 'README.md').read_text(encoding='utf-8').split('\n')]
+    if ci not in readme_lines:
+        failures.append(f'.ci/run runs "{ci}", which is not a command line of README.md')
     print(f'{len(files)} files, {found} citations and links checked, {len(failures)} unresolved')
     for f in failures:
         print('  ' + f)
