@@ -1,8 +1,8 @@
-!> The results file of a modal run (HDF5; schema in README.md, "Results file"). It is created
-!> first with status 'running' and the input echo, filled body by body, and closed with status
-!> 'complete' or the error message, so a failed run keeps what it computed.
+!> The results file of a modal run (HDF5; schema in docs/results.md "Results file (HDF5)"). It is
+!> created first with status 'running' and the input echo, filled body by body, and closed with
+!> status 'complete' or the error message, so a failed run keeps what it computed.
 !>
-!> Results files are never damaged (issue 10, part 1; README "Results files"):
+!> Results files are never damaged (issue 10, part 1; docs/faults.md "Faults"):
 !> - One run per output: `output_lock_t` holds `<results file>.lock` (flock, released by the
 !>   kernel when the run ends, even by kill -9); a second run on the same output stops at once
 !>   (FFRF_IO_ERROR) and touches nothing of the first.
