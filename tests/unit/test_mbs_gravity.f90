@@ -36,6 +36,12 @@
 !>     error in the modal part of Q_g of that size would not cancel. The energy balance's work
 !>     of gravity W = int Q_g . v dt must equal -(V - V_0) up to its trapezoidal quadrature
 !>     error (O(h^2): measured 1.62e-5, 4.03e-6, 1.01e-6 of m g L, ratio 4.0 per halving).
+!>
+!> Mutations, measured: Q_f = 0 fails (1), (2) (sag 0), (3) and (4) (the force is no longer a
+!> gradient: the multipliers alternate and the run stops at 0.03 s); Q_theta with m chi in place
+!> of S(zeta) = m chi + S_f zeta fails (1) (8.7e-3 of m g) and (4) (drift 1.6e-3 m g L at every
+!> h, orders 0.03 and 0.007), while (2), (3) and the stiff-link driver regression pass (zeta
+!> ~ 1e-6 there).
 module test_mbs_gravity
    use ffrf_core_kinds, only: dp, ip, pi
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_IO_ERROR
