@@ -20,7 +20,10 @@
 !> Types, counts and ranges (checked by ffrf_input_nml_source from the *_keys functions below; every
 !> real must be finite; names and labels <= 64 characters, file names <= 256):
 !>   &mechanism  crank_angle_deg in [-720, 720] deg; crank_speed in [-1e4, 1e4] rad/s; gravity:
-!>               3 reals in [-1e4, 1e4] m/s^2; progress_interval in (0, 1e6] s;
+!>               3 reals in [-1e4, 1e4] m/s^2, global axes, uniform field acting on every rigid
+!>               and flexible body (flexible: on the frame and the modes through the shape
+!>               integral int rho Psi dV; docs/theory.md 3.6, docs/gravity.md; its work enters
+!>               /energy like any applied load); progress_interval in (0, 1e6] s;
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
 !>   &marker     position: 3 reals in [-1e4, 1e4] m
 !>   &joint      type: revolute, prismatic, spherical, universal or fixed; axis: 3 reals in
