@@ -15,7 +15,7 @@ module ffrf_io_results
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_IO_ERROR
    use ffrf_core_posix, only: lock_output, unlock_file, ERRNO_WOULD_BLOCK, errno_text, &
-      sync_file, rename_file, remove_file, sync_folder_of, file_kind, FILE_MISSING
+      remove_file, commit_durably, file_kind, FILE_MISSING
    use ffrf_core_log, only: stage_times_t
    use ffrf_core_build_info, only: FFRF_VERSION, build_versions
    use ffrf_io_hdf5, only: h5_file_t
@@ -91,20 +91,12 @@ contains
          'without --no-overwrite to replace it when this run has finished')
    end subroutine check_no_overwrite
 
-   !> Force the closed file `temp` to the device and rename it over `final` (module notes). On
-   !> failure `temp` is removed and `final` is left as it was.
+   !> Force the closed file `temp` to the device and rename it over `final` (module notes;
+   !> ffrf_core_posix's commit_durably). On failure `temp` is removed and `final` is left as it was.
    subroutine commit_file(temp, final, error)
       character(len=*), intent(in) :: temp, final
       type(error_t), allocatable, intent(out) :: error
-      type(error_t), allocatable :: ignored
-      call sync_file(temp, error)
-      if (.not. allocated(error)) call rename_file(temp, final, error)
-      if (allocated(error)) then
-         call remove_file(temp, ignored)
-         error%message = 'results file "' // final // '" not written: ' // error%message
-         return
-      end if
-      call sync_folder_of(final, ignored)
+      call commit_durably(temp, final, 'results file', error)
    end subroutine commit_file
 
    !> Remove the temporary file of a run that could not finish it (errors ignored).
