@@ -19,3 +19,6 @@ ffrf_add_unit_suite(test_mbs_body CHECKED LABELS mbs)
 # Reported multipliers of near-redundant constraint rows (issue 30): minimum norm on a
 # self-stress the modes resolve poorly, closed form. Well under a second.
 ffrf_add_unit_suite(test_mbs_reaction_split CHECKED LABELS mbs)
+# Sparse LU of the iteration matrix (MUMPS) against the dense LU on a chain's saddle-point
+# matrix, pattern growth, singular matrix (issue 24). Well under a second.
+ffrf_add_unit_suite(test_mbs_sparse_iteration CHECKED LABELS mbs)
