@@ -667,7 +667,10 @@ contains
    !> (issue 24): the iteration matrix of a mechanism is small (tens to hundreds of unknowns),
    !> and threaded LAPACK on a 100 x 100 matrix runs 30 times slower on a busy 2-core machine
    !> than on one thread. The stages that keep the user's threads (--threads) are the modes
-   !> (ARPACK on MUMPS factors); the log's [threads] line says so.
+   !> (ARPACK on MUMPS factors); the log's [threads] line says so. A caller stepping in a loop
+   !> sets one thread once around the loop (the mechanism session's advance), so that this
+   !> switch does nothing: OpenBLAS switched back to its count after every step slowed the
+   !> steps by 25 to 70 % on a busy machine (mechanism_session.f90, session_advance).
    subroutine galpha_step(self, system, error)
       !> The integrator (after init)
       class(galpha_integrator_t), intent(inout) :: self
