@@ -242,8 +242,9 @@ contains
          if (sym == MUMPS_UNSYMMETRIC) then
             ! The unsymmetric caller (the integrator's iteration matrix) equilibrates its rows
             ! itself: no scaling (ICNTL(8) = 0) and no maximum-transversal column permutation
-            ! (ICNTL(6) = 0); on the 16-link chain of benchmark_threads this took a
-            ! factorisation from 4.7 to 3.5 ms with the same solutions (test_mbs_sparse_iteration)
+            ! (ICNTL(6) = 0); on the 16-link chain of benchmark_threads a factorisation took
+            ! 3.5 ms instead of 4.7 ms (one pair of runs on a loaded machine), with the same
+            ! solutions to round-off (test_mbs_sparse_iteration)
             id%icntl(8) = 0
             id%icntl(6) = 0
          end if

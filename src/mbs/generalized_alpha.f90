@@ -138,9 +138,10 @@ module ffrf_mbs_generalized_alpha
    !> Default order of the iteration matrix (coordinates + kept constraint rows) from which it
    !> is factorised by the sparse LU (MUMPS, kkt_sparse_t) instead of LAPACK's dense dgetrf
    !> (settings%sparse_threshold). Measured on chains of flexible links (benchmark_threads,
-   !> docs/performance_threads.md): the dense LU is cheaper up to a few hundred unknowns, MUMPS's
-   !> fixed cost per factorisation (~1 ms) pays beyond. The reference engines (iteration
-   !> matrices of 30 to 60) stay far below: dense, bitwise as before.
+   !> docs/performance_threads.md): the two meet at orders of 400 to 450, MUMPS's fixed costs
+   !> (about 1 ms per factorisation) lose below, its linear growth wins above (1.6 times faster
+   !> per step at order 816); 800 is the conservative end. The reference engines (iteration
+   !> matrices of order 56 to 82) stay far below: dense, bitwise as before.
    integer, parameter :: GALPHA_SPARSE_THRESHOLD = 800
 
    !> Layout tag of export_state (first integer), changed with the state's contents

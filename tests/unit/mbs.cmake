@@ -20,5 +20,6 @@ ffrf_add_unit_suite(test_mbs_body CHECKED LABELS mbs)
 # self-stress the modes resolve poorly, closed form. Well under a second.
 ffrf_add_unit_suite(test_mbs_reaction_split CHECKED LABELS mbs)
 # Sparse LU of the iteration matrix (MUMPS) against the dense LU on a chain's saddle-point
-# matrix, pattern growth, singular matrix (issue 24). Well under a second.
+# matrix, pattern growth, singular matrix; the integrator on a chain of point masses with both;
+# its steps on one BLAS thread (issue 24). About a second.
 ffrf_add_unit_suite(test_mbs_sparse_iteration CHECKED LABELS mbs)
