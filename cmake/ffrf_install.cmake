@@ -6,7 +6,7 @@
 #   <prefix>/include/ffrf/<compiler>-<version>/*.mod   only the public Fortran modules
 #   <prefix>/lib/pkgconfig/ffrf.pc                     pkg-config: --cflags, --libs, --static
 #   <prefix>/lib/cmake/ffrf/                           find_package(ffrf): ffrf::ffrf, ffrf::driver
-#   <prefix>/share/doc/ffrf/                           README.md and docs/*.md
+#   <prefix>/share/doc/ffrf/                           README.md and docs/*.md (the manual)
 #
 # Fortran module files are compiler specific (gfortran 12 cannot read another version's), hence
 # the folder named after the compiler, as fortran-lang's stdlib does.
@@ -120,4 +120,6 @@ install(FILES "${PROJECT_BINARY_DIR}/ffrf.pc" DESTINATION ${CMAKE_INSTALL_LIBDIR
 
 # Documentation
 install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
-install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} FILES_MATCHING PATTERN "*.md")
+# docs/ keeps its folder: README.md links docs/<topic>.md, and docs/README.md (the manual's index)
+# must not replace the top-level README.md
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs FILES_MATCHING PATTERN "*.md")

@@ -104,7 +104,7 @@ program ffrf_driver
          end select
          select case (arg)
          case ('--set')
-            ! grown by doubling: 20 000 options take linear time (README "Batch runs")
+            ! grown by doubling: 20 000 options take linear time (docs/batch.md "Batch runs")
             if (num_sets == size(sets)) call grow(sets)
             num_sets = num_sets + 1
             call parse_override(argument(i), sets(num_sets), error)

@@ -166,7 +166,7 @@ int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[
 
 /* MPC kinds of an interface (ffrf_case_add_interface): RBE2 (rigid), RBE3 with uniform
  * weights (Nastran's default), RBE3 with tributary area weights, RBE3 with consistent area
- * weights (the integral of each node's shape function; README "RBE3 weights").
+ * weights (the integral of each node's shape function; docs/input.md "RBE3 weights").
  * ffrf_case_add_interface_nodes takes FFRF_RBE2 or FFRF_RBE3 (weights given per node). */
 enum { FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3, FFRF_RBE3_AREA_CONSISTENT = 4 };
 

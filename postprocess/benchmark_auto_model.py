@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The automatic model's choice, its predicted errors, its actual errors and its cost against a
-converged reference, on the reference engine and three variants (issue 30; README "Model no
-more than the scene needs"). One CSV row per run.
+converged reference, on the reference engine and three variants (issue 30; docs/mechanisms.md "Model
+no more than the scene needs"). One CSV row per run.
 
 Variants (--set overrides of the engine case, input/engine_rc1.nml by default):
   reference   the case as it is

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Benchmark of many modes and of the Sturm check (issue 22, README "Modes: spectra you can
-trust"): the crank meshed at one size (default lc = 4 mm), RC set 1 (RBE3), run with each
+"""Benchmark of many modes and of the Sturm check (issue 22, docs/method.md "Modes: spectra
+you can trust"): the crank meshed at one size (default lc = 4 mm), RC set 1 (RBE3), run with each
 setting of --runs: `N` modes (num_modes = N), `N-nosturm` (num_modes = N, sturm_check = .false.)
 or `fK` (max_frequency_hz = K kHz). One CSV row per run: modes returned, shift windows, count
 factorisations (the Sturm check and the window boundaries), recoveries, the time of the

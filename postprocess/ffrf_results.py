@@ -1,7 +1,7 @@
 """Read an ffrf results file (HDF5, one per run) with h5py.
 
-Only reading and reshaping: no solver logic. Layout (see the README, "Results file"): the
-Fortran writer stores arrays in Fortran order, so h5py sees them transposed, e.g.
+Only reading and reshaping: no solver logic. Layout (see docs/results.md "Results file (HDF5)"):
+the Fortran writer stores arrays in Fortran order, so h5py sees them transposed, e.g.
 /bodies/<body>/mesh/coordinates as (num_nodes, 3) and /bodies/<body>/modes/shape as
 (num_modes, 3*num_nodes). Strings are fixed-length and come back as bytes; `text` decodes.
 

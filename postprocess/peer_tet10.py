@@ -1,11 +1,11 @@
 """Tet10 stiffness and consistent mass of an ffrf body, assembled in numpy, independently of ffrf's
 Fortran (for the Exudyn peer of docs/theory.md 4.5; no solver logic of ffrf).
 
-Gmsh node order (README "Elements"): corners 0..3, edge nodes 4..9 on the edges (0,1) (1,2) (0,2)
-(0,3) (2,3) (1,3). Isoparametric, linear isotropic elasticity. Stiffness with the 4-point Gauss
-rule (ffrf's and CalculiX's "full integration"); mass with a collapsed (Duffy) Gauss product rule
-of 5^3 points, exact to degree 9 on the reference tetrahedron, so exact for straight and curved
-(degree-7 integrand) Tet10 alike.
+Gmsh node order (docs/method.md "Method and conventions"): corners 0..3, edge nodes 4..9 on the
+edges (0,1) (1,2) (0,2) (0,3) (2,3) (1,3). Isoparametric, linear isotropic elasticity. Stiffness
+with the 4-point Gauss rule (ffrf's and CalculiX's "full integration"); mass with a collapsed
+(Duffy) Gauss product rule of 5^3 points, exact to degree 9 on the reference tetrahedron, so exact
+for straight and curved (degree-7 integrand) Tet10 alike.
 
     K, M = assemble(xyz, tets, young, poisson, density)     # scipy CSR, 3n x 3n, dofs x y z per node
 """

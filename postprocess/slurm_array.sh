@@ -1,9 +1,9 @@
 #!/bin/bash
-# A Slurm job array over a sweep table (README "Batch runs"): task N runs row N of TABLE.
+# A Slurm job array over a sweep table (docs/batch.md "Batch runs"): task N runs row N of TABLE.
 # Ahead of the time limit Slurm sends SIGUSR1 to this batch shell (--signal=B:USR1@120), which
 # passes it on to ffrf: a mechanism run ends after its current step, writes its final and
-# restart state and exits 5 (README "Faults", exit codes). Exit 5 is turned into a requeue of
-# this task (scontrol requeue; sbatch of the same task when requeue is refused), and the
+# restart state and exits 5 (docs/faults.md "Faults", exit codes). Exit 5 is turned into a requeue
+# of this task (scontrol requeue; sbatch of the same task when requeue is refused), and the
 # requeued task continues the run with --restart, bit for bit the uninterrupted run.
 #
 #SBATCH --job-name=ffrf-sweep

@@ -5,9 +5,13 @@
 !> pressure model or table of an engine, and the stored modes of a body with &body modes_file
 !> (read and checked against the body's fingerprint by the run's own check, check_stored_modes).
 !> Meant for quick validation, e.g. by a fuzzer: no results file is written and no matrix is
-!> assembled.
+!> assembled. What a mechanism run would refuse only after the modes is refused here too:
+!> rho_inf = 1 (generalized-alpha refuses it with constraints, and every mechanism has its joints
+!> and Euler rows: ffrf_mbs_generalized_alpha). Gravity is accepted on every body kind (rigid and
+!> flexible, docs/theory.md 3.6), so there is nothing about it to refuse.
 module ffrf_app_check_case
-   use ffrf_core_error, only: error_t, add_context
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: folder_of, join_path
    use ffrf_core_log, only: logger_t
@@ -54,6 +58,15 @@ contains
       call build_model(case, model, error)
       if (allocated(error)) then
          call add_context(error, case%file_name)
+         return
+      end if
+      ! as galpha_init at the run's start, after the modes: a mechanism always has constraints
+      if (case%is_mechanism .and. model%mechanism%integrator%rho_inf >= 1.0_dp) then
+         call fatal_error(error, FFRF_INPUT_ERROR, case%file_name // ': &integrator rho_inf = ' &
+            // to_str(model%mechanism%integrator%rho_inf) // ': generalized-alpha without ' // &
+            'numerical damping is unstable with the index-3 constraints of a mechanism (its ' // &
+            'joints and Euler rows; the run refuses it after computing the modes); use ' // &
+            'rho_inf < 1, typically 0.6 to 0.9')
          return
       end if
       mesh_dir = options%mesh_dir

@@ -861,6 +861,16 @@ contains
             ' s, other (predictor, output hook) ' // to_str(s%wall_seconds - &
             s%residual_seconds - s%tangent_seconds - s%factor_seconds - s%solve_seconds, 3) // &
             ' s')
+         if (s%sparse_factorizations > 0) then
+            call log%info('run', 'iteration matrix: order ' // to_str(s%matrix_order) // &
+               ', sparse LU (MUMPS, ' // to_str(s%sparse_analyses) // ' analyses, ' // &
+               to_str(s%sparse_factorizations) // ' factorisations, ' // &
+               to_str(s%sparse_entries) // ' entries, ' // to_str(s%sparse_factor_entries) // &
+               ' in the factors, ' // to_str(s%sparse_mumps_seconds, 3) // ' s in MUMPS)')
+         else
+            call log%info('run', 'iteration matrix: order ' // to_str(s%matrix_order) // &
+               ', dense LU (LAPACK)')
+         end if
          ! the engine's summary (ffrf_app_engine_crank_log); a mechanism without a crank has none
          summary = crank_summary(mech, integrator%q, integrator%v)
          if (len(summary) > 0) call log%info('run', summary)

@@ -37,6 +37,8 @@ module ffrf_app_mechanism_session
    use ffrf_mbs_sensors, only: sensor_t, sensor_size
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_mbs_generalized_alpha, only: galpha_integrator_t, galpha_settings_t
+   use ffrf_la_blas_threads, only: blas_threads, blas_library_name, begin_single_blas, &
+      end_single_blas
    use ffrf_app_mechanism_builder, only: built_body_t, build_mechanism
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_engine_auto_model, only: model_choice_t
@@ -147,6 +149,7 @@ contains
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: case_file
       case_file = case%file_name
+      call log_threads(log, case%mechanism%integrator%sparse_threshold)
       call build_model(case, resolved, error)
       if (.not. allocated(error)) call build_mechanism(case, resolved, mesh_dir, log, times, &
          mech, bodies, q, v, pressure, has_pressure, error, model, sensors)
@@ -172,6 +175,32 @@ contains
       call integrator%init(mech, settings, q, v, error)
       if (allocated(error)) call add_context(error, case_file // ': starting the integration')
    end subroutine start_integration
+
+   !> The BLAS threads of each stage (issue 24): the modes (ARPACK on MUMPS factors: sparse,
+   !> large) keep the threads set (--threads, OPENBLAS_NUM_THREADS, else every core); the
+   !> integration runs its small dense linear algebra, and MUMPS for an iteration matrix of
+   !> order >= sparse_threshold, on one thread (galpha_step).
+   subroutine log_threads(log, sparse_threshold)
+      type(logger_t), intent(in) :: log
+      !> Order of the iteration matrix from which the sparse LU is used
+      integer, intent(in) :: sparse_threshold
+      character(len=:), allocatable :: library, solvers
+      library = blas_library_name()
+      solvers = ' (dense LU below order ' // to_str(sparse_threshold) // &
+         ' of the iteration matrix, MUMPS from it)'
+      select case (library)
+      case ('OpenBLAS')
+         call log%info('threads', 'modes: ' // to_str(blas_threads()) // ' (OpenBLAS), ' // &
+            'integration: 1' // solvers)
+      case ('BLIS')
+         call log%info('threads', 'modes: BLIS''s own setting (BLIS_NUM_THREADS), ' // &
+            'integration: 1' // solvers)
+      case default
+         call log%info('threads', 'not set by ffrf (the BLAS linked is neither OpenBLAS nor ' &
+            // 'BLIS): its own setting in every stage; with a threaded BLAS set it to 1 ' // &
+            '(e.g. OMP_NUM_THREADS=1) for small mechanisms')
+      end select
+   end subroutine log_threads
 
    !> Prepare a mechanism case read by read_case: modes, mechanism, integrator at t_start. With
    !> `options` the run is recorded in options%output_dir (module header), --restart included.
@@ -235,6 +264,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(error_t), allocatable :: run_error
       real(dp) :: tolerance, t_end, wall_start
+      integer :: blas_before
       if (.not. self%prepared) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: advance before prepare')
          return
@@ -254,7 +284,13 @@ contains
          return
       end if
       wall_start = wall_time()
+      ! The steps on one BLAS thread, set once for the whole advance (galpha_step's own switch
+      ! then does nothing): switching OpenBLAS back to its count after every step cost 25 to
+      ! 70 % per step with the default threads on a busy 2-core machine (8-link chain of
+      ! benchmark_threads, 5.1 against 6.1-8.8 ms/step), once per advance nothing measurable
+      blas_before = begin_single_blas()
       call step_to(self, t, t_end, tolerance, run_error)
+      call end_single_blas(blas_before)
       if (.not. self%recording) then
          if (allocated(run_error)) call move_alloc(run_error, error)
          return

@@ -70,7 +70,8 @@ contains
 
       call total%begin()
       ranks = options%parallel
-      ! MPI build: every rank computes the modes, rank 0 alone writes (README "MPI build")
+      ! MPI build: every rank computes the modes, rank 0 alone writes (docs/mpi.md "MPI build and
+      ! runs")
       call use_ranks(options%parallel)
       case_file = case%file_name
       call set_log_level(log, options, log_level_code(case%run%log_level))

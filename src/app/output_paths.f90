@@ -1,14 +1,13 @@
-!> Output paths that never land on an input or on another output (issue 23, item 2; README
-!> "Faults"): before a run computes or locks anything, every file it will write (the results
-!> file, its `.part`, `.lock` and `.checkpoint`, the Gmsh mode shapes or animations and their
-!> `.opt` and `.part` files) is compared with every file it reads (the case, each body's mesh
-!> and modes_file, the pressure table, the --sweep table, the --restart file) and with every
-!> other output. Same file: the same device and inode when both exist (links followed), else
-!> the same resolved path (ffrf_core_posix same_file); a temporary stands for its folder entry
-!> (a stale link there is removed, never followed, so where it leads does not matter). A match
-!> is FFRF_INPUT_ERROR (exit 2) naming both roles and both paths. The one exception is the
-!> documented restart in place: `--restart` may name the run's own results file or its
-!> checkpoint.
+!> Output paths that never land on an input or on another output (issue 23, item 2; docs/faults.md
+!> "Faults"): before a run computes or locks anything, every file it will write (the results file,
+!> its `.part`, `.lock` and `.checkpoint`, the Gmsh mode shapes or animations and their `.opt` and
+!> `.part` files) is compared with every file it reads (the case, each body's mesh and modes_file,
+!> the pressure table, the --sweep table, the --restart file) and with every other output. Same
+!> file: the same device and inode when both exist (links followed), else the same resolved path
+!> (ffrf_core_posix same_file); a temporary stands for its folder entry (a stale link there is
+!> removed, never followed, so where it leads does not matter). A match is FFRF_INPUT_ERROR (exit 2)
+!> naming both roles and both paths. The one exception is the documented restart in place:
+!> `--restart` may name the run's own results file or its checkpoint.
 module ffrf_app_output_paths
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_paths, only: join_path, insert_suffix, folder_of

@@ -46,7 +46,7 @@ module ffrf_capi_case
 
    !> MPC kinds of an interface given from arrays (add_interface): RBE2, RBE3 with uniform
    !> weights (Nastran's default), RBE3 with tributary area weights ('area'), RBE3 with
-   !> consistent area weights int N_i dA ('area_consistent'; README "RBE3 weights")
+   !> consistent area weights int N_i dA ('area_consistent'; docs/input.md "RBE3 weights")
    integer, parameter :: FFRF_RBE2 = 1, FFRF_RBE3 = 2, FFRF_RBE3_AREA = 3, &
       FFRF_RBE3_AREA_CONSISTENT = 4
 

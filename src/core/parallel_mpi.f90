@@ -4,7 +4,7 @@
 !> and the few collective operations the library needs. The library never calls MPI_Init or
 !> MPI_Finalize (the driver or the host does). Every rank runs the same code on the same data;
 !> only the element assembly (ffrf_fe_assembly) and MUMPS (ffrf_la_mumps) share work, and
-!> rank 0 (the root) alone logs and writes files (README "MPI build and runs").
+!> rank 0 (the root) alone logs and writes files (docs/mpi.md "MPI build and runs").
 module ffrf_core_parallel
    use, intrinsic :: iso_c_binding, only: c_int
    use mpi

@@ -14,7 +14,7 @@ module ffrf_core_posix
    public :: lock_file, unlock_file, errno_text
    public :: install_signal_handlers, pending_signal, clear_pending_signal, signal_name
    public :: ERRNO_WOULD_BLOCK
-   public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of
+   public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of, commit_durably
    public :: signals_restart_calls, hold_signals, release_signals, signal_test_point
    public :: create_new_file, same_file, exit_guard
 
@@ -320,6 +320,24 @@ contains
       if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot copy "' // from // &
          '" to "' // to // '": ' // errno_text(int(status)))
    end subroutine copy_file
+
+   !> The last steps of every safe write (results, checkpoints' sources, Gmsh views): force the
+   !> closed, complete temporary `temp` to the device, rename it over `final`, force the folder
+   !> entry. On failure `temp` is removed, `final` is left as it was, and the message reads
+   !> `<what> "<final>" not written: <reason>`.
+   subroutine commit_durably(temp, final, what, error)
+      character(len=*), intent(in) :: temp, final, what
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: ignored
+      call sync_file(temp, error)
+      if (.not. allocated(error)) call rename_file(temp, final, error)
+      if (allocated(error)) then
+         call remove_file(temp, ignored)
+         error%message = what // ' "' // final // '" not written: ' // error%message
+         return
+      end if
+      call sync_folder_of(final, ignored)
+   end subroutine commit_durably
 
    !> Force the folder entry of `path` (after a rename into it) to the device.
    subroutine sync_folder_of(path, error)

@@ -10,7 +10,7 @@ module ffrf_core_serial_section
    public :: enter_serial_section, leave_serial_section
 
    integer, parameter :: SECTION_ARPACK = 0  !< dsaupd ... dseupd of one eigenproblem
-   integer, parameter :: SECTION_HDF5 = 1    !< one call of the HDF5 library (io/hdf5_file.f90)
+   integer, parameter :: SECTION_HDF5 = 1    !< one call of the HDF5 library (io/hdf5.f90)
    integer, parameter :: SECTION_MUMPS = 2   !< one call of MUMPS (la/mumps.f90)
    integer, parameter :: SECTION_METIS = 3   !< one METIS_NodeND (la/metis.f90)
    !> open ... close of an input file: Fortran connects a file to one unit at a time in the

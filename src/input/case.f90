@@ -471,6 +471,9 @@ contains
             ', checkpoint_seconds = ' // to_str(s%checkpoint_seconds, 6)
          if (s%checkpoint_steps /= default_settings%checkpoint_steps) text = text // &
             ', checkpoint_steps = ' // to_str(s%checkpoint_steps)
+         ! The linear solver's switch only when set (the default's results are every run's)
+         if (s%sparse_threshold /= default_settings%sparse_threshold) text = text // &
+            ', sparse_threshold = ' // to_str(s%sparse_threshold)
          ! Energy watch keys only when set (the default watch is in every run)
          if (mech%energy_watch%mode /= default_watch%mode) text = text // &
             ', energy_watch = ''' // energy_watch_word(mech%energy_watch%mode) // ''''

@@ -21,8 +21,8 @@ module ffrf_input_modes
       character(len=64) :: rc_label = ''
       !> Relative tolerance of the Ritz values (0: machine precision). Default 1e-9: eigen
       !> residuals ~1e-10 on the reference crank with fewer solves than machine precision; the
-      !> frequencies (Rayleigh quotients) are accurate to about the residual squared (README
-      !> "Modes: spectra", measured)
+      !> frequencies (Rayleigh quotients) are accurate to about the residual squared (docs/method.md
+      !> "Modes: spectra you can trust", measured)
       real(dp) :: tolerance = 1.0e-9_dp
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
       integer :: lanczos_vectors = 0

@@ -3,7 +3,7 @@
 !>   name          physical surface name in the body's mesh, required, <= 64 characters
 !>   mpc           'RBE3' (default, interpolation) or 'RBE2' (rigid), any case
 !>   weighting     RBE3 node weights: 'uniform' (default, as Nastran), 'area' (tributary areas)
-!>                 or 'area_consistent' (int N_i dA; README "RBE3 weights")
+!>                 or 'area_consistent' (int N_i dA; docs/input.md "RBE3 weights")
 !>   virtual_node  'centroid' (default: area centroid of the face) or 'position'
 !>   position      virtual node position [m] when virtual_node = 'position': 3 finite reals in
 !>                 [-1e4, 1e4] m

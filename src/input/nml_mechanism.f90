@@ -12,7 +12,8 @@
 !>   &integrator  h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, min_step,
 !>                rank_rtol, jacobian ('adaptive', 'step', 'full'), tangent_reuse,
 !>                checkpoint_seconds, checkpoint_steps, energy_watch ('off', 'warn', 'stop'),
-!>                energy_watch_tolerance, energy_watch_window [s]             (optional, single)
+!>                energy_watch_tolerance, energy_watch_window [s], sparse_threshold
+!>                                                                            (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
 !>   &sensor      name, type, body, marker, joint: read by ffrf_input_nml_sensor (repeatable;
@@ -22,7 +23,10 @@
 !> Types, counts and ranges (checked by ffrf_input_nml_source from the *_keys functions below; every
 !> real must be finite; names and labels <= 64 characters, file names <= 256):
 !>   &mechanism  crank_angle_deg in [-720, 720] deg; crank_speed in [-1e4, 1e4] rad/s; gravity:
-!>               3 reals in [-1e4, 1e4] m/s^2; progress_interval in (0, 1e6] s;
+!>               3 reals in [-1e4, 1e4] m/s^2, global axes, uniform field acting on every rigid
+!>               and flexible body (flexible: on the frame and the modes through the shape
+!>               integral int rho Psi dV; docs/theory.md 3.6, docs/gravity.md; its work enters
+!>               /energy like any applied load); progress_interval in (0, 1e6] s;
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
 !>   &marker     position: 3 reals in [-1e4, 1e4] m
 !>   &joint      type: revolute, prismatic, spherical, universal or fixed; axis: 3 reals in
@@ -44,7 +48,10 @@
 !>               raise it on purpose for a longer run; checkpoint_steps integer >= 0,
 !>               checkpoint_seconds in [0, 1e9] s (the checkpoint work); energy_watch
 !>               (default 'warn'; ffrf_mbs_energy_watch), energy_watch_tolerance in (0, 1]
-!>               (default 1e-4), energy_watch_window in (0, 1e6] s (default 0.1 s)
+!>               (default 1e-4), energy_watch_window in (0, 1e6] s (default 0.1 s);
+!>               sparse_threshold integer >= 1 (default 800): order of the iteration matrix
+!>               from which MUMPS's sparse LU replaces LAPACK's dense one (1: always sparse,
+!>               a large value: always dense; docs/performance_threads.md)
 !>   &model      speed_tolerance, force_tolerance in (0, 1); candidate_modes in 1..200;
 !>               resonance_floor in (0, 1]
 module ffrf_input_nml_mechanism
@@ -144,6 +151,7 @@ contains
          real_key('rank_rtol', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          choice_key('jacobian', 16, 'adaptive, step, full'), &
          integer_key('tangent_reuse', 0_i8, 1000000_i8), &
+         integer_key('sparse_threshold', 1_i8, int(huge(1), i8)), &
          integer_key('max_steps', 1_i8, 1000000000000_i8, in_namelist=.false.), &
          integer_key('checkpoint_steps', 0_i8, int(huge(1), i8)), &
          real_key('checkpoint_seconds', 0.0_dp, 1.0e9_dp, 's'), &
@@ -481,12 +489,12 @@ contains
       type(energy_watch_settings_t), intent(inout) :: watch
       real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
       real(dp) :: checkpoint_seconds, energy_watch_tolerance, energy_watch_window
-      integer :: max_iterations, tangent_reuse, checkpoint_steps, stat
+      integer :: max_iterations, tangent_reuse, checkpoint_steps, stat, sparse_threshold
       character(len=16) :: jacobian, energy_watch
       character(len=512) :: msg
       namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
          min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps, &
-         energy_watch, energy_watch_tolerance, energy_watch_window
+         energy_watch, energy_watch_tolerance, energy_watch_window, sparse_threshold
       energy_watch = energy_watch_word(watch%mode)
       energy_watch_tolerance = watch%tolerance
       energy_watch_window = watch%window
@@ -501,6 +509,7 @@ contains
       min_step = settings%min_step
       rank_rtol = settings%rank_rtol
       tangent_reuse = settings%tangent_reuse
+      sparse_threshold = settings%sparse_threshold
       select case (settings%jacobian)
       case (GALPHA_NEWTON_FULL)
          jacobian = 'full'
@@ -516,7 +525,7 @@ contains
             call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
                'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
                'tangent_reuse, checkpoint_seconds, checkpoint_steps, energy_watch, ' // &
-               'energy_watch_tolerance, energy_watch_window')
+               'energy_watch_tolerance, energy_watch_window, sparse_threshold')
             return
          end if
       end if
@@ -530,6 +539,7 @@ contains
       settings%min_step = min_step
       settings%rank_rtol = rank_rtol
       settings%tangent_reuse = tangent_reuse
+      settings%sparse_threshold = sparse_threshold
       settings%checkpoint_seconds = checkpoint_seconds
       settings%checkpoint_steps = checkpoint_steps
       watch%mode = energy_watch_kind(to_lower(energy_watch))

@@ -157,8 +157,8 @@ contains
             to_str(compression_tolerance) // ', must lie in [0, 1) (0: full-rank factors; ' // &
             'e.g. 1e-8)')
       else if (compression_tolerance > 0.0_dp) then
-         ! Measured on this toolchain (README "Large meshes"): about one BLR analysis in four
-         ! ends with SIGSEGV inside SCOTCH, and the crank's fronts hardly compress.
+         ! Measured on this toolchain (docs/performance.md "Large meshes"): about one BLR analysis
+         ! in four ends with SIGSEGV inside SCOTCH, and the crank's fronts hardly compress.
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: compression_tolerance = ' // &
             to_str(compression_tolerance) // ': block low-rank factors are not offered: ' // &
             'Debian 12''s MUMPS 5.5.1 with SCOTCH 7.0.3 crashes (SIGSEGV in ' // &

@@ -45,7 +45,7 @@ module ffrf_input_nml_source
    !> Most values after one key (no key takes more than 16) and most groups in a case: bounds
    !> that keep the work linear in the size of the text
    integer, parameter :: MAX_VALUES = 64, MAX_GROUPS = 2000
-   !> The UTF-8 byte-order mark, skipped at the start of a case (README "Input rules")
+   !> The UTF-8 byte-order mark, skipped at the start of a case (docs/input.md "Input rules")
    character(len=*), parameter :: UTF8_BOM = char(239) // char(187) // char(191)
    !> Characters no value may hold (codes 0-31 and 127)
    character(len=*), parameter :: CONTROL_CHARACTERS = achar(0) // achar(1) // achar(2) // &
@@ -1267,7 +1267,7 @@ contains
    end function is_control
 
    !> The message of a control character `c(1:1)` in a value (case file, --set, sweep cell,
-   !> --output: one rule, README "Input rules").
+   !> --output: one rule, docs/input.md "Input rules").
    pure function control_problem(c) result(problem)
       character(len=*), intent(in) :: c
       character(len=:), allocatable :: problem

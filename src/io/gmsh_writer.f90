@@ -32,7 +32,7 @@
 module ffrf_io_gmsh_writer
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, i8
-   use ffrf_core_posix, only: file_kind, sync_file, rename_file, remove_file
+   use ffrf_core_posix, only: file_kind, remove_file, commit_durably
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
@@ -162,9 +162,9 @@ contains
       call close_whole(file%unit, file_name // '.part', 'Gmsh file "' // file_name // '"', error)
       if (allocated(error)) return
       call write_options(file_name // '.opt', xyz, shapes, frames, error)
-      if (.not. allocated(error)) call commit(file_name // '.part', file_name, 'Gmsh file', &
+      if (.not. allocated(error)) call commit_durably(file_name // '.part', file_name, 'Gmsh file', &
          error)
-      if (.not. allocated(error)) call commit(file_name // '.opt.part', file_name // '.opt', &
+      if (.not. allocated(error)) call commit_durably(file_name // '.opt.part', file_name // '.opt', &
          'Gmsh option file', error)
       if (allocated(error)) then
          call remove_quietly(file_name // '.part')
@@ -202,16 +202,6 @@ contains
             '" (disk full, quota or file size limit?)')
       end if
    end subroutine close_whole
-
-   !> Force `temp` to the device and rename it over `final`.
-   subroutine commit(temp, final, what, error)
-      character(len=*), intent(in) :: temp, final, what
-      type(error_t), allocatable, intent(out) :: error
-      call sync_file(temp, error)
-      if (.not. allocated(error)) call rename_file(temp, final, error)
-      if (allocated(error)) error%message = what // ' "' // final // '" not written: ' // &
-         error%message
-   end subroutine commit
 
    !> Remove a file, ignoring errors (a missing file is fine).
    subroutine remove_quietly(path)

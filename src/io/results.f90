@@ -1,8 +1,8 @@
-!> The results file of a modal run (HDF5; schema in README.md, "Results file"). It is created
-!> first with status 'running' and the input echo, filled body by body, and closed with status
-!> 'complete' or the error message, so a failed run keeps what it computed.
+!> The results file of a modal run (HDF5; schema in docs/results.md "Results file (HDF5)"). It is
+!> created first with status 'running' and the input echo, filled body by body, and closed with
+!> status 'complete' or the error message, so a failed run keeps what it computed.
 !>
-!> Results files are never damaged (issue 10, part 1; README "Results files"):
+!> Results files are never damaged (issue 10, part 1; docs/faults.md "Faults"):
 !> - One run per output: `output_lock_t` holds `<results file>.lock` (flock, released by the
 !>   kernel when the run ends, even by kill -9); a second run on the same output stops at once
 !>   (FFRF_IO_ERROR) and touches nothing of the first.
@@ -15,7 +15,7 @@ module ffrf_io_results
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_IO_ERROR
    use ffrf_core_posix, only: lock_output, unlock_file, ERRNO_WOULD_BLOCK, errno_text, &
-      sync_file, rename_file, remove_file, sync_folder_of, file_kind, FILE_MISSING
+      remove_file, commit_durably, file_kind, FILE_MISSING
    use ffrf_core_log, only: stage_times_t
    use ffrf_core_build_info, only: FFRF_VERSION, build_versions
    use ffrf_io_hdf5, only: h5_file_t
@@ -91,20 +91,12 @@ contains
          'without --no-overwrite to replace it when this run has finished')
    end subroutine check_no_overwrite
 
-   !> Force the closed file `temp` to the device and rename it over `final` (module notes). On
-   !> failure `temp` is removed and `final` is left as it was.
+   !> Force the closed file `temp` to the device and rename it over `final` (module notes;
+   !> ffrf_core_posix's commit_durably). On failure `temp` is removed and `final` is left as it was.
    subroutine commit_file(temp, final, error)
       character(len=*), intent(in) :: temp, final
       type(error_t), allocatable, intent(out) :: error
-      type(error_t), allocatable :: ignored
-      call sync_file(temp, error)
-      if (.not. allocated(error)) call rename_file(temp, final, error)
-      if (allocated(error)) then
-         call remove_file(temp, ignored)
-         error%message = 'results file "' // final // '" not written: ' // error%message
-         return
-      end if
-      call sync_folder_of(final, ignored)
+      call commit_durably(temp, final, 'results file', error)
    end subroutine commit_file
 
    !> Remove the temporary file of a run that could not finish it (errors ignored).

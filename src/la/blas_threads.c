@@ -51,6 +51,66 @@ int ffrf_blas_threads(void)
     return openblas_get_num_threads ? openblas_get_num_threads() : -1;
 }
 
+/* ---- issue 24, item 3: small dense work on one BLAS thread ----
+ * Threaded LAPACK on a matrix of about 100 x 100 (the integrator's iteration matrix) stalls on
+ * a busy machine (8.7 s against 0.2 s for a 0.1 s run on 2 shared cores). The integrator runs
+ * its steps between ffrf_blas_single_begin and ffrf_blas_single_end: the BLAS goes to one
+ * thread and back to the count it had, which the eigen and MUMPS stages of the modes keep.
+ * Controls known (weak references, so any BLAS links): OpenBLAS (openblas_set_num_threads,
+ * pthreads or OpenMP build) and BLIS (bli_thread_set_num_threads, dim_t = int64_t). Another
+ * BLAS (reference BLAS: never threaded; MKL, ATLAS) is left alone. No room check and no signal
+ * mask here: going down never starts a worker, and going back up restores a count the process
+ * already had, whose workers OpenBLAS keeps (0.3.21: blas_num_threads never shrinks). The count
+ * is process-wide: a host running handles in several threads shares it (docs/api.md). */
+typedef long long blis_dim_t;
+blis_dim_t bli_thread_get_num_threads(void) __attribute__((weak));
+void bli_thread_set_num_threads(blis_dim_t) __attribute__((weak));
+
+/* Which BLAS threads ffrf can set: 1 OpenBLAS, 2 BLIS, 0 none known. */
+int ffrf_blas_kind(void)
+{
+    if (openblas_set_num_threads && openblas_get_num_threads) return 1;
+    if (bli_thread_set_num_threads && bli_thread_get_num_threads) return 2;
+    return 0;
+}
+
+/* Put the BLAS on one thread; returns the count before (the argument of
+ * ffrf_blas_single_end), 0 when nothing was changed (already one, or no known control). */
+int ffrf_blas_single_begin(void)
+{
+    int before;
+    switch (ffrf_blas_kind()) {
+    case 1:
+        before = openblas_get_num_threads();
+        if (before <= 1) return 0;
+        openblas_set_num_threads(1);
+        return before;
+    case 2:
+        before = (int)bli_thread_get_num_threads();
+        if (before <= 1) return 0; /* BLIS: -1 = not set, its own default (one thread) */
+        bli_thread_set_num_threads(1);
+        return before;
+    default:
+        return 0;
+    }
+}
+
+/* Give the BLAS back the count ffrf_blas_single_begin returned (nothing for 0). */
+void ffrf_blas_single_end(int before)
+{
+    if (before <= 1) return;
+    switch (ffrf_blas_kind()) {
+    case 1:
+        openblas_set_num_threads(before);
+        break;
+    case 2:
+        bli_thread_set_num_threads((blis_dim_t)before);
+        break;
+    default:
+        break;
+    }
+}
+
 /* ---- issue 23, item 6: allocation failure inside OpenBLAS ----
  * OpenBLAS 0.3.21 maps a work buffer per thread the first time a thread needs one (level-3
  * calls) and keeps it for the life of the process (blas_memory_free only marks it free); when

@@ -7,6 +7,7 @@ module ffrf_la_blas_threads
    implicit none
    private
    public :: set_blas_threads, blas_threads, reserve_blas_buffers, fit_blas_address_limit
+   public :: begin_single_blas, end_single_blas, blas_library_name
 
    interface
       integer(c_int) function c_blas_set_threads(n) bind(c, name='ffrf_blas_set_threads')
@@ -18,6 +19,19 @@ module ffrf_la_blas_threads
          import :: c_int
          implicit none
       end function c_blas_threads
+      integer(c_int) function c_blas_kind() bind(c, name='ffrf_blas_kind')
+         import :: c_int
+         implicit none
+      end function c_blas_kind
+      integer(c_int) function c_blas_single_begin() bind(c, name='ffrf_blas_single_begin')
+         import :: c_int
+         implicit none
+      end function c_blas_single_begin
+      subroutine c_blas_single_end(before) bind(c, name='ffrf_blas_single_end')
+         import :: c_int
+         implicit none
+         integer(c_int), value :: before
+      end subroutine c_blas_single_end
       integer(c_int) function c_blas_fit_address_limit() &
          bind(c, name='ffrf_blas_fit_address_limit')
          import :: c_int
@@ -64,6 +78,34 @@ contains
    integer function blas_threads()
       blas_threads = int(c_blas_threads())
    end function blas_threads
+
+   !> Put the BLAS on one thread for small dense work (the integrator's steps: threaded LAPACK
+   !> on a 100 x 100 matrix stalls on a busy machine; issue 24, blas_threads.c). Returns the
+   !> count to give to end_single_blas (0: nothing changed, e.g. one thread already or a BLAS
+   !> whose threads ffrf cannot set).
+   integer function begin_single_blas() result(before)
+      before = int(c_blas_single_begin())
+   end function begin_single_blas
+
+   !> Give the BLAS back the thread count that begin_single_blas returned.
+   subroutine end_single_blas(before)
+      !> The result of begin_single_blas
+      integer, intent(in) :: before
+      call c_blas_single_end(int(before, c_int))
+   end subroutine end_single_blas
+
+   !> The BLAS whose threads ffrf sets: 'OpenBLAS', 'BLIS', or '' (another BLAS, left alone).
+   function blas_library_name() result(name)
+      character(len=:), allocatable :: name
+      select case (c_blas_kind())
+      case (1)
+         name = 'OpenBLAS'
+      case (2)
+         name = 'BLIS'
+      case default
+         name = ''
+      end select
+   end function blas_library_name
 
    !> Take the work buffer of OpenBLAS's calling thread (and one more when it fits) now, while
    !> the process is small: OpenBLAS 0.3.21 retries a failed buffer mapping forever, deaf to

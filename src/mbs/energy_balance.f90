@@ -61,7 +61,10 @@
 !> |L - L_0| / |L_0| = 6.8e-10 for a tumbling rigid body, 2 s, h = 2e-4 s, rho_inf = 0.8).
 !> D > 0 is energy removed by the scheme; D < 0 beyond the O(h^2) quadrature part (a damped mode
 !> resolved by 200 steps per period: D = -2.5e-4 D_p) would signal energy created (instability);
-!> D_s has no quadrature part and is >= 0 up to round-off on every case measured.
+!> D_s has no quadrature part and is >= 0 up to round-off on every case measured without a
+!> prescribed motion. With a driving constraint C_m holds the drive's work as a step-mean
+!> quadrature, and D_s can be negative by O(h^2): the driven, damped spin-up of
+!> tests/unit/test_mbs_energy_scenes.f90 gives D_s = -7.9e-7 W at h = 2 ms, -2.0e-7 W at 1 ms.
 module ffrf_mbs_energy_balance
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp

@@ -34,6 +34,12 @@
 !> velocities: it is the motion-induced stiffness of the inertia forces (Kane, Ryan & Banerjee,
 !> J. Guidance 10 (1987) 139), so it is added to f_v (quadratic_velocity) and its exact
 !> derivatives to quadratic_velocity_tangents; strain_energy stays zeta^T K_ff zeta / 2.
+!>
+!> Uniform gravity g (theory.md 3.6): the potential V = -int rho g . r dV = -g . (m R + A S(zeta)),
+!> S(zeta) = m chi + M_PhitPsi zeta = int rho u dV (the first moment: M_PhitPsi = Phi_t^T M Psi is
+!> Shabana's shape integral S_bar = int rho Psi dV, an invariant of 3.2), and its generalized force
+!> Q_g = -dV/dq = [m g; G_bar^T (S~ A^T g); M_PhitPsi^T A^T g] acts on the translation, the
+!> rotation and the modal coordinates; gravity_tangent gives dQ_g/dq exactly.
 module ffrf_mbs_flexible_body
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip
@@ -115,6 +121,14 @@ module ffrf_mbs_flexible_body
       procedure :: marker_rotation_jacobian => flexible_body_marker_rotation_jacobian
       procedure :: marker_axis_jacobian => flexible_body_marker_axis_jacobian
       procedure :: marker_generalized_force => flexible_body_marker_generalized_force
+      !> First moment of mass int rho u dV = m chi + M_PhitPsi zeta, body frame (kg m)
+      procedure :: first_moment => flexible_body_first_moment
+      !> Potential of uniform gravity V = -g . (m R + A (m chi + M_PhitPsi zeta)) (J)
+      procedure :: gravity_potential => flexible_body_gravity_potential
+      !> Generalized gravity force Q_g = -dV/dq (theory.md 3.6)
+      procedure :: gravity_force => flexible_body_gravity_force
+      !> dQ_g/dq at fixed g (the mechanism subtracts it from -df/dq)
+      procedure :: gravity_tangent => flexible_body_gravity_tangent
    end type flexible_body_t
 
 contains
@@ -1137,5 +1151,81 @@ contains
             dot_product(self%virtual_shapes(6 * k - 2:6 * k, l), Tn)
       end do
    end function flexible_body_marker_generalized_force
+
+   !> First moment of mass in the body frame, S(zeta) = int rho u dV = m chi + M_PhitPsi zeta
+   !> (kg m; theory.md 3.2, 3.6): the mass times the deformed centre of mass.
+   pure function flexible_body_first_moment(self, q) result(moment)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      real(dp) :: moment(3)
+      moment = self%mass * self%center_of_mass + matmul(self%m_phit_psi, &
+         q(8:self%num_coordinates))
+   end function flexible_body_first_moment
+
+   !> Potential energy of the uniform gravity field g (theory.md 3.6, eq. 3.6a):
+   !>     V = -int rho g . r dV = -g . (m R + A S(zeta))   (J),
+   !> zero at R = 0 in the undeformed pose A = I with the centre of mass at the origin.
+   pure function flexible_body_gravity_potential(self, q, gravity) result(energy)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Gravity acceleration, global (m/s^2)
+      real(dp), intent(in) :: gravity(3)
+      real(dp) :: energy
+      energy = -dot_product(gravity, self%mass * q(1:3) + &
+         matmul(euler_rotation(q(4:7)), self%first_moment(q)))
+   end function flexible_body_gravity_potential
+
+   !> Generalized force of the uniform gravity field g, Q_g = -dV/dq (theory.md 3.6, eq. 3.6b):
+   !>     Q_R = m g,  Q_th = G_bar^T (S x A^T g),  Q_f = M_PhitPsi^T A^T g,
+   !> with S = m chi + M_PhitPsi zeta. Q_g . v = -dV/dt on the constraint manifold (|theta| = 1),
+   !> and Q_th is the tangent part of -dV/dtheta (G_bar theta = 0: no component along theta,
+   !> which the normalisation constraint carries). Q_f is the modal load S_f^T A^T g of the
+   !> body's weight seen in the body frame.
+   pure function flexible_body_gravity_force(self, q, gravity) result(gen)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Gravity acceleration, global (m/s^2)
+      real(dp), intent(in) :: gravity(3)
+      real(dp) :: gen(self%num_coordinates)
+      real(dp) :: y(3)
+      y = matmul(gravity, euler_rotation(q(4:7)))
+      gen(1:3) = self%mass * gravity
+      gen(4:7) = matmul(cross_product(self%first_moment(q), y), euler_g_bar(q(4:7)))
+      gen(8:) = matmul(y, self%m_phit_psi)
+   end function flexible_body_gravity_force
+
+   !> dQ_g/dq at fixed g ((7+m) x (7+m)), exact (theory.md 3.6, eq. 3.6c). With y = A^T g,
+   !> S = m chi + M_PhitPsi zeta, dy/dtheta = d(A^T g)/dtheta:
+   !>     rows theta, cols theta: d(G_bar^T p)/dtheta at p = S x y, plus G_bar^T S~ dy/dtheta,
+   !>     rows theta, col zeta_l: G_bar^T (M_PhitPsi(:, l) x y),
+   !>     rows zeta,  cols theta: M_PhitPsi^T dy/dtheta;
+   !> the R rows and columns and the zeta-zeta block are zero (Q_g does not depend on R, and is
+   !> linear in zeta only through the theta rows).
+   pure subroutine flexible_body_gravity_tangent(self, q, gravity, tangent)
+      class(flexible_body_t), intent(in) :: self
+      !> Coordinates [R; theta; zeta]
+      real(dp), intent(in) :: q(:)
+      !> Gravity acceleration, global (m/s^2)
+      real(dp), intent(in) :: gravity(3)
+      !> The derivative ((7+m) x (7+m))
+      real(dp), intent(out) :: tangent(:, :)
+      real(dp) :: G_bar(3, 4), y(3), dy(3, 4), moment(3)
+      integer :: l, nc
+      nc = self%num_coordinates
+      G_bar = euler_g_bar(q(4:7))
+      y = matmul(gravity, euler_rotation(q(4:7)))
+      dy = transposed_rotation_derivative(q(4:7), gravity)
+      moment = self%first_moment(q)
+      tangent = 0.0_dp
+      tangent(4:7, 4:7) = g_bar_transpose_derivative(cross_product(moment, y)) + &
+         matmul(transpose(G_bar), matmul(skew3(moment), dy))
+      do l = 1, self%num_modes
+         tangent(4:7, 7 + l) = matmul(transpose(G_bar), cross_product(self%m_phit_psi(:, l), y))
+      end do
+      tangent(8:nc, 4:7) = matmul(transpose(self%m_phit_psi), dy)
+   end subroutine flexible_body_gravity_tangent
 
 end module ffrf_mbs_flexible_body

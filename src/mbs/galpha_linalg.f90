@@ -1,16 +1,55 @@
 !> Dense linear algebra of the generalized-alpha integrator: explicit interfaces to the LAPACK
 !> routines it needs beyond ffrf_la_lapack (LU factor/solve, QR with column pivoting), the
 !> detection of redundant constraint rows, and the equilibrated saddle-point
-!> (KKT) matrix [[A, Phi_q^T], [Phi_q, 0]] shared by the consistent start and the Newton step.
+!> (KKT) matrix [[A, Phi_q^T], [Phi_q, 0]] shared by the consistent start and the Newton step,
+!> and the sparse LU of that matrix (kkt_sparse_t, MUMPS) for large mechanisms.
 module ffrf_mbs_galpha_linalg
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_kinds, only: dp, ip
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_kinds, only: dp, ip, i8
+   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_la_mumps, only: mumps_solver_t, MUMPS_UNSYMMETRIC
    implicit none
    private
    public :: dgetrf, dgetrs, dgeqp3
    public :: find_redundant_rows, kkt_matrix, kkt_complete, kkt_factor, kkt_solve
+   public :: kkt_sparse_t
+
+   !> INFOG(1) of MUMPS for a numerically singular matrix (MUMPS 5.5 user guide, section 8)
+   integer(ip), parameter :: MUMPS_SINGULAR = -10_ip
+
+   !> Sparse LU of the equilibrated iteration matrix by MUMPS (unsymmetric, SYM = 0: the
+   !> gyroscopic and load tangents make it so), for mechanisms whose iteration matrix is large
+   !> and sparse: a chain of flexible bodies has one dense block per body, coupled only through
+   !> the rows of its joints, so the dense LU costs O(N^3) for N bodies and the sparse one
+   !> O(N). The matrix is assembled dense as for the dense path (kkt_complete); `factor` hands
+   !> its nonzero entries to MUMPS. The analysed pattern is kept while the nonzeros stay inside
+   !> it (an entry that turns zero stays in it, as a zero) and grows, with a new analysis
+   !> (METIS ordering, MUMPS JOB = 1), when an entry outside it turns nonzero. The diagonal is
+   !> always in the pattern. Do not copy a live one (MUMPS holds pointers): the integrator keeps
+   !> it behind a pointer.
+   type :: kkt_sparse_t
+      !> The MUMPS instance (analysed, factorised)
+      type(mumps_solver_t) :: solver
+      !> Entries in the analysed pattern (order x order)
+      logical, allocatable :: mask(:, :)
+      !> The pattern given to MUMPS (1-based row and column of each entry) and its values
+      integer(ip), allocatable :: irn(:), jcn(:)
+      real(dp), allocatable :: values(:)
+      !> Analyses (pattern changes) and numerical factorisations so far
+      integer(i8) :: analyses = 0, factorizations = 0
+      !> Seconds in MUMPS's analyses and numerical factorisations (JOB = 1, 2)
+      real(dp) :: mumps_seconds = 0.0_dp
+   contains
+      !> Factorise the (assembled, equilibrated) iteration matrix
+      procedure :: factor => kkt_sparse_factor
+      !> Solve with the factors; the right-hand side is overwritten by the solution
+      procedure :: solve => kkt_sparse_solve
+      !> Whether factors are ready
+      procedure :: is_factorised => kkt_sparse_is_factorised
+      !> Release MUMPS's memory
+      procedure :: free => kkt_sparse_free
+   end type kkt_sparse_t
 
    interface
       !> LU factorisation with partial pivoting, A = P L U.
@@ -237,5 +276,108 @@ contains
       if (m == 0) return
       call dgetrs('N', m, 1_ip, lu, m, pivots, rhs, m, info)
    end subroutine kkt_solve
+
+   !> Sparse LU factors (MUMPS) of the square matrix `kkt` (assembled dense: kkt_complete);
+   !> `kkt` is left unchanged. `singular` when MUMPS finds the matrix numerically singular
+   !> (INFOG(1) = -10; the dense path's dgetrf info > 0): the integrator then cuts the step.
+   subroutine kkt_sparse_factor(self, kkt, singular, error)
+      class(kkt_sparse_t), intent(inout) :: self
+      !> The iteration matrix, m x m
+      real(dp), intent(in) :: kkt(:, :)
+      !> Whether MUMPS found it numerically singular
+      logical, intent(out) :: singular
+      type(error_t), allocatable, intent(out) :: error
+      integer :: m, i, j
+      integer(i8) :: k, nnz
+      logical :: grow
+      singular = .false.
+      m = size(kkt, 1)
+      grow = .not. allocated(self%mask)
+      if (.not. grow) grow = size(self%mask, 1) /= m
+      if (grow) then
+         if (allocated(self%mask)) deallocate (self%mask)
+         allocate (self%mask(m, m))
+         self%mask = .false.
+         do i = 1, m
+            self%mask(i, i) = .true.
+         end do
+      end if
+      do j = 1, m
+         do i = 1, m
+            if (kkt(i, j) /= 0.0_dp .and. .not. self%mask(i, j)) then
+               self%mask(i, j) = .true.
+               grow = .true.
+            end if
+         end do
+      end do
+      if (grow) then
+         nnz = count(self%mask, kind=i8)
+         if (allocated(self%irn)) deallocate (self%irn, self%jcn, self%values)
+         allocate (self%irn(nnz), self%jcn(nnz), self%values(nnz))
+         k = 0
+         do j = 1, m
+            do i = 1, m
+               if (self%mask(i, j)) then
+                  k = k + 1
+                  self%irn(k) = int(i, ip)
+                  self%jcn(k) = int(j, ip)
+               end if
+            end do
+         end do
+         call self%solver%free()
+         call self%solver%init(MUMPS_UNSYMMETRIC, error)
+         if (.not. allocated(error)) call self%solver%analyse(int(m, ip), self%irn, self%jcn, &
+            error=error)
+         if (allocated(error)) then
+            call add_context(error, 'sparse LU of the iteration matrix (order ' // &
+               to_str(m) // ', ' // to_str(nnz) // ' entries)')
+            deallocate (self%mask)
+            return
+         end if
+         self%analyses = self%analyses + 1
+         self%mumps_seconds = self%mumps_seconds + self%solver%time_ordering + &
+            self%solver%time_analysis
+      end if
+      do k = 1, size(self%irn, kind=i8)
+         self%values(k) = kkt(self%irn(k), self%jcn(k))
+      end do
+      call self%solver%factorise(self%values, error)
+      self%factorizations = self%factorizations + 1
+      self%mumps_seconds = self%mumps_seconds + self%solver%time_factorisation
+      if (allocated(error)) then
+         if (self%solver%status == MUMPS_SINGULAR) then
+            deallocate (error)
+            singular = .true.
+         else
+            call add_context(error, 'sparse LU of the iteration matrix (order ' // &
+               to_str(m) // ')')
+         end if
+      end if
+   end subroutine kkt_sparse_factor
+
+   !> Solve with the factors of kkt_sparse_factor; the right-hand side is overwritten.
+   subroutine kkt_sparse_solve(self, rhs, error)
+      class(kkt_sparse_t), intent(inout) :: self
+      !> Right-hand side on entry, solution on exit
+      real(dp), intent(inout) :: rhs(:)
+      type(error_t), allocatable, intent(out) :: error
+      if (size(rhs) == 0) return
+      call self%solver%solve(rhs, error)
+      if (allocated(error)) call add_context(error, 'sparse solve with the iteration matrix')
+   end subroutine kkt_sparse_solve
+
+   !> Whether factors are ready for solve.
+   logical function kkt_sparse_is_factorised(self) result(ready)
+      class(kkt_sparse_t), intent(in) :: self
+      ready = self%solver%is_factorised()
+   end function kkt_sparse_is_factorised
+
+   !> Release MUMPS's memory and the pattern.
+   subroutine kkt_sparse_free(self)
+      class(kkt_sparse_t), intent(inout) :: self
+      call self%solver%free()
+      if (allocated(self%mask)) deallocate (self%mask)
+      if (allocated(self%irn)) deallocate (self%irn, self%jcn, self%values)
+   end subroutine kkt_sparse_free
 
 end module ffrf_mbs_galpha_linalg

@@ -1,7 +1,9 @@
 !> Implicit generalized-alpha integrator for index-3 constrained mechanical systems
 !> M(q) q'' + Phi_q^T lambda = f(q, q', t), Phi(q, t) = 0 (Arnold & Bruls, Multibody Syst Dyn 18
 !> (2007) 185; theory.md section 4), with dense LAPACK linear algebra for the small systems of a
-!> mechanism (tens of coordinates).
+!> mechanism (tens of coordinates) and MUMPS's sparse LU for the iteration matrix of a large one
+!> (order >= settings%sparse_threshold: chains of many flexible bodies). Every step runs with
+!> the BLAS on one thread (galpha_step; docs/performance_threads.md).
 !>
 !> - Parameters from the spectral radius at infinity rho_inf (Chung & Hulbert 1993; theory.md 4.1).
 !>   rho_inf = 1 (trapezoidal rule, no numerical damping) is REFUSED for a system with
@@ -101,14 +103,16 @@ module ffrf_mbs_generalized_alpha
    use ffrf_core_finite, only: all_finite
    use ffrf_core_log, only: wall_time
    use ffrf_la_lapack, only: dposv
+   use ffrf_la_blas_threads, only: begin_single_blas, end_single_blas
    use ffrf_mbs_dae_system, only: dae_system_t
    use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_complete, &
-      kkt_factor, kkt_solve
+      kkt_factor, kkt_solve, kkt_sparse_t
    implicit none
    private
    public :: galpha_settings_t, galpha_stats_t, galpha_integrator_t
    public :: chung_hulbert, check_galpha_settings
    public :: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
+   public :: GALPHA_SPARSE_THRESHOLD
 
    !> Safety factor on the round-off floors of the residual and the increment (noise_floor): the
    !> multiplier increments of the round-off cycle measured on the engine of
@@ -130,6 +134,15 @@ module ffrf_mbs_generalized_alpha
    !> Jacobian policy: keep the factors across iterations and steps of equal size while the
    !> contraction rate stays below refactor_rate (default)
    integer, parameter :: GALPHA_NEWTON_ADAPTIVE = 3
+
+   !> Default order of the iteration matrix (coordinates + kept constraint rows) from which it
+   !> is factorised by the sparse LU (MUMPS, kkt_sparse_t) instead of LAPACK's dense dgetrf
+   !> (settings%sparse_threshold). Measured on chains of flexible links (benchmark_threads,
+   !> docs/performance_threads.md): the two meet at orders of 400 to 450, MUMPS's fixed costs
+   !> (about 1 ms per factorisation) lose below, its linear growth wins above (1.6 times faster
+   !> per step at order 816); 800 is the conservative end. The reference engines (iteration
+   !> matrices of order 56 to 82) stay far below: dense, bitwise as before.
+   integer, parameter :: GALPHA_SPARSE_THRESHOLD = 800
 
    !> Layout tag of export_state (first integer), changed with the state's contents
    integer(i8), parameter :: STATE_LAYOUT = 20261125_i8
@@ -180,6 +193,9 @@ module ffrf_mbs_generalized_alpha
       real(dp) :: alternation_limit = 0.25_dp
       !> Project inconsistent initial positions/velocities onto the constraints (else refuse)
       logical :: project_initial = .true.
+      !> Order of the iteration matrix from which the sparse LU (MUMPS) replaces the dense one
+      !> (GALPHA_SPARSE_THRESHOLD); 1: always sparse, huge(1): always dense
+      integer :: sparse_threshold = GALPHA_SPARSE_THRESHOLD
       !> Restart checkpoints of a mechanism run (ffrf_app_mechanism_run; they do not change
       !> the integration): every this many seconds of wall time (0: none by time) and every
       !> this many steps (0: none by steps)
@@ -210,6 +226,14 @@ module ffrf_mbs_generalized_alpha
       real(dp) :: solve_seconds = 0.0_dp
       !> Smallest accepted step (s)
       real(dp) :: h_min = huge(1.0_dp)
+      !> Order of the last iteration matrix, and the sparse LU's analyses (pattern changes)
+      !> and factorisations (0 on the dense path)
+      integer :: matrix_order = 0
+      integer(i8) :: sparse_analyses = 0, sparse_factorizations = 0
+      !> Entries of the sparse LU's pattern and of its factors (MUMPS INFOG(29))
+      integer(i8) :: sparse_entries = 0, sparse_factor_entries = 0
+      !> Seconds in MUMPS's analyses and factorisations (part of factor_seconds)
+      real(dp) :: sparse_mumps_seconds = 0.0_dp
       !> Largest |Phi_i| over accepted steps, kept and dropped rows (m or rad)
       real(dp) :: max_constraint_violation = 0.0_dp
    end type galpha_stats_t
@@ -267,6 +291,11 @@ module ffrf_mbs_generalized_alpha
       integer, private :: successes = 0
       !> Whether the next step may start on the current factors (GALPHA_NEWTON_ADAPTIVE)
       logical, private :: reuse_factors = .false.
+      !> Sparse LU of the iteration matrix when its order reaches settings%sparse_threshold
+      !> (then `lu` keeps the assembled matrix, not factors). A pointer: copies of the
+      !> integrator (the output's state before the last step) share it and never solve with
+      !> it; after import_state it is factorised again from `lu` at the first solve.
+      type(kkt_sparse_t), pointer, private :: sparse => null()
    contains
       !> Check settings, detect redundant rows, make the start consistent
       procedure :: init => galpha_init
@@ -372,7 +401,27 @@ contains
    !> Check the settings, find redundant constraint rows, make (q0, v0) consistent (projection
    !> or refusal) and solve for q''_0 and lambda_0 (theory.md 4.3). Calls system%accepted_step
    !> once at t_start.
+   !> (init_once with the BLAS on one thread: galpha_step.)
    subroutine galpha_init(self, system, settings, q0, v0, error)
+      !> The integrator
+      class(galpha_integrator_t), intent(out) :: self
+      !> The mechanical system
+      class(dae_system_t), intent(inout) :: system
+      !> Settings of the run
+      type(galpha_settings_t), intent(in) :: settings
+      !> Initial coordinates, n
+      real(dp), intent(in) :: q0(:)
+      !> Initial velocities, n
+      real(dp), intent(in) :: v0(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: before
+      before = begin_single_blas()
+      call init_once(self, system, settings, q0, v0, error)
+      call end_single_blas(before)
+   end subroutine galpha_init
+
+   !> The work of galpha_init.
+   subroutine init_once(self, system, settings, q0, v0, error)
       !> The integrator
       class(galpha_integrator_t), intent(out) :: self
       !> The mechanical system
@@ -422,7 +471,7 @@ contains
       call system%accepted_step(self%t, self%q, self%v, self%qdd, self%lambda, error)
       if (allocated(error)) return
       self%stats%wall_seconds = wall_time() - start
-   end subroutine galpha_init
+   end subroutine init_once
 
    !> Append one line to the notes.
    subroutine add_note(self, text)
@@ -615,10 +664,30 @@ contains
       end do
    end subroutine galpha_run
 
+   !> One accepted step (step_once) with the BLAS on one thread, then back to the count it had
+   !> (issue 24): the iteration matrix of a mechanism is small (tens to hundreds of unknowns),
+   !> and threaded LAPACK on a 100 x 100 matrix runs 30 times slower on a busy 2-core machine
+   !> than on one thread. The stages that keep the user's threads (--threads) are the modes
+   !> (ARPACK on MUMPS factors); the log's [threads] line says so. A caller stepping in a loop
+   !> sets one thread once around the loop (the mechanism session's advance), so that this
+   !> switch does nothing: OpenBLAS switched back to its count after every step slowed the
+   !> steps by 25 to 70 % on a busy machine (mechanism_session.f90, session_advance).
+   subroutine galpha_step(self, system, error)
+      !> The integrator (after init)
+      class(galpha_integrator_t), intent(inout) :: self
+      !> The mechanical system
+      class(dae_system_t), intent(inout) :: system
+      type(error_t), allocatable, intent(out) :: error
+      integer :: before
+      before = begin_single_blas()
+      call step_once(self, system, error)
+      call end_single_blas(before)
+   end subroutine galpha_step
+
    !> One accepted step from the last converged state: the step is min(h, t_end - t); on failure
    !> it is cut by step_cut and retried (after one retry with a fresh iteration matrix if the
    !> failed attempt used an old one), down to min_step; the system hook is called at the end.
-   subroutine galpha_step(self, system, error)
+   subroutine step_once(self, system, error)
       !> The integrator (after init)
       class(galpha_integrator_t), intent(inout) :: self
       !> The mechanical system
@@ -683,7 +752,7 @@ contains
          return
       end if
       self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
-   end subroutine galpha_step
+   end subroutine step_once
 
    !> Weak instability of index-3 generalized-alpha near rho_inf = 1 (Cardona & Geradin 1989;
    !> theory.md 4.3): the multipliers grow as an oscillation that alternates from step to step.
@@ -851,8 +920,9 @@ contains
          dx(:n) = -bh2 * trial%r_q
          dx(n + 1:) = -self%row_scale * trial%phi(self%active)
          clock = wall_time()
-         call kkt_solve(self%lu, self%pivots, dx)
+         call solve_iteration(self, dx, error)
          self%stats%solve_seconds = self%stats%solve_seconds + wall_time() - clock
+         if (allocated(error)) return
          self%stats%newton_iterations = self%stats%newton_iterations + 1
          if (.not. all_finite(dx)) then
             reason = 'NaN or Inf in the Newton increment'
@@ -975,7 +1045,7 @@ contains
       real(dp) :: c_af, clock
       integer(ip) :: info
       integer :: n, nr
-      logical :: new_tangent
+      logical :: new_tangent, singular
       n = self%n
       nr = size(self%active)
       ok = .false.
@@ -1018,13 +1088,33 @@ contains
       self%lu(:n, :n) = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * h * &
          self%tangent_C
       call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
-      call kkt_factor(self%lu, self%pivots, info)
+      self%stats%matrix_order = n + nr
+      if (n + nr >= self%settings%sparse_threshold) then
+         ! Sparse LU (MUMPS): lu keeps the assembled matrix
+         if (.not. associated(self%sparse)) allocate (self%sparse)
+         call self%sparse%factor(self%lu, singular, error)
+         self%stats%sparse_analyses = self%sparse%analyses
+         self%stats%sparse_factorizations = self%sparse%factorizations
+         if (allocated(self%sparse%irn)) self%stats%sparse_entries = size(self%sparse%irn, &
+            kind=i8)
+         self%stats%sparse_factor_entries = self%sparse%solver%factor_entries
+         self%stats%sparse_mumps_seconds = self%sparse%mumps_seconds
+         if (allocated(error)) then
+            self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
+            return
+         end if
+         info = merge(1_ip, 0_ip, singular)
+      else
+         call kkt_factor(self%lu, self%pivots, info)
+      end if
       if (info /= 0) then
          self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
          return
       end if
       ! The floors are magnitudes: they are kept with the tangent they were computed from
-      if (new_tangent .or. self%h_floor /= h) call noise_floor(self, h, self%tangent_K, trial)
+      if (new_tangent .or. self%h_floor /= h) call noise_floor(self, h, self%tangent_K, trial, &
+         error)
+      if (allocated(error)) return
       self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
       self%h_factored = h
       ok = .true.
@@ -1042,13 +1132,14 @@ contains
    !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
    !> converging. The increment floor is estimated by two solves with the noise vector under two
    !> sign patterns (round-off has no preferred sign).
-   subroutine noise_floor(self, h, tangent, trial)
+   subroutine noise_floor(self, h, tangent, trial, error)
       type(galpha_integrator_t), intent(inout) :: self
       !> Step (s)
       real(dp), intent(in) :: h
       !> Tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at the trial state, n x n
       real(dp), intent(in) :: tangent(:, :)
       type(trial_t), intent(in) :: trial
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: u(:), noise(:), x(:), terms(:)
       real(dp) :: bh2, signum
       integer :: n, nr, i, pattern
@@ -1075,13 +1166,37 @@ contains
             end if
             x(i) = signum * noise(i)
          end do
-         call kkt_solve(self%lu, self%pivots, x)
+         call solve_iteration(self, x, error)
+         if (allocated(error)) return
          self%increment_floor = max(self%increment_floor, abs(x))
       end do
       if (nr > 0) self%increment_floor(n + 1:) = self%row_scale * &
          self%increment_floor(n + 1:) / bh2
       self%h_floor = h
    end subroutine noise_floor
+
+   !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
+   !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
+   !> assembled matrix in `lu` when the factors are missing: after import_state).
+   subroutine solve_iteration(self, x, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      !> Right-hand side on entry, solution on exit
+      real(dp), intent(inout) :: x(:)
+      type(error_t), allocatable, intent(out) :: error
+      logical :: singular
+      if (size(x) < self%settings%sparse_threshold) then
+         call kkt_solve(self%lu, self%pivots, x)
+         return
+      end if
+      if (.not. associated(self%sparse)) allocate (self%sparse)
+      if (.not. self%sparse%is_factorised()) then
+         call self%sparse%factor(self%lu, singular, error)
+         if (.not. allocated(error) .and. singular) call fatal_error(error, &
+            FFRF_NUMERIC_ERROR, 'the restored iteration matrix is singular')
+         if (allocated(error)) return
+      end if
+      call self%sparse%solve(x, error)
+   end subroutine solve_iteration
 
    !> Weighted RMS of the increment (Arnold & Hante 2017): dq_i/(atol + rtol |q_i| + 10 e_i) and
    !> dlambda_j/(lambda_atol + rtol |lambda_j| + 10 e_j) over the kept rows, e the round-off
@@ -1276,6 +1391,8 @@ contains
       call get_1d(self%residual_floor)
       call get_1d(self%constraint_floor)
       call get_2d(self%lu)
+      ! sparse factors, if any, belong to another matrix: refactorised from lu at the next solve
+      if (associated(self%sparse)) call self%sparse%free()
       call get_2d(self%tangent_K)
       call get_2d(self%tangent_C)
       call get_2d(self%lambda_history)

@@ -111,7 +111,7 @@ module ffrf_mbs_mechanism
       type(mechanism_load_t), allocatable :: loads(:)
       !> Number of coordinates and of constraint rows
       integer :: n = 0, nc = 0
-      !> Gravity acceleration, global (m/s^2); zero (off) by default, rigid bodies only
+      !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies (theory.md 3.6)
       real(dp) :: gravity(3) = 0.0_dp
       !> Mechanism index of the rotor body (0: none; rotor angle and speed are then zero)
       integer :: rotor = 0
@@ -286,7 +286,7 @@ module ffrf_mbs_mechanism
       end function mechanism_rotor_speed
 
       !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
-      !> gravity (m g at the centre of mass of rigid bodies).
+      !> gravity (rigid bodies: m g at the centre of mass; flexible: theory.md 3.6).
       module subroutine mechanism_applied_force(self, q, v, t, f, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self

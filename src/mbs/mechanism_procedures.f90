@@ -10,6 +10,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_mbs_rotation, only: euler_rotation, euler_g, euler_g_bar, skew3, &
       rotated_vector_jacobian
    use ffrf_mbs_rigid_body, only: rigid_body_t, euler_hessian, point_load_tangent
+   use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_dae_system, only: dae_stiffness_fd, dae_damping_fd, &
       dae_constraint_stiffness_fd, dae_mass_stiffness_fd
    use ffrf_mbs_joints, only: new_joint, joint_reaction
@@ -240,7 +241,8 @@ contains
    end procedure mechanism_rotor_speed
 
    !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
-   !> gravity (m g at the centre of mass of rigid bodies).
+   !> gravity (m g at the centre of mass of rigid bodies; -dV/dq with the first moment
+   !> m chi + M_PhitPsi zeta of flexible bodies, theory.md 3.6).
    module procedure mechanism_applied_force
       real(dp) :: angle, speed, value, vector(3), zero(3), A(3, 3)
       integer :: i, b, k, nb
@@ -284,11 +286,15 @@ contains
             f(k + 1:k + 3) = f(k + 1:k + 3) + vector
             f(k + 4:k + 7) = f(k + 4:k + 7) + matmul(transpose(euler_g_bar(q(k + 4:k + 7))), &
                matmul(skew3(body%center_of_mass), matmul(transpose(A), vector)))
+         class is (flexible_body_t)
+            ! -dV/dq of V = -g . (m R + A (m chi + M_PhitPsi zeta)), theory.md 3.6
+            nb = body%num_coordinates
+            f(k + 1:k + nb) = f(k + 1:k + nb) + body%gravity_force(q(k + 1:k + nb), self%gravity)
          class default
             if (body%num_coordinates > 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: gravity is implemented ' &
-                  // 'for rigid bodies only; body "' // self%bodies(b)%name // '" is not ' // &
-                  'rigid; set gravity = 0 (scene.md: gravity off)')
+                  // 'for rigid and flexible bodies; body "' // self%bodies(b)%name // &
+                  '" is neither; set gravity = 0 (scene.md: gravity off)')
                return
             end if
          end select
@@ -672,10 +678,18 @@ contains
             K_t(k + 4:k + 7, k + 4:k + 7) = K_t(k + 4:k + 7, k + 4:k + 7) - &
                point_load_tangent(q(k + 4:k + 7), body%center_of_mass, &
                body%mass * self%gravity, zero)
+         class is (flexible_body_t)
+            ! -dQ_g/dq, theory.md 3.6 (eq. 3.6c)
+            nb = body%num_coordinates
+            allocate (tangent(nb, nb))
+            call body%gravity_tangent(q(k + 1:k + nb), self%gravity, tangent)
+            K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
+            deallocate (tangent)
          class default
             if (body%num_coordinates > 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: gravity is implemented ' &
-                  // 'for rigid bodies only; body "' // self%bodies(b)%name // '" is not rigid')
+                  // 'for rigid and flexible bodies; body "' // self%bodies(b)%name // &
+                  '" is neither; set gravity = 0')
                return
             end if
          end select

@@ -59,8 +59,9 @@ contains
    !> Default sizes for nev wanted pairs in a space of dimension `dimension` (n - constraints):
    !> block b = nev / 2 + 2 in 4..32, basis 8 b (at least 2 nev + 2 b) or `basis` if given
    !> (lanczos_vectors), 2 nev kept at a restart. Measured on the crank at lc = 3 mm (298,161
-   !> dofs), 12 modes (README "Large meshes"): b = 8 needs 13 block solves with a basis of 64 to
-   !> 96, 15 with 56, 16 with 48; b = 4 needs 17, b = 16 12 to 13 (more right-hand sides each).
+   !> dofs), 12 modes (docs/performance.md "Large meshes"): b = 8 needs 13 block solves with a basis
+   !> of 64 to 96, 15 with 56, 16 with 48; b = 4 needs 17, b = 16 12 to 13 (more right-hand sides
+   !> each).
    pure function default_block_settings(nev, basis, dimension) result(settings)
       integer(ip), intent(in) :: nev, basis, dimension
       type(block_krylov_settings_t) :: settings

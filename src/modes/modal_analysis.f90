@@ -113,7 +113,7 @@ contains
    !>
    !> MPI build: every rank of `parallel` (default: the ranks of the run, current_ranks) calls
    !> with the same arguments; the element loop and MUMPS are shared, and every rank returns
-   !> the same body (README "MPI build and runs").
+   !> the same body (docs/mpi.md "MPI build and runs").
    subroutine compute_body_modes(mesh, body_spec, interfaces, modes, log, times, &
          body, error, mass_matrix, stiffness_matrix, parallel)
       !> The mesh as read: nodes, tetrahedra, physical groups

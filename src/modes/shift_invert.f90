@@ -42,8 +42,8 @@ module ffrf_modes_shift_invert
    public :: eigen_options_t, eigen_result_t, solve_shift_invert, project_null_space
    public :: AUTO_BLOCK_MIN_DOFS, DEFAULT_WINDOW_SIZE, MULTIPLET_RTOL
 
-   !> Most eigenpairs computed in one shift window (README "Modes: spectra"): above it the
-   !> spectrum is sliced; the eigensolver's basis is that of one window
+   !> Most eigenpairs computed in one shift window (docs/method.md "Modes: spectra you can trust"):
+   !> above it the spectrum is sliced; the eigensolver's basis is that of one window
    integer(ip), parameter :: DEFAULT_WINDOW_SIZE = 50
    !> Eigenvalues that agree to this relative difference form one multiplet: num_modes never
    !> cuts through one (its other members are returned too), a window boundary never falls
@@ -51,8 +51,9 @@ module ffrf_modes_shift_invert
    real(dp), parameter :: MULTIPLET_RTOL = 1.0e-6_dp
 
    !> Smallest constrained dimension n - num_constraints for which eigensolver = 'auto' picks
-   !> the block method (README "Large meshes": measured break-even far below; the bodies of the
-   !> test suite and the engine's reference meshes stay on ARPACK, bit for bit as before)
+   !> the block method (docs/performance.md "Large meshes": measured break-even far below; the
+   !> bodies of the test suite and the engine's reference meshes stay on ARPACK, bit for bit as
+   !> before)
    integer(ip), parameter :: AUTO_BLOCK_MIN_DOFS = 200000
 
    !> Settings of the shift-invert Lanczos solver.

@@ -25,7 +25,7 @@ driver's modal file), then ffrf_case_run: its modes are the driver's bitwise.
 
 Matrix: entry point x paths, reference, tolerance. "bitwise" = 0: the API returns the very
 doubles the driver computed, through the same code and (mechanism) the same steps: the modes
-come from compute_body_modes for both, the chunks are multiples of h (docs/api.md "Stepping").
+come from compute_body_modes for both, the chunks are multiples of h (docs/api.md "Concepts").
   ffrf_version               all    /attrs ffrf_version of the driver's files        exact
   ffrf_body_count, _name     all    the &body groups of the driver's resolved input
                                     (/input/namelist), in order                    exact

@@ -7,7 +7,7 @@
  *    against FFRF_RBE3_AREA;
  *  - the mid-side nodes alone with weights A/3 of each triangle against
  *    FFRF_RBE3_AREA_CONSISTENT, whose corner weights are 0 on flat Tri6 faces: a corner of
- *    weight 0 is not coupled to the virtual node (README "RBE3 weights");
+ *    weight 0 is not coupled to the virtual node (docs/input.md "RBE3 weights");
  * the last two to 1e-11, the accuracy of the modal solver (see main). The weights matter: the
  * three weightings give frequencies more than 1e-3 apart.
  * The block: 0.2 x 0.04 x 0.03 m, 5 x 2 x 2 cubes of 6 Tet10 each; RBE3 interfaces on the end

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Generated inputs for the input rules of issue 23 (items 4 and 5), several variants per class,
-each run through the driver and checked for its exact verdict (README "Input rules").
+each run through the driver and checked for its exact verdict (docs/input.md "Input rules").
 
     input_rules.py --driver FFRF --work DIR --class CLASS [--mesh-dir DIR] [--gmsh GMSH]
 
@@ -153,8 +153,8 @@ def class_bounded(args):
     """Item 4: memory bounded by the content; declared counts against the file's bytes."""
     case = write(args, 'bounded.nml', "&body name = 'b', mesh_file = 'MESH', volumes = 'block' /\n"
                  "&interface body = 'b', name = 'face_a' /\n")
-    # memory: the content once, arrays bounded by its size (README "Input rules": at most 5x the
-    # content above the program's own ~16 MB); the worst cases are files of bare nodes or of
+    # memory: the content once, arrays bounded by its size (docs/input.md "Input rules": at most 5x
+    # the content above the program's own ~16 MB); the worst cases are files of bare nodes or of
     # element lines in the fewest bytes, a million of each
     baseline = peak_rss(args, [write(args, 'tiny.nml', open(case).read().replace(
         'MESH', os.path.join(args.mesh_dir, 'fuzz_block_tet4_msh41.msh'))), '--check'])[1]
@@ -414,7 +414,7 @@ def class_echo(args):
 
 
 def class_sets(args):
-    """--set options parse in linear time: 2 000 and 20 000 timed (README "Batch runs")."""
+    """--set options parse in linear time: 2 000 and 20 000 timed (docs/batch.md "Batch runs")."""
     case = write(args, 'sets.nml', ARM + "&integrator h = 1e-3, t_end = 0.002 /\n")
     times = {}
     for count in (2000, 20000):

@@ -66,7 +66,7 @@ ffrf_negative_suite(negative_namelist namelist
   FIXTURES crank_mesh conrod_mesh crank_lc10_mesh crank_lc8_mesh conrod_lc8_mesh)
 
 # Input rules of issue 23 (items 4 and 5): generated variants per class, each run through the
-# driver with its exact exit code and message (input_rules.py, README "Input rules").
+# driver with its exact exit code and message (input_rules.py, docs/input.md "Input rules").
 #   negative_rules_<class>: bounded (2 GB sparse meshes, counts beyond the file), options (empty
 #   values), characters (control characters everywhere), file_kinds (FIFO, folder, device as
 #   every file argument), sweep (duplicate keys, byte-order marks), task (long job-array

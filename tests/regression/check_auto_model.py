@@ -8,7 +8,8 @@ the 6/5 mm meshes, h = 1e-4 s), both run for the full 2 s:
 - it meets its targets against a second model: the regime mean speed and the peak conrod axial
   force over the last two 720 deg cycles agree with the hand-set model's within the targets
   (1e-3 and 1e-2). The hand-set model is not converged itself (the study's Craig-Bampton
-  reference is: README "Model no more than the scene needs"); this guards the whole chain;
+  reference is: docs/mechanisms.md "Model no more than the scene needs"); this guards the whole
+  chain;
 - its modes are those the joints leave free (issue 30): every kept crank mode leaves the
   journal rotations across the crank axis at B1 and B3 (which the revolute bearings hold) at
   round-off, below LOCK_RTOL = 1e-9 of the mode's largest virtual-node entry, while the

@@ -5,8 +5,8 @@ in-core run of the same case as reference: the same factorisation written to dis
 to 1e-12 (relative), the factor entries are the same, and no ffrf_ooc_* file is left in the
 folder; the analysis estimates are in the results file (estimated_factor_entries = INFOG(20) > 0,
 estimated memory in-core > out-of-core > 0, predicted_memory_mb the one of the options).
-Block low-rank factors are refused on this toolchain (README "Large meshes"), an input error
-checked by memory_error_compression_refused."""
+Block low-rank factors are refused on this toolchain (docs/performance.md "Large meshes"), an input
+error checked by memory_error_compression_refused."""
 import argparse
 import glob
 import os

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Read an ffrf results file of the reference crank back with h5py and check it against
-independent references: the schema of README.md ("Results file"), the crank's mass and centre of
-mass from its geometry (closed form, scene.md), the interface areas 2 pi r L and the virtual nodes
+independent references: the schema of docs/results.md "Results file (HDF5)", the crank's mass and
+centre of mass from its geometry (closed form, scene.md), the interface areas 2 pi r L and the virtual nodes
 at the journal/pin axes (area centroids by symmetry), frequencies ascending and positive, RC rows
 of the virtual-node mode shapes zero (the floating frame is attached to them)."""
 import argparse

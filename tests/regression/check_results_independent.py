@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Every dataset of an ffrf results file checked against a computation independent of ffrf's
 Fortran (issue 28 item 3): the body's stiffness K and consistent mass M are assembled again in
-numpy (postprocess/peer_tet10.py, Tet10 in Gmsh's node order, README "Elements") from the file's
-own mesh (modal files) or from the mesh file of the input echo (mechanism files, --mesh-dir), with
-the material of /input/namelist.
+numpy (postprocess/peer_tet10.py, Tet10 in Gmsh's node order, docs/method.md "Method and
+conventions") from the file's own mesh (modal files) or from the mesh file of the input echo
+(mechanism files, --mesh-dir), with the material of /input/namelist.
 
     check_results_independent.py RESULTS [--mesh-dir DIR] [--kind modal|craig_bampton|mechanism]
                                  [--reused] [--restarted] [--skip-missing]
@@ -556,9 +556,9 @@ class Body:
 
 def tet14_rule():
     """Walkington's (2000) 14-point degree-5 rule on the unit tetrahedron (volume 1/6): two s31
-    orbits and one s22 orbit, the rule ffrf's mass matrix uses (README "Elements"). Parameters
-    from the literature; checked here by its moments, every monomial of degree <= 5 against
-    a! b! c! / (a + b + c + 3)!, so a wrong digit fails before anything else."""
+    orbits and one s22 orbit, the rule ffrf's mass matrix uses (docs/method.md "Method and
+    conventions"). Parameters from the literature; checked here by its moments, every monomial of
+    degree <= 5 against a! b! c! / (a + b + c + 3)!, so a wrong digit fails before anything else."""
     import itertools
     import math
     pts, wts = [], []
@@ -858,7 +858,7 @@ def check_mechanism(h5, groups, mesh_dir):
     check_le('/joints/*/reaction: M1 + M2 + (p2 - p1) x F2 = 0 at every step, / (0.1 m max|F|)',
              worst_m, 1e-14, 'round-off, measured 2.5e-16')
     # Newton-Euler of each rigid body in impulse form against the stored reactions, the pressure
-    # load (F = -(p - p_ref) pi bore^2 / 4 direction, README "&load type = 'pressure'") and
+    # load (F = -(p - p_ref) pi bore^2 / 4 direction, docs/mechanisms.md "Mechanism runs") and
     # gravity: m v_c(t_end) = int F dt and, for a body turning in the xy plane, J_zz omega_z(t_end)
     # = int M_z dt about its centre, the integrals by the trapezoidal rule over the recorded steps,
     # the end velocities from /final_state/v; for a run from rest (v = 0 at t = 0)

@@ -76,8 +76,8 @@ ffrf_error_case(pressure_table_line 2 "table_file .*bad_table.txt\", line 4: exp
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = '${_dir}/bad_table.txt' /")
 ffrf_error_case(pressure_table_missing 3 "&pressure table_file .*no_such_table.txt"
   "${_arm}\n${_pivot}\n&mechanism crank = 'arm' /\n&load name = 'gas', type = 'pressure', body = 'arm', marker = 'hinge' /\n&pressure table_file = 'no_such_table.txt' /")
-# Geometric stiffness (README "FFRF limits"): only for flexible bodies, and only for a body held
-# by reference conditions (the centrifugal load of a free-free body is not in equilibrium)
+# Geometric stiffness (docs/validation.md "FFRF limits"): only for flexible bodies, and only for a
+# body held by reference conditions (the centrifugal load of a free-free body is not in equilibrium)
 ffrf_error_case(rigid_geometric_stiffness 2 "geometric_stiffness = .true. needs a flexible body"
   "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', type = 'rigid', geometric_stiffness = .true. /\n${_iface}")
 ffrf_error_case(free_free_geometric_stiffness 2 "geometric stiffness needs reference conditions"

@@ -156,14 +156,15 @@ def test_signal_stages(ffrf, mesh_dir, case_dir, work):
                 check('/final_state/t' in f and '/checkpoint/num_steps' in f and
                       abs(f['/final_state/t'][()][0] - t[-1]) < 1e-12,
                       f'{name}: /final_state and the restart state at t = {t[-1]:.4f} s')
-                # the modes are finished first, then the run stops after its first step (README)
+                # the modes are finished first, then the run stops after its first step
+                # (docs/faults.md "Faults")
                 found = re.search(r'\(step (\d+)\)', stderr)
                 steps = int(found.group(1)) if found else -1
                 expected = 10 if stage == 'integration:during' else 1
                 check(steps == expected and len(t) == steps + 1,
                       f'{name}: stopped after step {steps} (expected {expected}), {len(t)} states')
 
-    # SIGINT rules (README "Faults"): twice in the Lanczos loop ends the run at once; twice
+    # SIGINT rules (docs/faults.md "Faults"): twice in the Lanczos loop ends the run at once; twice
     # while METIS runs the signals are held and merge into one: a clean end
     code, _, stderr, _ = run([ffrf, modal, '--mesh-dir', mesh_dir, '--output-dir', out],
                              {'FFRF_TEST_SIGNALS': 'lanczos:during:2:INT'})

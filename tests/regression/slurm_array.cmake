@@ -1,5 +1,5 @@
-# The Slurm array script postprocess/slurm_array.sh (README "Batch runs", issue 12 part 5) run
-# without Slurm by slurm_array.py: a fake array task with stub scontrol/sbatch on PATH, SIGUSR1
+# The Slurm array script postprocess/slurm_array.sh (docs/batch.md "Batch runs", issue 12 part 5)
+# run without Slurm by slurm_array.py: a fake array task with stub scontrol/sbatch on PATH, SIGUSR1
 # to the batch shell mid-run -> ffrf exit 5 -> `scontrol requeue 4242_1`; the requeued task
 # continues with --restart and its time history equals the uninterrupted run bit for bit.
 add_test(NAME regression_slurm_array

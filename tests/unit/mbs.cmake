@@ -19,3 +19,12 @@ ffrf_add_unit_suite(test_mbs_body CHECKED LABELS mbs)
 # Reported multipliers of near-redundant constraint rows (issue 30): minimum norm on a
 # self-stress the modes resolve poorly, closed form. Well under a second.
 ffrf_add_unit_suite(test_mbs_reaction_split CHECKED LABELS mbs)
+# Uniform gravity on flexible bodies (issue 24, docs/theory.md 3.6): the generalized force
+# against the potential and point masses, its tangent, a cantilever's static sag against beam
+# theory (beam_lc6, beam_lc4 for the mesh part), a damped run to rest, a flexible double
+# pendulum's energy (beam_lc40). ~9 s (beam_lc4's modes: 6 s), checked ~22 s.
+ffrf_add_unit_suite(test_mbs_gravity CHECKED LABELS mbs FIXTURES "beam_lc6_mesh;beam_lc4_mesh;beam_lc40_mesh")
+# Sparse LU of the iteration matrix (MUMPS) against the dense LU on a chain's saddle-point
+# matrix, pattern growth, singular matrix; the integrator on a chain of point masses with both;
+# its steps on one BLAS thread (issue 24). About a second.
+ffrf_add_unit_suite(test_mbs_sparse_iteration CHECKED LABELS mbs)

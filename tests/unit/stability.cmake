@@ -1,4 +1,4 @@
-# Stability where methods fail (issue 4, part 2; README "Stability where methods fail").
+# Stability where methods fail (issue 4, part 2; docs/validation.md "Stability where methods fail").
 # generalized-alpha's amplification against its closed-form characteristic cubic and steps far
 # beyond the highest mode (vs central differences and the trapezoidal rule); well under a second.
 # Generalized-alpha written out for the tests (module ffrf_test_galpha_reference), shared with

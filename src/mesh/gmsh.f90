@@ -45,7 +45,7 @@
 !> when that ends a $End... line (NUL padding after it is refused, blanks are not read); every
 !> count (nodes, elements, blocks, entities, names) is checked against the bytes left in the
 !> content before anything is allocated for it, so that memory stays within a multiple of the
-!> content (README "Input rules": at most 5x, measured 3.9x for the worst files);
+!> content (docs/input.md "Input rules": at most 5x, measured 3.9x for the worst files);
 !> header counts and tag ranges must match the data; node and element tags
 !> are >= 1; coordinates are finite; ASCII coordinates and element nodes stay on their line (a
 !> missing value is reported where it is missing); a physical name appears once per dimension;
@@ -1535,7 +1535,7 @@ contains
       if (kind /= FILE_MISSING) then
          call check_input_file(file_name, 'mesh file', MAX_MESH_BYTES, error)
          if (allocated(error)) return
-         ! bounded reads (README "Input rules"): the first bytes say whether it is a mesh at
+         ! bounded reads (docs/input.md "Input rules"): the first bytes say whether it is a mesh at
          ! all, and only its content (up to the last byte that is not NUL or blank) is read
          call read_file_head(file_name, 1_i8, head, got, stat, message)
          if (stat == 0) then
