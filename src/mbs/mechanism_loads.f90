@@ -82,7 +82,7 @@ module ffrf_mbs_mechanism_loads
       procedure :: magnitude => constant_magnitude
    end type constant_load_t
 
-   !> Quadratic drag torque (scene.md "external load"): T = -c omega |omega| about +z, omega the
+   !> Quadratic drag torque (docs/scene.md "Loads": the external load): T = -c omega |omega| about +z, omega the
    !> rotor speed (= -c omega^2 while omega >= 0; the |omega| keeps it opposing the motion if the
    !> rotor ever turns back).
    type, extends(load_t) :: drag_torque_t
