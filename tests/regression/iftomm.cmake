@@ -1,0 +1,12 @@
+# IFToMM / MBS benchmark problems with published definitions (issue 24, item 4), each against an
+# exact or published reference:
+#  - regression_iftomm_a01: the simple pendulum (input/iftomm_a01_pendulum.nml, 10 s of the
+#    benchmark's 2000 s) against the exact elliptic-function solution, at the benchmark's
+#    high-precision tolerance 1e-3 m, with order 2 between h and h/2 and the energy kept
+#    (tests/regression/check_iftomm_pendulum.py). About 2 s.
+add_test(NAME regression_iftomm_a01
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iftomm_pendulum.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/iftomm_a01_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/iftomm)
+set_tests_properties(regression_iftomm_a01 PROPERTIES LABELS "regression;iftomm")
