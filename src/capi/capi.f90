@@ -107,6 +107,17 @@ contains
       if (c_associated(c)) call c_f_pointer(c, h)
    end function handle_of
 
+   !> The entry prologue of every call on a handle: h from c; false with stat = FFRF_BAD_CALL
+   !> for a NULL handle (no handle to keep a message in).
+   logical function got_handle(c, h, stat)
+      type(c_ptr), intent(in) :: c
+      type(capi_handle_t), pointer, intent(out) :: h
+      integer(c_int), intent(out) :: stat
+      h => handle_of(c)
+      got_handle = associated(h)
+      stat = merge(0_c_int, int(FFRF_BAD_CALL, c_int), got_handle)
+   end function got_handle
+
    !> Copy `values` into a C array of `capacity` doubles; count = size(values). FFRF_BAD_CALL
    !> when the array is smaller (its first capacity values written); a NULL array with
    !> capacity 0 only reports the count.
@@ -231,11 +242,7 @@ contains
       type(c_ptr), value :: c
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%run(error)
       stat = status_of(h, error)
    end function ffrf_case_run
@@ -247,11 +254,7 @@ contains
       type(error_t), allocatable :: error
       integer(c_int), pointer :: out
       integer :: count
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(n)) then
          stat = bad_call(h, 'ffrf_body_count: n is NULL')
          return
@@ -271,11 +274,7 @@ contains
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       character(len=:), allocatable :: name
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%body_name(int(body) + 1, name, error)
       stat = status_of(h, error)
       if (stat == 0) stat = copy_name(h, 'ffrf_body_name', name, buf, length)
@@ -292,11 +291,7 @@ contains
       real(dp), allocatable :: values(:)
       integer(c_int), pointer :: out
       integer(c_size_t) :: n
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(count)) then
          stat = bad_call(h, 'ffrf_body_frequencies: count is NULL')
          return
@@ -322,11 +317,7 @@ contains
       real(c_double), value :: t
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%advance(real(t, dp), error)
       stat = status_of(h, error)
    end function ffrf_mechanism_advance
@@ -339,11 +330,7 @@ contains
       type(error_t), allocatable :: error
       real(c_double), pointer :: p
       real(dp) :: a, s
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(angle) .and. c_associated(speed))) then
          stat = bad_call(h, 'ffrf_crank_state: angle_rad or speed_rad_s is NULL')
          return
@@ -392,11 +379,7 @@ contains
       type(error_t), allocatable :: error
       integer(c_int), pointer :: p
       integer :: sizes(3)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%body_sizes(int(body) + 1, sizes(1), sizes(2), sizes(3), error)
       if (c_associated(num_nodes)) then
          call c_f_pointer(num_nodes, p)
@@ -426,11 +409,7 @@ contains
       real(dp), allocatable :: values(:, :)
       integer(c_size_t), pointer :: out
       integer(c_size_t) :: n
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(count)) then
          stat = bad_call(h, which // ': count is NULL')
          return
@@ -492,11 +471,7 @@ contains
       type(error_t), allocatable :: error
       real(c_double), pointer :: p, p3(:), p9(:)
       real(dp) :: m, com(3), inertia_tensor(3, 3)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(mass) .and. c_associated(center) .and. &
          c_associated(inertia))) then
          stat = bad_call(h, 'ffrf_body_mass_properties: mass, center or inertia is NULL')
@@ -525,11 +500,7 @@ contains
       real(dp), allocatable :: array(:)
       integer(c_size_t), pointer :: out
       integer(c_size_t) :: n
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(name) .and. c_associated(count))) then
          stat = bad_call(h, 'ffrf_body_invariant: name or count is NULL')
          return
@@ -553,11 +524,7 @@ contains
       type(error_t), allocatable :: error
       real(c_double), pointer :: p
       real(dp) :: now, last
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%time(now, last, error)
       stat = status_of(h, error)
       if (stat /= 0) return
@@ -582,11 +549,7 @@ contains
       real(dp), allocatable :: qb(:), vb(:)
       integer(c_int), pointer :: out
       integer(c_size_t) :: n
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(count) .or. capacity < 0) then
          stat = bad_call(h, 'ffrf_body_state: count is NULL or capacity negative')
          return
@@ -612,11 +575,7 @@ contains
       type(error_t), allocatable :: error
       integer(c_int), pointer :: out
       integer :: count
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(n)) then
          stat = bad_call(h, 'ffrf_marker_count: n is NULL')
          return
@@ -636,11 +595,7 @@ contains
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: values(3, 3)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%marker_state(int(body) + 1, int(marker) + 1, values(:, 1), values(:, 2), &
          values(:, 3), error)
       stat = status_of(h, error)
@@ -667,11 +622,7 @@ contains
       type(error_t), allocatable :: error
       integer(c_int), pointer :: out
       integer :: count
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(n)) then
          stat = bad_call(h, 'ffrf_joint_count: n is NULL')
          return
@@ -691,11 +642,7 @@ contains
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       character(len=:), allocatable :: name
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%joint_name(int(joint) + 1, name, error)
       stat = status_of(h, error)
       if (stat == 0) stat = copy_name(h, 'ffrf_joint_name', name, buf, length)
@@ -710,11 +657,7 @@ contains
       type(error_t), allocatable :: error
       real(dp) :: f(3, 2), m(3, 2)
       real(c_double), pointer :: p(:)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(force) .and. c_associated(moment))) then
          stat = bad_call(h, 'ffrf_joint_reaction: force or moment is NULL')
          return
@@ -735,11 +678,7 @@ contains
       type(error_t), allocatable :: error
       integer(c_int), pointer :: out
       integer :: count
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(n)) then
          stat = bad_call(h, 'ffrf_sensor_count: n is NULL')
          return
@@ -759,11 +698,7 @@ contains
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       character(len=:), allocatable :: name
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%sensor_name(int(sensor) + 1, name, error)
       stat = status_of(h, error)
       if (stat == 0) stat = copy_name(h, 'ffrf_sensor_name', name, buf, length)
@@ -780,11 +715,7 @@ contains
       real(dp), allocatable :: x(:)
       integer(c_int), pointer :: out
       integer(c_size_t) :: n
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(count) .or. capacity < 0) then
          stat = bad_call(h, 'ffrf_sensor_values: count is NULL or capacity negative')
          return
@@ -809,11 +740,7 @@ contains
       type(error_t), allocatable :: error
       real(c_double), pointer :: p(:)
       real(dp) :: f(3), m(3)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       f = 0.0_dp
       m = 0.0_dp
       if (c_associated(force)) then
@@ -859,11 +786,7 @@ contains
       type(error_t), allocatable :: error
       real(c_double), pointer :: x(:, :)
       integer(c_int), pointer :: t(:, :)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(name) .and. c_associated(xyz) .and. c_associated(tets))) then
          stat = bad_call(h, 'ffrf_case_add_body: name, xyz or tets is NULL')
          return
@@ -891,11 +814,7 @@ contains
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       integer(c_int), pointer :: t(:, :)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(name) .and. c_associated(triangles))) then
          stat = bad_call(h, 'ffrf_case_add_surface: name or triangles is NULL')
          return
@@ -922,11 +841,7 @@ contains
       real(c_double), pointer :: position(:)
       integer(c_int), pointer :: flags(:)
       logical :: forbidden(6)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. c_associated(surface)) then
          stat = bad_call(h, 'ffrf_case_add_interface: surface is NULL')
          return
@@ -958,11 +873,7 @@ contains
       integer(c_int), pointer :: node_list(:), flags(:)
       real(c_double), pointer :: w(:), position(:)
       logical :: forbidden(6)
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       if (.not. (c_associated(name) .and. c_associated(nodes))) then
          stat = bad_call(h, 'ffrf_case_add_interface_nodes: name or nodes is NULL')
          return
@@ -994,11 +905,7 @@ contains
       integer(c_int), value :: num_modes
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%set_num_modes(int(num_modes), error)
       stat = status_of(h, error)
    end function ffrf_case_set_num_modes
@@ -1010,11 +917,7 @@ contains
       integer(c_int), value :: fortran_comm
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      h => handle_of(c)
-      if (.not. associated(h)) then
-         stat = FFRF_BAD_CALL
-         return
-      end if
+      if (.not. got_handle(c, h, stat)) return
       call h%case%set_communicator(int(fortran_comm), error)
       stat = status_of(h, error)
    end function ffrf_case_set_communicator
