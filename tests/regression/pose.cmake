@@ -27,3 +27,14 @@ add_test(NAME regression_pose_flexible
     ${PROJECT_BINARY_DIR}/tests/pose_flexible)
 set_tests_properties(regression_pose_flexible PROPERTIES LABELS "regression;pose"
   FIXTURES_REQUIRED conrod_lc8_mesh)
+#  - regression_pose_engine: the rigid engine (input/engine_rigid.nml, 10 ms) started at 100 rad/s
+#    with and without the flywheel's angular_velocity given (the projection with a rotor speed):
+#    the conrod's origin starts at omega r = 4.5 m/s, the flywheel's consistent value is kept
+#    (< 1e-12 rad/s changed), the crank speeds agree to 1e-12 relative (measured 3.1e-13).
+add_test(NAME regression_pose_engine
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_pose.py engine $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/engine_rigid.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/pose_engine)
+set_tests_properties(regression_pose_engine PROPERTIES LABELS "regression;pose" TIMEOUT 300
+  FIXTURES_REQUIRED "crank_mesh;conrod_mesh;crank_lc10_mesh;crank_lc8_mesh;conrod_lc8_mesh")
