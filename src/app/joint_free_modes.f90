@@ -8,15 +8,15 @@
 !> energy and selecting it models nothing. What the body can do in the assembly is the part of
 !> the candidate space the joints allow.
 !>
-!> Linearised joint equations in the starting pose (every body with its axes parallel to the
-!> global axes, ffrf_app_mechanism_builder; the two ends of a joint at one point r_j with one
+!> Linearised joint equations in the starting pose (every body at its &body position and
+!> orientation A_b, ffrf_app_mechanism_builder, global components; the two ends of a joint at one point r_j with one
 !> frame E_j = [x y z], z the joint axis). Unknowns: a small rigid motion (dx_b, dtheta_b) of
 !> every body b (about the global origin: any point gives the same span) and the modal
 !> coordinates eta of body k (its other flexible bodies move rigidly here). An end of a joint on
 !> body b moves by
 !>     du = dx_b + dtheta_b x r_j (+ Psi_u,i eta),   dphi = dtheta_b (+ Psi_r,i eta)
 !> (Psi_u,i, Psi_r,i: the translation and rotation rows of the virtual-node shapes of interface
-!> i of body k; ffrf_mbs_joints: the marker axes of an interface are the body axes). A joint
+!> i of body k, turned to global by A_k; ffrf_mbs_joints: the marker axes of an interface are the body axes). A joint
 !> locks the relative motion components (du_2 - du_1, dphi_2 - dphi_1) in its frame:
 !>     spherical T xyz; revolute T xyz, R xy; universal T xyz, R z; prismatic T xy, R xyz;
 !>     fixed T xyz, R xyz
@@ -39,7 +39,7 @@ module ffrf_app_joint_free_modes
    use ffrf_core_strings, only: to_str
    use ffrf_la_dense, only: singular_values, symmetric_eigen, skew
    use ffrf_model_model, only: model_t
-   use ffrf_mbs_rotation, only: frame_from_axis
+   use ffrf_mbs_rotation, only: frame_from_axis, identity3
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
       JOINT_PRISMATIC, JOINT_FIXED
    use ffrf_modes_modal_analysis, only: body_modes_t
@@ -247,7 +247,27 @@ contains
          integer, intent(in) :: i
          real(dp) :: rows(6, nc)
          rows = modes%virtual_node_shape(6 * i - 5:6 * i, :)
+         associate (A => model%bodies(k)%motion%orientation)
+            if (any(A /= identity3())) then
+               rows(1:3, :) = matmul(A, rows(1:3, :))
+               rows(4:6, :) = matmul(A, rows(4:6, :))
+            end if
+         end associate
       end function interface_rows
+
+      !> Global position in the starting pose of the point x_bar (body frame) of model body bb.
+      function placed(bb, x_bar) result(r)
+         integer, intent(in) :: bb
+         real(dp), intent(in) :: x_bar(3)
+         real(dp) :: r(3)
+         associate (motion => model%bodies(bb)%motion)
+            if (any(motion%orientation /= identity3())) then
+               r = motion%position + matmul(motion%orientation, x_bar)
+            else
+               r = motion%position + x_bar
+            end if
+         end associate
+      end function placed
 
       !> The point of joint j in the starting pose: its end on body k (the virtual node), else a
       !> rigid body's or the ground's &marker, else an interface placed by position (the ends
@@ -259,8 +279,7 @@ contains
          associate (joint => model%mechanism%joints(jj))
             do s = 1, 2
                if (joint%body(s) == k) then
-                  r = model%bodies(k)%motion%position + &
-                     modes%interfaces(joint%marker(s))%virtual_xyz
+                  r = placed(k, modes%interfaces(joint%marker(s))%virtual_xyz)
                   return
                end if
             end do
@@ -271,7 +290,7 @@ contains
                   r = model%mechanism%markers(handle)%position
                   return
                else if (model%bodies(bb)%rigid) then
-                  r = model%bodies(bb)%motion%position + model%mechanism%markers(handle)%position
+                  r = placed(bb, model%mechanism%markers(handle)%position)
                   return
                end if
             end do
@@ -280,8 +299,7 @@ contains
                handle = joint%marker(s)
                if (model%bodies(bb)%interfaces(handle)%virtual_node == VIRTUAL_NODE_POSITION) &
                   then
-                  r = model%bodies(bb)%motion%position + &
-                     model%bodies(bb)%interfaces(handle)%position
+                  r = placed(bb, model%bodies(bb)%interfaces(handle)%position)
                   return
                end if
             end do

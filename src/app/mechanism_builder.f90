@@ -6,7 +6,9 @@
 !> num_modes = 0 it moves rigidly with its mesh's exact inertia. A rigid body is a rigid_body_t
 !> with the &body mass keys, or with its mesh's mass properties (mass, centre of mass, inertia
 !> about it, from the consistent mass matrix) when it has a mesh_file.
-!> Every body starts with its axes parallel to the global axes, its frame origin at `position`.
+!> Every body starts with its frame origin at `position`, its axes given by `orientation`
+!> (default: parallel to the global axes) and its frame moving with `velocity` and
+!> `angular_velocity` (default: at rest; modal coordinates and their rates start at zero).
 !> A flexible body with `geometric_stiffness` gets the modal geometric stiffness of its six
 !> centrifugal load cases (ffrf_modes_modal_geometric_stiffness; stress stiffening of a spinning
 !> body, off by default).
@@ -15,10 +17,12 @@
 !> the body axes as marker axes (theory.md 3.5). A rigid body's or the ground's markers are
 !> made from its &marker points, one per joint end (and per load) that uses them, with the
 !> joint's frame: z along the joint axis, x = the unit projection of e_x (e_y if the axis is
-!> near e_x) normal to it, y = z × x; so axis = e_z gives the body axes. Both ends of a joint get
-!> the same frame in the starting pose (the joints of ffrf_mbs_joints expect coinciding frames).
-!> A joint at a flexible body's interface therefore needs axis = e_z unless it is spherical
-!> (its marker axes are the body axes): this is checked.
+!> near e_x) normal to it, y = z × x (global, in the starting pose), stored in the body axes of
+!> the &body orientation A (A^T frame); so axis = e_z of an unrotated body gives the body axes.
+!> Both ends of a joint get the same frame in the starting pose (the joints of ffrf_mbs_joints
+!> expect coinciding frames). A joint at a flexible body's interface therefore needs the axis
+!> along the body's z axis (A e_z) unless it is spherical (its marker axes are the body axes):
+!> this is checked.
 module ffrf_app_mechanism_builder
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
@@ -38,7 +42,7 @@ module ffrf_app_mechanism_builder
    use ffrf_model_mechanism, only: model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
       LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, joint_kind_name
-   use ffrf_mbs_rotation, only: identity3, frame_from_axis
+   use ffrf_mbs_rotation, only: identity3, frame_from_axis, euler_from_rotation, euler_g
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
@@ -152,7 +156,7 @@ contains
          call make_sensors(case, resolved, bodies, ground_index, sensor_markers, sensors, error)
          if (allocated(error)) return
       end if
-      call starting_state(case, resolved, bodies, mech, q, v, error)
+      call starting_state(case, resolved, bodies, mech, log, q, v, error)
    end subroutine build_mechanism
 
    !> The sensors of the case resolved to mechanism indices; an engine case (a crank) gets the
@@ -233,28 +237,33 @@ contains
       associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
          allocate (ends(3, max(size(joints), size(loads))), source=0)
          do j = 1, size(joints)
-            call marker_of(joints(j)%body(1), joints(j)%marker(1), joints(j)%axis, ends(1, j))
-            call marker_of(joints(j)%body(2), joints(j)%marker(2), joints(j)%axis, ends(2, j))
+            call marker_of(joints(j)%body(1), joints(j)%marker(1), joints(j)%axis, .true., &
+               ends(1, j))
+            call marker_of(joints(j)%body(2), joints(j)%marker(2), joints(j)%axis, .true., &
+               ends(2, j))
          end do
          do l = 1, size(loads)
-            call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], ends(3, l))
+            call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], .false., &
+               ends(3, l))
          end do
       end associate
       associate (sensors => resolved%mechanism%sensors)
          allocate (sensor_markers(size(sensors)), source=0)
          do l = 1, size(sensors)
             if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
-               [0.0_dp, 0.0_dp, 1.0_dp], sensor_markers(l))
+               [0.0_dp, 0.0_dp, 1.0_dp], .false., sensor_markers(l))
          end do
       end associate
 
    contains
 
       !> Marker on model body b (0: ground) of the marker handle `handle` (module
-      !> ffrf_model_mechanism).
-      subroutine marker_of(b, handle, axis, marker)
+      !> ffrf_model_mechanism). A joint end's frame is global in the starting pose (in the
+      !> body axes of a rotated body); a load's or sensor's frame is the body axes.
+      subroutine marker_of(b, handle, axis, joint_end, marker)
          integer, intent(in) :: b, handle
          real(dp), intent(in) :: axis(3)
+         logical, intent(in) :: joint_end
          integer, intent(out) :: marker
          integer :: k
          real(dp) :: frame(3, 3)
@@ -265,6 +274,10 @@ contains
             end if
          end if
          frame = frame_from_axis(axis)
+         if (joint_end .and. b > 0) then
+            if (rotated(resolved%bodies(b)%motion%orientation)) frame = &
+               matmul(transpose(resolved%bodies(b)%motion%orientation), frame)
+         end if
          associate (point => resolved%mechanism%markers(handle))
             do k = 1, size(lists(b)%names)
                if (lists(b)%names(k) == point%name .and. maxval(abs(lists(b)%frames(:, :, k) - &
@@ -427,13 +440,15 @@ contains
          do j = 1, size(joints)
             if (joints(j)%kind == JOINT_SPHERICAL) cycle
             if (.not. (is_flexible(joints(j)%body(1)) .or. is_flexible(joints(j)%body(2)))) cycle
-            if (abs(joints(j)%axis(3)) < 1.0_dp - 1.0e-12_dp) then
+            if (.not. (along_body_z(joints(j)%body(1), joints(j)%axis) .and. &
+               along_body_z(joints(j)%body(2), joints(j)%axis))) then
                call fatal_error(error, FFRF_INPUT_ERROR, '&joint "' // trim(joints(j)%name) // &
                   '": a ' // joint_kind_name(joints(j)%kind) // ' joint at an interface of a ' &
                   // 'flexible body turns about the body z axis (its marker axes are the ' // &
                   'body axes), but axis = (' // to_str(joints(j)%axis(1)) // ', ' // &
                   to_str(joints(j)%axis(2)) // ', ' // to_str(joints(j)%axis(3)) // &
-                  '); mesh the body with the joint axis along z')
+                  ') is not along the body''s z axis (the third column of its &body ' // &
+                  'orientation); mesh the body with the joint axis along z')
                return
             end if
          end do
@@ -447,6 +462,17 @@ contains
          is_flexible = .false.
          if (k > 0) is_flexible = .not. resolved%bodies(k)%rigid
       end function is_flexible
+
+      !> The (unit) joint axis is along model body k's z axis in the starting pose, or k is
+      !> not flexible.
+      logical function along_body_z(k, axis)
+         integer, intent(in) :: k
+         real(dp), intent(in) :: axis(3)
+         along_body_z = .true.
+         if (.not. is_flexible(k)) return
+         along_body_z = abs(dot_product(axis, &
+            resolved%bodies(k)%motion%orientation(:, 3))) >= 1.0_dp - 1.0e-12_dp
+      end function along_body_z
 
    end subroutine check_interface_markers
 
@@ -619,25 +645,39 @@ contains
       if (allocated(error)) call add_context(error, where)
    end subroutine make_pressure_model
 
-   !> Starting pose: every body at its &body position with identity Euler parameters and zero
-   !> modal coordinates, then assembled (minimum-norm Gauss-Newton) at the &mechanism crank angle,
-   !> and velocities at its crank speed.
-   subroutine starting_state(case, resolved, bodies, mech, q, v, error)
+   !> Starting pose: every body at its &body position and orientation (Euler parameters by
+   !> Shepperd's method) with zero modal coordinates, then assembled (minimum-norm Gauss-Newton)
+   !> at the &mechanism crank angle; velocities at its crank speed, projected from the &body
+   !> velocity and angular_velocity when a body gives one. The log says for each body how far
+   !> the assembly moved it.
+   subroutine starting_state(case, resolved, bodies, mech, log, q, v, error)
       type(case_input_t), intent(in) :: case
       !> The case resolved (start positions)
       type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       type(mechanism_t), intent(inout) :: mech
+      type(logger_t), intent(in) :: log
       real(dp), allocatable, intent(out) :: q(:), v(:)
       type(error_t), allocatable, intent(out) :: error
       integer :: k, offset
       real(dp) :: angle, tolerance
+      real(dp), allocatable :: q_given(:), v_given(:)
+      logical :: moving
       allocate (q(mech%num_coordinates()), v(mech%num_coordinates()), source=0.0_dp)
       do k = 1, size(bodies)
          offset = mech%bodies(bodies(k)%index)%offset
-         q(offset + 1:offset + 3) = resolved%bodies(k)%motion%position
-         q(offset + 4) = 1.0_dp
+         associate (motion => resolved%bodies(k)%motion)
+            q(offset + 1:offset + 3) = motion%position
+            if (rotated(motion%orientation)) then
+               q(offset + 4:offset + 7) = euler_from_rotation(motion%orientation)
+            else
+               q(offset + 4) = 1.0_dp
+            end if
+         end associate
       end do
+      moving = any([(any(resolved%bodies(k)%motion%velocity /= 0.0_dp) .or. &
+         any(resolved%bodies(k)%motion%angular_velocity /= 0.0_dp), k = 1, size(bodies))])
+      q_given = q
       angle = case%mechanism%mechanism%crank_angle_deg * pi / 180.0_dp
       ! The joints close to the integrator's constraint tolerance: a mesh's virtual nodes are
       ! off their ideal places by round-off of the mesh (~1e-8 m on the crank), which a few
@@ -645,14 +685,77 @@ contains
       tolerance = resolved%mechanism%integrator%newton_atol
       if (mech%rotor > 0) then
          call mech%assemble(q, 0.0_dp, error, rotor_angle=angle, tolerance=tolerance)
-         if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error, &
-            rotor_speed=case%mechanism%mechanism%crank_speed)
       else
          call mech%assemble(q, 0.0_dp, error, tolerance=tolerance)
-         if (.not. allocated(error)) call mech%initial_velocities(q, 0.0_dp, v, error)
       end if
-      if (allocated(error)) call add_context(error, 'assembling the starting pose (check ' // &
-         'the &body positions and &marker points: the joints must nearly close)')
+      v_given = given_velocities(resolved, bodies, mech, q)
+      if (allocated(error)) then
+         ! (reported below)
+      else if (mech%rotor > 0 .and. moving) then
+         call mech%initial_velocities(q, 0.0_dp, v, error, &
+            rotor_speed=case%mechanism%mechanism%crank_speed, guess=v_given)
+      else if (mech%rotor > 0) then
+         call mech%initial_velocities(q, 0.0_dp, v, error, &
+            rotor_speed=case%mechanism%mechanism%crank_speed)
+      else if (moving) then
+         call mech%initial_velocities(q, 0.0_dp, v, error, guess=v_given)
+      else
+         call mech%initial_velocities(q, 0.0_dp, v, error)
+      end if
+      if (allocated(error)) then
+         call add_context(error, 'assembling the starting pose (check the &body positions, ' // &
+            'orientations and &marker points: the joints must nearly close)')
+         return
+      end if
+      do k = 1, size(bodies)
+         call log_assembly(trim(resolved%bodies(k)%name), &
+            mech%bodies(bodies(k)%index)%offset, q_given, v_given, q, v, log)
+      end do
    end subroutine starting_state
+
+   !> The starting velocities of the &body keys at the assembled pose q: the frame origin's
+   !> velocity and the Euler-parameter rates theta_dot = G(theta)^T omega / 4 of the global
+   !> angular velocity (G G^T = 4 I, G theta = 0); modal rates zero.
+   function given_velocities(resolved, bodies, mech, q) result(v)
+      type(model_t), intent(in) :: resolved
+      type(built_body_t), intent(in) :: bodies(:)
+      type(mechanism_t), intent(in) :: mech
+      real(dp), intent(in) :: q(:)
+      real(dp) :: v(size(q))
+      integer :: k, offset
+      v = 0.0_dp
+      do k = 1, size(bodies)
+         offset = mech%bodies(bodies(k)%index)%offset
+         associate (motion => resolved%bodies(k)%motion)
+            v(offset + 1:offset + 3) = motion%velocity
+            v(offset + 4:offset + 7) = 0.25_dp * matmul(transpose(euler_g(q(offset + 4:offset &
+               + 7))), motion%angular_velocity)
+         end associate
+      end do
+   end function given_velocities
+
+   !> One log line: how far the assembly moved a body (its frame origin, m) and changed its
+   !> velocity (of the frame origin, m/s) from the &body keys.
+   subroutine log_assembly(name, offset, q_given, v_given, q, v, log)
+      character(len=*), intent(in) :: name
+      !> The body's coordinates are q(offset + 1:)
+      integer, intent(in) :: offset
+      real(dp), intent(in) :: q_given(:), v_given(:), q(:), v(:)
+      type(logger_t), intent(in) :: log
+      real(dp) :: rates(3)
+      rates = matmul(euler_g(q(offset + 4:offset + 7)), v(offset + 4:offset + 7) - &
+         v_given(offset + 4:offset + 7))
+      call log%info('assembly', 'body "' // name // '": moved ' // &
+         to_str(norm2(q(offset + 1:offset + 3) - q_given(offset + 1:offset + 3)), 3) // &
+         ' m, velocity changed ' // to_str(norm2(v(offset + 1:offset + 3) - &
+         v_given(offset + 1:offset + 3)), 3) // ' m/s, angular velocity changed ' // &
+         to_str(norm2(rates), 3) // ' rad/s')
+   end subroutine log_assembly
+
+   !> The orientation differs from the identity (a rotated starting pose).
+   pure logical function rotated(orientation)
+      real(dp), intent(in) :: orientation(3, 3)
+      rotated = any(orientation /= identity3())
+   end function rotated
 
 end module ffrf_app_mechanism_builder

@@ -359,6 +359,7 @@ contains
    function motion_echo(m) result(text)
       type(body_motion_input_t), intent(in) :: m
       character(len=:), allocatable :: text
+      type(body_motion_input_t) :: default_motion
       text = ', type = ''' // nml_string(m%type) // ''''
       if (m%type == 'rigid') then
          text = text // ', mass = ' // to_str(m%mass, 12) // ', center_of_mass = ' // &
@@ -371,6 +372,14 @@ contains
             quoted_list(m%coarse_meshes)
       end if
       text = text // ', position = ' // vector_text(m%position)
+      ! The pose keys only when they differ from their defaults, so that old echoes stay as
+      ! they were; 17 digits so that the echo reads back to the same rotation
+      if (any(m%orientation /= default_motion%orientation)) text = text // &
+         ', orientation = ' // vector_text(reshape(transpose(m%orientation), [9]), 17)
+      if (any(m%velocity /= 0.0_dp)) text = text // ', velocity = ' // &
+         vector_text(m%velocity, 17)
+      if (any(m%angular_velocity /= 0.0_dp)) text = text // ', angular_velocity = ' // &
+         vector_text(m%angular_velocity, 17)
    end function motion_echo
 
    !> The mechanism groups, resolved.

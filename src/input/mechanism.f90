@@ -30,13 +30,21 @@ module ffrf_input_mechanism
       real(dp) :: mass = 0.0_dp
       real(dp) :: center_of_mass(3) = 0.0_dp
       real(dp) :: inertia(6) = 0.0_dp
-      !> Global position of the body-frame origin at the start (m); the body axes start parallel
-      !> to the global axes
+      !> Global position of the body-frame origin at the start (m)
       real(dp) :: position(3) = 0.0_dp
       !> Flexible bodies under &model selection = 'auto': coarser meshes of the same geometry,
       !> coarse to fine (mesh_file is the finest); the selection takes the coarsest one whose
       !> estimated error meets the targets (ffrf_app_engine_model_selection)
       character(len=256) :: coarse_meshes(4) = ''
+      !> Starting orientation A (body -> global, r = R + A x_bar): its columns are the body axes
+      !> in global coordinates; &body orientation gives its rows (A11 A12 A13 A21 ... A33).
+      !> Default: the identity (body axes parallel to the global axes)
+      real(dp) :: orientation(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, &
+         0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
+      !> Starting velocity of the body-frame origin (m/s) and angular velocity (rad/s), global;
+      !> the assembly projects them onto the joints' velocity constraints
+      real(dp) :: velocity(3) = 0.0_dp
+      real(dp) :: angular_velocity(3) = 0.0_dp
    end type body_motion_input_t
 
    !> A named point of a body without a mesh, or of the ground (&marker).

@@ -22,6 +22,17 @@
 !>   inertia [kg m^2]      Jxx Jyy Jzz Jxy Jyz Jxz, 6 finite reals in [-1e12, 1e12], positive
 !>                         definite when it is used
 !>   position [m]   start position of the body frame, 3 finite reals in [-1e4, 1e4] m
+!>   orientation [-]  start orientation, rigid and flexible bodies: the rotation matrix A
+!>                  (body -> global, r = position + A x_bar) by rows, 9 reals A11 A12 A13 A21
+!>                  A22 A23 A31 A32 A33 in [-1e6, 1e6]; its columns are the body x, y, z axes
+!>                  in global coordinates. Must be a rotation: |A A^T - I| <= 1e-9 (largest
+!>                  entry) and det A > 0 (default: the identity, body axes = global axes)
+!>   velocity [m/s]         start velocity of the body-frame origin, global, 3 reals in
+!>                          [-1e6, 1e6] (default 0)
+!>   angular_velocity [rad/s]  start angular velocity, global axes, 3 reals in [-1e6, 1e6]
+!>                          (default 0). The assembly makes position, orientation and the
+!>                          velocities consistent with the joints (least-squares projection; the
+!>                          log's [assembly] lines say how much each body moved)
 !> Types, counts and ranges are checked by ffrf_input_nml_source from body_keys.
 module ffrf_input_nml_body
    use ffrf_core_kinds, only: dp, i8
@@ -35,6 +46,9 @@ module ffrf_input_nml_body
    implicit none
    private
    public :: read_body_groups, inertia_tensor, body_keys
+
+   !> Largest |A A^T - I| accepted of an &body orientation
+   real(dp), parameter :: ROTATION_TOLERANCE = 1.0e-9_dp
 
 contains
 
@@ -52,6 +66,9 @@ contains
          real_key('center_of_mass', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
          real_key('inertia', -1.0e12_dp, 1.0e12_dp, 'kg m^2', count=6), &
          real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
+         real_key('orientation', -1.0e6_dp, 1.0e6_dp, '', count=9), &
+         real_key('velocity', -1.0e6_dp, 1.0e6_dp, 'm/s', count=3), &
+         real_key('angular_velocity', -1.0e6_dp, 1.0e6_dp, 'rad/s', count=3), &
          logical_key('geometric_stiffness'), string_key('coarse_meshes', 256, 4), &
          string_key('modes_file', 256)]
    end function body_keys
@@ -71,7 +88,7 @@ contains
       character(len=64) :: volumes(MAX_VOLUMES)
       character(len=16) :: type
       real(dp) :: young, poisson, density, modal_damping, mass, center_of_mass(3), inertia(6)
-      real(dp) :: position(3)
+      real(dp) :: position(3), orientation(9), velocity(3), angular_velocity(3)
       integer :: num_modes
       logical :: geometric_stiffness
       character(len=256) :: coarse_meshes(4), modes_file
@@ -79,7 +96,7 @@ contains
       integer :: stat, k
       namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
          modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, &
-         coarse_meshes, modes_file
+         coarse_meshes, modes_file, orientation, velocity, angular_velocity
       allocate (bodies(0), motions(0))
       rewind (unit)
       do
@@ -97,6 +114,9 @@ contains
          center_of_mass = motion_defaults%center_of_mass
          inertia = motion_defaults%inertia
          position = motion_defaults%position
+         orientation = reshape(transpose(motion_defaults%orientation), [9])
+         velocity = motion_defaults%velocity
+         angular_velocity = motion_defaults%angular_velocity
          coarse_meshes = motion_defaults%coarse_meshes
          modes_file = defaults%modes_file
          read (unit, nml=body, iostat=stat, iomsg=msg)
@@ -105,12 +125,14 @@ contains
             call namelist_read_error(error, 'body', size(bodies) + 1, msg, &
                'name, mesh_file, volumes, young, poisson, density, type, num_modes, ' // &
                'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, ' // &
-               'coarse_meshes, modes_file')
+               'coarse_meshes, modes_file, orientation, velocity, angular_velocity')
             return
          end if
          if (len_trim(volumes(1)) == 0) volumes(1) = name
          motion = body_motion_input_t(to_lower(type), num_modes, modal_damping, mass, &
-            center_of_mass, inertia, position, coarse_meshes)
+            center_of_mass, inertia, position, coarse_meshes, &
+            orientation=transpose(reshape(orientation, [3, 3])), velocity=velocity, &
+            angular_velocity=angular_velocity)
          bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
             geometric_stiffness, modes_file)]
          motions = [motions, motion]
@@ -152,6 +174,16 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
             'modes_file') // ': "' // trim(body%name) // '": a rigid body has no modes; ' // &
             'modes_file is for flexible bodies')
+      else if (rotation_defect(motion%orientation) > ROTATION_TOLERANCE) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
+            'orientation') // ': "' // trim(body%name) // '": the orientation is not ' // &
+            'orthonormal: largest |A A^T - I| = ' // to_str(rotation_defect(motion%orientation)) &
+            // ' > 1e-9 (give the rotation matrix by rows, 9 reals, its columns the body axes)')
+      else if (.not. determinant3(motion%orientation) > 0.0_dp) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where('body', occurrence, &
+            'orientation') // ': "' // trim(body%name) // '": the orientation has det = ' // &
+            to_str(determinant3(motion%orientation)) // ', a reflection, not a rotation ' // &
+            '(det must be +1: a right-handed set of body axes)')
       else if (motion%type == 'rigid') then
          call check_rigid_body(src, body, motion, occurrence, error)
       else if (len_trim(body%mesh_file) == 0) then
@@ -198,6 +230,26 @@ contains
       real(dp) :: J(3, 3)
       J = reshape([j6(1), j6(4), j6(6), j6(4), j6(2), j6(5), j6(6), j6(5), j6(3)], [3, 3])
    end function inertia_tensor
+
+   !> Largest entry of |A A^T - I|: how far A is from orthonormal.
+   pure real(dp) function rotation_defect(A) result(defect)
+      real(dp), intent(in) :: A(3, 3)
+      real(dp) :: product(3, 3)
+      integer :: i
+      product = matmul(A, transpose(A))
+      do i = 1, 3
+         product(i, i) = product(i, i) - 1.0_dp
+      end do
+      defect = maxval(abs(product))
+   end function rotation_defect
+
+   !> Determinant of a 3 x 3 matrix.
+   pure real(dp) function determinant3(A) result(det)
+      real(dp), intent(in) :: A(3, 3)
+      det = A(1, 1) * (A(2, 2) * A(3, 3) - A(2, 3) * A(3, 2)) &
+         - A(1, 2) * (A(2, 1) * A(3, 3) - A(2, 3) * A(3, 1)) &
+         + A(1, 3) * (A(2, 1) * A(3, 2) - A(2, 2) * A(3, 1))
+   end function determinant3
 
    !> Cholesky of a symmetric 3 x 3 matrix succeeds (all pivots > 0).
    pure logical function positive_definite(A) result(ok)

@@ -18,6 +18,9 @@
 !>                candidate_modes, resonance_floor                            (optional, single)
 !>   &sensor      name, type, body, marker, joint: read by ffrf_input_nml_sensor (repeatable;
 !>                docs/sensors.md)
+!>   &body        its mechanism keys (type, num_modes, ..., position and the starting pose:
+!>                orientation [rotation matrix by rows], velocity [m/s], angular_velocity
+!>                [rad/s]) are read by ffrf_input_nml_body, whose header gives their ranges
 !> Defaults: ffrf_input_mechanism, ffrf_input_pressure's pressure_input_t (the scene's engine)
 !> and galpha_settings_t. Names are checked against each other by ffrf_input_case.
 !> Types, counts and ranges (checked by ffrf_input_nml_source from the *_keys functions below; every

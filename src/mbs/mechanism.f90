@@ -559,8 +559,10 @@ module ffrf_mbs_mechanism
       end subroutine mechanism_assemble
 
       !> Velocities v with Phi_q v = -Phi_t, and the rotor speed if given, in the minimum-norm
-      !> least-squares sense (dgelsy); error if the residual exceeds 1e-10 of the scale.
-      module subroutine mechanism_initial_velocities(self, q, t, v, error, rotor_speed)
+      !> least-squares sense (dgelsy); error if the residual exceeds 1e-10 of the scale. With
+      !> `guess`, v = guess + dv with the minimum-norm dv (the projection of the guess onto the
+      !> velocity constraints in the coordinates' Euclidean norm).
+      module subroutine mechanism_initial_velocities(self, q, t, v, error, rotor_speed, guess)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
          !> Assembled coordinates, n
@@ -572,6 +574,8 @@ module ffrf_mbs_mechanism
          type(error_t), allocatable, intent(out) :: error
          !> Rotor speed (rad/s); needs set_rotor
          real(dp), intent(in), optional :: rotor_speed
+         !> Velocities to start from, n (e.g. the &body velocity keys)
+         real(dp), intent(in), optional :: guess(:)
       end subroutine mechanism_initial_velocities
    end interface
 

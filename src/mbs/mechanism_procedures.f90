@@ -872,9 +872,11 @@ contains
                end do
             end do
          end if
+         if (present(guess)) rhs(1:rows, 1) = rhs(1:rows, 1) - matmul(a, guess)
          call least_squares(a, rhs, 'initial velocities', error)
          if (allocated(error)) return
          v = rhs(1:self%n, 1)
+         if (present(guess)) v = v + guess
          residual = maxval(abs(matmul(jac, v) + rate))
          if (count_modal() == 0 .or. residual <= 1.0e-10_dp * max(maxval(abs(rate)), 1.0_dp) * &
             max(maxval(abs(v)), 1.0_dp)) exit

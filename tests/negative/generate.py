@@ -495,7 +495,8 @@ KEY_TYPES = {}
 for _group, _keys in {
         'run': 's:title s:output s:mode_shapes_msh s:log_level',
         'body': 's:name s:mesh_file s:volumes r:young r:poisson r:density s:type i:num_modes '
-                'r:modal_damping r:mass r:center_of_mass r:inertia r:position '
+                'r:modal_damping r:mass r:center_of_mass r:inertia r:position r:orientation '
+                'r:velocity r:angular_velocity '
                 'l:geometric_stiffness s:coarse_meshes s:modes_file',
         'interface': 's:body s:name s:mpc s:weighting s:virtual_node r:position s:rc',
         'modes': 'i:num_modes r:shift_hz s:formulation s:rc_label r:tolerance '

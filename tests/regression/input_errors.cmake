@@ -139,3 +139,24 @@ add_test(NAME input_check_all COMMAND ${CMAKE_COMMAND} -DFFRF=$<TARGET_FILE:ffrf
 set_tests_properties(input_check_all PROPERTIES LABELS "regression;input" TIMEOUT 120
   ENVIRONMENT OPENBLAS_NUM_THREADS=1
   FIXTURES_REQUIRED "crank_mesh;conrod_mesh;crank_lc10_mesh;crank_lc8_mesh;conrod_lc8_mesh")
+
+# &body orientation (issue 24, item 1): a rotation matrix by rows; one not orthonormal and a
+# reflection (det = -1) are refused by --check with exit 2, the message naming FILE:LINE, the
+# key, the body and the defect (largest |A A^T - I| = 0.002001 for a 1.001 on the diagonal)
+set(_arm_rotated "&body name = 'arm', type = 'rigid', mass = 1.0, inertia = 0.01, 0.01, 0.01, 0, 0, 0,
+  orientation = ORIENTATION /
+&marker body = 'arm', name = 'hinge', position = 0, 0, 0 /
+&marker body = 'ground', name = 'hinge', position = 0, 0, 0 /
+&joint name = 'pivot', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
+string(REPLACE "ORIENTATION" "1, 0, 0, 0, 1, 0, 0, 0, 1.001" _text "${_arm_rotated}")
+ffrf_input_case(body_orientation_not_orthonormal 2
+  "body_orientation_not_orthonormal\\.nml:2: &body orientation = 1, 0, 0, 0, 1, 0, 0, 0, 1\\.001: \"arm\": the orientation is not orthonormal: largest \\|A A\\^T - I\\| = 0\\.002001 > 1e-9"
+  "${_text}" --check)
+string(REPLACE "ORIENTATION" "1, 0, 0, 0, 1, 0, 0, 0, -1" _text "${_arm_rotated}")
+ffrf_input_case(body_orientation_reflection 2
+  "body_orientation_reflection\\.nml:2: &body orientation = 1, 0, 0, 0, 1, 0, 0, 0, -1: \"arm\": the orientation has det = -1, a reflection, not a rotation"
+  "${_text}" --check)
+string(REPLACE "ORIENTATION" "0, 0, 1, 0, 1, 0, 1, 0, 0" _text "${_arm_rotated}")
+ffrf_input_case(body_orientation_reflection_run 2
+  "body_orientation_reflection_run\\.nml:2: &body orientation = 0, 0, 1, 0, 1, 0, 1, 0, 0: \"arm\": the orientation has det = -1"
+  "${_text}")

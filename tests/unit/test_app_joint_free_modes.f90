@@ -15,7 +15,12 @@
 !> - a prismatic guide along y at interface 1 (0, 0.2, 0) and a spherical joint at interface 2
 !>   (0.1, 0, 0): the guide holds every rotation of interface 1 and its translations across y,
 !>   the spherical joint the body's rigid rotations: a mode that slides interface 1 along y is
-!>   free, one that twists it about y is locked.
+!>   free, one that twists it about y is locked;
+!> - the prismatic guide with the body turned by 90 degrees about z (&body orientation: body x =
+!>   global y, body y = global -x; the guide axis and the ground markers turned with it): the
+!>   slide along the guide is still free and the twist locked, since the virtual-node rows are
+!>   turned to global (without that, both would be locked: body y would be taken as global y,
+!>   across the guide).
 module test_app_joint_free_modes
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t
@@ -37,7 +42,8 @@ contains
       tests = [new_unittest('revolute_bearing_locks_the_journal_tilt', test_revolute), &
          new_unittest('one_bearing_locks_nothing', test_one_bearing), &
          new_unittest('rigid_motion_takes_back_a_lever_arm', test_lever_arm), &
-         new_unittest('prismatic_guide_locks_rotations', test_prismatic)]
+         new_unittest('prismatic_guide_locks_rotations', test_prismatic), &
+         new_unittest('turned_body_keeps_its_guide', test_turned_guide)]
    end subroutine collect_app_joint_free_modes
 
    !> One flexible body (model body 1) with interfaces at `xyz` and the joints given, ground
@@ -152,6 +158,37 @@ contains
       if (.not. allocated(error)) call check_close(error, 'free shares', &
          maxval(abs(locks%free_share - [1.0_dp, 0.0_dp])), 0.0_dp, atol=1.0e-12_dp)
    end subroutine test_lever_arm
+
+   subroutine test_turned_guide(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(model_t) :: model
+      type(body_modes_t) :: modes
+      type(joint_locks_t) :: locks
+      real(dp) :: turn(3, 3)
+      integer :: j
+      ! columns: body x -> global y, body y -> global -x, body z -> global z
+      turn = reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         1.0_dp], [3, 3])
+      ! the guide along body y is along global -x
+      call make_case(reshape([0.0_dp, 0.2_dp, 0.0_dp, 0.1_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+         [JOINT_PRISMATIC, JOINT_SPHERICAL], [1, 2], reshape([-1.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, 0.0_dp, 1.0_dp], [3, 2]), model, modes)
+      model%bodies(1)%motion%orientation = turn
+      do j = 1, 2
+         model%mechanism%markers(j)%position = matmul(turn, model%mechanism%markers(j)%position)
+      end do
+      modes%frequency_hz = [1.0_dp, 2.0_dp]
+      allocate (modes%virtual_node_shape(12, 2), source=0.0_dp)
+      modes%virtual_node_shape(2, 1) = 1.0_dp      ! along the guide (body y)
+      modes%virtual_node_shape(5, 2) = 1.0_dp      ! twist about the guide (body y)
+      allocate (modes%shape(3, 2), source=1.0_dp)
+      call joint_free_modes(model, 1, modes, locks, error)
+      if (allocated(error)) return
+      call check(error, 'turned: twist locked, slide free', locks%num_locked == 1 .and. &
+         size(modes%frequency_hz) == 1)
+      if (.not. allocated(error)) call check_close(error, 'turned: free mode: the slide', &
+         modes%frequency_hz(1), 1.0_dp, rtol=1.0e-12_dp)
+   end subroutine test_turned_guide
 
    subroutine test_prismatic(error)
       type(error_t), allocatable, intent(out) :: error

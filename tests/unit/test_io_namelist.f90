@@ -22,6 +22,7 @@ contains
       tests = [ &
          new_unittest('echo_of_inputs_unchanged', test_echo_unchanged), &
          new_unittest('sensor_echo_reads_back', test_sensor_echo), &
+         new_unittest('pose_keys_read_and_echoed', test_pose_echo), &
          new_unittest('long_line', test_long_line), &
          new_unittest('quotes_and_repeat_counts', test_quotes_and_repeats), &
          new_unittest('key_location', test_key_location), &
@@ -87,6 +88,67 @@ contains
       if (allocated(error)) return
       call check(error, 'the echo reads back to the same echo', case_echo(again) == echo)
    end subroutine test_sensor_echo
+
+   !> &body orientation is the rotation matrix by rows (its columns the body axes): a 90 degree
+   !> turn about z given as rows 0 -1 0 / 1 0 0 / 0 0 1 has A(1, 2) = -1 and body x = global y;
+   !> velocity and angular_velocity are read as given; the echo has the three keys and reads
+   !> back to the same values bitwise (17 digits), and a body without them has none in its echo.
+   subroutine test_pose_echo(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(case_input_t) :: case, again
+      character(len=:), allocatable :: echo
+      character(len=*), parameter :: file_name = 'test_io_namelist_pose.nml', &
+         again_name = 'test_io_namelist_pose_again.nml'
+      character(len=*), parameter :: nl = new_line('a'), rest = &
+         '&marker body = ''arm'', name = ''hinge'', position = 0, 0, 0 /' // nl // &
+         '&marker body = ''ground'', name = ''hinge'', position = 0, 0, 0 /' // nl // &
+         '&joint name = ''pivot'', type = ''revolute'', body1 = ''ground'', marker1 = ' // &
+         '''hinge'', body2 = ''arm'', marker2 = ''hinge'' /' // nl
+      character(len=*), parameter :: arm = '&body name = ''arm'', type = ''rigid'', ' // &
+         'mass = 1.0, inertia = 0.01, 0.01, 0.01, 0, 0, 0'
+      call write_text(file_name, arm // ', orientation = 0, -1, 0, 1, 0, 0, 0, 0, 1, ' // &
+         'velocity = 0.1, 0.2, 0.3, angular_velocity = 0, 0, 2.5 /' // nl // rest, error)
+      if (.not. allocated(error)) call read_case(file_name, case, error)
+      if (allocated(error)) return
+      associate (m => case%motions(1))
+         call check(error, 'orientation by rows: A(1, 2) = -1, A(2, 1) = 1, body x = global y', &
+            all(m%orientation == reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, &
+            0.0_dp, 0.0_dp, 1.0_dp], [3, 3])))
+         if (allocated(error)) return
+         call check(error, 'velocity and angular_velocity read', &
+            all(m%velocity == [0.1_dp, 0.2_dp, 0.3_dp]) .and. &
+            all(m%angular_velocity == [0.0_dp, 0.0_dp, 2.5_dp]))
+         if (allocated(error)) return
+      end associate
+      echo = case_echo(case)
+      call check(error, 'the pose keys are echoed', index(echo, ', orientation = ') > 0 .and. &
+         index(echo, ', velocity = ') > 0 .and. index(echo, ', angular_velocity = ') > 0)
+      if (.not. allocated(error)) call write_text(again_name, echo, error)
+      if (.not. allocated(error)) call read_case(again_name, again, error)
+      if (allocated(error)) return
+      call check(error, 'the echo reads back to the same pose', &
+         all(again%motions(1)%orientation == case%motions(1)%orientation) .and. &
+         all(again%motions(1)%velocity == case%motions(1)%velocity) .and. &
+         all(again%motions(1)%angular_velocity == case%motions(1)%angular_velocity))
+      if (allocated(error)) return
+      call write_text(file_name, arm // ' /' // nl // rest, error)
+      if (.not. allocated(error)) call read_case(file_name, case, error)
+      if (allocated(error)) return
+      echo = case_echo(case)
+      call check(error, 'no pose key in the echo of a body without them', &
+         index(echo, 'orientation') == 0 .and. index(echo, 'velocity') == 0)
+   end subroutine test_pose_echo
+
+   !> Write `text` to a new file.
+   subroutine write_text(file_name, text, error)
+      character(len=*), intent(in) :: file_name, text
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, stat
+      open (newunit=unit, file=file_name, status='replace', action='write', iostat=stat)
+      if (stat == 0) write (unit, '(a)', iostat=stat) text
+      if (stat == 0) close (unit, iostat=stat)
+      call check(error, 'written: ' // file_name, stat == 0)
+   end subroutine write_text
 
    !> A 5000-character line is read whole: the key after column 4000 arrives.
    subroutine test_long_line(error)
