@@ -509,6 +509,8 @@ for _group, _keys in {
         'joint': 's:name s:type s:body1 s:marker1 s:body2 s:marker2 r:axis',
         'load': 's:name s:type s:body s:marker r:direction r:value r:stall_torque '
                 'r:free_speed r:switch_off r:coefficient',
+        'spring': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping '
+                  'r:free_length',
         'pressure': 'r:bore r:stroke r:conrod_length r:compression_ratio r:intake_pressure '
                     'r:exhaust_pressure r:polytropic_exponent r:wiebe_a r:wiebe_m '
                     'r:combustion_start_deg r:combustion_duration_deg r:heat_per_cycle '
