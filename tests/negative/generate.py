@@ -776,6 +776,9 @@ def namelist_mutations(text, base, not_hdf5=NOT_HDF5_MODES):
     if integ:
         g = integ[0]
         out.append(('h_negative', [2], ['h'], splice(text, g.end, g.end, ', h = -1.0 ')))
+    # the pressure table is read only for a pressure load (a case without one never opens it)
+    if integ and re.search(r"type\s*=\s*'pressure'", text):
+        g = integ[0]
         out.append(('table_dev_zero', [3], ['zero'],
                     text + "&pressure table_file = '/dev/zero' /\n" if 'pressure' not in
                     [x.name for x in groups] else text.replace('&pressure ',

@@ -32,3 +32,28 @@ foreach(_mode run check)
   ffrf_error_case(spring_zero_length_${_mode} 2 "spring_zero_length_${_mode}\\.nml:8: .*&spring \"s\": its markers coincide at the start \\(length 0\\) and free_length is not given"
     "${_spring_scene}\n&spring name = 's', body1 = 'ground', marker1 = 'guide', body2 = 'mass', marker2 = 'P', stiffness = 1.0 /" ${_extra})
 endforeach()
+
+# regression_springs_flexible: springs at flexible bodies' virtual nodes in the lc 8 mm engine of
+# engine.cmake (flexible crank and conrod) to 10 ms: one from a ground point to the conrod's
+# small end (free length: the starting distance, with a damper), one from the crank's pin B2 to
+# the ground point; the spring sensors against the position sensor of the small end.
+set(_springs_out "${PROJECT_BINARY_DIR}/tests/springs")
+file(MAKE_DIRECTORY "${_springs_out}")
+file(READ "${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.nml" _flexible_springs)
+ffrf_replace(_flexible_springs "t_end = 0.1," "t_end = 0.01,")
+string(APPEND _flexible_springs "&marker body = 'ground', name = 'anchor', position = 0.05, 0.25, 0.0 /\n"
+  "&spring name = 'small_end_spring', body1 = 'ground', marker1 = 'anchor', body2 = 'conrod', "
+  "marker2 = 'small_end', stiffness = 2.0e4, damping = 5.0 /\n"
+  "&spring name = 'pin_spring', body1 = 'crank', marker1 = 'B2', body2 = 'ground', "
+  "marker2 = 'anchor', stiffness = 1.0e4, free_length = 0.1 /\n"
+  "&sensor name = 'small_end_spring', type = 'spring', spring = 'small_end_spring' /\n"
+  "&sensor name = 'pin_spring', type = 'spring', spring = 'pin_spring' /\n"
+  "&sensor name = 'small_end_position', type = 'position', body = 'conrod', marker = 'small_end' /\n"
+  "&sensor name = 'small_end_velocity', type = 'velocity', body = 'conrod', marker = 'small_end' /\n")
+file(WRITE "${_springs_out}/engine_flexible_springs.nml" "${_flexible_springs}")
+add_test(NAME regression_springs_flexible
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_springs.py flexible $<TARGET_FILE:ffrf>
+    ${_springs_out}/engine_flexible_springs.nml ${PROJECT_BINARY_DIR}/meshes ${_springs_out})
+set_tests_properties(regression_springs_flexible PROPERTIES LABELS "regression;springs"
+  FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
