@@ -46,6 +46,7 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
+   use ffrf_mbs_spring_damper, only: spring_damper_t
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, LOAD_FORCE, &
       LOAD_TORQUE
    use ffrf_app_engine_starter_load, only: starter_torque_t
@@ -109,7 +110,7 @@ contains
       integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
-      integer, allocatable :: ends(:, :)
+      integer, allocatable :: ends(:, :), spring_ends(:, :)
       integer :: nb, k, ground_index
 
       nb = size(case%bodies)
@@ -128,7 +129,7 @@ contains
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(resolved, lists, ends, sensor_markers)
+      call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
       call check_interface_markers(resolved, error)
       if (allocated(error)) return
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
@@ -146,6 +147,8 @@ contains
       if (present(choice)) choice = model
       call add_joints(resolved, bodies, ground_index, ends, mech, error)
       if (.not. allocated(error)) call add_loads(resolved, bodies, ends, mech, pressure, error)
+      if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
+         mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
@@ -157,6 +160,7 @@ contains
          if (allocated(error)) return
       end if
       call starting_state(case, resolved, bodies, mech, log, q, v, error)
+      if (.not. allocated(error)) call mech%set_spring_free_lengths(q, error)
    end subroutine build_mechanism
 
    !> The sensors of the case resolved to mechanism indices; an engine case (a crank) gets the
@@ -179,6 +183,7 @@ contains
             sensors(k)%marker = sensor_markers(k)
             if (sensors(k)%marker > 0) sensors(k)%marker_name = case%mechanism%sensors(k)%marker
             sensors(k)%joint = given(k)%joint
+            sensors(k)%spring = given(k)%spring
             sensors(k)%body = ground_index
             if (given(k)%body > 0) sensors(k)%body = bodies(given(k)%body)%index
             if (given(k)%node > 0) then
@@ -225,7 +230,7 @@ contains
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the
    !> model. Rigid bodies and the ground: a new marker per distinct (&marker point, axis) in
    !> `lists`.
-   subroutine resolve_markers(resolved, lists, ends, sensor_markers)
+   subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
       !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
@@ -233,6 +238,9 @@ contains
       !> Marker of each &sensor with a marker (0: none); a rigid body's or the ground's sensor
       !> point gets a marker of its own, with the body's axes, after those of joints and loads
       integer, allocatable, intent(out) :: sensor_markers(:)
+      !> Markers of the two ends of each &spring (a rigid body's or the ground's point with the
+      !> body's axes)
+      integer, allocatable, intent(out) :: spring_ends(:, :)
       integer :: j, l
       associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
          allocate (ends(3, max(size(joints), size(loads))), source=0)
@@ -252,6 +260,15 @@ contains
          do l = 1, size(sensors)
             if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
                [0.0_dp, 0.0_dp, 1.0_dp], .false., sensor_markers(l))
+         end do
+      end associate
+      associate (springs => resolved%mechanism%springs)
+         allocate (spring_ends(2, size(springs)), source=0)
+         do l = 1, size(springs)
+            call marker_of(springs(l)%body(1), springs(l)%marker(1), [0.0_dp, 0.0_dp, 1.0_dp], &
+               .false., spring_ends(1, l))
+            call marker_of(springs(l)%body(2), springs(l)%marker(2), [0.0_dp, 0.0_dp, 1.0_dp], &
+               .false., spring_ends(2, l))
          end do
       end associate
 
@@ -507,6 +524,48 @@ contains
       end function mechanism_index
 
    end subroutine add_joints
+
+   !> The &spring groups as spring-dampers of the mechanism (ffrf_mbs_spring_damper); a free
+   !> length not given is set from the starting pose by build_mechanism.
+   subroutine add_springs(resolved, bodies, ground_index, spring_ends, mech, error)
+      !> The case resolved (springs: model body indices, constants)
+      type(model_t), intent(in) :: resolved
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index
+      !> Markers of the springs' ends (resolve_markers)
+      integer, intent(in) :: spring_ends(:, :)
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      type(spring_damper_t) :: spring
+      integer :: s
+      associate (springs => resolved%mechanism%springs)
+         do s = 1, size(springs)
+            spring%name = springs(s)%name
+            spring%body_a = mechanism_index(springs(s)%body(1))
+            spring%marker_a = spring_ends(1, s)
+            spring%body_b = mechanism_index(springs(s)%body(2))
+            spring%marker_b = spring_ends(2, s)
+            spring%stiffness = springs(s)%stiffness
+            spring%damping = springs(s)%damping
+            spring%free_length = springs(s)%free_length
+            call mech%add_spring(spring, error)
+            if (allocated(error)) then
+               call add_context(error, '&spring "' // trim(springs(s)%name) // '"')
+               return
+            end if
+         end do
+      end associate
+
+   contains
+
+      !> Mechanism index of model body k (0: the ground).
+      integer function mechanism_index(k)
+         integer, intent(in) :: k
+         mechanism_index = ground_index
+         if (k > 0) mechanism_index = bodies(k)%index
+      end function mechanism_index
+
+   end subroutine add_springs
 
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
       !> The case resolved (loads: kinds, parameters, model body indices)

@@ -19,7 +19,7 @@ module ffrf_input_case
    use ffrf_input_nml_interface, only: read_interface_groups, interface_keys
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
-      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys
+      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
@@ -58,7 +58,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(12))
+      allocate (groups(13))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -71,6 +71,7 @@ contains
       call set(10, 'integrator', .false., integrator_keys())
       call set(11, 'model', .false., model_keys())
       call set(12, 'sensor', .true., sensor_keys())
+      call set(13, 'spring', .true., spring_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -437,6 +438,18 @@ contains
                text = text // ' /' // nl
             end associate
          end do
+         do k = 1, spring_count(mech)
+            associate (x => mech%springs(k))
+               text = text // '&spring name = ''' // nml_string(x%name) // ''', body1 = ''' // &
+                  nml_string(x%body1) // ''', marker1 = ''' // nml_string(x%marker1) // &
+                  ''', body2 = ''' // nml_string(x%body2) // ''', marker2 = ''' // &
+                  nml_string(x%marker2) // ''', stiffness = ' // to_str(x%stiffness, 17) // &
+                  ', damping = ' // to_str(x%damping, 17)
+               if (x%free_length >= 0.0_dp) text = text // ', free_length = ' // &
+                  to_str(x%free_length, 17)
+               text = text // ' /' // nl
+            end associate
+         end do
          do k = 1, sensor_count(mech)
             associate (x => mech%sensors(k))
                text = text // '&sensor name = ''' // nml_string(x%name) // ''', type = ''' // &
@@ -448,6 +461,8 @@ contains
                if (len_trim(x%joint) > 0) text = text // ', joint = ''' // &
                   nml_string(x%joint) // ''''
                if (x%node > 0) text = text // ', node = ' // to_str(x%node)
+               if (len_trim(x%spring) > 0) text = text // ', spring = ''' // &
+                  nml_string(x%spring) // ''''
                text = text // ' /' // nl
             end associate
          end do
@@ -611,6 +626,22 @@ contains
                end if
             end associate
          end do
+         do k = 1, spring_count(mech)
+            associate (x => mech%springs(k))
+               call check_marker(case, src%at('spring', k, 'body1') // ': &spring "' // &
+                  trim(x%name) // '"', x%body1, x%marker1, error)
+               if (.not. allocated(error)) call check_marker(case, src%at('spring', k, 'body2') &
+                  // ': &spring "' // trim(x%name) // '"', x%body2, x%marker2, error)
+               if (.not. allocated(error) .and. x%free_length < 0.0_dp) then
+                  if (rigid_start_distance(case, x%body1, x%marker1, x%body2, x%marker2) == &
+                     0.0_dp) call fatal_error(error, FFRF_INPUT_ERROR, src%at('spring', k, &
+                     'body2') // ': &spring "' // trim(x%name) // '": its markers coincide ' &
+                     // 'at the start (length 0) and free_length is not given; give ' // &
+                     'free_length (m)')
+               end if
+               if (allocated(error)) return
+            end associate
+         end do
          call check_sensor_names(src, case, error)
          if (allocated(error)) return
          if (len_trim(mech%mechanism%crank) > 0) then
@@ -623,6 +654,52 @@ contains
          end if
       end associate
    end subroutine check_mechanism_names
+
+   !> Distance at the start between two markers of rigid bodies or the ground (&body position +
+   !> A &marker position, A the &body orientation); -1 when an end is a
+   !> flexible body's interface (known only from its mesh: the run checks it).
+   pure real(dp) function rigid_start_distance(case, body1, marker1, body2, marker2) &
+      result(distance)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: body1, marker1, body2, marker2
+      real(dp) :: point1(3), point2(3)
+      logical :: known1, known2
+      call start_point(body1, marker1, point1, known1)
+      call start_point(body2, marker2, point2, known2)
+      distance = -1.0_dp
+      if (known1 .and. known2) distance = norm2(point2 - point1)
+   contains
+      pure subroutine start_point(body, marker, point, known)
+         character(len=*), intent(in) :: body, marker
+         real(dp), intent(out) :: point(3)
+         logical, intent(out) :: known
+         integer :: b, m
+         point = 0.0_dp
+         b = body_index(case, body)
+         known = body == GROUND_NAME
+         if (b > 0) then
+            known = case%motions(b)%type == 'rigid'
+            point = case%motions(b)%position
+         end if
+         if (.not. known) return
+         m = findloc(case%mechanism%markers%body == body .and. &
+            case%mechanism%markers%name == marker, .true., dim=1)
+         known = m > 0
+         if (.not. known) return
+         if (b > 0) then
+            point = point + matmul(case%motions(b)%orientation, case%mechanism%markers(m)%position)
+         else
+            point = point + case%mechanism%markers(m)%position
+         end if
+      end subroutine start_point
+   end function rigid_start_distance
+
+   !> Number of &spring groups (0 for a case built in memory without them).
+   pure integer function spring_count(mech)
+      type(mechanism_case_input_t), intent(in) :: mech
+      spring_count = 0
+      if (allocated(mech%springs)) spring_count = size(mech%springs)
+   end function spring_count
 
    !> Number of &sensor groups (0 for a case built in memory without them).
    pure integer function sensor_count(mech)
@@ -668,6 +745,18 @@ contains
                      FFRF_INPUT_ERROR, src%at('sensor', k, 'joint') // ': &sensor "' // &
                      trim(x%name) // '": joint "' // trim(x%joint) // '" is not a &joint ' // &
                      'of this case (joints: ' // join_words(mech%joints%name, ', ') // ')')
+               end if
+               if (.not. allocated(error) .and. len_trim(x%spring) > 0) then
+                  if (spring_count(mech) == 0) then
+                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'spring') &
+                        // ': &sensor "' // trim(x%name) // '": spring "' // trim(x%spring) &
+                        // '" is not a &spring of this case (it has none)')
+                  else if (.not. any(mech%springs%name == x%spring)) then
+                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'spring') &
+                        // ': &sensor "' // trim(x%name) // '": spring "' // trim(x%spring) &
+                        // '" is not a &spring of this case (springs: ' // &
+                        join_words(mech%springs%name, ', ') // ')')
+                  end if
                end if
                if (allocated(error)) return
             end associate

@@ -1,5 +1,5 @@
 !> Plain input types of a mechanism run, with their defaults (namelist groups &body's motion
-!> keys, &marker, &joint, &load, &pressure, &integrator, &mechanism; readers in
+!> keys, &marker, &joint, &load, &spring, &pressure, &integrator, &mechanism; readers in
 !> src/input/nml_mechanism.f90 and src/input/nml_body.f90). SI units; angles in degrees where named
 !> so.
 module ffrf_input_mechanism
@@ -10,6 +10,7 @@ module ffrf_input_mechanism
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
+   public :: spring_input_t
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
@@ -86,6 +87,19 @@ module ffrf_input_mechanism
       real(dp) :: coefficient = 3.6e-4_dp
    end type load_input_t
 
+   !> A linear spring-damper between marker1 of body1 and marker2 of body2 (&spring;
+   !> ffrf_mbs_spring_damper): tension k (l - L0) + c l' along the line between the markers.
+   type :: spring_input_t
+      character(len=64) :: name = ''
+      !> Bodies ('ground' for the ground) and markers: &marker points or a flexible body's
+      !> &interface (its virtual node); two different bodies
+      character(len=64) :: body1 = '', marker1 = '', body2 = '', marker2 = ''
+      !> Stiffness k (N/m) and damping c (N s/m), >= 0
+      real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp
+      !> Free length L0 (m); negative (the default): the distance of the markers at the start
+      real(dp) :: free_length = -1.0_dp
+   end type spring_input_t
+
    !> A sensor: a named measurement written every recorded step under /sensors/<name> (&sensor;
    !> ffrf_mbs_sensors lists the types, docs/sensors.md the results).
    type :: sensor_input_t
@@ -93,7 +107,7 @@ module ffrf_input_mechanism
       character(len=64) :: name = ''
       !> position, velocity, acceleration, orientation, angular_velocity (body, marker);
       !> joint_coordinate, reaction (joint); energy (body); node_displacement, node_position
-      !> (body with a mesh, node)
+      !> (body with a mesh, node); spring (spring)
       character(len=20) :: type = ''
       !> Body ('ground' for the ground) and marker: a &marker point or a flexible body's
       !> &interface (its virtual node)
@@ -102,6 +116,8 @@ module ffrf_input_mechanism
       character(len=64) :: joint = ''
       !> Mesh node of the body (node types: its Gmsh node tag; 0: none)
       integer :: node = 0
+      !> Spring name (type spring: length, rate, tension of a &spring)
+      character(len=64) :: spring = ''
    end type sensor_input_t
 
    !> Mechanism-wide settings (&mechanism).
@@ -143,6 +159,8 @@ module ffrf_input_mechanism
       type(marker_input_t), allocatable :: markers(:)
       type(joint_input_t), allocatable :: joints(:)
       type(load_input_t), allocatable :: loads(:)
+      !> Spring-dampers (&spring), in input order
+      type(spring_input_t), allocatable :: springs(:)
       !> Sensors (&sensor), in input order
       type(sensor_input_t), allocatable :: sensors(:)
       !> Pressure model data (&pressure); table_file: angle (deg) and absolute pressure (Pa) per

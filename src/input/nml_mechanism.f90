@@ -5,6 +5,8 @@
 !>   &joint       name, type, body1, marker1, body2, marker2, axis            (repeatable)
 !>   &load        name, type (pressure|starter|drag|force|torque), body, marker, direction,
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
+!>   &spring      name, body1, marker1, body2, marker2, stiffness [N/m], damping [N s/m],
+!>                free_length [m]                                             (repeatable)
 !>   &pressure    bore, stroke, conrod_length, compression_ratio, intake_pressure,
 !>                exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m,
 !>                combustion_start_deg, combustion_duration_deg, heat_per_cycle,
@@ -37,6 +39,9 @@
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
 !>               N m; stall_torque in [0, 1e9] N m; free_speed in (0, 1e5] rad/s; switch_off in
 !>               [0, 1e6] s; coefficient in [0, 1e9] N m s^2
+!>   &spring     stiffness in [0, 1e12] N/m; damping in [0, 1e12] N s/m; free_length in
+!>               [0, 1e6] m (absent: the distance of the markers at the start, which must not be
+!>               0); body1 /= body2; name unique
 !>   &pressure   bore, stroke in (0, 10] m; conrod_length in (0, 100] m (> stroke/2);
 !>               compression_ratio in (1, 1000]; intake_pressure, exhaust_pressure in (0, 1e9] Pa;
 !>               polytropic_exponent in (1, 3]; wiebe_a in (0, 100]; wiebe_m in [0, 100];
@@ -65,7 +70,7 @@ module ffrf_input_nml_mechanism
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
-      marker_input_t, joint_input_t, load_input_t, model_input_t
+      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
@@ -76,7 +81,7 @@ module ffrf_input_nml_mechanism
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
-      model_keys
+      model_keys, spring_keys
 
    !> Load types &load accepts
    character(len=*), parameter :: load_types = 'pressure, starter, drag, force, torque'
@@ -174,6 +179,16 @@ contains
    end function model_keys
 
    !> Read every mechanism group of the open case file.
+   !> Keys of &spring (module header).
+   function spring_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('body1', 64), string_key('marker1', 64), &
+         string_key('body2', 64), string_key('marker2', 64), &
+         real_key('stiffness', 0.0_dp, 1.0e12_dp, 'N/m'), &
+         real_key('damping', 0.0_dp, 1.0e12_dp, 'N s/m'), &
+         real_key('free_length', 0.0_dp, 1.0e6_dp, 'm')]
+   end function spring_keys
+
    subroutine read_mechanism_groups(unit, src, input, error)
       integer, intent(in) :: unit
       !> The checked case text (FILE:LINE of the keys)
@@ -184,6 +199,7 @@ contains
       if (.not. allocated(error)) call read_marker_groups(unit, src, input%markers, error)
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
+      if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
       if (.not. allocated(error)) call read_integrator_group(unit, src, input%integrator, &
@@ -435,6 +451,60 @@ contains
             value, stall_torque, free_speed, switch_off, coefficient)]
       end do
    end subroutine read_load_groups
+
+   !> The &spring groups (module header), in input order.
+   subroutine read_spring_groups(unit, src, springs, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(spring_input_t), allocatable, intent(out) :: springs(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(spring_input_t) :: defaults
+      character(len=64) :: name, body1, marker1, body2, marker2
+      real(dp) :: stiffness, damping, free_length
+      integer :: stat, k
+      character(len=512) :: msg
+      character(len=:), allocatable :: where
+      namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
+      allocate (springs(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         body1 = defaults%body1
+         marker1 = defaults%marker1
+         body2 = defaults%body2
+         marker2 = defaults%marker2
+         stiffness = defaults%stiffness
+         damping = defaults%damping
+         free_length = defaults%free_length
+         read (unit, nml=spring, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(springs) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'spring', k, msg, 'name, body1, marker1, body2, ' &
+               // 'marker2, stiffness, damping, free_length')
+            return
+         end if
+         where = src%where('spring', k, '') // ' "' // trim(name) // '"'
+         if (len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, '') // &
+               ': name is missing')
+         else if (any(springs%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'name') // &
+               ': the name is used twice; spring names must be unique')
+         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
+            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
+               'marker2 are required')
+         else if (body1 == body2) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'body2') // &
+               ': &spring "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
+               '"; a spring connects two different bodies')
+         end if
+         if (allocated(error)) return
+         springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
+            damping, free_length)]
+      end do
+   end subroutine read_spring_groups
 
    subroutine read_pressure_group(unit, input, table_file, error)
       integer, intent(in) :: unit

@@ -1,15 +1,16 @@
 !> Namelist group &sensor of a mechanism run (repeatable): a named measurement written every
 !> recorded step under /sensors/<name> of the results file (docs/sensors.md).
-!>   &sensor  name, type, body, marker, joint, node                           (repeatable)
+!>   &sensor  name, type, body, marker, joint, node, spring                   (repeatable)
 !>   type: position [m], velocity [m/s], acceleration [m/s^2], orientation [1, the marker frame's
 !>         axes], angular_velocity [rad/s] (body and marker: a &marker point of a rigid body or
 !>         the ground, or an &interface of a flexible body, its virtual node with its elastic
 !>         motion); joint_coordinate [rad for a revolute, m for a prismatic], reaction [N, N m]
 !>         (joint); energy [J, kinetic and strain] (body); node_displacement [m, elastic, body
 !>         frame], node_position [m, global] (body with a mesh, node: a Gmsh node tag of its mesh,
-!>         integer >= 1, checked against the mesh when the run builds the body)
+!>         integer >= 1, checked against the mesh when the run builds the body); spring [m, m/s,
+!>         N: length, rate, tension] (spring: a &spring name)
 !>   name: unique among the sensors, at most 64 characters (default: the type).
-!> The body, marker and joint names are checked against the case by ffrf_input_case.
+!> The body, marker, joint and spring names are checked against the case by ffrf_input_case.
 module ffrf_input_nml_sensor
    use ffrf_core_kinds, only: i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -19,7 +20,7 @@ module ffrf_input_nml_sensor
       nml_source_t
    use ffrf_input_mechanism, only: sensor_input_t
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words, sensor_needs_marker, &
-      sensor_needs_joint, sensor_needs_body, sensor_needs_node
+      sensor_needs_joint, sensor_needs_body, sensor_needs_node, sensor_needs_spring
    implicit none
    private
    public :: read_sensor_groups, sensor_keys
@@ -31,7 +32,7 @@ contains
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('name', 64), choice_key('type', 20, sensor_words), &
          string_key('body', 64), string_key('marker', 64), string_key('joint', 64), &
-         integer_key('node', 1_i8, int(huge(1), i8))]
+         integer_key('node', 1_i8, int(huge(1), i8)), string_key('spring', 64)]
    end function sensor_keys
 
    !> Every &sensor group, in input order; the keys a type needs must be given.
@@ -42,12 +43,12 @@ contains
       type(sensor_input_t), allocatable, intent(out) :: sensors(:)
       type(error_t), allocatable, intent(out) :: error
       type(sensor_input_t) :: defaults
-      character(len=64) :: name, body, marker, joint
+      character(len=64) :: name, body, marker, joint, spring
       character(len=20) :: type
       integer :: stat, k, kind, node
       character(len=512) :: msg
       character(len=:), allocatable :: where
-      namelist /sensor/ name, type, body, marker, joint, node
+      namelist /sensor/ name, type, body, marker, joint, node, spring
       allocate (sensors(0))
       rewind (unit)
       do
@@ -57,12 +58,13 @@ contains
          marker = defaults%marker
          joint = defaults%joint
          node = defaults%node
+         spring = defaults%spring
          read (unit, nml=sensor, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(sensors) + 1
          if (stat /= 0) then
             call namelist_read_error(error, 'sensor', k, msg, 'name, type, body, marker, ' // &
-               'joint, node')
+               'joint, node, spring')
             return
          end if
          type = to_lower(type)
@@ -89,12 +91,16 @@ contains
          else if (sensor_needs_body(kind) .and. len_trim(body) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
                ''' needs body = ''<a &body name>''')
+         else if (sensor_needs_spring(kind) .and. len_trim(spring) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
+               ''' needs spring = ''<a &spring name>''')
          else if (sensor_needs_node(kind) .and. node < 1) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
                ''' needs node = <a node tag of the body''s mesh>')
          end if
          if (allocated(error)) return
-         sensors = [sensors, sensor_input_t(name, type, body, marker, joint, node)]
+         sensors = [sensors, sensor_input_t(name, type, body, marker, joint, node, &
+            spring)]
       end do
    end subroutine read_sensor_groups
 

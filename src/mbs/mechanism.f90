@@ -10,6 +10,7 @@
 !>
 !>     M(q)  = blockdiag(M_b(q_b))                                          (theory.md 3.3)
 !>     f     = sum_b [f_v,b + Q_e,b] + sum_loads (L_r^T F + L_w^T M) + gravity (theory.md 3.4, 3.5)
+!>             + sum_springs (L_r,a^T f n - L_r,b^T f n)   (ffrf_mbs_spring_damper)
 !>     Phi_q = joint blocks dPhi/dq_a, dPhi/dq_b (ffrf_mbs_joints), the drive row, rows 2 theta^T
 !>
 !> Rotor angle and speed. The rotor is an optional chosen body (set_rotor) whose turning about the
@@ -67,6 +68,7 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
+   use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
    implicit none
    private
    public :: mechanism_t, mechanism_body_t, mechanism_joint_t, mechanism_load_t
@@ -109,6 +111,8 @@ module ffrf_mbs_mechanism
       type(mechanism_joint_t), allocatable :: joints(:)
       !> Applied loads
       type(mechanism_load_t), allocatable :: loads(:)
+      !> Spring-dampers between markers (ffrf_mbs_spring_damper), order of add_spring
+      type(spring_damper_t), allocatable :: springs(:)
       !> Number of coordinates and of constraint rows
       integer :: n = 0, nc = 0
       !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies (theory.md 3.6)
@@ -136,6 +140,14 @@ module ffrf_mbs_mechanism
       procedure :: add_joint => mechanism_add_joint
       !> Add an applied load (copied)
       procedure :: add_load => mechanism_add_load
+      !> Add a spring-damper between two markers of two bodies
+      procedure :: add_spring => mechanism_add_spring
+      !> Length, rate and tension of spring s at a state
+      procedure :: spring_state => mechanism_spring_state
+      !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J)
+      procedure :: spring_energy => mechanism_spring_energy
+      !> Free lengths not given are set to the lengths at q (the starting pose)
+      procedure :: set_spring_free_lengths => mechanism_set_spring_free_lengths
       !> Choose the rotor body (rotor angle and speed for the loads)
       procedure :: set_rotor => mechanism_set_rotor
       !> Set the unwrapping reference of the rotor angle from q (near a known angle)
@@ -222,6 +234,46 @@ module ffrf_mbs_mechanism
          class(load_t), intent(in) :: load
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_add_load
+
+      !> Add a copy of a spring-damper (bodies and markers as mechanism indices;
+      !> ffrf_mbs_spring_damper). Refused: an unknown body or marker, both ends on one body, k < 0 or c < 0.
+      module subroutine mechanism_add_spring(self, spring, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The spring (free_length < 0: set later by set_spring_free_lengths)
+         type(spring_damper_t), intent(in) :: spring
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_spring
+
+      !> Length, direction, rate and tension of spring s at (q, v).
+      module function mechanism_spring_state(self, s, q, v) result(state)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Spring number (order of add_spring)
+         integer, intent(in) :: s
+         !> Coordinates and velocities, n
+         real(dp), intent(in) :: q(:), v(:)
+         type(spring_state_t) :: state
+      end function mechanism_spring_state
+
+      !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J).
+      module function mechanism_spring_energy(self, q) result(energy)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         real(dp) :: energy
+      end function mechanism_spring_energy
+
+      !> Every spring without a free length (free_length < 0) gets its length at q; a zero
+      !> length there is an error (the spring would have no direction).
+      module subroutine mechanism_set_spring_free_lengths(self, q, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates of the starting pose, n
+         real(dp), intent(in) :: q(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_set_spring_free_lengths
 
       !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
       module subroutine mechanism_set_rotor(self, body, error)

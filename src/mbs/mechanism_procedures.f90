@@ -16,6 +16,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_mbs_joints, only: new_joint, joint_reaction
    use ffrf_la_lapack, only: dgelsy
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_spring_damper, only: spring_evaluate, spring_generalized_forces, spring_tangents
    implicit none
 
    !> Unit x axis
@@ -129,6 +130,82 @@ contains
       grown(nl + 1)%load%direction = load%direction / norm2(load%direction)
       call move_alloc(grown, self%loads)
    end procedure mechanism_add_load
+
+   !> Add a copy of a spring-damper (refusals: mechanism.f90's interface).
+   module procedure mechanism_add_spring
+      character(len=:), allocatable :: where
+      where = 'mechanism: spring "' // trim(spring%name) // '"'
+      if (.not. (valid_body(self, spring%body_a) .and. valid_body(self, spring%body_b))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
+            to_str(spring%body_a) // ' and ' // to_str(spring%body_b) // &
+            ', not both indices returned by add_body (1..' // to_str(num_bodies(self)) // ')')
+      else if (spring%body_a == spring%body_b) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' has both ends on body "' // &
+            self%bodies(spring%body_a)%name // '"; a spring connects two different bodies')
+      else if (spring%marker_a < 1 .or. spring%marker_a > &
+         self%bodies(spring%body_a)%body%num_markers .or. spring%marker_b < 1 .or. &
+         spring%marker_b > self%bodies(spring%body_b)%body%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // &
+            to_str(spring%marker_a) // ' or ' // to_str(spring%marker_b) // &
+            ' is not a marker of its body')
+      else if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
+            to_str(spring%stiffness) // ' N/m and damping = ' // to_str(spring%damping) // &
+            ' N s/m must both be >= 0')
+      end if
+      if (allocated(error)) return
+      if (.not. allocated(self%springs)) allocate (self%springs(0))
+      self%springs = [self%springs, spring]
+   end procedure mechanism_add_spring
+
+   !> Length, direction, rate and tension of spring s at (q, v).
+   module procedure mechanism_spring_state
+      integer :: ka, kb, na, nb
+      associate (spring => self%springs(s))
+         ka = self%bodies(spring%body_a)%offset
+         kb = self%bodies(spring%body_b)%offset
+         na = self%bodies(spring%body_a)%body%num_coordinates
+         nb = self%bodies(spring%body_b)%body%num_coordinates
+         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(ka + 1:ka + na), &
+            v(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), &
+            v(kb + 1:kb + nb))
+      end associate
+   end procedure mechanism_spring_state
+
+   !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J).
+   module procedure mechanism_spring_energy
+      type(spring_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      energy = 0.0_dp
+      if (.not. allocated(self%springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%springs)
+         state = self%spring_state(s, q, zero)
+         energy = energy + 0.5_dp * self%springs(s)%stiffness * &
+            (state%length - self%springs(s)%free_length)**2
+      end do
+   end procedure mechanism_spring_energy
+
+   !> Free lengths not given become the lengths at q (mechanism.f90's interface).
+   module procedure mechanism_set_spring_free_lengths
+      type(spring_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      if (.not. allocated(self%springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%springs)
+         if (self%springs(s)%free_length >= 0.0_dp) cycle
+         state = self%spring_state(s, q, zero)
+         if (.not. (state%length > 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' // &
+               trim(self%springs(s)%name) // '": its markers coincide at the start (length 0);' &
+               // ' give free_length')
+            return
+         end if
+         self%springs(s)%free_length = state%length
+      end do
+   end procedure mechanism_set_spring_free_lengths
 
    !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
    module procedure mechanism_set_rotor
@@ -275,6 +352,8 @@ contains
             end associate
          end do
       end if
+      call add_spring_forces(self, q, v, t, f, error)
+      if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)
          k = self%bodies(b)%offset
@@ -670,6 +749,8 @@ contains
             end associate
          end do
       end if
+      call add_spring_tangents(self, q, v, t, K_t, C_t, error)
+      if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)
          k = self%bodies(b)%offset
@@ -695,6 +776,82 @@ contains
          end select
       end do
    end subroutine applied_tangents
+
+   !> Add the springs' generalized forces to f (ffrf_mbs_spring_damper); a spring of zero length
+   !> or a non-finite tension is a numeric error.
+   subroutine add_spring_forces(self, q, v, t, f, error)
+      type(mechanism_t), intent(in) :: self
+      real(dp), intent(in) :: q(:), v(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: f(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(spring_state_t) :: state
+      real(dp), allocatable :: f_a(:), f_b(:)
+      integer :: s, ka, kb, na, nb
+      if (.not. allocated(self%springs)) return
+      do s = 1, size(self%springs)
+         associate (spring => self%springs(s))
+            state = self%spring_state(s, q, v)
+            call check_spring_state(spring%name, state, t, error)
+            if (allocated(error)) return
+            ka = self%bodies(spring%body_a)%offset
+            kb = self%bodies(spring%body_b)%offset
+            na = self%bodies(spring%body_a)%body%num_coordinates
+            nb = self%bodies(spring%body_b)%body%num_coordinates
+            allocate (f_a(na), f_b(nb))
+            call spring_generalized_forces(spring, state, self%bodies(spring%body_a)%body, &
+               q(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), f_a, f_b)
+            f(ka + 1:ka + na) = f(ka + 1:ka + na) + f_a
+            f(kb + 1:kb + nb) = f(kb + 1:kb + nb) + f_b
+            deallocate (f_a, f_b)
+         end associate
+      end do
+   end subroutine add_spring_forces
+
+   !> Add the springs' exact tangents to K_t (-df/dq) and C_t (-df/dq').
+   subroutine add_spring_tangents(self, q, v, t, K_t, C_t, error)
+      type(mechanism_t), intent(in) :: self
+      real(dp), intent(in) :: q(:), v(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      type(spring_state_t) :: state
+      real(dp), allocatable :: K(:, :), C(:, :)
+      integer, allocatable :: rows(:)
+      integer :: s, ka, kb, na, nb, i
+      if (.not. allocated(self%springs)) return
+      do s = 1, size(self%springs)
+         associate (spring => self%springs(s))
+            state = self%spring_state(s, q, v)
+            call check_spring_state(spring%name, state, t, error)
+            if (allocated(error)) return
+            ka = self%bodies(spring%body_a)%offset
+            kb = self%bodies(spring%body_b)%offset
+            na = self%bodies(spring%body_a)%body%num_coordinates
+            nb = self%bodies(spring%body_b)%body%num_coordinates
+            allocate (K(na + nb, na + nb), C(na + nb, na + nb))
+            call spring_tangents(spring, state, self%bodies(spring%body_a)%body, &
+               q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(spring%body_b)%body, &
+               q(kb + 1:kb + nb), v(kb + 1:kb + nb), K, C)
+            rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+            K_t(rows, rows) = K_t(rows, rows) + K
+            C_t(rows, rows) = C_t(rows, rows) + C
+            deallocate (K, C)
+         end associate
+      end do
+   end subroutine add_spring_tangents
+
+   !> A spring needs a non-zero length (its direction) and a finite tension.
+   subroutine check_spring_state(name, state, t, error)
+      character(len=*), intent(in) :: name
+      type(spring_state_t), intent(in) :: state
+      real(dp), intent(in) :: t
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. (state%length > 0.0_dp .and. ieee_is_finite(state%force))) &
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'spring "' // trim(name) // &
+         '": length ' // to_str(state%length) // ' m, tension ' // to_str(state%force) // &
+         ' N at t = ' // to_str(t) // ' s; a spring needs distinct, finite marker positions')
+   end subroutine check_spring_state
 
    !> d(Phi_q^T lambda)/dq: joints, drive row and Euler rows (module header).
    module procedure mechanism_constraint_stiffness

@@ -16,6 +16,8 @@
 !> | energy           | kinetic v^T M v / 2 and strain energy of a body (2)       | J        |
 !> | node_displacement| elastic displacement Psi_n zeta of a mesh node, body frame | m        |
 !> | node_position    | R + A(theta) (x_n + Psi_n zeta), global                   | m        |
+!> | spring           | length l, rate l' and tension k (l - L0) + c l' of a      | m, m/s, N|
+!> |                  | &spring (ffrf_mbs_spring_damper)                          |          |
 !>
 !> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
 !> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
@@ -34,10 +36,12 @@ module ffrf_mbs_sensors
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_rotation, only: euler_rotation
+   use ffrf_mbs_spring_damper, only: spring_state_t
    implicit none
    private
    public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
    public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body, sensor_needs_node
+   public :: sensor_needs_spring, SENSOR_SPRING
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
       SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
@@ -45,20 +49,21 @@ module ffrf_mbs_sensors
    integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
       SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
       SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
-      SENSOR_NODE_POSITION = 10, SENSOR_ROTOR_ANGLE = 11, SENSOR_ROTOR_SPEED = 12
+      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_ROTOR_ANGLE = 12, &
+      SENSOR_ROTOR_SPEED = 13
    !> Number of user words (the first kinds of the table)
-   integer, parameter :: NUM_WORDS = 10
+   integer, parameter :: NUM_WORDS = 11
    !> The table (module header): word, number of values, unit, in the order of the kinds
-   character(len=*), parameter :: WORDS(12) = [character(len=17) :: 'position', 'velocity', &
+   character(len=*), parameter :: WORDS(13) = [character(len=17) :: 'position', 'velocity', &
       'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
-      'energy', 'node_displacement', 'node_position', 'rotor_angle', 'rotor_speed']
-   integer, parameter :: SIZES(12) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 1, 1]
-   character(len=*), parameter :: UNITS(12) = [character(len=8) :: 'm', 'm/s', 'm/s^2', '1', &
-      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'rad', 'rad/s']
+      'energy', 'node_displacement', 'node_position', 'spring', 'rotor_angle', 'rotor_speed']
+   integer, parameter :: SIZES(13) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 1, 1]
+   character(len=*), parameter :: UNITS(13) = [character(len=10) :: 'm', 'm/s', 'm/s^2', '1', &
+      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad', 'rad/s']
    !> The words &sensor type accepts, ', '-separated
    character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
       'orientation, angular_velocity, joint_coordinate, reaction, energy, node_displacement, ' &
-      // 'node_position'
+      // 'node_position, spring'
 
    !> A sensor, resolved to mechanism indices.
    type :: sensor_t
@@ -73,6 +78,8 @@ module ffrf_mbs_sensors
       character(len=64) :: marker_name = ''
       !> Mechanism joint number (joint kinds)
       integer :: joint = 0
+      !> Mechanism spring number (spring kind; order of add_spring)
+      integer :: spring = 0
       !> Node kinds: the mesh node (for the output), its position in the body frame (m) and its
       !> rows of the mode shapes (3, num_modes; 0 columns for a rigid body)
       integer :: node = 0
@@ -132,6 +139,12 @@ contains
       sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION
    end function sensor_needs_joint
 
+   !> .true. for the kinds of a spring.
+   pure logical function sensor_needs_spring(kind)
+      integer, intent(in) :: kind
+      sensor_needs_spring = kind == SENSOR_SPRING
+   end function sensor_needs_spring
+
    !> .true. for the kinds of a body without a marker (energy, mesh nodes).
    pure logical function sensor_needs_body(kind)
       integer, intent(in) :: kind
@@ -155,6 +168,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: qb(:), vb(:), ab(:)
       real(dp) :: force(3, 2), moment(3, 2), frame_a(3, 3), frame_b(3, 3), s, u(3)
+      type(spring_state_t) :: state
       integer :: a, b, m
       allocate (values(sensor_size(self%kind)), source=0.0_dp)
       if (sensor_needs_marker(self%kind) .or. sensor_needs_body(self%kind)) then
@@ -182,7 +196,22 @@ contains
             return
          end if
       end if
+      if (sensor_needs_spring(self%kind)) then
+         if (.not. allocated(mech%springs)) then
+            m = 0
+         else
+            m = size(mech%springs)
+         end if
+         if (self%spring < 1 .or. self%spring > m) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+               '": the mechanism has no spring ' // to_str(self%spring))
+            return
+         end if
+      end if
       select case (self%kind)
+      case (SENSOR_SPRING)
+         state = mech%spring_state(self%spring, q, v)
+         values = [state%length, state%rate, state%force]
       case (SENSOR_POSITION)
          values = mech%bodies(self%body)%body%marker_position(qb, self%marker)
       case (SENSOR_VELOCITY)

@@ -17,6 +17,7 @@ module ffrf_model_mechanism
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
+   public :: model_spring_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -67,6 +68,15 @@ module ffrf_model_mechanism
       real(dp) :: coefficient = 0.0_dp
    end type model_load_t
 
+   !> A spring-damper (&spring), resolved (ffrf_mbs_spring_damper).
+   type :: model_spring_t
+      character(len=64) :: name = ''
+      !> Model body indices of its two ends (0: the ground) and their marker handles
+      integer :: body(2) = 0, marker(2) = 0
+      !> Stiffness (N/m), damping (N s/m), free length (m; negative: the starting distance)
+      real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp, free_length = -1.0_dp
+   end type model_spring_t
+
    !> A sensor (&sensor), resolved: its kind (SENSOR_* of ffrf_mbs_sensors) and what it measures.
    type :: model_sensor_t
       character(len=64) :: name = ''
@@ -78,6 +88,8 @@ module ffrf_model_mechanism
       integer :: joint = 0
       !> Mesh node (Gmsh node tag; 0: none)
       integer :: node = 0
+      !> Spring number (&spring order; 0: none)
+      integer :: spring = 0
    end type model_sensor_t
 
    !> The mechanism of a case, resolved (empty arrays for a modal case).
@@ -85,6 +97,8 @@ module ffrf_model_mechanism
       type(model_marker_t), allocatable :: markers(:)
       type(model_joint_t), allocatable :: joints(:)
       type(model_load_t), allocatable :: loads(:)
+      !> Spring-dampers (&spring), input order
+      type(model_spring_t), allocatable :: springs(:)
       !> Sensors (&sensor), input order
       type(model_sensor_t), allocatable :: sensors(:)
       !> Model body index of the crank (0: none)

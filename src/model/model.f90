@@ -113,7 +113,7 @@ contains
       integer :: k
       if (.not. case%is_mechanism) then
          allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
-            model%mechanism%loads(0), model%mechanism%sensors(0))
+            model%mechanism%loads(0), model%mechanism%sensors(0), model%mechanism%springs(0))
          return
       end if
       associate (input => case%mechanism, m => model%mechanism)
@@ -159,6 +159,8 @@ contains
                end if
             end associate
          end do
+         call resolve_springs(error)
+         if (allocated(error)) return
          allocate (m%sensors(0))
          if (allocated(input%sensors)) then
             deallocate (m%sensors)
@@ -177,6 +179,11 @@ contains
                   sensor%body = model%body_index(given%body)
                   if (sensor%body == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'body "' // &
                      trim(given%body) // '" is not a &body')
+               end if
+               if (.not. allocated(error) .and. len_trim(given%spring) > 0) then
+                  sensor%spring = findloc(m%springs%name, given%spring, dim=1)
+                  if (sensor%spring == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' &
+                     // trim(given%spring) // '" is not a &spring')
                end if
                if (.not. allocated(error) .and. len_trim(given%joint) > 0) then
                   sensor%joint = findloc(input%joints%name, given%joint, dim=1)
@@ -208,6 +215,32 @@ contains
       end associate
 
    contains
+
+      !> The &spring groups: names to model body indices and marker handles.
+      subroutine resolve_springs(error)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: s
+         allocate (model%mechanism%springs(0))
+         if (.not. allocated(case%mechanism%springs)) return
+         deallocate (model%mechanism%springs)
+         allocate (model%mechanism%springs(size(case%mechanism%springs)))
+         do s = 1, size(case%mechanism%springs)
+            associate (spring => model%mechanism%springs(s), given => case%mechanism%springs(s))
+               spring%name = given%name
+               spring%stiffness = given%stiffness
+               spring%damping = given%damping
+               spring%free_length = given%free_length
+               call resolve_end(given%body1, given%marker1, spring%body(1), spring%marker(1), &
+                  error)
+               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
+                  spring%body(2), spring%marker(2), error)
+               if (allocated(error)) then
+                  call add_context(error, '&spring "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+      end subroutine resolve_springs
 
       !> Model body index (0: ground) and marker handle of the marker `marker` of body `body`.
       subroutine resolve_end(body, marker, index, handle, error)

@@ -510,6 +510,8 @@ for _group, _keys in {
         'joint': 's:name s:type s:body1 s:marker1 s:body2 s:marker2 r:axis',
         'load': 's:name s:type s:body s:marker r:direction r:value r:stall_torque '
                 'r:free_speed r:switch_off r:coefficient',
+        'spring': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping '
+                  'r:free_length',
         'pressure': 'r:bore r:stroke r:conrod_length r:compression_ratio r:intake_pressure '
                     'r:exhaust_pressure r:polytropic_exponent r:wiebe_a r:wiebe_m '
                     'r:combustion_start_deg r:combustion_duration_deg r:heat_per_cycle '
@@ -775,6 +777,9 @@ def namelist_mutations(text, base, not_hdf5=NOT_HDF5_MODES):
     if integ:
         g = integ[0]
         out.append(('h_negative', [2], ['h'], splice(text, g.end, g.end, ', h = -1.0 ')))
+    # the pressure table is read only for a pressure load (a case without one never opens it)
+    if integ and re.search(r"type\s*=\s*'pressure'", text):
+        g = integ[0]
         out.append(('table_dev_zero', [3], ['zero'],
                     text + "&pressure table_file = '/dev/zero' /\n" if 'pressure' not in
                     [x.name for x in groups] else text.replace('&pressure ',
