@@ -184,8 +184,7 @@ contains
             if (sensors(k)%marker > 0) sensors(k)%marker_name = case%mechanism%sensors(k)%marker
             sensors(k)%joint = given(k)%joint
             sensors(k)%spring = given(k)%spring
-            sensors(k)%body = ground_index
-            if (given(k)%body > 0) sensors(k)%body = bodies(given(k)%body)%index
+            sensors(k)%body = mechanism_index(bodies, ground_index, given(k)%body)
             if (given(k)%node > 0) then
                call node_rows(bodies(given(k)%body), given(k)%node, sensors(k), error)
                if (allocated(error)) then
@@ -505,25 +504,23 @@ contains
       associate (joints => resolved%mechanism%joints)
          do j = 1, size(joints)
             call mech%add_joint(joints(j)%kind, trim(joints(j)%name), &
-               mechanism_index(joints(j)%body(1)), ends(1, j), &
-               mechanism_index(joints(j)%body(2)), ends(2, j), error)
+               mechanism_index(bodies, ground_index, joints(j)%body(1)), ends(1, j), &
+               mechanism_index(bodies, ground_index, joints(j)%body(2)), ends(2, j), error)
             if (allocated(error)) then
                call add_context(error, '&joint "' // trim(joints(j)%name) // '"')
                return
             end if
          end do
       end associate
-
-   contains
-
-      !> Mechanism index of model body k (0: the ground).
-      integer function mechanism_index(k)
-         integer, intent(in) :: k
-         mechanism_index = ground_index
-         if (k > 0) mechanism_index = bodies(k)%index
-      end function mechanism_index
-
    end subroutine add_joints
+
+   !> Mechanism index of model body k (0: the ground, at ground_index).
+   pure integer function mechanism_index(bodies, ground_index, k)
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index, k
+      mechanism_index = ground_index
+      if (k > 0) mechanism_index = bodies(k)%index
+   end function mechanism_index
 
    !> The &spring groups as spring-dampers of the mechanism (ffrf_mbs_spring_damper); a free
    !> length not given is set from the starting pose by build_mechanism.
@@ -541,9 +538,9 @@ contains
       associate (springs => resolved%mechanism%springs)
          do s = 1, size(springs)
             spring%name = springs(s)%name
-            spring%body_a = mechanism_index(springs(s)%body(1))
+            spring%body_a = mechanism_index(bodies, ground_index, springs(s)%body(1))
             spring%marker_a = spring_ends(1, s)
-            spring%body_b = mechanism_index(springs(s)%body(2))
+            spring%body_b = mechanism_index(bodies, ground_index, springs(s)%body(2))
             spring%marker_b = spring_ends(2, s)
             spring%stiffness = springs(s)%stiffness
             spring%damping = springs(s)%damping
@@ -555,16 +552,6 @@ contains
             end if
          end do
       end associate
-
-   contains
-
-      !> Mechanism index of model body k (0: the ground).
-      integer function mechanism_index(k)
-         integer, intent(in) :: k
-         mechanism_index = ground_index
-         if (k > 0) mechanism_index = bodies(k)%index
-      end function mechanism_index
-
    end subroutine add_springs
 
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)

@@ -118,6 +118,24 @@ contains
       stat = merge(0_c_int, int(FFRF_BAD_CALL, c_int), got_handle)
    end function got_handle
 
+   !> The end of every *_count call: FFRF_BAD_CALL when the output n is NULL, else *n = count
+   !> and the status of the query's error.
+   integer(c_int) function put_count(h, what, count, error, n) result(stat)
+      type(capi_handle_t), intent(inout) :: h
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: count
+      type(error_t), allocatable, intent(in) :: error
+      type(c_ptr), intent(in) :: n
+      integer(c_int), pointer :: out
+      if (.not. c_associated(n)) then
+         stat = bad_call(h, what // ': n is NULL')
+         return
+      end if
+      call c_f_pointer(n, out)
+      out = int(count, c_int)
+      stat = status_of(h, error)
+   end function put_count
+
    !> Copy `values` into a C array of `capacity` doubles; count = size(values). FFRF_BAD_CALL
    !> when the array is smaller (its first capacity values written); a NULL array with
    !> capacity 0 only reports the count.
@@ -252,17 +270,10 @@ contains
       type(c_ptr), value :: c, n
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      integer(c_int), pointer :: out
       integer :: count
       if (.not. got_handle(c, h, stat)) return
-      if (.not. c_associated(n)) then
-         stat = bad_call(h, 'ffrf_body_count: n is NULL')
-         return
-      end if
       call h%case%body_count(count, error)
-      call c_f_pointer(n, out)
-      out = int(count, c_int)
-      stat = status_of(h, error)
+      stat = put_count(h, 'ffrf_body_count', count, error, n)
    end function ffrf_body_count
 
    !> int ffrf_body_name(const ffrf_case *c, int body, char *buf, size_t len)
@@ -573,17 +584,10 @@ contains
       integer(c_int), value :: body
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      integer(c_int), pointer :: out
       integer :: count
       if (.not. got_handle(c, h, stat)) return
-      if (.not. c_associated(n)) then
-         stat = bad_call(h, 'ffrf_marker_count: n is NULL')
-         return
-      end if
       call h%case%marker_count(int(body) + 1, count, error)
-      call c_f_pointer(n, out)
-      out = int(count, c_int)
-      stat = status_of(h, error)
+      stat = put_count(h, 'ffrf_marker_count', count, error, n)
    end function ffrf_marker_count
 
    !> int ffrf_marker_state(const ffrf_case *c, int body, int marker, double position[3],
@@ -620,17 +624,10 @@ contains
       type(c_ptr), value :: c, n
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      integer(c_int), pointer :: out
       integer :: count
       if (.not. got_handle(c, h, stat)) return
-      if (.not. c_associated(n)) then
-         stat = bad_call(h, 'ffrf_joint_count: n is NULL')
-         return
-      end if
       call h%case%joint_count(count, error)
-      call c_f_pointer(n, out)
-      out = int(count, c_int)
-      stat = status_of(h, error)
+      stat = put_count(h, 'ffrf_joint_count', count, error, n)
    end function ffrf_joint_count
 
    !> int ffrf_joint_name(const ffrf_case *c, int joint, char *buf, size_t len)
@@ -676,17 +673,10 @@ contains
       type(c_ptr), value :: c, n
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
-      integer(c_int), pointer :: out
       integer :: count
       if (.not. got_handle(c, h, stat)) return
-      if (.not. c_associated(n)) then
-         stat = bad_call(h, 'ffrf_sensor_count: n is NULL')
-         return
-      end if
       call h%case%sensor_count(count, error)
-      call c_f_pointer(n, out)
-      out = int(count, c_int)
-      stat = status_of(h, error)
+      stat = put_count(h, 'ffrf_sensor_count', count, error, n)
    end function ffrf_sensor_count
 
    !> int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len)
