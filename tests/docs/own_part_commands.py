@@ -4,7 +4,8 @@
 The first ```sh block after the heading "## The four commands" of docs/own_part.md is the
 newcomer's path: mesh examples/own_part/lever.geo with gmsh, `ffrf --check` the case, run it,
 print its frequencies with postprocess/frequency_table.py. README.md must hold the same block
-(its "first own-part run"), so that the two cannot drift apart. Each line runs with bash, from a
+(its "first own-part run"), so that the two cannot drift apart; likewise the one command of
+"## A mechanism with it" (the lever swung on a revolute joint, README's non-engine scene). Each line runs with bash, from a
 scratch folder laid out like the repository, and must exit 0. Nothing in the commands is
 rewritten: the paths they use are provided instead, from the environment:
 
@@ -144,9 +145,11 @@ def main():
     ok &= abs(float(m.group(1)) - freq[0]) <= 0.05 + 1e-9
     if not ok:
         fail('a check is out of its tolerance')
-    mech, _ = commands_of(doc, '## A mechanism with it')
+    mech, mech_block = commands_of(doc, '## A mechanism with it')
     if len(mech) != 1:
         fail(f'docs/own_part.md "A mechanism with it": {len(mech)} commands, expected 1')
+    if '```sh\n' + mech_block + '\n```' not in readme:
+        fail('README.md does not hold the mechanism command of docs/own_part.md verbatim')
     print('$ ' + mech[0], flush=True)
     done = subprocess.run(['bash', '-c', mech[0]], cwd=work, env=run_env, text=True,
                           capture_output=True)
