@@ -10,3 +10,15 @@ add_test(NAME regression_iftomm_a01
     ${PROJECT_SOURCE_DIR}/input/iftomm_a01_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
     ${PROJECT_BINARY_DIR}/tests/iftomm)
 set_tests_properties(regression_iftomm_a01 PROPERTIES LABELS "regression;iftomm")
+
+#  - regression_iftomm_a03: Andrews' squeezing mechanism (input/iftomm_a03_andrews.nml, 7 rigid
+#    bodies, 10 revolute joints of which 9 equations are redundant in 3D, a spring, a constant
+#    torque) against the IVP test set's reference solution at t = 0.03 s (Mazzia & Magherini,
+#    Bari; Hairer & Wanner II sec. VII.7): angles to 5e-4 rad, rates to 1e-2, order 2 between
+#    h = 2e-5 and 1e-5 s (tests/regression/check_iftomm_andrews.py). About 8 s.
+add_test(NAME regression_iftomm_a03
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iftomm_andrews.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/iftomm_a03_andrews.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/iftomm_a03)
+set_tests_properties(regression_iftomm_a03 PROPERTIES LABELS "regression;iftomm")
