@@ -22,3 +22,25 @@ add_test(NAME regression_iftomm_a03
     ${PROJECT_SOURCE_DIR}/input/iftomm_a03_andrews.nml ${PROJECT_BINARY_DIR}/meshes
     ${PROJECT_BINARY_DIR}/tests/iftomm_a03)
 set_tests_properties(regression_iftomm_a03 PROPERTIES LABELS "regression;iftomm")
+
+#  - regression_iftomm_a02: the N-four-bar, N = 1 (input/iftomm_a02_fourbar.nml), 10 s through
+#    ten singular configurations, against the exact solution of the parallelogram (a rotating
+#    pendulum, Jacobi elliptic functions): the benchmark's high precision 1e-3 on B0's position
+#    and velocity at h = 5e-4 s, order 2 between h = 1e-3 and 5e-4 s. About 5 s.
+#  - regression_iftomm_a02_n40: the benchmark's N = 40 (input/iftomm_a02_fourbar_n40.nml, 81
+#    bodies, 120 redundant equations dropped), its first 1.3 s (both singular configurations,
+#    theta = 0 and -pi) at h = 2e-3 s, same reference and precision. About 10 s.
+#  (tests/regression/check_iftomm_fourbar.py; the full 20 s of N = 40 is the target
+#  benchmark_iftomm_a02 in postprocess/CMakeLists.txt.)
+add_test(NAME regression_iftomm_a02
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iftomm_fourbar.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/iftomm_a02_fourbar.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/iftomm_a02 --steps 1e-3,5e-4)
+add_test(NAME regression_iftomm_a02_n40
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iftomm_fourbar.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/iftomm_a02_fourbar_n40.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/iftomm_a02_n40 --t-end 1.3 --steps 2e-3)
+set_tests_properties(regression_iftomm_a02 regression_iftomm_a02_n40 PROPERTIES
+  LABELS "regression;iftomm")
