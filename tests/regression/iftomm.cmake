@@ -44,3 +44,15 @@ add_test(NAME regression_iftomm_a02_n40
     ${PROJECT_BINARY_DIR}/tests/iftomm_a02_n40 --t-end 1.3 --steps 2e-3)
 set_tests_properties(regression_iftomm_a02 regression_iftomm_a02_n40 PROPERTIES
   LABELS "regression;iftomm")
+
+#  - regression_iftomm_a05: the stiff flyball governor (input/iftomm_a05_flyball.nml, revolute,
+#    prismatic and two stiff spring-dampers, 10 s) against the laws it must keep: angular momentum
+#    about the shaft to 1e-5, energy balance with the dampers' dissipation to 1e-5, order 2 of the
+#    momentum drift between h = 1e-3 and 5e-4 s (tests/regression/check_iftomm_flyball.py; the
+#    benchmark's s history is a data file not available here). About 10 s.
+add_test(NAME regression_iftomm_a05
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iftomm_flyball.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/iftomm_a05_flyball.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/iftomm_a05)
+set_tests_properties(regression_iftomm_a05 PROPERTIES LABELS "regression;iftomm")
