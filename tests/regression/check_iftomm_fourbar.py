@@ -19,7 +19,9 @@ B0 = L (cos theta, sin theta), its velocity theta' L (-sin theta, cos theta).
 Asserts at every recorded step the benchmark's high precision, 1e-3 on B0's x and y (m) and
 their rates (m/s), at the finest step run, and with two steps the order of the largest
 position error, 2 +- 0.2. Measured (N = 1, 10 s, ten singular passes): position 2.00e-4 m,
-velocity 1.39e-3 m/s at h = 1e-3 s; see docs/validation.md "Multibody benchmark problems".
+velocity 1.39e-3 m/s at h = 1e-3 s, 5.00e-5 m and 3.47e-4 m/s at 5e-4 s (order 2.001); N = 40,
+1.3 s at h = 2e-3 s: 1.15e-4 m, 6.89e-4 m/s; see docs/validation.md "Multibody benchmark
+problems".
 
     check_iftomm_fourbar.py DRIVER CASE MESH_DIR WORK_DIR [--t-end T] [--steps H1,H2,...]
 """
