@@ -16,7 +16,8 @@ accounting:
 Runs the driver at h = 1e-3 s (the case) and 5e-4 s, 10 s, and asserts at h = 1e-3 s
   - |L_z - L_z(0)| <= 1e-5 L_z(0) at every step (measured 4.5e-7);
   - energy balance within 1e-5 of the initial energy (measured 7.9e-7 of 238.9 J);
-  - the largest change of L_z falls with h at order 2 +- 0.3 (a convergence check);
+  - the largest change of L_z falls with h at order 1.8 or more (a convergence check; measured
+    2.24 from 1e-3 to 5e-4 s and 2.37 from 5e-4 to 2.5e-4 s, 1.8e-8 there);
   - the slider moves: s leaves 0.5 m by more than 0.1 m (measured: up to 0.744 m, 0.620 m at
     10 s; 0.619662 and 0.619633 m at h = 1e-3 and 5e-4 s). Measured at h = 5e-4 s: L_z 9.5e-8,
     energy 2.3e-7 (order 2.24 on L_z).
@@ -88,7 +89,7 @@ def main():
           f"{momentum_h:.3e} <= {MOMENTUM_TOLERANCE:g} of L_z(0)")
     check(energy_h <= ENERGY_TOLERANCE, f"h = 1e-3 s: energy balance kept to {energy_h:.3e} "
           f"<= {ENERGY_TOLERANCE:g} of the initial energy")
-    check_order(momentum_h, momentum_h2, "the angular-momentum change", 0.3)
+    check_order(momentum_h, momentum_h2, "the angular-momentum change", 0.2, at_least=True)
     check(np.max(np.abs(s - 0.5)) > 0.1, f"the slider moves: largest |s - 0.5| = "
           f"{np.max(np.abs(s - 0.5)):.4f} m > 0.1 m")
     return finish()

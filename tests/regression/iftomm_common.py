@@ -42,9 +42,13 @@ def arguments():
     return driver, case, mesh_dir, work
 
 
-def check_order(coarse, fine, what, tolerance, ratio=2.0):
-    """Order of convergence from the errors at step ratio * h and h, asserted 2 +- tolerance."""
+def check_order(coarse, fine, what, tolerance, ratio=2.0, at_least=False):
+    """Order of convergence from the errors at step ratio * h and h, asserted 2 +- tolerance
+    (at_least: asserted >= 2 - tolerance, for a drift that may fall faster)."""
     order = math.log(coarse / fine) / math.log(ratio)
     print(f"       order of {what}: {order:.3f}")
-    check(abs(order - 2.0) <= tolerance, f"second order: {order:.3f} = 2 +- {tolerance:g}")
+    if at_least:
+        check(order >= 2.0 - tolerance, f"order {order:.3f} >= {2.0 - tolerance:g}")
+    else:
+        check(abs(order - 2.0) <= tolerance, f"second order: {order:.3f} = 2 +- {tolerance:g}")
     return order
