@@ -60,6 +60,9 @@ module ffrf_mbs_dae_system
       procedure :: acceleration_rhs => dae_acceleration_rhs_fd
       !> Hook called after every accepted step (and once at the start), for output; default none
       procedure :: accepted_step => dae_accepted_step_none
+      !> Constraint rows the redundant-row search must keep (e.g. Euler-parameter
+      !> normalisations), nc; default none
+      procedure :: protected_rows => dae_protected_rows_none
    end type dae_system_t
 
    abstract interface
@@ -363,5 +366,14 @@ contains
       call fatal_error(error, FFRF_NUMERIC_ERROR, 'accepted step at t = ' // to_str(t) // &
          ' s: the state (q, q'', q'''', lambda) is not finite; reduce the time step')
    end subroutine dae_accepted_step_none
+
+   !> No protected constraint rows: the redundant-row search may drop any.
+   subroutine dae_protected_rows_none(self, protect)
+      !> The system
+      class(dae_system_t), intent(in) :: self
+      !> .true. for a row that must not be dropped, nc
+      logical, intent(out) :: protect(:)
+      protect = same_type_as(self, self) .and. .false.
+   end subroutine dae_protected_rows_none
 
 end module ffrf_mbs_dae_system

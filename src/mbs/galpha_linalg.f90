@@ -96,8 +96,12 @@ contains
    !> equal norm, so one main bearing's axial row or the other's was dropped on different
    !> processors (tests/TOLERANCES.md, "Regression references"). Plain loops, no BLAS: the same
    !> operations on every processor. The kept rows are `active`, the others `dropped` (both
-   !> ascending); a zero row is dropped.
-   subroutine find_redundant_rows(Phi_q, rtol, active, dropped, error)
+   !> ascending); a zero row is dropped. Rows flagged in `protect` (e.g. Euler-parameter
+   !> normalisations) must stay: when the search drops one of them (a dependent set that holds it,
+   !> as the self-stress of an over-constrained loop, Bricard's mechanism, does), it is run again
+   !> with the protected rows taken as pivots first, so the dropped rows are joint rows; a case
+   !> whose first search keeps them all is not affected.
+   subroutine find_redundant_rows(Phi_q, rtol, active, dropped, error, protect)
       !> Constraint Jacobian, nc x n
       real(dp), intent(in) :: Phi_q(:, :)
       !> Relative tolerance on the diagonal of R (e.g. 1e-9)
@@ -107,6 +111,8 @@ contains
       !> Redundant rows dropped from the equations, ascending
       integer, allocatable, intent(out) :: dropped(:)
       type(error_t), allocatable, intent(out) :: error
+      !> Rows that must not be dropped, nc (default: none)
+      logical, intent(in), optional :: protect(:)
       !> Column norms this close to the largest (relative) are a tie: far above the round-off of
       !> the norms (1e-15), far below the differences of distinct constraint rows
       real(dp), parameter :: TIE_RTOL = 1.0e-10_dp
@@ -114,7 +120,7 @@ contains
       integer, allocatable :: row_of(:)
       real(dp) :: largest, r11, alpha, beta
       integer :: m, nrow, k, j, pivot, rank
-      logical, allocatable :: keep(:)
+      logical, allocatable :: keep(:), first(:)
       nrow = size(Phi_q, 1)
       m = size(Phi_q, 2)
       if (.not. all(ieee_is_finite(Phi_q))) then
@@ -123,62 +129,86 @@ contains
             'infinite entry')
          return
       end if
-      allocate (keep(nrow), at(m, nrow), norms(nrow), row_of(nrow), v(m))
-      keep = .false.
-      do j = 1, nrow
-         largest = maxval(abs(Phi_q(j, :)))
-         at(:, j) = 0.0_dp
-         if (largest > 0.0_dp) at(:, j) = Phi_q(j, :) / largest
-         row_of(j) = j
-      end do
-      rank = 0
-      r11 = 0.0_dp
-      do k = 1, min(m, nrow)
-         ! norms of the remaining columns below row k-1 of R, recomputed (no downdating)
-         do j = k, nrow
-            norms(j) = norm2(at(k:, j))
-         end do
-         largest = maxval(norms(k:nrow))
-         pivot = 0
-         do j = k, nrow
-            if (norms(j) >= (1.0_dp - TIE_RTOL) * largest) then
-               if (pivot == 0) then
-                  pivot = j
-               else if (row_of(j) < row_of(pivot)) then
-                  pivot = j
-               end if
-            end if
-         end do
-         if (k == 1) r11 = largest
-         if (.not. largest > rtol * r11) exit
-         if (pivot /= k) then
-            v = at(:, k)
-            at(:, k) = at(:, pivot)
-            at(:, pivot) = v
-            j = row_of(k)
-            row_of(k) = row_of(pivot)
-            row_of(pivot) = j
+      allocate (keep(nrow), at(m, nrow), norms(nrow), row_of(nrow), v(m), first(nrow))
+      first = .false.
+      call pivoted_qr()
+      if (present(protect)) then
+         if (any(protect .and. .not. keep)) then
+            first = protect
+            call pivoted_qr()
          end if
-         rank = k
-         ! Householder reflection H = I - beta v v^T mapping at(k:, k) to (alpha, 0, ...)
-         alpha = -sign(largest, at(k, k))
-         v(k:) = at(k:, k)
-         v(k) = v(k) - alpha
-         beta = dot_product(v(k:), v(k:))
-         if (beta > 0.0_dp) then
-            beta = 2.0_dp / beta
-            do j = k + 1, nrow
-               at(k:, j) = at(k:, j) - (beta * dot_product(v(k:), at(k:, j))) * v(k:)
-            end do
-         end if
-         at(k, k) = alpha
-         at(k + 1:, k) = 0.0_dp
-      end do
-      do k = 1, rank
-         keep(row_of(k)) = .true.
-      end do
+      end if
       active = pack([(j, j=1, nrow)], keep)
       dropped = pack([(j, j=1, nrow)], .not. keep)
+
+   contains
+
+      !> The pivoted QR of the row-normalised Phi_q^T into keep; a column of a `first` row is
+      !> the pivot while one of them is independent (with no `first` row: plain pivoting).
+      subroutine pivoted_qr()
+         logical :: preferred
+         keep = .false.
+         do j = 1, nrow
+            largest = maxval(abs(Phi_q(j, :)))
+            at(:, j) = 0.0_dp
+            if (largest > 0.0_dp) at(:, j) = Phi_q(j, :) / largest
+            row_of(j) = j
+         end do
+         rank = 0
+         r11 = 0.0_dp
+         do k = 1, min(m, nrow)
+            ! norms of the remaining columns below row k-1 of R, recomputed (no downdating)
+            do j = k, nrow
+               norms(j) = norm2(at(k:, j))
+            end do
+            largest = maxval(norms(k:nrow))
+            if (k == 1) r11 = largest
+            ! a first row still independent of the pivots taken is preferred
+            preferred = .false.
+            do j = k, nrow
+               if (first(row_of(j)) .and. norms(j) > rtol * r11) preferred = .true.
+            end do
+            if (preferred) largest = maxval(norms(k:nrow), &
+               mask=[(first(row_of(j)), j=k, nrow)])
+            pivot = 0
+            do j = k, nrow
+               if (preferred .and. .not. first(row_of(j))) cycle
+               if (norms(j) >= (1.0_dp - TIE_RTOL) * largest) then
+                  if (pivot == 0) then
+                     pivot = j
+                  else if (row_of(j) < row_of(pivot)) then
+                     pivot = j
+                  end if
+               end if
+            end do
+            if (.not. largest > rtol * r11) exit
+            if (pivot /= k) then
+               v = at(:, k)
+               at(:, k) = at(:, pivot)
+               at(:, pivot) = v
+               j = row_of(k)
+               row_of(k) = row_of(pivot)
+               row_of(pivot) = j
+            end if
+            rank = k
+            ! Householder reflection H = I - beta v v^T mapping at(k:, k) to (alpha, 0, ...)
+            alpha = -sign(largest, at(k, k))
+            v(k:) = at(k:, k)
+            v(k) = v(k) - alpha
+            beta = dot_product(v(k:), v(k:))
+            if (beta > 0.0_dp) then
+               beta = 2.0_dp / beta
+               do j = k + 1, nrow
+                  at(k:, j) = at(k:, j) - (beta * dot_product(v(k:), at(k:, j))) * v(k:)
+               end do
+            end if
+            at(k, k) = alpha
+            at(k + 1:, k) = 0.0_dp
+         end do
+         do k = 1, rank
+            keep(row_of(k)) = .true.
+         end do
+      end subroutine pivoted_qr
    end subroutine find_redundant_rows
 
    !> Equilibrated saddle-point matrix [[A, Phi_q^T S], [S Phi_q, 0]] with the diagonal row scale

@@ -492,9 +492,11 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: Phi_q(:, :)
       integer, allocatable :: active(:), dropped(:)
+      logical, allocatable :: protect(:)
       character(len=:), allocatable :: list
       integer :: i
-      allocate (Phi_q(self%nc, self%n))
+      allocate (Phi_q(self%nc, self%n), protect(self%nc))
+      call system%protected_rows(protect)
       call system%constraint_jacobian(self%q, self%t, Phi_q, error)
       if (allocated(error)) return
       if (.not. all(ieee_is_finite(Phi_q))) then
@@ -502,7 +504,7 @@ contains
             // 'not finite at t = ' // to_str(self%t) // ' s')
          return
       end if
-      call find_redundant_rows(Phi_q, self%settings%rank_rtol, active, dropped, error)
+      call find_redundant_rows(Phi_q, self%settings%rank_rtol, active, dropped, error, protect)
       if (allocated(error)) return
       if (allocated(self%active)) then
          if (size(active) == size(self%active)) then

@@ -185,6 +185,7 @@ module ffrf_mbs_mechanism
       procedure :: constraint_rate => mechanism_constraint_rate
       procedure :: acceleration_rhs => mechanism_acceleration_rhs
       procedure :: accepted_step => mechanism_accepted_step
+      procedure :: protected_rows => mechanism_protected_rows
       procedure :: stiffness => mechanism_stiffness
       procedure :: damping => mechanism_damping
       procedure :: constraint_stiffness => mechanism_constraint_stiffness
@@ -417,6 +418,15 @@ module ffrf_mbs_mechanism
          !> The mechanism
          class(mechanism_t), intent(in) :: self
       end function mechanism_num_constraints
+
+      !> The Euler-parameter normalisation rows: the redundant-row search keeps them, so that
+      !> an over-constrained loop drops a joint row, never a body's normalisation.
+      module subroutine mechanism_protected_rows(self, protect)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> .true. on the Euler rows, nc
+         logical, intent(out) :: protect(:)
+      end subroutine mechanism_protected_rows
 
       !> M = blockdiag(M_b(q_b)).
       module subroutine mechanism_mass(self, q, M, error)

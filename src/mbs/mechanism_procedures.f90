@@ -437,6 +437,15 @@ contains
       num = self%nc
    end procedure mechanism_num_constraints
 
+   !> The Euler rows.
+   module procedure mechanism_protected_rows
+      integer :: b
+      protect = .false.
+      do b = 1, num_bodies(self)
+         if (self%bodies(b)%euler_row > 0) protect(self%bodies(b)%euler_row) = .true.
+      end do
+   end procedure mechanism_protected_rows
+
    !> M = blockdiag(M_b(q_b)).
    module procedure mechanism_mass
       integer :: b, k, nb

@@ -80,7 +80,8 @@ contains
          new_unittest('joint_jacobians_finite_differences', test_joint_jacobians), &
          new_unittest('joint_reaction_virtual_work', test_joint_reactions), &
          new_unittest('slider_crank_rank_and_position', test_slider_crank), &
-         new_unittest('redundant_rows_ties_go_to_the_first', test_redundant_ties)]
+         new_unittest('redundant_rows_ties_go_to_the_first', test_redundant_ties), &
+         new_unittest('redundant_rows_keep_protected_rows', test_redundant_protected)]
    end subroutine collect_mbs_joints
 
    ! ----------------------------------------------------------------------------------------------
@@ -825,6 +826,58 @@ contains
          if (allocated(error)) return
       end do
    end subroutine test_redundant_ties
+
+   !> A protected row (an Euler-parameter normalisation) is never dropped (issue 24, IFToMM A04:
+   !> Bricard's loop dropped a body's normalisation, its Euler parameters drifted and the run
+   !> stopped at t = 2.5 s). Reference: the rule, exact. Seven independent rows of 9 columns (as
+   !> test_redundant_ties) and an eighth = row 2 + row 5, so rows 2, 5, 8 are one dependent set.
+   !> Unprotected the search drops one of them (row 2: row 8 has the larger norm); with that row
+   !> protected it is kept and another of the set is dropped, alone, and the kept rows have full
+   !> rank 7 (smallest singular value above 1e-3 of the largest); protecting rows outside the set
+   !> (1 and 3) changes nothing.
+   subroutine test_redundant_protected(error)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: jac(8, 9)
+      real(dp), allocatable :: s(:)
+      integer, allocatable :: active(:), dropped(:)
+      logical :: protect(8)
+      integer :: i, j, first_dropped
+      do j = 1, 9
+         do i = 1, 7
+            jac(i, j) = cos(1.7_dp * i + 0.31_dp * j * j) + merge(2.0_dp, 0.0_dp, i == j)
+         end do
+      end do
+      jac(8, :) = jac(2, :) + jac(5, :)
+      call find_redundant_rows(jac, 1.0e-9_dp, active, dropped, error)
+      if (allocated(error)) return
+      call check(error, 'unprotected: one row of 2, 5, 8 dropped', size(dropped) == 1)
+      if (allocated(error)) return
+      first_dropped = dropped(1)
+      call check(error, 'unprotected: dropped row ' // to_str(first_dropped) // ', one of 2, ' &
+         // '5, 8', any(first_dropped == [2, 5, 8]))
+      if (allocated(error)) return
+      protect = .false.
+      protect(first_dropped) = .true.
+      call find_redundant_rows(jac, 1.0e-9_dp, active, dropped, error, protect)
+      if (allocated(error)) return
+      call report('unprotected: row ' // to_str(first_dropped) // ' dropped; with it ' // &
+         'protected: row ' // to_str(dropped(1)))
+      call check(error, 'row ' // to_str(first_dropped) // ' protected: it is kept and one ' // &
+         'other row of 2, 5, 8 dropped', size(dropped) == 1 .and. any(dropped(1) == [2, 5, 8]) &
+         .and. dropped(1) /= first_dropped)
+      if (allocated(error)) return
+      call singular_values(jac(active, :), s, error)
+      if (allocated(error)) return
+      call check(error, 'protected: the kept rows are independent, sigma_min / sigma_max = ' &
+         // to_str(minval(s) / maxval(s)), minval(s) > 1.0e-3_dp * maxval(s))
+      if (allocated(error)) return
+      protect = .false.
+      protect([1, 3]) = .true.
+      call find_redundant_rows(jac, 1.0e-9_dp, active, dropped, error, protect)
+      if (allocated(error)) return
+      call check(error, 'rows 1, 3 protected: row ' // to_str(first_dropped) // ' dropped, ' // &
+         'alone, as unprotected', size(dropped) == 1 .and. dropped(1) == first_dropped)
+   end subroutine test_redundant_protected
 
    !> Planar slider-crank of scene.md (r = 0.045 m, l = 0.150 m) from rigid bodies and these
    !> joints: ground-crank revolute, crank-rod revolute, rod-piston revolute, piston-ground
