@@ -3,7 +3,8 @@
 !> (theory.md sections 3 to 4).
 !>
 !> Coordinates: the concatenation of the bodies' q in the order of add_body (the ground has none).
-!> Constraint rows, in this order: every joint's equations (order of add_joint), the driving
+!> Constraint rows, in this order: every joint's equations (order of add_joint), one row per
+!> driver of a joint (order of add_driver; ffrf_mbs_joint_driver), the driving
 !> constraint if set (1 row), then one Euler-parameter normalisation theta^T theta - 1 = 0 per body
 !> with Euler parameters, i.e. every body with at least 7 coordinates (rigid: q = [R; theta];
 !> flexible: q = [R; theta; zeta]; theory.md 3.1).
@@ -32,8 +33,13 @@
 !> with n_f = dn/df = -(cos f, sin f, 0),
 !> and its acceleration right-hand side is analytic (below).
 !>
+!> Drivers of joints (add_driver): a revolute angle or a prismatic travel prescribed over time,
+!> one row each, with exact Jacobian, Phi_t, Phi_tt and Phi_qt (ffrf_mbs_joint_driver); their
+!> (Phi_q v)_q v is the joint rows' central difference below, their Newton tangent a central
+!> difference of the exact Jacobian row.
+!>
 !> Overridden time terms and tangents:
-!> - constraint_rate: analytic (only the drive row depends on t).
+!> - constraint_rate: analytic (only the drive and driver rows depend on t).
 !> - acceleration_rhs g = -(Phi_q v)_q v - 2 Phi_qt v - Phi_tt (theory.md 4.3): analytic on the
 !>   Euler rows (-2 theta_dot^T theta_dot) and the drive row (A is quadratic in theta: the second
 !>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b); joint rows by a central
@@ -69,6 +75,7 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
+   use ffrf_mbs_joint_driver, only: joint_driver_t
    implicit none
    private
    public :: mechanism_t, mechanism_body_t, mechanism_joint_t, mechanism_load_t
@@ -113,6 +120,8 @@ module ffrf_mbs_mechanism
       type(mechanism_load_t), allocatable :: loads(:)
       !> Spring-dampers between markers (ffrf_mbs_spring_damper), order of add_spring
       type(spring_damper_t), allocatable :: springs(:)
+      !> Drivers of joints (ffrf_mbs_joint_driver), order of add_driver; rows after the joints'
+      type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
       integer :: n = 0, nc = 0
       !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies (theory.md 3.6)
@@ -154,6 +163,10 @@ module ffrf_mbs_mechanism
       procedure :: set_rotor_reference => mechanism_set_rotor_reference
       !> Prescribe a body's rotation about z (driving constraint)
       procedure :: set_drive => mechanism_set_drive
+      !> Prescribe a revolute joint's angle or a prismatic joint's travel (a driver)
+      procedure :: add_driver => mechanism_add_driver
+      !> Coordinate, rate and driving torque or force of driver d at a state
+      procedure :: driver_state => mechanism_driver_state
       !> Coordinates of body b out of q
       procedure :: body_coordinates => mechanism_body_coordinates
       !> Unwrapped rotor angle (rad)
@@ -304,6 +317,27 @@ module ffrf_mbs_mechanism
          class(drive_law_t), intent(in) :: law
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_set_drive
+
+      !> Add a driver of joint driver%joint (revolute or prismatic; ffrf_mbs_joint_driver).
+      module subroutine mechanism_add_driver(self, driver, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The driver (name, joint, law, rate, offset; kind and row are set here)
+         type(joint_driver_t), intent(in) :: driver
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_driver
+
+      !> Driver d at (q, v, lambda): [coordinate (rad or m), rate, torque or force tau = -lambda
+      !> (N m or N, on body b about or along the joint axis)].
+      module function mechanism_driver_state(self, d, q, v, lambda) result(values)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Driver number (order of add_driver)
+         integer, intent(in) :: d
+         !> Coordinates, velocities (n), multipliers (nc)
+         real(dp), intent(in) :: q(:), v(:), lambda(:)
+         real(dp) :: values(3)
+      end function mechanism_driver_state
 
       !> q(offset + 1 : offset + num_coordinates) of body b (empty for the ground).
       module pure function mechanism_body_coordinates(self, q, b) result(qb)
