@@ -1,6 +1,6 @@
 !> Drivers of joints: the relative angle of a revolute joint or the travel of a prismatic joint
 !> prescribed over time, one rheonomic constraint row each (Nikravesh, Computer-Aided Analysis of
-!> Mechanical Systems, 1988, ch. 7: driving constraints; docs/theory.md "Drivers of joints").
+!> Mechanical Systems, 1988, ch. 7: driving constraints; docs/theory.md "3.7 Drivers of joints").
 !> The mechanism (ffrf_mbs_mechanism) places the rows after the joints' and asks this module for
 !> their terms; the prescribed coordinate is
 !>     f(t) = offset + g(t)          (quantity = coordinate)

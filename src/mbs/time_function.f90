@@ -313,6 +313,16 @@ contains
       integer, intent(in) :: i
       real(dp), intent(in) :: s
       real(dp) :: g(3)
+      real(dp) :: w
+      call piece_terms(self, i, s, g, w)
+   end function piece_evaluate
+
+   !> Piece i at s: g = [S, S', S''] and w = int_t_i^s S (module header).
+   pure subroutine piece_terms(self, i, s, g, w)
+      class(time_function_t), intent(in) :: self
+      integer, intent(in) :: i
+      real(dp), intent(in) :: s
+      real(dp), intent(out) :: g(3), w
       real(dp) :: a, b, h
       h = self%times(i + 1) - self%times(i)
       a = self%times(i + 1) - s
@@ -324,8 +334,11 @@ contains
          g(2) = -m0 * a**2 / (2.0_dp * h) + m1 * b**2 / (2.0_dp * h) + (y1 - y0) / h - &
             (m1 - m0) * h / 6.0_dp
          g(3) = (m0 * a + m1 * b) / h
+         w = m0 * (h**4 - a**4) / (24.0_dp * h) + m1 * b**4 / (24.0_dp * h) + &
+            (y0 / h - m0 * h / 6.0_dp) * (h**2 - a**2) / 2.0_dp + &
+            (y1 / h - m1 * h / 6.0_dp) * b**2 / 2.0_dp
       end associate
-   end function piece_evaluate
+   end subroutine piece_terms
 
    !> t wrapped into [t_1, t_n) for a periodic table; t itself otherwise.
    pure real(dp) function local_time(self, t) result(s)
@@ -372,16 +385,8 @@ contains
       class(time_function_t), intent(in) :: self
       integer, intent(in) :: i
       real(dp), intent(in) :: s
-      real(dp) :: a, b, h
-      h = self%times(i + 1) - self%times(i)
-      a = self%times(i + 1) - s
-      b = s - self%times(i)
-      associate (m0 => self%curvatures(i), m1 => self%curvatures(i + 1), &
-            y0 => self%values(i), y1 => self%values(i + 1))
-         w = m0 * (h**4 - a**4) / (24.0_dp * h) + m1 * b**4 / (24.0_dp * h) + &
-            (y0 / h - m0 * h / 6.0_dp) * (h**2 - a**2) / 2.0_dp + &
-            (y1 / h - m1 * h / 6.0_dp) * b**2 / 2.0_dp
-      end associate
+      real(dp) :: g(3)
+      call piece_terms(self, i, s, g, w)
    end function piece_integral
 
    !> int_0^t g (module header).
