@@ -32,4 +32,12 @@ foreach(_mode run check)
     "${_driver_scene}\n&load name = 'push', type = 'force', body = 'link', marker = 'O', direction = 1.0, 0.0, 0.0, value = 1.0, law = 'table', table_time = 0.5, 0.0, table_value = 0.0, 1.0 /" ${_extra})
   ffrf_error_case(driver_sensor_without_driver_${_mode} 2 "driver_sensor_without_driver_${_mode}\\.nml:8: &sensor \"d\": joint \"bearing\" has no &driver"
     "${_driver_scene}\n&sensor name = 'd', type = 'driver', joint = 'bearing' /" ${_extra})
+  ffrf_error_case(driver_zero_duration_${_mode} 2 "driver_zero_duration_${_mode}\\.nml:8: &driver duration = 0\\.0: out of range"
+    "${_driver_scene}\n&driver name = 'm', joint = 'bearing', law = 'ramp', final = 1.0, duration = 0.0 /" ${_extra})
+  ffrf_error_case(driver_periodic_end_${_mode} 2 "driver_periodic_end_${_mode}\\.nml:8: .*&driver \"m\": a periodic table must end at its first value"
+    "${_driver_scene}\n&driver name = 'm', joint = 'bearing', law = 'table', beyond = 'periodic', table_time = 0.0, 1.0, table_value = 0.0, 1.0 /" ${_extra})
+  ffrf_error_case(driver_unknown_law_${_mode} 2 "driver_unknown_law_${_mode}\\.nml:8: &driver law = 'sine'"
+    "${_driver_scene}\n&driver name = 'm', joint = 'bearing', law = 'sine' /" ${_extra})
+  ffrf_error_case(load_law_on_drag_${_mode} 2 "load_law_on_drag_${_mode}\\.nml:8: &load law = .ramp.: &load \"d\" of type drag takes no law"
+    "${_driver_scene}\n&load name = 'd', type = 'drag', body = 'link', marker = 'O', law = 'ramp', final = 1.0 /" ${_extra})
 endforeach()
