@@ -28,12 +28,14 @@
 !> to body b about (along) z_a, and -tau to body a. Its power is lambda Phi_t = tau f' on the
 !> constraint, the driver's term in the energy balance (ffrf_mbs_energy_balance).
 !>
-!> Newton tangent: lambda d^2 Phi/dq^2 by central differences of the exact Jacobian over the two
-!> bodies' coordinates (step fd_step).
+!> Second derivatives (driver_hessian): lambda d^2 Phi/dq^2 from the bodies' marker_hessian and
+!> the products of the exact marker Jacobians (exact for rigid bodies and the ground; for a
+!> flexible body as exact as its marker_hessian), the Newton tangent of the row, and with
+!> lambda = 1 the convective term (Phi_q v)_q v = v^T (d^2 Phi/dq^2) v of the acceleration
+!> right-hand side.
 module ffrf_mbs_joint_driver
    use ffrf_core_kinds, only: dp
    use ffrf_mbs_body, only: body_t
-   use ffrf_mbs_dae_system, only: fd_step
    use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_time_function, only: time_function_t
    implicit none
@@ -153,8 +155,9 @@ contains
       rate = dot_product(jac_a, v_a) + dot_product(jac_b, v_b)
    end subroutine driver_coordinate
 
-   !> lambda d^2 Phi/dq^2 as blocks (a, a), (a, b), (b, b), by central differences of the exact
-   !> Jacobian row (module header).
+   !> lambda d^2 Phi/dq^2 as blocks (a, a), (a, b), (b, b) (module header), from the bodies'
+   !> marker_hessian and products of the exact marker Jacobians, as ffrf_mbs_joints forms its
+   !> perpendicular (revolute) and lateral (prismatic) equations.
    pure subroutine driver_hessian(kind, body_a, q_a, marker_a, body_b, q_b, marker_b, f, lambda, &
          K_aa, K_ab, K_bb)
       integer, intent(in) :: kind
@@ -163,32 +166,48 @@ contains
       integer, intent(in) :: marker_a, marker_b
       real(dp), intent(in) :: f, lambda
       real(dp), intent(out) :: K_aa(:, :), K_ab(:, :), K_bb(:, :)
-      real(dp) :: y(size(q_a) + size(q_b)), plus(size(q_a) + size(q_b))
-      real(dp) :: minus(size(q_a) + size(q_b)), K(size(y), size(y)), step
-      integer :: i, na
-      na = size(q_a)
-      y = [q_a, q_b]
-      do i = 1, size(y)
-         step = fd_step(y(i))
-         y(i) = y(i) + step
-         plus = row_at(y)
-         y(i) = y(i) - 2.0_dp * step
-         minus = row_at(y)
-         y(i) = y(i) + step
-         K(:, i) = lambda * (plus - minus) / (2.0_dp * step)
-      end do
-      K_aa = K(:na, :na)
-      K_ab = K(:na, na + 1:)
-      K_bb = K(na + 1:, na + 1:)
-   contains
-      pure function row_at(z) result(row)
-         real(dp), intent(in) :: z(:)
-         real(dp) :: row(size(z))
-         real(dp) :: phi, phi_f, phi_ff, ja(na), jb(size(z) - na), jaf(na), jbf(size(z) - na)
-         call driver_terms(kind, body_a, z(:na), marker_a, body_b, z(na + 1:), marker_b, f, phi, &
-            ja, jb, phi_f, phi_ff, jaf, jbf)
-         row = [ja, jb]
-      end function row_at
+      real(dp) :: r_a(3), r_b(3), frame_a(3, 3), frame_b(3, 3), d(3)
+      real(dp) :: pos_a(3, size(q_a)), pos_b(3, size(q_b))
+      real(dp) :: axis_a(3, size(q_a), 3), axis_b(3, size(q_b), 3)
+      real(dp) :: wr_a(3), wr_b(3), wx_a(3, 3), wx_b(3, 3)
+      logical :: need_a(3), need_b(3)
+      need_a = [kind == JOINT_REVOLUTE, kind == JOINT_REVOLUTE, kind == JOINT_PRISMATIC]
+      need_b = [kind == JOINT_REVOLUTE, .false., .false.]
+      axis_a = 0.0_dp
+      axis_b = 0.0_dp
+      call body_a%marker_kinematics(q_a, marker_a, need_a, r_a, frame_a, pos_a, axis_a)
+      call body_b%marker_kinematics(q_b, marker_b, need_b, r_b, frame_b, pos_b, axis_b)
+      wr_a = 0.0_dp
+      wr_b = 0.0_dp
+      wx_a = 0.0_dp
+      wx_b = 0.0_dp
+      if (kind == JOINT_REVOLUTE) then
+         ! lambda (cos f y_a - sin f x_a) . x_b
+         wx_a(:, 1) = -lambda * sin(f) * frame_b(:, 1)
+         wx_a(:, 2) = lambda * cos(f) * frame_b(:, 1)
+         wx_b(:, 1) = lambda * (cos(f) * frame_a(:, 2) - sin(f) * frame_a(:, 1))
+         K_aa = 0.0_dp
+         K_ab = lambda * matmul(transpose(cos(f) * axis_a(:, :, 2) - sin(f) * axis_a(:, :, 1)), &
+            axis_b(:, :, 1))
+      else
+         ! lambda z_a . (r_b - r_a)
+         d = r_b - r_a
+         wx_a(:, 3) = lambda * d
+         wr_a = -lambda * frame_a(:, 3)
+         wr_b = lambda * frame_a(:, 3)
+         K_aa = -lambda * (matmul(transpose(axis_a(:, :, 3)), pos_a) + &
+            matmul(transpose(pos_a), axis_a(:, :, 3)))
+         K_ab = lambda * matmul(transpose(axis_a(:, :, 3)), pos_b)
+      end if
+      K_bb = 0.0_dp
+      if (size(q_a) > 0) then
+         block
+            real(dp) :: hess(size(q_a), size(q_a))
+            call body_a%marker_hessian(q_a, marker_a, wr_a, wx_a, hess)
+            K_aa = K_aa + hess
+         end block
+      end if
+      if (size(q_b) > 0) call body_b%marker_hessian(q_b, marker_b, wr_b, wx_b, K_bb)
    end subroutine driver_hessian
 
 end module ffrf_mbs_joint_driver

@@ -34,23 +34,24 @@
 !> and its acceleration right-hand side is analytic (below).
 !>
 !> Drivers of joints (add_driver): a revolute angle or a prismatic travel prescribed over time,
-!> one row each, with exact Jacobian, Phi_t, Phi_tt and Phi_qt (ffrf_mbs_joint_driver); their
-!> (Phi_q v)_q v is the joint rows' central difference below, their Newton tangent a central
-!> difference of the exact Jacobian row.
+!> one row each, with exact Jacobian, Phi_t, Phi_tt, Phi_qt, second derivatives (the Newton
+!> tangent and the convective term (Phi_q v)_q v of the acceleration right-hand side; exact for
+!> rigid bodies, for flexible ones as exact as body_t%marker_hessian): ffrf_mbs_joint_driver.
 !>
 !> Overridden time terms and tangents:
 !> - constraint_rate: analytic (only the drive and driver rows depend on t).
 !> - acceleration_rhs g = -(Phi_q v)_q v - 2 Phi_qt v - Phi_tt (theory.md 4.3): analytic on the
 !>   Euler rows (-2 theta_dot^T theta_dot) and the drive row (A is quadratic in theta: the second
-!>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b); joint rows by a central
-!>   difference of Phi_q(q + s v) v in s (joints do not depend on t), s = eps**(1/3) relative.
+!>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b) and the drivers' rows
+!>   (ffrf_mbs_joint_driver); joint rows by a central difference of Phi_q(q + s v) v in s
+!>   (joints do not depend on t), s = eps**(1/3) relative.
 !> - stiffness, damping, constraint_stiffness, mass_stiffness (analytic_tangents = .true., the
 !>   default): assembled per body and per joint, without differences over the mechanism:
 !>   * constraint stiffness d(Phi_q^T lambda)/dq: joints exact (joint_t%constraint_hessian from
 !>     the bodies' marker_hessian: exact for rigid bodies; for flexible ones exact but for the
 !>     second derivative of the exponential map of the marker rotation, a 3 x 3 central
-!>     difference), drive row exact (n . A(theta) e_x is quadratic in theta), Euler rows exact
-!>     (2 lambda I4);
+!>     difference), drive row exact (n . A(theta) e_x is quadratic in theta), drivers' rows
+!>     as the joints (ffrf_mbs_joint_driver driver_hessian), Euler rows exact (2 lambda I4);
 !>   * stiffness -df/dq and damping -df/dq': bodies' force_tangents (exact: rigid and FFRF
 !>     quadratic velocity vectors, modal K_ff and D_ff); loads: the marker force at fixed
 !>     magnitude by body%marker_force_tangent (rigid exact; flexible exact but for the derivative

@@ -576,8 +576,8 @@ contains
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraints_and_jacobian
 
-   !> The drivers' rows of Phi and, if present, of Phi_q (ffrf_mbs_joint_driver), or with
-   !> time_terms their Phi_t, and Phi_tt + 2 Phi_qt v (phi_t, accel; other entries untouched).
+   !> The drivers' rows of Phi and, if present, of Phi_q (ffrf_mbs_joint_driver), their Phi_t
+   !> (phi_t), and (Phi_q v)_q v + Phi_tt + 2 Phi_qt v (accel, with v; other entries untouched).
    subroutine driver_rows(self, q, t, phi, Phi_q, v, phi_t, accel)
       type(mechanism_t), intent(in) :: self
       real(dp), intent(in) :: q(:)
@@ -586,7 +586,7 @@ contains
       real(dp), intent(inout), optional :: Phi_q(:, :)
       real(dp), intent(in), optional :: v(:)
       real(dp), intent(inout), optional :: phi_t(:), accel(:)
-      real(dp), allocatable :: ja(:), jb(:), jaf(:), jbf(:)
+      real(dp), allocatable :: ja(:), jb(:), jaf(:), jbf(:), K_aa(:, :), K_ab(:, :), K_bb(:, :)
       real(dp) :: f(3), value, value_f, value_ff
       integer :: d, ka, kb, na, nb
       if (.not. allocated(self%drivers)) return
@@ -607,10 +607,21 @@ contains
                Phi_q(dr%row, kb + 1:kb + nb) = jb
             end if
             if (present(phi_t)) phi_t(dr%row) = f(2) * value_f
-            ! Phi_tt + 2 Phi_qt v = f'' Phi_f + f'^2 Phi_ff + 2 f' (dPhi_q/df) v
-            if (present(accel)) accel(dr%row) = f(3) * value_f + f(2)**2 * value_ff + &
-               2.0_dp * f(2) * (dot_product(jaf, v(ka + 1:ka + na)) + &
-               dot_product(jbf, v(kb + 1:kb + nb)))
+            ! Phi_tt + 2 Phi_qt v = f'' Phi_f + f'^2 Phi_ff + 2 f' (dPhi_q/df) v, and the
+            ! convective v^T (d^2 Phi/dq^2) v from the exact second derivatives
+            if (present(accel)) then
+               allocate (K_aa(na, na), K_ab(na, nb), K_bb(nb, nb))
+               call driver_hessian(dr%kind, self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  jt%joint%marker_a, self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  jt%joint%marker_b, f(1), 1.0_dp, K_aa, K_ab, K_bb)
+               associate (va => v(ka + 1:ka + na), vb => v(kb + 1:kb + nb))
+                  accel(dr%row) = f(3) * value_f + f(2)**2 * value_ff + 2.0_dp * f(2) * &
+                     (dot_product(jaf, va) + dot_product(jbf, vb)) + &
+                     dot_product(va, matmul(K_aa, va)) + 2.0_dp * dot_product(va, &
+                     matmul(K_ab, vb)) + dot_product(vb, matmul(K_bb, vb))
+               end associate
+               deallocate (K_aa, K_ab, K_bb)
+            end if
             deallocate (ja, jb, jaf, jbf)
          end associate
       end do
@@ -670,8 +681,6 @@ contains
       joint_rows = 0
       if (allocated(self%joints)) joint_rows = sum([(self%joints(k)%joint%num_equations, &
          k = 1, size(self%joints))])
-      ! the drivers' rows follow the joints' and take the same difference (at fixed t)
-      if (allocated(self%drivers)) joint_rows = joint_rows + size(self%drivers)
       vmax = 0.0_dp
       if (self%n > 0) vmax = maxval(abs(v))
       if (joint_rows > 0 .and. vmax > 0.0_dp) then
@@ -687,6 +696,7 @@ contains
          g(:joint_rows) = -(w_plus(:joint_rows) - w_minus(:joint_rows)) / (2.0_dp * s)
       end if
       if (allocated(self%drivers)) then
+         ! v^T (d^2 Phi/dq^2) v + Phi_tt + 2 Phi_qt v of the drivers' rows, exact
          time_part = 0.0_dp
          call driver_rows(self, q, t, v=v, accel=time_part)
          g = g - time_part

@@ -247,13 +247,14 @@ contains
 
    !> Ground (markers: pivot, spring anchor) and a rigid body; the joint (revolute or
    !> prismatic) between ground marker 1 and body marker 1; the driver's law.
-   subroutine build(kind, law, rate, mech, error, with_spring)
+   subroutine build(kind, law, rate, mech, error, with_spring, swap)
       integer, intent(in) :: kind
       type(time_function_t), intent(in) :: law
       logical, intent(in) :: rate
       type(mechanism_t), intent(out) :: mech
       type(error_t), allocatable, intent(out) :: error
-      logical, intent(in), optional :: with_spring
+      !> Add the spring; the body as the joint's body 1 (the ground as body 2)
+      logical, intent(in), optional :: with_spring, swap
       type(ground_t) :: ground
       type(rigid_body_t) :: link
       type(joint_driver_t) :: driver
@@ -274,7 +275,11 @@ contains
       if (allocated(error)) return
       call mech%add_body(ground, 'ground', ig, error)
       if (.not. allocated(error)) call mech%add_body(link, 'link', il, error)
-      if (.not. allocated(error)) call mech%add_joint(kind, 'pivot', ig, 1, il, 1, error)
+      if (present(swap)) then
+         if (.not. allocated(error)) call mech%add_joint(kind, 'pivot', il, 1, ig, 1, error)
+      else
+         if (.not. allocated(error)) call mech%add_joint(kind, 'pivot', ig, 1, il, 1, error)
+      end if
       if (allocated(error)) return
       if (present(with_spring)) then
          spring%name = 'spring'
@@ -294,10 +299,13 @@ contains
       call mech%add_driver(driver, error)
    end subroutine build
 
-   !> Driver rows of the pendulum (rate law) and of the prismatic slider at a state moved off the
-   !> constraints: Phi_q against central differences of Phi (h = 1e-6: 1e-9), Phi_t against
-   !> d Phi/dt (1e-8 of f'), g against -d/ds [Phi_q(q + s v, t + s) v + Phi_t] (1e-6 of the
-   !> scale f'^2 + |v|^2).
+   !> Driver rows of the pendulum (rate law) and of the prismatic slider, each also with the
+   !> moving body as the joint's body 1, at a state moved off the constraints: Phi_q against
+   !> central differences of Phi (h = 1e-6: 1e-9; measured 5.9e-11), Phi_t against d Phi/dt
+   !> (1e-8 of f'; 9.3e-11), g against -d/ds [Phi_q(q + s v, t + s) v + Phi_t] (1e-6 of the
+   !> scale f'^2 + |v|^2; 3.5e-9), the row's second derivatives (Newton tangent, with lambda_d =
+   !> 1.3 alone) against the mechanism's central differences of Phi_q^T lambda
+   !> (analytic_tangents = .false.; 1.5e-10, entries O(1); measured 1.4e-11).
    subroutine test_driver_time_terms(error)
       type(error_t), allocatable, intent(out) :: error
       type(time_function_t) :: law
@@ -306,11 +314,17 @@ contains
       call new_time_function('smooth_step', 'test', law, error, initial=0.5_dp, final=3.0_dp, &
          t_start=0.0_dp, duration=0.4_dp)
       if (allocated(error)) return
-      do kind = 1, 2
-         call build(merge(JOINT_REVOLUTE, JOINT_PRISMATIC, kind == 1), law, kind == 1, mech, &
-            error)
+      do kind = 1, 4
+         if (kind <= 2) then
+            call build(merge(JOINT_REVOLUTE, JOINT_PRISMATIC, kind == 1), law, kind == 1, mech, &
+               error)
+         else
+            call build(merge(JOINT_REVOLUTE, JOINT_PRISMATIC, kind == 3), law, kind == 3, mech, &
+               error, swap=.true.)
+         end if
          if (allocated(error)) return
-         call check_terms(merge('revolute ', 'prismatic', kind == 1))
+         call check_terms(trim(merge('revolute ', 'prismatic', mod(kind, 2) == 1)) // &
+            trim(merge(', moving body 1', '               ', kind > 2)))
          if (allocated(error)) return
       end do
    contains
@@ -318,12 +332,13 @@ contains
          character(len=*), intent(in) :: what
          real(dp), allocatable :: q(:), v(:), phi_p(:), phi_m(:), jac(:, :), jac2(:, :)
          real(dp), allocatable :: rate(:), g(:), w_p(:), w_m(:), r_p(:), r_m(:)
-         real(dp) :: h, t, worst(3)
+         real(dp), allocatable :: lambda(:), K_exact(:, :), K_fd(:, :)
+         real(dp) :: h, t, worst(4)
          integer :: n, nc, j
          n = mech%num_coordinates()
          nc = mech%num_constraints()
          allocate (q(n), v(n), phi_p(nc), phi_m(nc), jac(nc, n), jac2(nc, n), rate(nc), g(nc), &
-            w_p(nc), w_m(nc), r_p(nc), r_m(nc))
+            w_p(nc), w_m(nc), r_p(nc), r_m(nc), lambda(nc), K_exact(n, n), K_fd(n, n))
          t = 0.13_dp
          do j = 1, n
             q(j) = 0.1_dp * cos(1.7_dp * j)
@@ -359,8 +374,22 @@ contains
          if (allocated(error)) return
          w_m = matmul(jac2, v) + r_m
          worst(3) = maxval(abs(g + (w_p - w_m) / (2.0_dp * h)))
+         ! Newton tangent of the driver row alone: analytic against the mechanism's differences
+         lambda = 0.0_dp
+         lambda(mech%drivers(1)%row) = 1.3_dp
+         call mech%constraint_stiffness(q, t, lambda, K_exact, error)
+         if (allocated(error)) return
+         mech%analytic_tangents = .false.
+         call mech%constraint_stiffness(q, t, lambda, K_fd, error)
+         mech%analytic_tangents = .true.
+         if (allocated(error)) return
+         worst(4) = maxval(abs(K_exact - K_fd))
          call report(what // ': |Phi_q - FD| ' // to_str(worst(1), 3) // ', |Phi_t - FD| ' // &
-            to_str(worst(2), 3) // ', |g - FD| ' // to_str(worst(3), 3))
+            to_str(worst(2), 3) // ', |g - FD| ' // to_str(worst(3), 3) // &
+            ', |K_c - FD| ' // to_str(worst(4), 3) // ' (largest entry ' // &
+            to_str(maxval(abs(K_exact)), 3) // ')')
+         call check_close(error, what // ' driver Hessian', worst(4), 0.0_dp, atol=1.5e-10_dp)
+         if (allocated(error)) return
          call check_close(error, what // ' Phi_q', worst(1), 0.0_dp, atol=1.0e-9_dp)
          if (.not. allocated(error)) call check_close(error, what // ' Phi_t', worst(2), 0.0_dp, &
             atol=1.0e-8_dp)
