@@ -4,9 +4,9 @@
  * theta = (W/T)(t^2/2 + (T/(2 pi))^2 (cos(2 pi t/T) - 1)) (then W T/2 + W (t - T)) wrapped
  * into (-pi, pi] (1e-9 rad, the Newton tolerance), its rate theta' (2e-5 W) and its torque the
  * closed form I_O theta'' + m g (L/2) cos(theta) (1.5e-4 of the largest torque, 9 N m); the
- * driver sensor "motor" gives the same three numbers (bitwise). Failure paths: before the
- * mechanism is prepared, a joint without a driver (the prismatic "rail"), a bad joint number,
- * NULL values.
+ * driver sensor "motor" gives the same three numbers (bitwise). Failure paths: a NULL handle,
+ * before the mechanism is prepared, a joint without a driver (the prismatic "rail"), a bad
+ * joint number, NULL values.
  * Usage: test_capi_drivers CASE MESH_DIR */
 #include <math.h>
 
@@ -24,6 +24,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_capi_drivers CASE MESH_DIR\n");
         return 2;
     }
+    EXPECT(NULL, ffrf_driver_state(NULL, 0, values), FFRF_BAD_CALL, "NULL");
     EXPECT(c, ffrf_case_open(argv[1], argv[2], NULL, &c), FFRF_OK, "");
     EXPECT(c, ffrf_driver_state(c, 0, values), FFRF_BAD_CALL, "not prepared yet");
     EXPECT(c, ffrf_mechanism_advance(c, 0.0), FFRF_OK, "");
