@@ -52,7 +52,8 @@
 !>               in [-1e9, 1e9] s and table_value in [-1e12, 1e12], 1 to 1000 values each, as
 !>               many values as times, times strictly increasing, at least 2 points; beyond =
 !>               'periodic' needs the last value equal to the first (ffrf_mbs_time_function);
-!>               a &load with a law: type force or torque, its magnitude value * g(t)
+!>               a &load with a law: type force or torque, its magnitude value * g(t) (value
+!>               not given: 1, so that the law gives the magnitude in N or N m)
 !>   &spring     stiffness in [0, 1e12] N/m; damping in [0, 1e12] N s/m; free_length in
 !>               [0, 1e6] m (absent: the distance of the markers at the start, which must not be
 !>               0); body1 /= body2; name unique
@@ -468,7 +469,8 @@ contains
          body = defaults%body
          marker = defaults%marker
          direction = defaults%direction
-         value = defaults%value
+         ! unset: 1 with a law (the law gives the magnitude), else the default
+         value = huge(1.0_dp)
          stall_torque = defaults%stall_torque
          free_speed = defaults%free_speed
          switch_off = defaults%switch_off
@@ -484,6 +486,7 @@ contains
          end if
          given_law = law_as_given(law, initial, final, speed, t_start, duration, &
             table_time, table_value, interpolation, beyond)
+         if (value == huge(1.0_dp)) value = merge(1.0_dp, defaults%value, len_trim(law) > 0)
          type = to_lower(type)
          if (len_trim(name) == 0) name = type
          where = src%where('load', k, '') // ' "' // trim(name) // '"'
