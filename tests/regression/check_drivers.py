@@ -15,7 +15,9 @@ on input/driven_crank.nml, against closed forms:
    integrated twice piece by piece (2e-6 of the largest travel; measured 1.9e-7);
 3. the energy balance: /energy numerical_dissipation (D = W - (T + U - T_0 - U_0), W the work of
    gravity, the load and the driver) within 1e-5 of the gross work sum |dW| (measured
-   3.7e-6; without the driver's work D would be of the order of W itself).
+   3.7e-6; without the driver's work D would be of the order of W itself);
+4. restart: the run to 0.6 s continued by --restart to 1.2 s equals the uninterrupted run,
+   bitwise (driver sensor, travel, energy, time): the driver's law depends on t only.
 
     check_drivers.py DRIVER CASE MESH_DIR WORK_DIR
 """
@@ -102,6 +104,18 @@ def main():
     ok &= check("driving torque error / max |tau|", tau_err / tau_max, 1.5e-4)
     ok &= check("slider travel error / largest travel", travel_err / travel_max, 2e-6)
     ok &= check("energy balance max |D| / gross work", float(np.max(np.abs(dissipation))) / gross, 1e-5)
+    part = os.path.join(work, "restart")
+    os.makedirs(part, exist_ok=True)
+    subprocess.run([driver, case, "--mesh-dir", mesh_dir, "--output-dir", part, "--set",
+                    "integrator.t_end=0.6"], check=True, stdout=subprocess.DEVNULL)
+    results = os.path.join(part, name + ".h5")
+    subprocess.run([driver, case, "--mesh-dir", mesh_dir, "--output-dir", part, "--restart",
+                    results], check=True, stdout=subprocess.DEVNULL)
+    with h5py.File(os.path.join(work, name + ".h5"), "r") as full, h5py.File(results, "r") as cont:
+        for key in ("sensors/motor", "sensors/travel", "energy/external_work", "time/t"):
+            same = np.array_equal(full[key][()], cont[key][()])
+            print(f"{'ok  ' if same else 'FAIL'} restart at 0.6 s: {key} bitwise equal")
+            ok &= same
     sys.exit(0 if ok else 1)
 
 

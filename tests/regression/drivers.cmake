@@ -3,7 +3,8 @@
 #  - regression_drivers: input/driven_crank.nml, a crank whose speed is a smooth step under
 #    gravity (angle, rate and driving torque against closed forms) and a slider pushed by a force
 #    table (travel against the closed form), the energy balance with the driver's work
-#    (tests/regression/check_drivers.py). Under a second.
+#    and --restart from 0.6 s equal to the uninterrupted run, bitwise
+#    (tests/regression/check_drivers.py). About 2 s.
 add_test(NAME regression_drivers
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
     ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_drivers.py $<TARGET_FILE:ffrf>
