@@ -570,10 +570,6 @@ contains
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, '') // &
                ': &driver "' // trim(name) // '": joint is required (a revolute or ' // &
                'prismatic &joint)')
-         else if (quantity /= 'coordinate' .and. quantity /= 'rate') then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, 'quantity') // &
-               ': &driver "' // trim(name) // '": quantity = ''' // trim(quantity) // &
-               ''', must be coordinate or rate')
          else
             call law_function(given_law, src%where('driver', k, 'law') // ': &driver "' // &
                trim(name) // '"', fun, error)

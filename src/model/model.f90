@@ -233,6 +233,11 @@ contains
             associate (driver => model%mechanism%drivers(d), given => case%mechanism%drivers(d))
                driver%name = given%name
                driver%rate = given%quantity == 'rate'
+               if (given%quantity /= 'rate' .and. given%quantity /= 'coordinate') then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&driver "' // trim(given%name) // &
+                     '": quantity = "' // trim(given%quantity) // '", must be coordinate or rate')
+                  return
+               end if
                driver%offset = given%offset
                driver%joint = findloc(case%mechanism%joints%name, given%joint, dim=1)
                if (driver%joint == 0) then
