@@ -145,6 +145,12 @@ int ffrf_joint_name(const ffrf_case *c, int joint, char *buf, size_t len);
  * 3 x 2 arrays, column 0 on the joint's body 1, column 1 on its body 2. */
 int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double moment[6]);
 
+/* The driver of joint `joint` (&driver; docs/mechanisms.md "Drivers") at the current state:
+ * values[0] its angle (rad, revolute) or travel (m, prismatic), values[1] its rate, values[2]
+ * the driving torque (N m) or force (N) on the joint's body 2 about or along the joint axis.
+ * FFRF_BAD_CALL for a joint without a driver, a bad joint number or NULL values. */
+int ffrf_driver_state(const ffrf_case *c, int joint, double values[3]);
+
 /* Sensors (&sensor groups in input order, then an engine case's "crank_angle" and
  * "crank_speed"; docs/sensors.md): their number, the name of sensor `sensor` (0..n-1,
  * NUL-terminated; len: size of buf including the NUL), and its values at the current state

@@ -20,6 +20,8 @@ COMPONENTS = {
     2: ["kinetic", "strain"],
     1: [""],
 }
+#: names of the values of sensor types whose values are not x, y, z
+TYPE_COMPONENTS = {"driver": ["coordinate", "rate", "torque"]}
 
 
 def text(value):
@@ -44,15 +46,17 @@ def read_sensors(file_name, only=None):
     return t, sensors
 
 
-def labels(size):
+def labels(size, kind=""):
+    if kind in TYPE_COMPONENTS and len(TYPE_COMPONENTS[kind]) == size:
+        return TYPE_COMPONENTS[kind]
     return COMPONENTS.get(size, [str(k) for k in range(size)])
 
 
 def write_csv(file_name, t, sensors):
     header = ["t"]
     columns = [t]
-    for name, _, data in sensors:
-        for k, label in enumerate(labels(data.shape[1])):
+    for name, attrs, data in sensors:
+        for k, label in enumerate(labels(data.shape[1], attrs.get("type", ""))):
             header.append(name + ("." + label if label else ""))
             columns.append(data[:, k])
     np.savetxt(file_name, np.column_stack(columns), delimiter=",", header=",".join(header),
@@ -69,7 +73,7 @@ def plot(file_name, t, sensors, title):
     fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 2.6 * rows), squeeze=False,
                              sharex=True)
     for ax, (name, attrs, data) in zip(axes.flat, sensors):
-        for k, label in enumerate(labels(data.shape[1])):
+        for k, label in enumerate(labels(data.shape[1], attrs.get("type", ""))):
             ax.plot(t, data[:, k], lw=1.0, label=label or None)
         what = ", ".join(attrs[key] for key in ("body", "marker", "joint") if key in attrs)
         ax.set_title("%s: %s%s" % (name, attrs.get("type", "?"), " (%s)" % what if what else ""),

@@ -47,7 +47,9 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
-   use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, LOAD_FORCE, &
+   use ffrf_mbs_joint_driver, only: joint_driver_t
+   use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, timed_load_t, &
+      LOAD_FORCE, &
       LOAD_TORQUE
    use ffrf_app_engine_starter_load, only: starter_torque_t
    use ffrf_app_engine_crank_sensors, only: add_crank_sensors
@@ -149,6 +151,7 @@ contains
       if (.not. allocated(error)) call add_loads(resolved, bodies, ends, mech, pressure, error)
       if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
          mech, error)
+      if (.not. allocated(error)) call add_drivers(resolved, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
@@ -554,6 +557,30 @@ contains
       end associate
    end subroutine add_springs
 
+   !> The &driver groups as drivers of the mechanism's joints (ffrf_mbs_joint_driver; the
+   !> mechanism's joints are the &joint groups in order).
+   subroutine add_drivers(resolved, mech, error)
+      type(model_t), intent(in) :: resolved
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      type(joint_driver_t) :: driver
+      integer :: d
+      do d = 1, size(resolved%mechanism%drivers)
+         associate (given => resolved%mechanism%drivers(d))
+            driver%name = given%name
+            driver%joint = given%joint
+            driver%rate = given%rate
+            driver%offset = given%offset
+            driver%law = given%law
+            call mech%add_driver(driver, error)
+            if (allocated(error)) then
+               call add_context(error, '&driver "' // trim(given%name) // '"')
+               return
+            end if
+         end associate
+      end do
+   end subroutine add_drivers
+
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
       !> The case resolved (loads: kinds, parameters, model body indices)
       type(model_t), intent(in) :: resolved
@@ -567,6 +594,7 @@ contains
       type(starter_torque_t) :: starter
       type(drag_torque_t) :: drag
       type(constant_load_t) :: constant
+      type(timed_load_t) :: timed
       integer :: l
       do l = 1, size(resolved%mechanism%loads)
          associate (input => resolved%mechanism%loads(l))
@@ -586,10 +614,18 @@ contains
                call fill(drag, input, LOAD_TORQUE, ends(3, l))
                call mech%add_load(drag, error)
             case (LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE)
-               constant%value = input%value
-               call fill(constant, input, merge(LOAD_FORCE, LOAD_TORQUE, &
-                  input%kind == LOAD_CONSTANT_FORCE), ends(3, l))
-               call mech%add_load(constant, error)
+               if (input%timed) then
+                  timed%value = input%value
+                  timed%law = input%law
+                  call fill(timed, input, merge(LOAD_FORCE, LOAD_TORQUE, &
+                     input%kind == LOAD_CONSTANT_FORCE), ends(3, l))
+                  call mech%add_load(timed, error)
+               else
+                  constant%value = input%value
+                  call fill(constant, input, merge(LOAD_FORCE, LOAD_TORQUE, &
+                     input%kind == LOAD_CONSTANT_FORCE), ends(3, l))
+                  call mech%add_load(constant, error)
+               end if
             end select
             if (allocated(error)) then
                call add_context(error, '&load "' // trim(input%name) // '"')

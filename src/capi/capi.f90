@@ -22,6 +22,7 @@ module ffrf_capi
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
       ffrf_sensor_name, ffrf_sensor_values
+   public :: ffrf_driver_state
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes
@@ -608,6 +609,24 @@ contains
       call put3(velocity, values(:, 2))
       call put3(angular_velocity, values(:, 3))
    end function ffrf_marker_state
+
+   !> int ffrf_driver_state(const ffrf_case *c, int joint, double values[3])
+   integer(c_int) function ffrf_driver_state(c, joint, values) result(stat) &
+         bind(c, name='ffrf_driver_state')
+      type(c_ptr), value :: c, values
+      integer(c_int), value :: joint
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(dp) :: state(3)
+      if (.not. got_handle(c, h, stat)) return
+      if (.not. c_associated(values)) then
+         stat = bad_call(h, 'ffrf_driver_state: values is NULL')
+         return
+      end if
+      call h%case%driver_state(int(joint) + 1, state, error)
+      stat = status_of(h, error)
+      if (stat == 0) call put3(values, state)
+   end function ffrf_driver_state
 
    !> Write 3 values to a C array when it is not NULL.
    subroutine put3(array, values)

@@ -133,6 +133,8 @@ module ffrf_capi_case
       procedure :: sensor_count => case_sensor_count
       procedure :: sensor_name => case_sensor_name
       procedure :: sensor_values => case_sensor_values
+      !> Coordinate, rate and driving torque or force of the driver of a joint
+      procedure :: driver_state => case_driver_state
       procedure :: set_marker_load => case_set_marker_load
       !> Release everything
       procedure :: close => case_close
@@ -1077,6 +1079,30 @@ contains
       call check_joint(self, 'joint_reaction', joint, error)
       if (.not. allocated(error)) call self%session%joint_reaction(joint, force, moment, error)
    end subroutine case_joint_reaction
+
+   !> The driver of joint `joint` (1..num_joints; &driver): its angle or travel, rate and
+   !> driving torque or force (ffrf_mbs_joint_driver) at the current state.
+   subroutine case_driver_state(self, joint, values, error)
+      class(ffrf_case_t), intent(in) :: self
+      integer, intent(in) :: joint
+      real(dp), intent(out) :: values(3)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: d
+      values = 0.0_dp
+      call check_joint(self, 'driver_state', joint, error)
+      if (allocated(error)) return
+      d = 0
+      associate (s => self%session)
+         if (allocated(s%mech%drivers)) d = findloc(s%mech%drivers%joint, joint, dim=1)
+         if (d == 0) then
+            call bad_call(error, 'driver_state: joint ' // to_str(joint - 1) // ' ("' // &
+               s%mech%joints(joint)%name // '") has no driver; add &driver joint = ''' // &
+               s%mech%joints(joint)%name // ''' to the case')
+            return
+         end if
+         values = s%mech%driver_state(d, s%integrator%q, s%integrator%v, s%integrator%lambda)
+      end associate
+   end subroutine case_driver_state
 
    !> Number of sensors (&sensor groups, then an engine case's crank_angle and crank_speed).
    subroutine case_sensor_count(self, n, error)

@@ -17,6 +17,7 @@ module ffrf_c
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
       ffrf_sensor_name, ffrf_sensor_values
+   public :: ffrf_driver_state
    public :: ffrf_body_invariant
    public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_set_num_modes, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
@@ -222,6 +223,15 @@ module ffrf_c
          integer(c_int), value :: joint
          real(c_double), intent(out) :: force(6), moment(6)
       end function ffrf_joint_reaction
+
+      integer(c_int) function ffrf_driver_state(c, joint, values) &
+            bind(c, name='ffrf_driver_state')
+         import :: c_int, c_ptr, c_double
+         implicit none
+         type(c_ptr), value :: c
+         integer(c_int), value :: joint
+         real(c_double), intent(out) :: values(3)
+      end function ffrf_driver_state
 
       integer(c_int) function ffrf_sensor_count(c, n) bind(c, name='ffrf_sensor_count')
          import :: c_int, c_ptr

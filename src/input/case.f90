@@ -19,10 +19,11 @@ module ffrf_input_case
    use ffrf_input_nml_interface, only: read_interface_groups, interface_keys
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
-      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys
+      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
-   use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME
+   use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME, &
+      time_law_input_t
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_word
    implicit none
@@ -58,7 +59,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(13))
+      allocate (groups(14))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -72,6 +73,7 @@ contains
       call set(11, 'model', .false., model_keys())
       call set(12, 'sensor', .true., sensor_keys())
       call set(13, 'spring', .true., spring_keys())
+      call set(14, 'driver', .true., driver_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -435,6 +437,7 @@ contains
                case ('drag')
                   text = text // ', coefficient = ' // to_str(l%coefficient, 12)
                end select
+               if (len_trim(l%law%law) > 0) text = text // ', ' // law_echo(l%law)
                text = text // ' /' // nl
             end associate
          end do
@@ -448,6 +451,13 @@ contains
                if (x%free_length >= 0.0_dp) text = text // ', free_length = ' // &
                   to_str(x%free_length, 17)
                text = text // ' /' // nl
+            end associate
+         end do
+         do k = 1, driver_count(mech)
+            associate (x => mech%drivers(k))
+               text = text // '&driver name = ''' // nml_string(x%name) // ''', joint = ''' // &
+                  nml_string(x%joint) // ''', quantity = ''' // trim(x%quantity) // &
+                  ''', offset = ' // to_str(x%offset, 17) // ', ' // law_echo(x%law) // ' /' // nl
             end associate
          end do
          do k = 1, sensor_count(mech)
@@ -569,7 +579,7 @@ contains
       type(nml_source_t), intent(in) :: src
       type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(out) :: error
-      integer :: k
+      integer :: k, j
       associate (mech => case%mechanism)
          do k = 1, size(case%interfaces)
             if (case%motions(body_index(case, case%interfaces(k)%body))%type == 'rigid') then
@@ -642,6 +652,28 @@ contains
                if (allocated(error)) return
             end associate
          end do
+         do k = 1, driver_count(mech)
+            associate (x => mech%drivers(k))
+               j = findloc(mech%joints%name, x%joint, dim=1)
+               if (j == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
+                     ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
+                     '" is not a &joint of this case (joints: ' // &
+                     join_words(mech%joints%name, ', ') // ')')
+               else if (mech%joints(j)%type /= 'revolute' .and. &
+                  mech%joints(j)%type /= 'prismatic') then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
+                     ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
+                     '" is ' // trim(mech%joints(j)%type) // '; a driver needs a revolute ' // &
+                     'or prismatic joint')
+               else if (count(mech%drivers(:k)%joint == x%joint) > 1) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
+                     ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
+                     '" has a driver already; one driver per joint')
+               end if
+               if (allocated(error)) return
+            end associate
+         end do
          call check_sensor_names(src, case, error)
          if (allocated(error)) return
          if (len_trim(mech%mechanism%crank) > 0) then
@@ -694,6 +726,45 @@ contains
       end subroutine start_point
    end function rigid_start_distance
 
+   !> Number of &driver groups (0 for a case built in memory without them).
+   pure integer function driver_count(mech)
+      type(mechanism_case_input_t), intent(in) :: mech
+      driver_count = 0
+      if (allocated(mech%drivers)) driver_count = size(mech%drivers)
+   end function driver_count
+
+   !> The law keys of a &driver or &load as namelist text (ffrf_input_mechanism
+   !> time_law_input_t), full precision.
+   function law_echo(law) result(text)
+      type(time_law_input_t), intent(in) :: law
+      character(len=:), allocatable :: text
+      integer :: i
+      text = 'law = ''' // trim(law%law) // ''''
+      select case (trim(law%law))
+      case ('constant')
+         text = text // ', initial = ' // to_str(law%initial, 17)
+      case ('constant_speed')
+         text = text // ', initial = ' // to_str(law%initial, 17) // ', speed = ' // &
+            to_str(law%speed, 17)
+      case ('ramp', 'smooth_step')
+         text = text // ', initial = ' // to_str(law%initial, 17) // ', final = ' // &
+            to_str(law%final, 17) // ', t_start = ' // to_str(law%t_start, 17) // &
+            ', duration = ' // to_str(law%duration, 17)
+      case ('table')
+         text = text // ', interpolation = ''' // trim(law%interpolation) // ''', beyond = ''' &
+            // trim(law%beyond) // ''', table_time = '
+         do i = 1, size(law%table_time)
+            if (i > 1) text = text // ', '
+            text = text // to_str(law%table_time(i), 17)
+         end do
+         text = text // ', table_value = '
+         do i = 1, size(law%table_value)
+            if (i > 1) text = text // ', '
+            text = text // to_str(law%table_value(i), 17)
+         end do
+      end select
+   end function law_echo
+
    !> Number of &spring groups (0 for a case built in memory without them).
    pure integer function spring_count(mech)
       type(mechanism_case_input_t), intent(in) :: mech
@@ -713,6 +784,7 @@ contains
       type(nml_source_t), intent(in) :: src
       type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(out) :: error
+      logical :: missing
       integer :: k
       associate (mech => case%mechanism)
          if (.not. allocated(mech%sensors)) return
@@ -745,6 +817,14 @@ contains
                      FFRF_INPUT_ERROR, src%at('sensor', k, 'joint') // ': &sensor "' // &
                      trim(x%name) // '": joint "' // trim(x%joint) // '" is not a &joint ' // &
                      'of this case (joints: ' // join_words(mech%joints%name, ', ') // ')')
+               end if
+               if (.not. allocated(error) .and. trim(x%type) == 'driver') then
+                  missing = driver_count(mech) == 0
+                  if (.not. missing) missing = .not. any(mech%drivers%joint == x%joint)
+                  if (missing) call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, &
+                     'joint') // ': &sensor "' // trim(x%name) // '": joint "' // &
+                     trim(x%joint) // '" has no &driver; add &driver name = ..., joint = ''' // &
+                     trim(x%joint) // ''' /')
                end if
                if (.not. allocated(error) .and. len_trim(x%spring) > 0) then
                   if (spring_count(mech) == 0) then

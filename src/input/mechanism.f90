@@ -1,5 +1,5 @@
 !> Plain input types of a mechanism run, with their defaults (namelist groups &body's motion
-!> keys, &marker, &joint, &load, &spring, &pressure, &integrator, &mechanism; readers in
+!> keys, &marker, &joint, &load, &spring, &driver, &pressure, &integrator, &mechanism; readers in
 !> src/input/nml_mechanism.f90 and src/input/nml_body.f90). SI units; angles in degrees where named
 !> so.
 module ffrf_input_mechanism
@@ -7,10 +7,12 @@ module ffrf_input_mechanism
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
+   use ffrf_mbs_time_function, only: time_function_t, new_time_function
+   use ffrf_core_error, only: error_t
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
-   public :: spring_input_t
+   public :: spring_input_t, time_law_input_t, driver_input_t, law_function
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
@@ -70,6 +72,35 @@ module ffrf_input_mechanism
       real(dp) :: axis(3) = [0.0_dp, 0.0_dp, 1.0_dp]
    end type joint_input_t
 
+   !> A law over time g(t) as given (&driver, &load; ffrf_mbs_time_function, docs/mechanisms.md
+   !> "Laws over time").
+   type :: time_law_input_t
+      !> constant, constant_speed, ramp, smooth_step or table; '' for none (a &load's constant
+      !> value)
+      character(len=16) :: law = ''
+      !> g(0) or g before t_start; g after t_start + duration; dg/dt of constant_speed
+      real(dp) :: initial = 0.0_dp, final = 0.0_dp, speed = 0.0_dp
+      !> Start (s) and duration (s) of a ramp or smooth step
+      real(dp) :: t_start = 0.0_dp, duration = 1.0_dp
+      !> Table points: times (s, strictly increasing) and values
+      real(dp), allocatable :: table_time(:), table_value(:)
+      !> Table: 'linear' or 'cubic'; 'hold' or 'periodic' beyond the points
+      character(len=8) :: interpolation = 'linear', beyond = 'hold'
+   end type time_law_input_t
+
+   !> A driver of a revolute or prismatic joint (&driver; ffrf_mbs_joint_driver).
+   type :: driver_input_t
+      character(len=64) :: name = ''
+      !> The &joint it drives
+      character(len=64) :: joint = ''
+      !> 'coordinate' (the law gives the angle or travel) or 'rate' (the law gives its rate)
+      character(len=16) :: quantity = 'coordinate'
+      !> Added to the law or its integral (rad or m)
+      real(dp) :: offset = 0.0_dp
+      !> The law
+      type(time_law_input_t) :: law
+   end type driver_input_t
+
    !> An applied load on a body at one of its markers (&load).
    type :: load_input_t
       character(len=64) :: name = ''
@@ -85,6 +116,8 @@ module ffrf_input_mechanism
       real(dp) :: stall_torque = 40.0_dp, free_speed = 157.0_dp, switch_off = 0.5_dp
       !> drag: coefficient c (N m s^2)
       real(dp) :: coefficient = 3.6e-4_dp
+      !> force / torque over time: magnitude value * g(t) (law '' : constant value)
+      type(time_law_input_t) :: law
    end type load_input_t
 
    !> A linear spring-damper between marker1 of body1 and marker2 of body2 (&spring;
@@ -161,6 +194,8 @@ module ffrf_input_mechanism
       type(load_input_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), in input order
       type(spring_input_t), allocatable :: springs(:)
+      !> Drivers of joints (&driver), in input order
+      type(driver_input_t), allocatable :: drivers(:)
       !> Sensors (&sensor), in input order
       type(sensor_input_t), allocatable :: sensors(:)
       !> Pressure model data (&pressure); table_file: angle (deg) and absolute pressure (Pa) per
@@ -176,5 +211,24 @@ module ffrf_input_mechanism
       type(energy_watch_settings_t) :: energy_watch
       type(model_input_t) :: model
    end type mechanism_case_input_t
+
+contains
+
+   !> The time function of a law as given (checked by new_time_function; `where` names the
+   !> place in its messages).
+   subroutine law_function(given, where, fun, error)
+      type(time_law_input_t), intent(in) :: given
+      character(len=*), intent(in) :: where
+      type(time_function_t), intent(out) :: fun
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: times(:), values(:)
+      times = [real(dp) ::]
+      values = [real(dp) ::]
+      if (allocated(given%table_time)) times = given%table_time
+      if (allocated(given%table_value)) values = given%table_value
+      call new_time_function(given%law, where, fun, error, initial=given%initial, &
+         final=given%final, speed=given%speed, t_start=given%t_start, duration=given%duration, &
+         times=times, values=values, interpolation=given%interpolation, beyond=given%beyond)
+   end subroutine law_function
 
 end module ffrf_input_mechanism

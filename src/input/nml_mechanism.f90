@@ -7,6 +7,12 @@
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
 !>   &spring      name, body1, marker1, body2, marker2, stiffness [N/m], damping [N s/m],
 !>                free_length [m]                                             (repeatable)
+!>   &driver      name, joint, quantity (coordinate|rate), offset [rad or m], and the law keys
+!>                                                                            (repeatable)
+!>   law keys of &driver and of a force or torque &load (docs/mechanisms.md "Laws over time"):
+!>                law (constant|constant_speed|ramp|smooth_step|table), initial, final, speed,
+!>                t_start [s], duration [s], table_time [s], table_value, interpolation
+!>                (linear|cubic), beyond (hold|periodic)
 !>   &pressure    bore, stroke, conrod_length, compression_ratio, intake_pressure,
 !>                exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m,
 !>                combustion_start_deg, combustion_duration_deg, heat_per_cycle,
@@ -39,6 +45,15 @@
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
 !>               N m; stall_torque in [0, 1e9] N m; free_speed in (0, 1e5] rad/s; switch_off in
 !>               [0, 1e6] s; coefficient in [0, 1e9] N m s^2
+!>   &driver     name unique, required; joint: a revolute or prismatic &joint (checked by
+!>               ffrf_input_case); offset in [-1e6, 1e6]
+!>   law keys    initial, final in [-1e12, 1e12] (the unit of what the law gives); speed in
+!>               [-1e12, 1e12] per s; t_start in [0, 1e6] s; duration in (0, 1e6] s; table_time
+!>               in [-1e9, 1e9] s and table_value in [-1e12, 1e12], 1 to 1000 values each, as
+!>               many values as times, times strictly increasing, at least 2 points; beyond =
+!>               'periodic' needs the last value equal to the first (ffrf_mbs_time_function);
+!>               a &load with a law: type force or torque, its magnitude value * g(t) (value
+!>               not given: 1, so that the law gives the magnitude in N or N m)
 !>   &spring     stiffness in [0, 1e12] N/m; damping in [0, 1e12] N s/m; free_length in
 !>               [0, 1e6] m (absent: the distance of the markers at the start, which must not be
 !>               0); body1 /= body2; name unique
@@ -70,7 +85,9 @@ module ffrf_input_nml_mechanism
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
-      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t
+      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      driver_input_t, time_law_input_t, law_function
+   use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
@@ -81,8 +98,11 @@ module ffrf_input_nml_mechanism
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
-      model_keys, spring_keys
+      model_keys, spring_keys, driver_keys
 
+   !> The law keys, for messages (module header)
+   character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
+      'duration, table_time, table_value, interpolation, beyond'
    !> Load types &load accepts
    character(len=*), parameter :: load_types = 'pressure, starter, drag, force, torque'
 
@@ -123,8 +143,33 @@ contains
          real_key('stall_torque', 0.0_dp, 1.0e9_dp, 'N m'), &
          real_key('free_speed', 0.0_dp, 1.0e5_dp, 'rad/s', lower_open=.true.), &
          real_key('switch_off', 0.0_dp, 1.0e6_dp, 's'), &
-         real_key('coefficient', 0.0_dp, 1.0e9_dp, 'N m s^2')]
+         real_key('coefficient', 0.0_dp, 1.0e9_dp, 'N m s^2'), law_keys()]
    end function load_keys
+
+   !> Keys of a law over time, in &driver and &load (module header).
+   function law_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      type(key_spec_t) :: times, values
+      times = real_key('table_time', -1.0e9_dp, 1.0e9_dp, 's')
+      times%max_count = max_table_points
+      values = real_key('table_value', -1.0e12_dp, 1.0e12_dp, '')
+      values%max_count = max_table_points
+      keys = [choice_key('law', 16, time_function_words), &
+         real_key('initial', -1.0e12_dp, 1.0e12_dp, ''), &
+         real_key('final', -1.0e12_dp, 1.0e12_dp, ''), &
+         real_key('speed', -1.0e12_dp, 1.0e12_dp, '1/s'), &
+         real_key('t_start', 0.0_dp, 1.0e6_dp, 's'), &
+         real_key('duration', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.), times, values, &
+         choice_key('interpolation', 8, 'linear, cubic'), choice_key('beyond', 8, 'hold, periodic')]
+   end function law_keys
+
+   !> Keys of &driver (module header).
+   function driver_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('joint', 64), &
+         choice_key('quantity', 16, 'coordinate, rate'), &
+         real_key('offset', -1.0e6_dp, 1.0e6_dp, 'rad or m'), law_keys()]
+   end function driver_keys
 
    !> Keys of &pressure (module header).
    function pressure_keys() result(keys)
@@ -200,6 +245,7 @@ contains
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
       if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
+      if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
       if (.not. allocated(error)) call read_integrator_group(unit, src, input%integrator, &
@@ -404,17 +450,27 @@ contains
       integer :: stat, k
       character(len=512) :: msg
       character(len=:), allocatable :: where
+      type(time_law_input_t) :: given_law
+      type(time_function_t) :: fun
+      character(len=16) :: law
+      real(dp) :: initial, final, speed, t_start, duration
+      real(dp) :: table_time(max_table_points), table_value(max_table_points)
+      character(len=8) :: interpolation, beyond
       namelist /load/ name, type, body, marker, direction, value, stall_torque, free_speed, &
-         switch_off, coefficient
+         switch_off, coefficient, law, initial, final, speed, t_start, duration, table_time, &
+         table_value, interpolation, beyond
       allocate (loads(0))
       rewind (unit)
       do
+         call reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
+            table_value, interpolation, beyond)
          name = defaults%name
          type = defaults%type
          body = defaults%body
          marker = defaults%marker
          direction = defaults%direction
-         value = defaults%value
+         ! unset: 1 with a law (the law gives the magnitude), else the default
+         value = huge(1.0_dp)
          stall_torque = defaults%stall_torque
          free_speed = defaults%free_speed
          switch_off = defaults%switch_off
@@ -424,9 +480,13 @@ contains
          k = size(loads) + 1
          if (stat /= 0) then
             call namelist_read_error(error, 'load', k, msg, 'name, type, body, marker, ' // &
-               'direction, value, stall_torque, free_speed, switch_off, coefficient')
+               'direction, value, stall_torque, free_speed, switch_off, coefficient, ' // &
+               law_key_names)
             return
          end if
+         given_law = law_as_given(law, initial, final, speed, t_start, duration, &
+            table_time, table_value, interpolation, beyond)
+         if (value == huge(1.0_dp)) value = merge(1.0_dp, defaults%value, len_trim(law) > 0)
          type = to_lower(type)
          if (len_trim(name) == 0) name = type
          where = src%where('load', k, '') // ' "' // trim(name) // '"'
@@ -445,12 +505,126 @@ contains
          else if (type == 'drag' .and. .not. (coefficient >= 0.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': coefficient = ' // &
                to_str(coefficient) // ' N m s^2, must be >= 0')
+         else if (len_trim(law) > 0 .and. type /= 'force' .and. type /= 'torque') then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('load', k, 'law') // ': ' // &
+               '&load "' // trim(name) // '" of type ' // trim(type) // ' takes no law; a ' // &
+               'law scales a force or torque load')
+         else if (len_trim(law) > 0) then
+            call law_function(given_law, src%where('load', k, 'law') // ': &load "' // &
+               trim(name) // '"', fun, error)
          end if
          if (allocated(error)) return
          loads = [loads, load_input_t(name, type, body, marker, direction / norm2(direction), &
-            value, stall_torque, free_speed, switch_off, coefficient)]
+            value, stall_torque, free_speed, switch_off, coefficient, given_law)]
       end do
    end subroutine read_load_groups
+
+   !> The &driver groups (module header), in input order.
+   subroutine read_driver_groups(unit, src, drivers, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(driver_input_t), allocatable, intent(out) :: drivers(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(driver_input_t) :: defaults
+      character(len=64) :: name, joint
+      character(len=16) :: quantity
+      real(dp) :: offset
+      integer :: stat, k
+      character(len=512) :: msg
+      type(time_law_input_t) :: given_law
+      type(time_function_t) :: fun
+      character(len=16) :: law
+      real(dp) :: initial, final, speed, t_start, duration
+      real(dp) :: table_time(max_table_points), table_value(max_table_points)
+      character(len=8) :: interpolation, beyond
+      namelist /driver/ name, joint, quantity, offset, law, initial, final, speed, t_start, &
+         duration, table_time, table_value, interpolation, beyond
+      allocate (drivers(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         joint = defaults%joint
+         quantity = defaults%quantity
+         offset = defaults%offset
+         call reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
+            table_value, interpolation, beyond)
+         law = 'constant_speed'
+         read (unit, nml=driver, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(drivers) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'driver', k, msg, 'name, joint, quantity, ' // &
+               'offset, ' // law_key_names)
+            return
+         end if
+         given_law = law_as_given(law, initial, final, speed, t_start, duration, &
+            table_time, table_value, interpolation, beyond)
+         quantity = to_lower(quantity)
+         if (len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, '') // &
+               ': name is missing')
+         else if (any(drivers%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, 'name') // &
+               ': the name is used twice; driver names must be unique')
+         else if (len_trim(joint) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, '') // &
+               ': &driver "' // trim(name) // '": joint is required (a revolute or ' // &
+               'prismatic &joint)')
+         else
+            call law_function(given_law, src%where('driver', k, 'law') // ': &driver "' // &
+               trim(name) // '"', fun, error)
+         end if
+         if (allocated(error)) return
+         drivers = [drivers, driver_input_t(name, joint, quantity, offset, given_law)]
+      end do
+   end subroutine read_driver_groups
+
+   !> The law keys' defaults before a read (time_law_input_t; table entries unset: huge).
+   pure subroutine reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
+         table_value, interpolation, beyond)
+      character(len=*), intent(out) :: law, interpolation, beyond
+      real(dp), intent(out) :: initial, final, speed, t_start, duration
+      real(dp), intent(out) :: table_time(:), table_value(:)
+      type(time_law_input_t) :: defaults
+      law = defaults%law
+      initial = defaults%initial
+      final = defaults%final
+      speed = defaults%speed
+      t_start = defaults%t_start
+      duration = defaults%duration
+      table_time = huge(1.0_dp)
+      table_value = huge(1.0_dp)
+      interpolation = defaults%interpolation
+      beyond = defaults%beyond
+   end subroutine reset_law_keys
+
+   !> The law keys as read (the table entries given: those before the first unset one).
+   pure function law_as_given(law, initial, final, speed, t_start, duration, table_time, &
+         table_value, interpolation, beyond) result(given)
+      character(len=*), intent(in) :: law, interpolation, beyond
+      real(dp), intent(in) :: initial, final, speed, t_start, duration
+      real(dp), intent(in) :: table_time(:), table_value(:)
+      type(time_law_input_t) :: given
+      given%law = to_lower(law)
+      given%initial = initial
+      given%final = final
+      given%speed = speed
+      given%t_start = t_start
+      given%duration = duration
+      given%table_time = table_time(:count_set(table_time))
+      given%table_value = table_value(:count_set(table_value))
+      given%interpolation = to_lower(interpolation)
+      given%beyond = to_lower(beyond)
+   end function law_as_given
+
+   !> Number of leading entries not unset (huge).
+   pure integer function count_set(values) result(n)
+      real(dp), intent(in) :: values(:)
+      do n = 0, size(values) - 1
+         if (values(n + 1) == huge(1.0_dp)) return
+      end do
+      n = size(values)
+   end function count_set
 
    !> The &spring groups (module header), in input order.
    subroutine read_spring_groups(unit, src, springs, error)

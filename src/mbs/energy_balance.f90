@@ -35,7 +35,8 @@
 !> Exact balance. Along an exact solution of M q'' + Phi_q^T lambda = f_v + Q_e + Q_applied,
 !> Phi(q, t) = 0, d(T + U)/dt = P - P_d + P_c, where P_c = -lambda^T Phi_q v = lambda^T Phi_t is
 !> the power of the constraint forces: zero for the scleronomic joint and Euler-parameter rows,
-!> lambda_d Phi_t,d for the rheonomic driving constraint (ffrf_mbs_mechanism). So D = 0 exactly
+!> lambda_d Phi_t,d for the rheonomic driving constraint (ffrf_mbs_mechanism) and each driver of
+!> a joint (ffrf_mbs_joint_driver: tau f'), all counted in W. So D = 0 exactly
 !> for the continuous problem, and D measures what the integrator loses (or gains).
 !>
 !> Quadrature. Each integral is advanced by the trapezoidal rule over the accepted step
@@ -355,7 +356,7 @@ contains
       call mech%applied_power(q, v, t, power, error)
       if (allocated(error)) return
       ! Driving constraint: power of its reaction, -lambda_d (Phi_q v)_d = lambda_d Phi_t,d.
-      if (present(lambda) .and. mech%drive_row > 0) then
+      if (present(lambda) .and. (mech%drive_row > 0 .or. allocated(mech%drivers))) then
          if (size(lambda) /= mech%nc) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'energy balance: ' // &
                to_str(size(lambda)) // ' multipliers for ' // to_str(mech%nc) // &
@@ -365,7 +366,14 @@ contains
          allocate (phi_t(mech%nc))
          call mech%constraint_rate(q, t, phi_t, error)
          if (allocated(error)) return
-         power = power + lambda(mech%drive_row) * phi_t(mech%drive_row)
+         if (mech%drive_row > 0) power = power + lambda(mech%drive_row) * &
+            phi_t(mech%drive_row)
+         ! Drivers of joints: lambda Phi_t = tau f' on the constraint (ffrf_mbs_joint_driver)
+         if (allocated(mech%drivers)) then
+            do k = 1, size(mech%drivers)
+               power = power + lambda(mech%drivers(k)%row) * phi_t(mech%drivers(k)%row)
+            end do
+         end if
       end if
       ! Physical damping of the bodies (body_t%damping_power): the flexible bodies' modal
       ! damping P_d = zeta_dot^T D_ff zeta_dot, zero for rigid bodies and the ground.

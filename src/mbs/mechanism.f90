@@ -3,7 +3,8 @@
 !> (theory.md sections 3 to 4).
 !>
 !> Coordinates: the concatenation of the bodies' q in the order of add_body (the ground has none).
-!> Constraint rows, in this order: every joint's equations (order of add_joint), the driving
+!> Constraint rows, in this order: every joint's equations (order of add_joint), one row per
+!> driver of a joint (order of add_driver; ffrf_mbs_joint_driver), the driving
 !> constraint if set (1 row), then one Euler-parameter normalisation theta^T theta - 1 = 0 per body
 !> with Euler parameters, i.e. every body with at least 7 coordinates (rigid: q = [R; theta];
 !> flexible: q = [R; theta; zeta]; theory.md 3.1).
@@ -32,19 +33,25 @@
 !> with n_f = dn/df = -(cos f, sin f, 0),
 !> and its acceleration right-hand side is analytic (below).
 !>
+!> Drivers of joints (add_driver): a revolute angle or a prismatic travel prescribed over time,
+!> one row each, with exact Jacobian, Phi_t, Phi_tt, Phi_qt, second derivatives (the Newton
+!> tangent and the convective term (Phi_q v)_q v of the acceleration right-hand side; exact for
+!> rigid bodies, for flexible ones as exact as body_t%marker_hessian): ffrf_mbs_joint_driver.
+!>
 !> Overridden time terms and tangents:
-!> - constraint_rate: analytic (only the drive row depends on t).
+!> - constraint_rate: analytic (only the drive and driver rows depend on t).
 !> - acceleration_rhs g = -(Phi_q v)_q v - 2 Phi_qt v - Phi_tt (theory.md 4.3): analytic on the
 !>   Euler rows (-2 theta_dot^T theta_dot) and the drive row (A is quadratic in theta: the second
-!>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b); joint rows by a central
-!>   difference of Phi_q(q + s v) v in s (joints do not depend on t), s = eps**(1/3) relative.
+!>   derivative of A(theta) b along theta_dot is 2 (A(theta_dot) + I) b) and the drivers' rows
+!>   (ffrf_mbs_joint_driver); joint rows by a central difference of Phi_q(q + s v) v in s
+!>   (joints do not depend on t), s = eps**(1/3) relative.
 !> - stiffness, damping, constraint_stiffness, mass_stiffness (analytic_tangents = .true., the
 !>   default): assembled per body and per joint, without differences over the mechanism:
 !>   * constraint stiffness d(Phi_q^T lambda)/dq: joints exact (joint_t%constraint_hessian from
 !>     the bodies' marker_hessian: exact for rigid bodies; for flexible ones exact but for the
 !>     second derivative of the exponential map of the marker rotation, a 3 x 3 central
-!>     difference), drive row exact (n . A(theta) e_x is quadratic in theta), Euler rows exact
-!>     (2 lambda I4);
+!>     difference), drive row exact (n . A(theta) e_x is quadratic in theta), drivers' rows
+!>     as the joints (ffrf_mbs_joint_driver driver_hessian), Euler rows exact (2 lambda I4);
 !>   * stiffness -df/dq and damping -df/dq': bodies' force_tangents (exact: rigid and FFRF
 !>     quadratic velocity vectors, modal K_ff and D_ff); loads: the marker force at fixed
 !>     magnitude by body%marker_force_tangent (rigid exact; flexible exact but for the derivative
@@ -69,6 +76,7 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
+   use ffrf_mbs_joint_driver, only: joint_driver_t
    implicit none
    private
    public :: mechanism_t, mechanism_body_t, mechanism_joint_t, mechanism_load_t
@@ -113,6 +121,8 @@ module ffrf_mbs_mechanism
       type(mechanism_load_t), allocatable :: loads(:)
       !> Spring-dampers between markers (ffrf_mbs_spring_damper), order of add_spring
       type(spring_damper_t), allocatable :: springs(:)
+      !> Drivers of joints (ffrf_mbs_joint_driver), order of add_driver; rows after the joints'
+      type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
       integer :: n = 0, nc = 0
       !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies (theory.md 3.6)
@@ -154,6 +164,10 @@ module ffrf_mbs_mechanism
       procedure :: set_rotor_reference => mechanism_set_rotor_reference
       !> Prescribe a body's rotation about z (driving constraint)
       procedure :: set_drive => mechanism_set_drive
+      !> Prescribe a revolute joint's angle or a prismatic joint's travel (a driver)
+      procedure :: add_driver => mechanism_add_driver
+      !> Coordinate, rate and driving torque or force of driver d at a state
+      procedure :: driver_state => mechanism_driver_state
       !> Coordinates of body b out of q
       procedure :: body_coordinates => mechanism_body_coordinates
       !> Unwrapped rotor angle (rad)
@@ -305,6 +319,27 @@ module ffrf_mbs_mechanism
          class(drive_law_t), intent(in) :: law
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_set_drive
+
+      !> Add a driver of joint driver%joint (revolute or prismatic; ffrf_mbs_joint_driver).
+      module subroutine mechanism_add_driver(self, driver, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The driver (name, joint, law, rate, offset; kind and row are set here)
+         type(joint_driver_t), intent(in) :: driver
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_driver
+
+      !> Driver d at (q, v, lambda): [coordinate (rad or m), rate, torque or force tau = -lambda
+      !> (N m or N, on body b about or along the joint axis)].
+      module function mechanism_driver_state(self, d, q, v, lambda) result(values)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Driver number (order of add_driver)
+         integer, intent(in) :: d
+         !> Coordinates, velocities (n), multipliers (nc)
+         real(dp), intent(in) :: q(:), v(:), lambda(:)
+         real(dp) :: values(3)
+      end function mechanism_driver_state
 
       !> q(offset + 1 : offset + num_coordinates) of body b (empty for the ground).
       module pure function mechanism_body_coordinates(self, q, b) result(qb)

@@ -17,6 +17,8 @@
 !> |----------------------|----------------------------------------------------------------|
 !> | constant_load_t      | value                                                          |
 !> | drag_torque_t        | -c omega |omega|  (= -c omega^2 for omega >= 0, always opposing) |
+!> | timed_load_t         | value g(t), g a time function (ffrf_mbs_time_function: ramp,    |
+!> |                      | smooth step, table ...; docs/mechanisms.md "Laws over time")   |
 !>
 !> The generalized force of a load on its body is L_r^T F + L_w^T M (theory.md 3.5; body_t
 !> marker_generalized_force) and its power is F . r_dot + M . omega = Q . v.
@@ -26,9 +28,10 @@
 module ffrf_mbs_mechanism_loads
    use ffrf_core_kinds, only: dp
    use ffrf_mbs_dae_system, only: fd_step
+   use ffrf_mbs_time_function, only: time_function_t
    implicit none
    private
-   public :: load_t, constant_load_t, drag_torque_t
+   public :: load_t, constant_load_t, drag_torque_t, timed_load_t
    public :: drive_law_t, polynomial_drive_t
    public :: LOAD_FORCE, LOAD_TORQUE
 
@@ -81,6 +84,17 @@ module ffrf_mbs_mechanism_loads
    contains
       procedure :: magnitude => constant_magnitude
    end type constant_load_t
+
+   !> A load value * g(t) over time (g: ffrf_mbs_time_function; it does not depend on the rotor).
+   type, extends(load_t) :: timed_load_t
+      !> Scale of g (N or N m per unit of g)
+      real(dp) :: value = 1.0_dp
+      !> The time function g
+      type(time_function_t) :: law
+   contains
+      procedure :: magnitude => timed_magnitude
+      procedure :: magnitude_rates => timed_magnitude_rates
+   end type timed_load_t
 
    !> Quadratic drag torque (docs/scene.md "Loads": the external load): T = -c omega |omega| about +z, omega the
    !> rotor speed (= -c omega^2 while omega >= 0; the |omega| keeps it opposing the motion if the
@@ -157,6 +171,34 @@ contains
       real(dp) :: value
       value = self%value + 0.0_dp * (t + rotor_angle + rotor_speed)
    end function constant_magnitude
+
+   !> value g(t).
+   pure function timed_magnitude(self, t, rotor_angle, rotor_speed) result(value)
+      class(timed_load_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Rotor angle (rad)
+      real(dp), intent(in) :: rotor_angle
+      !> Rotor speed (rad/s)
+      real(dp), intent(in) :: rotor_speed
+      real(dp) :: value
+      real(dp) :: g(3)
+      g = self%law%evaluate(t)
+      value = self%value * g(1) + 0.0_dp * (rotor_angle + rotor_speed)
+   end function timed_magnitude
+
+   !> 0, 0: a load over time does not depend on the rotor.
+   pure subroutine timed_magnitude_rates(self, t, rotor_angle, rotor_speed, d_angle, d_speed)
+      class(timed_load_t), intent(in) :: self
+      !> Time (s)
+      real(dp), intent(in) :: t
+      !> Rotor angle (rad) and speed (rad/s)
+      real(dp), intent(in) :: rotor_angle, rotor_speed
+      !> d(magnitude)/d(angle) and d(magnitude)/d(speed)
+      real(dp), intent(out) :: d_angle, d_speed
+      d_angle = 0.0_dp * (t + rotor_angle + self%value)
+      d_speed = 0.0_dp * rotor_speed
+   end subroutine timed_magnitude_rates
 
    !> -c omega |omega|.
    pure function drag_magnitude(self, t, rotor_angle, rotor_speed) result(value)

@@ -13,7 +13,8 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_procedures
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_dae_system, only: dae_stiffness_fd, dae_damping_fd, &
       dae_constraint_stiffness_fd, dae_mass_stiffness_fd
-   use ffrf_mbs_joints, only: new_joint, joint_reaction
+   use ffrf_mbs_joints, only: new_joint, joint_reaction, JOINT_REVOLUTE, JOINT_PRISMATIC
+   use ffrf_mbs_joint_driver, only: driver_terms, driver_hessian, driver_coordinate
    use ffrf_la_lapack, only: dgelsy
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
    use ffrf_mbs_spring_damper, only: spring_evaluate, spring_generalized_forces, spring_tangents
@@ -237,6 +238,47 @@ contains
       call update_layout(self)
    end procedure mechanism_set_drive
 
+   !> Add a driver of a revolute or prismatic joint (ffrf_mbs_joint_driver).
+   module procedure mechanism_add_driver
+      type(joint_driver_t) :: added
+      integer :: nj
+      nj = 0
+      if (allocated(self%joints)) nj = size(self%joints)
+      if (driver%joint < 1 .or. driver%joint > nj) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'driver "' // trim(driver%name) // &
+            '": the mechanism has no joint ' // to_str(driver%joint) // ' (' // to_str(nj) // &
+            ' joints)')
+         return
+      end if
+      added = driver
+      select case (self%joints(driver%joint)%joint%kind_name())
+      case ('revolute')
+         added%kind = JOINT_REVOLUTE
+      case ('prismatic')
+         added%kind = JOINT_PRISMATIC
+      case default
+         call fatal_error(error, FFRF_INPUT_ERROR, 'driver "' // trim(driver%name) // &
+            '": joint "' // self%joints(driver%joint)%name // '" is ' // &
+            self%joints(driver%joint)%joint%kind_name() // '; a driver needs a revolute or ' // &
+            'prismatic joint')
+         return
+      end select
+      if (.not. allocated(self%drivers)) allocate (self%drivers(0))
+      self%drivers = [self%drivers, added]
+      call update_layout(self)
+   end procedure mechanism_add_driver
+
+   !> [coordinate, rate, tau = -lambda] of driver d (ffrf_mbs_joint_driver).
+   module procedure mechanism_driver_state
+      associate (dr => self%drivers(d), jt => self%joints(self%drivers(d)%joint))
+         call driver_coordinate(dr%kind, self%bodies(jt%body_a)%body, &
+            self%body_coordinates(q, jt%body_a), self%body_coordinates(v, jt%body_a), &
+            jt%joint%marker_a, self%bodies(jt%body_b)%body, self%body_coordinates(q, jt%body_b), &
+            self%body_coordinates(v, jt%body_b), jt%joint%marker_b, values(1), values(2))
+         values(3) = -lambda(dr%row)
+      end associate
+   end procedure mechanism_driver_state
+
    !> Offsets of coordinates and rows after a change.
    subroutine update_layout(self)
       type(mechanism_t), intent(inout) :: self
@@ -251,6 +293,12 @@ contains
          do j = 1, size(self%joints)
             self%joints(j)%offset = row
             row = row + self%joints(j)%joint%num_equations
+         end do
+      end if
+      if (allocated(self%drivers)) then
+         do j = 1, size(self%drivers)
+            row = row + 1
+            self%drivers(j)%row = row
          end do
       end if
       self%drive_row = 0
@@ -493,6 +541,7 @@ contains
             end associate
          end do
       end if
+      call driver_rows(self, q, t, phi)
       call drive_and_euler_rows(self, q, t, phi)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
@@ -530,10 +579,62 @@ contains
             end associate
          end do
       end if
+      call driver_rows(self, q, t, phi, Phi_q)
       call drive_and_euler_rows(self, q, t, phi, Phi_q)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraints_and_jacobian
+
+   !> The drivers' rows of Phi and, if present, of Phi_q (ffrf_mbs_joint_driver), their Phi_t
+   !> (phi_t), and (Phi_q v)_q v + Phi_tt + 2 Phi_qt v (accel, with v; other entries untouched).
+   subroutine driver_rows(self, q, t, phi, Phi_q, v, phi_t, accel)
+      type(mechanism_t), intent(in) :: self
+      real(dp), intent(in) :: q(:)
+      real(dp), intent(in) :: t
+      real(dp), intent(inout), optional :: phi(:)
+      real(dp), intent(inout), optional :: Phi_q(:, :)
+      real(dp), intent(in), optional :: v(:)
+      real(dp), intent(inout), optional :: phi_t(:), accel(:)
+      real(dp), allocatable :: ja(:), jb(:), jaf(:), jbf(:), K_aa(:, :), K_ab(:, :), K_bb(:, :)
+      real(dp) :: f(3), value, value_f, value_ff
+      integer :: d, ka, kb, na, nb
+      if (.not. allocated(self%drivers)) return
+      do d = 1, size(self%drivers)
+         associate (dr => self%drivers(d), jt => self%joints(self%drivers(d)%joint))
+            ka = self%bodies(jt%body_a)%offset
+            kb = self%bodies(jt%body_b)%offset
+            na = self%bodies(jt%body_a)%body%num_coordinates
+            nb = self%bodies(jt%body_b)%body%num_coordinates
+            allocate (ja(na), jb(nb), jaf(na), jbf(nb))
+            f = dr%prescribed(t)
+            call driver_terms(dr%kind, self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+               jt%joint%marker_a, self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+               jt%joint%marker_b, f(1), value, ja, jb, value_f, value_ff, jaf, jbf)
+            if (present(phi)) phi(dr%row) = value
+            if (present(Phi_q)) then
+               Phi_q(dr%row, ka + 1:ka + na) = ja
+               Phi_q(dr%row, kb + 1:kb + nb) = jb
+            end if
+            if (present(phi_t)) phi_t(dr%row) = f(2) * value_f
+            ! Phi_tt + 2 Phi_qt v = f'' Phi_f + f'^2 Phi_ff + 2 f' (dPhi_q/df) v, and the
+            ! convective v^T (d^2 Phi/dq^2) v from the exact second derivatives
+            if (present(accel)) then
+               allocate (K_aa(na, na), K_ab(na, nb), K_bb(nb, nb))
+               call driver_hessian(dr%kind, self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  jt%joint%marker_a, self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  jt%joint%marker_b, f(1), 1.0_dp, K_aa, K_ab, K_bb)
+               associate (va => v(ka + 1:ka + na), vb => v(kb + 1:kb + nb))
+                  accel(dr%row) = f(3) * value_f + f(2)**2 * value_ff + 2.0_dp * f(2) * &
+                     (dot_product(jaf, va) + dot_product(jbf, vb)) + &
+                     dot_product(va, matmul(K_aa, va)) + 2.0_dp * dot_product(va, &
+                     matmul(K_ab, vb)) + dot_product(vb, matmul(K_bb, vb))
+               end associate
+               deallocate (K_aa, K_ab, K_bb)
+            end if
+            deallocate (ja, jb, jaf, jbf)
+         end associate
+      end do
+   end subroutine driver_rows
 
    !> Drive row n . A(theta) e_x and Euler rows |theta|^2 - 1 of Phi and, if present, their rows
    !> n^T d(A e_x)/dtheta and 2 theta^T of Phi_q (other entries untouched).
@@ -573,6 +674,7 @@ contains
          phi_t(self%drive_row) = f(2) * dot_product(drive_normal_rate(f(1)), &
             matmul(euler_rotation(q(k + 4:k + 7)), e_x))
       end if
+      call driver_rows(self, q, t, phi_t=phi_t)
       if (.not. all(ieee_is_finite(phi_t))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: drive law not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraint_rate
@@ -580,7 +682,7 @@ contains
    !> g = -(Phi_q v)_q v - 2 Phi_qt v - Phi_tt (module header): analytic on the drive and Euler
    !> rows, central difference in s of Phi_q(q + s v) v on the joint rows.
    module procedure mechanism_acceleration_rhs
-      real(dp) :: jac(self%nc, self%n), w_plus(self%nc), w_minus(self%nc)
+      real(dp) :: jac(self%nc, self%n), w_plus(self%nc), w_minus(self%nc), time_part(self%nc)
       real(dp) :: s, vmax, qscale, root3, f(3), theta(4), theta_dot(4), x_axis(3), nf(3)
       integer :: b, k, joint_rows
       g = 0.0_dp
@@ -601,6 +703,12 @@ contains
          if (allocated(error)) return
          w_minus = matmul(jac, v)
          g(:joint_rows) = -(w_plus(:joint_rows) - w_minus(:joint_rows)) / (2.0_dp * s)
+      end if
+      if (allocated(self%drivers)) then
+         ! v^T (d^2 Phi/dq^2) v + Phi_tt + 2 Phi_qt v of the drivers' rows, exact
+         time_part = 0.0_dp
+         call driver_rows(self, q, t, v=v, accel=time_part)
+         g = g - time_part
       end if
       if (self%drive_row > 0) then
          ! Phi = n(f(t)) . A(theta) e_x: -(n . 2 (A(theta_dot) + I) e_x) - 2 f' n_f . dA e_x
@@ -884,11 +992,24 @@ contains
                call jt%joint%constraint_hessian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
                   self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
                   lambda(jt%offset + 1:jt%offset + ne), K_aa, K_ab, K_bb)
-               K_c(ka + 1:ka + na, ka + 1:ka + na) = K_c(ka + 1:ka + na, ka + 1:ka + na) + K_aa
-               K_c(ka + 1:ka + na, kb + 1:kb + nb) = K_c(ka + 1:ka + na, kb + 1:kb + nb) + K_ab
-               K_c(kb + 1:kb + nb, ka + 1:ka + na) = K_c(kb + 1:kb + nb, ka + 1:ka + na) + &
-                  transpose(K_ab)
-               K_c(kb + 1:kb + nb, kb + 1:kb + nb) = K_c(kb + 1:kb + nb, kb + 1:kb + nb) + K_bb
+               call add_pair_blocks(K_c, ka, na, kb, nb, K_aa, K_ab, K_bb)
+               deallocate (K_aa, K_ab, K_bb)
+            end associate
+         end do
+      end if
+      if (allocated(self%drivers)) then
+         do j = 1, size(self%drivers)
+            associate (dr => self%drivers(j), jt => self%joints(self%drivers(j)%joint))
+               ka = self%bodies(jt%body_a)%offset
+               kb = self%bodies(jt%body_b)%offset
+               na = self%bodies(jt%body_a)%body%num_coordinates
+               nb = self%bodies(jt%body_b)%body%num_coordinates
+               allocate (K_aa(na, na), K_ab(na, nb), K_bb(nb, nb))
+               f = dr%prescribed(t)
+               call driver_hessian(dr%kind, self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  jt%joint%marker_a, self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  jt%joint%marker_b, f(1), lambda(dr%row), K_aa, K_ab, K_bb)
+               call add_pair_blocks(K_c, ka, na, kb, nb, K_aa, K_ab, K_bb)
                deallocate (K_aa, K_ab, K_bb)
             end associate
          end do
@@ -912,6 +1033,18 @@ contains
       if (.not. all_finite(K_c)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint stiffness not finite at t = ' // to_str(t) // ' s')
    end procedure mechanism_constraint_stiffness
+
+   !> K_c += the symmetric pair blocks [K_aa K_ab; K_ab^T K_bb] of two bodies at offsets ka, kb.
+   pure subroutine add_pair_blocks(K_c, ka, na, kb, nb, K_aa, K_ab, K_bb)
+      real(dp), intent(inout) :: K_c(:, :)
+      integer, intent(in) :: ka, na, kb, nb
+      real(dp), intent(in) :: K_aa(:, :), K_ab(:, :), K_bb(:, :)
+      K_c(ka + 1:ka + na, ka + 1:ka + na) = K_c(ka + 1:ka + na, ka + 1:ka + na) + K_aa
+      K_c(ka + 1:ka + na, kb + 1:kb + nb) = K_c(ka + 1:ka + na, kb + 1:kb + nb) + K_ab
+      K_c(kb + 1:kb + nb, ka + 1:ka + na) = K_c(kb + 1:kb + nb, ka + 1:ka + na) + &
+         transpose(K_ab)
+      K_c(kb + 1:kb + nb, kb + 1:kb + nb) = K_c(kb + 1:kb + nb, kb + 1:kb + nb) + K_bb
+   end subroutine add_pair_blocks
 
    !> d(M(q) a)/dq for a fixed a: blockdiag of the bodies' mass_stiffness.
    module procedure mechanism_mass_stiffness

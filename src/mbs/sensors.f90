@@ -18,6 +18,9 @@
 !> | node_position    | R + A(theta) (x_n + Psi_n zeta), global                   | m        |
 !> | spring           | length l, rate l' and tension k (l - L0) + c l' of a      | m, m/s, N|
 !> |                  | &spring (ffrf_mbs_spring_damper)                          |          |
+!> | driver           | of the driver of a joint (ffrf_mbs_joint_driver): angle or | rad, rad/s,|
+!> |                  | travel, its rate, driving torque or force tau = -lambda    | N m; m,  |
+!> |                  | on body b about or along the axis                          | m/s, N   |
 !>
 !> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
 !> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
@@ -41,7 +44,7 @@ module ffrf_mbs_sensors
    private
    public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
    public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body, sensor_needs_node
-   public :: sensor_needs_spring, SENSOR_SPRING
+   public :: sensor_needs_spring, SENSOR_SPRING, SENSOR_DRIVER
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
       SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
@@ -49,21 +52,22 @@ module ffrf_mbs_sensors
    integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
       SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
       SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
-      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_ROTOR_ANGLE = 12, &
-      SENSOR_ROTOR_SPEED = 13
+      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_DRIVER = 12, &
+      SENSOR_ROTOR_ANGLE = 13, SENSOR_ROTOR_SPEED = 14
    !> Number of user words (the first kinds of the table)
-   integer, parameter :: NUM_WORDS = 11
+   integer, parameter :: NUM_WORDS = 12
    !> The table (module header): word, number of values, unit, in the order of the kinds
-   character(len=*), parameter :: WORDS(13) = [character(len=17) :: 'position', 'velocity', &
+   character(len=*), parameter :: WORDS(14) = [character(len=17) :: 'position', 'velocity', &
       'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
-      'energy', 'node_displacement', 'node_position', 'spring', 'rotor_angle', 'rotor_speed']
-   integer, parameter :: SIZES(13) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 1, 1]
-   character(len=*), parameter :: UNITS(13) = [character(len=10) :: 'm', 'm/s', 'm/s^2', '1', &
-      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad', 'rad/s']
+      'energy', 'node_displacement', 'node_position', 'spring', 'driver', 'rotor_angle', &
+      'rotor_speed']
+   integer, parameter :: SIZES(14) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 3, 1, 1]
+   character(len=*), parameter :: UNITS(14) = [character(len=15) :: 'm', 'm/s', 'm/s^2', '1', &
+      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad, rad/s, N m', 'rad', 'rad/s']
    !> The words &sensor type accepts, ', '-separated
    character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
       'orientation, angular_velocity, joint_coordinate, reaction, energy, node_displacement, ' &
-      // 'node_position, spring'
+      // 'node_position, spring, driver'
 
    !> A sensor, resolved to mechanism indices.
    type :: sensor_t
@@ -125,6 +129,7 @@ contains
       unit = '1'
       if (kind >= 1 .and. kind <= size(UNITS)) unit = trim(UNITS(kind))
       if (kind == SENSOR_JOINT_COORDINATE .and. joint_kind /= JOINT_REVOLUTE) unit = 'm'
+      if (kind == SENSOR_DRIVER .and. joint_kind /= JOINT_REVOLUTE) unit = 'm, m/s, N'
    end function sensor_unit
 
    !> .true. for the kinds measured at a marker of a body.
@@ -136,7 +141,8 @@ contains
    !> .true. for the kinds of a joint.
    pure logical function sensor_needs_joint(kind)
       integer, intent(in) :: kind
-      sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION
+      sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION .or. &
+         kind == SENSOR_DRIVER
    end function sensor_needs_joint
 
    !> .true. for the kinds of a spring.
@@ -258,6 +264,16 @@ contains
                end select
             end associate
          end associate
+      case (SENSOR_DRIVER)
+         m = 0
+         if (allocated(mech%drivers)) m = findloc(mech%drivers%joint, self%joint, dim=1)
+         if (m == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
+               '": joint "' // mech%joints(self%joint)%name // '" has no driver; add &driver ' &
+               // 'joint = ''' // mech%joints(self%joint)%name // ''' or use joint_coordinate')
+            return
+         end if
+         values = mech%driver_state(m, q, v, lambda)
       case (SENSOR_REACTION)
          call mech%reaction(self%joint, q, lambda, force, moment)
          values = [force(:, 1), moment(:, 1), force(:, 2), moment(:, 2)]

@@ -14,10 +14,11 @@ module ffrf_model_mechanism
       JOINT_PRISMATIC, JOINT_FIXED, joint_kinds
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
+   use ffrf_mbs_time_function, only: time_function_t
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
-   public :: model_spring_t
+   public :: model_spring_t, model_driver_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -66,7 +67,22 @@ module ffrf_model_mechanism
       real(dp) :: stall_torque = 0.0_dp, free_speed = 0.0_dp, switch_off = 0.0_dp
       !> Drag: coefficient c (N m s^2)
       real(dp) :: coefficient = 0.0_dp
+      !> Force / torque over time: magnitude value * law(t) (ffrf_mbs_time_function)
+      logical :: timed = .false.
+      type(time_function_t) :: law
    end type model_load_t
+
+   !> A driver of a joint (&driver), resolved (ffrf_mbs_joint_driver).
+   type :: model_driver_t
+      character(len=64) :: name = ''
+      !> Joint number (&joint order)
+      integer :: joint = 0
+      !> .true.: the law gives the rate (quantity = 'rate')
+      logical :: rate = .false.
+      !> Added to the law or its integral (rad or m)
+      real(dp) :: offset = 0.0_dp
+      type(time_function_t) :: law
+   end type model_driver_t
 
    !> A spring-damper (&spring), resolved (ffrf_mbs_spring_damper).
    type :: model_spring_t
@@ -99,6 +115,8 @@ module ffrf_model_mechanism
       type(model_load_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), input order
       type(model_spring_t), allocatable :: springs(:)
+      !> Drivers of joints (&driver), input order
+      type(model_driver_t), allocatable :: drivers(:)
       !> Sensors (&sensor), input order
       type(model_sensor_t), allocatable :: sensors(:)
       !> Model body index of the crank (0: none)

@@ -14,7 +14,7 @@ module ffrf_model_model
    use ffrf_modes_input, only: body_spec_t, modes_spec_t
    use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
-   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME
+   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
       load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
@@ -113,7 +113,8 @@ contains
       integer :: k
       if (.not. case%is_mechanism) then
          allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
-            model%mechanism%loads(0), model%mechanism%sensors(0), model%mechanism%springs(0))
+            model%mechanism%loads(0), model%mechanism%sensors(0), model%mechanism%springs(0), &
+            model%mechanism%drivers(0))
          return
       end if
       associate (input => case%mechanism, m => model%mechanism)
@@ -147,7 +148,10 @@ contains
                load%free_speed = given%free_speed
                load%switch_off = given%switch_off
                load%coefficient = given%coefficient
-               call load_kind_of(given%type, load%kind, error)
+               load%timed = len_trim(given%law%law) > 0
+               if (load%timed) call law_function(given%law, '&load "' // trim(given%name) // &
+                  '"', load%law, error)
+               if (.not. allocated(error)) call load_kind_of(given%type, load%kind, error)
                if (.not. allocated(error)) call resolve_end(given%body, given%marker, &
                   load%body, load%marker, error)
                if (.not. allocated(error) .and. load%body == 0) call fatal_error(error, &
@@ -160,6 +164,7 @@ contains
             end associate
          end do
          call resolve_springs(error)
+         if (.not. allocated(error)) call resolve_drivers(error)
          if (allocated(error)) return
          allocate (m%sensors(0))
          if (allocated(input%sensors)) then
@@ -215,6 +220,37 @@ contains
       end associate
 
    contains
+
+      !> The &driver groups: joint names to joint numbers, laws to time functions.
+      subroutine resolve_drivers(error)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: d
+         allocate (model%mechanism%drivers(0))
+         if (.not. allocated(case%mechanism%drivers)) return
+         deallocate (model%mechanism%drivers)
+         allocate (model%mechanism%drivers(size(case%mechanism%drivers)))
+         do d = 1, size(case%mechanism%drivers)
+            associate (driver => model%mechanism%drivers(d), given => case%mechanism%drivers(d))
+               driver%name = given%name
+               driver%rate = given%quantity == 'rate'
+               if (given%quantity /= 'rate' .and. given%quantity /= 'coordinate') then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&driver "' // trim(given%name) // &
+                     '": quantity = "' // trim(given%quantity) // '", must be coordinate or rate')
+                  return
+               end if
+               driver%offset = given%offset
+               driver%joint = findloc(case%mechanism%joints%name, given%joint, dim=1)
+               if (driver%joint == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&driver "' // trim(given%name) // &
+                     '": joint "' // trim(given%joint) // '" is not a &joint')
+                  return
+               end if
+               call law_function(given%law, '&driver "' // trim(given%name) // '"', &
+                  driver%law, error)
+               if (allocated(error)) return
+            end associate
+         end do
+      end subroutine resolve_drivers
 
       !> The &spring groups: names to model body indices and marker handles.
       subroutine resolve_springs(error)

@@ -54,7 +54,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
 foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
-    test_capi_values test_capi_sensors)
+    test_capi_values test_capi_sensors test_capi_drivers)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -90,6 +90,13 @@ add_test(NAME capi_sensors COMMAND test_capi_sensors
   "${PROJECT_BINARY_DIR}/meshes")
 set_tests_properties(capi_sensors PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# Drivers through the C API (test_capi_drivers.c): ffrf_driver_state on input/driven_crank.nml
+# against the closed forms of a crank spun up under gravity, and its failure paths
+add_test(NAME capi_drivers COMMAND test_capi_drivers
+  "${PROJECT_SOURCE_DIR}/input/driven_crank.nml" "${PROJECT_BINARY_DIR}/meshes")
+set_tests_properties(capi_drivers PROPERTIES LABELS "capi;drivers" ENVIRONMENT
+  "OPENBLAS_NUM_THREADS=1")
 
 add_test(NAME capi_compare_driver
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}

@@ -509,7 +509,10 @@ for _group, _keys in {
         'marker': 's:body s:name r:position',
         'joint': 's:name s:type s:body1 s:marker1 s:body2 s:marker2 r:axis',
         'load': 's:name s:type s:body s:marker r:direction r:value r:stall_torque '
-                'r:free_speed r:switch_off r:coefficient',
+                'r:free_speed r:switch_off r:coefficient s:law r:initial r:final r:speed '
+                'r:t_start r:duration r:table_time r:table_value s:interpolation s:beyond',
+        'driver': 's:name s:joint s:quantity r:offset s:law r:initial r:final r:speed '
+                  'r:t_start r:duration r:table_time r:table_value s:interpolation s:beyond',
         'spring': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping '
                   'r:free_length',
         'pressure': 'r:bore r:stroke r:conrod_length r:compression_ratio r:intake_pressure '

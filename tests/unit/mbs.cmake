@@ -28,3 +28,7 @@ ffrf_add_unit_suite(test_mbs_gravity CHECKED LABELS mbs FIXTURES "beam_lc6_mesh;
 # matrix, pattern growth, singular matrix; the integrator on a chain of point masses with both;
 # its steps on one BLAS thread (issue 24). About a second.
 ffrf_add_unit_suite(test_mbs_sparse_iteration CHECKED LABELS mbs)
+# Laws over time, drivers of joints and loads over time (issue 24): time functions against
+# closed forms, a driven pendulum's torque and a driven slider's force against closed forms,
+# energy balance, a table force on a free mass. A few seconds.
+ffrf_add_unit_suite(test_mbs_drivers CHECKED LABELS mbs)
