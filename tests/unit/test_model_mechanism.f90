@@ -146,7 +146,7 @@ contains
       case = slider_crank()
       case%mechanism%model%selection = 'smart'
       call expect(case, [character(len=64) :: '&model: selection = "smart" is not known', &
-         'use "auto" or "manual"'], error)
+         'use one of auto, manual'], error)
    end subroutine test_unknown_words
 
    !> A joint or load naming a marker or body that does not exist: FFRF_INPUT_ERROR naming it.
