@@ -23,6 +23,8 @@
 !> | universal   | d = 0, x_a.y_b = 0                                 | 4 | about x_a and y_b      |
 !> | prismatic   | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = x_a.y_b = 0 | 5 | translation along z    |
 !> | fixed       | d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0       | 6 | none                   |
+!> | cylindrical | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = 0           | 4 | rotation about and     |
+!> |             |                                                    |   | translation along z    |
 !>
 !> Universal joint (Cardan): the shafts are the z axes of the markers; the cross has its arm
 !> fixed in body a along x_a and its arm fixed in body b along y_b, kept perpendicular. It
@@ -59,9 +61,10 @@ module ffrf_mbs_joints
    private
    public :: joint_t, table_joint_t
    public :: spherical_joint_t, revolute_joint_t, universal_joint_t, prismatic_joint_t
-   public :: fixed_joint_t
+   public :: fixed_joint_t, cylindrical_joint_t
    public :: new_joint, joint_reaction, joint_choices, joint_kind_name
    public :: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
+   public :: JOINT_CYLINDRICAL
    public :: EQ_POSITION, EQ_LATERAL, EQ_PERPENDICULAR
 
    !> Equation kind: a global component of d = r_b - r_a
@@ -77,14 +80,15 @@ module ffrf_mbs_joints
    !> Joint kinds, as new_joint and mechanism_t%add_joint take them (the model maps the &joint
    !> type words onto them: ffrf_model_mechanism)
    integer, parameter :: JOINT_SPHERICAL = 1, JOINT_REVOLUTE = 2, JOINT_UNIVERSAL = 3, &
-      JOINT_PRISMATIC = 4, JOINT_FIXED = 5
+      JOINT_PRISMATIC = 4, JOINT_FIXED = 5, JOINT_CYLINDRICAL = 6
 
    !> The joint kinds' table: the &joint type words, the kinds they stand for and the names in
    !> messages and results (joint_kind_name), in the order messages list them
    !> (docs/developer.md "One table per choice")
    type(choice_t), parameter :: joint_choices(*) = [choice_t('revolute', JOINT_REVOLUTE), &
       choice_t('prismatic', JOINT_PRISMATIC), choice_t('spherical', JOINT_SPHERICAL), &
-      choice_t('universal', JOINT_UNIVERSAL), choice_t('fixed', JOINT_FIXED)]
+      choice_t('universal', JOINT_UNIVERSAL), choice_t('fixed', JOINT_FIXED), &
+      choice_t('cylindrical', JOINT_CYLINDRICAL)]
 
    !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
    !> marker_b of body b.
@@ -231,13 +235,20 @@ module ffrf_mbs_joints
       procedure, nopass :: equation_table => fixed_table
    end type fixed_joint_t
 
+   !> Cylindrical joint along marker a's z axis: x_a.d = 0, y_a.d = 0 and the z axes parallel
+   !> (x_a.z_b = 0, y_a.z_b = 0); it turns about and slides along z.
+   type, extends(table_joint_t) :: cylindrical_joint_t
+   contains
+      procedure, nopass :: equation_table => cylindrical_table
+   end type cylindrical_joint_t
+
 contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Factory and common procedures
 
    !> Allocate a joint of `kind` (JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL,
-   !> JOINT_PRISMATIC or JOINT_FIXED). Any other value is an FFRF_INPUT_ERROR listing the valid
+   !> JOINT_PRISMATIC, JOINT_FIXED or JOINT_CYLINDRICAL). Any other value is an FFRF_INPUT_ERROR listing the valid
    !> kinds. The joint still has to be connected to its markers (connect).
    subroutine new_joint(kind, joint, error)
       !> Joint kind (JOINT_*)
@@ -256,6 +267,8 @@ contains
          allocate (prismatic_joint_t :: joint)
       case (JOINT_FIXED)
          allocate (fixed_joint_t :: joint)
+      case (JOINT_CYLINDRICAL)
+         allocate (cylindrical_joint_t :: joint)
       case default
          call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind ' // to_str(kind) // &
             ' is unknown; valid kinds: JOINT_* of ffrf_mbs_joints (' // &
@@ -760,5 +773,15 @@ contains
          [3, max_table_equations], pad=[0])
       table = fixed_equations
    end function fixed_table
+
+   !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0 (the prismatic table without x_a.y_b).
+   pure function cylindrical_table() result(table)
+      integer :: table(3, max_table_equations)
+      ! a named constant: the reshape is evaluated at compile time, not per call
+      integer, parameter :: cylindrical_equations(3, max_table_equations) = &
+         reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
+         EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
+      table = cylindrical_equations
+   end function cylindrical_table
 
 end module ffrf_mbs_joints

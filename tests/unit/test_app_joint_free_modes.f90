@@ -20,13 +20,21 @@
 !>   global y, body y = global -x; the guide axis and the ground markers turned with it): the
 !>   slide along the guide is still free and the twist locked, since the virtual-node rows are
 !>   turned to global (without that, both would be locked: body y would be taken as global y,
-!>   across the guide).
+!>   across the guide);
+!> - a cylindrical joint along y at interface 1 (0, 0.2, 0) and a spherical joint at interface 2
+!>   (0.1, 0, 0): the cylinder holds interface 1's translations across y (global x, z) and its
+!>   rotations across y (x, z). The body's rigid motions (t, w) change the seven held components
+!>   by Ux1 = tx - 0.2 wz, Uz1 = tz + 0.2 wx, Rx1 = wx, Rz1 = wz, U2 = (tx, ty + 0.1 wz,
+!>   tz - 0.1 wy); the only combination no rigid motion reaches is Ux1 + 0.2 Rz1 - Ux2 (by
+!>   hand: the left null vector of those seven rows). So a mode that slides interface 1 along y
+!>   and one that twists it about y are free (the twist is locked by a prismatic guide), one
+!>   that moves it along x is locked.
 module test_app_joint_free_modes
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t
    use ffrf_model_model, only: model_t
    use ffrf_model_mechanism, only: model_joint_t, model_marker_t
-   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_SPHERICAL, JOINT_PRISMATIC
+   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_SPHERICAL, JOINT_PRISMATIC, JOINT_CYLINDRICAL
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mpc_interface, only: interface_spec_t
    use ffrf_app_joint_free_modes, only: joint_locks_t, joint_free_modes
@@ -43,7 +51,8 @@ contains
          new_unittest('one_bearing_locks_nothing', test_one_bearing), &
          new_unittest('rigid_motion_takes_back_a_lever_arm', test_lever_arm), &
          new_unittest('prismatic_guide_locks_rotations', test_prismatic), &
-         new_unittest('turned_body_keeps_its_guide', test_turned_guide)]
+         new_unittest('turned_body_keeps_its_guide', test_turned_guide), &
+         new_unittest('cylindrical_joint_frees_the_twist', test_cylindrical)]
    end subroutine collect_app_joint_free_modes
 
    !> One flexible body (model body 1) with interfaces at `xyz` and the joints given, ground
@@ -210,6 +219,30 @@ contains
       if (.not. allocated(error)) call check_close(error, 'free mode: the slide', &
          modes%frequency_hz(1), 1.0_dp, rtol=1.0e-12_dp)
    end subroutine test_prismatic
+
+   subroutine test_cylindrical(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(model_t) :: model
+      type(body_modes_t) :: modes
+      type(joint_locks_t) :: locks
+      call make_case(reshape([0.0_dp, 0.2_dp, 0.0_dp, 0.1_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+         [JOINT_CYLINDRICAL, JOINT_SPHERICAL], [1, 2], reshape([0.0_dp, 1.0_dp, 0.0_dp, &
+         0.0_dp, 0.0_dp, 1.0_dp], [3, 2]), model, modes)
+      modes%frequency_hz = [1.0_dp, 2.0_dp, 3.0_dp]
+      allocate (modes%virtual_node_shape(12, 3), source=0.0_dp)
+      modes%virtual_node_shape(2, 1) = 1.0_dp      ! along the axis
+      modes%virtual_node_shape(5, 2) = 1.0_dp      ! twist about the axis
+      modes%virtual_node_shape(1, 3) = 1.0_dp      ! across the axis (global x)
+      allocate (modes%shape(3, 3), source=1.0_dp)
+      call joint_free_modes(model, 1, modes, locks, error)
+      if (allocated(error)) return
+      call check(error, 'cylindrical: across locked, slide and twist free', &
+         locks%num_locked == 1 .and. size(modes%frequency_hz) == 2)
+      if (.not. allocated(error)) call check_close(error, 'cylindrical: free mode 1: the slide', &
+         modes%frequency_hz(1), 1.0_dp, rtol=1.0e-12_dp)
+      if (.not. allocated(error)) call check_close(error, 'cylindrical: free mode 2: the twist', &
+         modes%frequency_hz(2), 2.0_dp, rtol=1.0e-12_dp)
+   end subroutine test_cylindrical
 
 end module test_app_joint_free_modes
 
