@@ -51,7 +51,8 @@ contains
       type(key_spec_t), allocatable :: keys(:)
       keys = [integer_key('num_modes', 1_i8, 10000_i8), &
          real_key('shift_hz', -1.0e9_dp, 1.0e9_dp, 'Hz'), &
-         choice_key('formulation', 16, choice_words(formulation_choices)), string_key('rc_label', 64), &
+         choice_key('formulation', 16, choice_words(formulation_choices)), &
+         string_key('rc_label', 64), &
          real_key('tolerance', 0.0_dp, 1.0e-2_dp, '', upper_open=.true.), &
          integer_key('lanczos_vectors', 0_i8, 100000_i8), &
          choice_key('basis', 16, choice_words(basis_choices)), logical_key('out_of_core'), &

@@ -59,9 +59,7 @@ module ffrf_mbs_joints
    use ffrf_mbs_dae_system, only: fd_step
    implicit none
    private
-   public :: joint_t, table_joint_t
-   public :: spherical_joint_t, revolute_joint_t, universal_joint_t, prismatic_joint_t
-   public :: fixed_joint_t, cylindrical_joint_t
+   public :: joint_t, table_joint_t, kind_joint_t
    public :: new_joint, joint_reaction, joint_choices, joint_kind_name
    public :: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
    public :: JOINT_CYLINDRICAL
@@ -89,6 +87,29 @@ module ffrf_mbs_joints
       choice_t('prismatic', JOINT_PRISMATIC), choice_t('spherical', JOINT_SPHERICAL), &
       choice_t('universal', JOINT_UNIVERSAL), choice_t('fixed', JOINT_FIXED), &
       choice_t('cylindrical', JOINT_CYLINDRICAL)]
+
+   !> The equations of each kind (the module header's table), kind_equations(:, :, JOINT_*):
+   !> columns [equation kind EQ_*, index a, index b]; for EQ_POSITION index a is the global
+   !> component, otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; zero columns after
+   !> the last equation. A named constant: evaluated at compile time.
+   integer, parameter :: kind_equations(3, max_table_equations, 6) = reshape([ &
+      ! JOINT_SPHERICAL: d = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+      ! JOINT_REVOLUTE: d = 0, x_a.z_b = 0, y_a.z_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, 0, 0, 0, &
+      ! JOINT_UNIVERSAL: d = 0, x_a.y_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, EQ_PERPENDICULAR, 1, 2, &
+      0, 0, 0, 0, 0, 0, &
+      ! JOINT_PRISMATIC: x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0
+      EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, &
+      EQ_PERPENDICULAR, 1, 2, 0, 0, 0, &
+      ! JOINT_FIXED: d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2, &
+      ! JOINT_CYLINDRICAL: x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0
+      EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, &
+      0, 0, 0, 0, 0, 0], [3, max_table_equations, 6])
 
    !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
    !> marker_b of body b.
@@ -186,7 +207,7 @@ module ffrf_mbs_joints
       !> Equations as columns [kind (EQ_*), index a, index b]: for EQ_POSITION index a is the
       !> global component; otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; unused
       !> columns (kind 0) after the last equation
-      procedure(joint_table), deferred, nopass :: equation_table
+      procedure(joint_table), deferred :: equation_table
       procedure :: connect => table_joint_connect
       procedure :: residual => table_joint_residual
       procedure :: jacobian => table_joint_jacobian
@@ -197,58 +218,28 @@ module ffrf_mbs_joints
 
    abstract interface
       !> Equation table (3, max_table_equations), unused columns zero.
-      pure function joint_table() result(table)
-         import :: max_table_equations
+      pure function joint_table(self) result(table)
+         import :: table_joint_t, max_table_equations
          implicit none
+         class(table_joint_t), intent(in) :: self
          integer :: table(3, max_table_equations)
       end function joint_table
    end interface
 
-   !> Spherical joint: d = 0.
-   type, extends(table_joint_t) :: spherical_joint_t
+   !> A joint of one of the JOINT_* kinds: its equations are the kind's column of
+   !> kind_equations (the module header's table).
+   type, extends(table_joint_t) :: kind_joint_t
    contains
-      procedure, nopass :: equation_table => spherical_table
-   end type spherical_joint_t
-
-   !> Revolute joint about the markers' z axis: d = 0, x_a.z_b = 0, y_a.z_b = 0.
-   type, extends(table_joint_t) :: revolute_joint_t
-   contains
-      procedure, nopass :: equation_table => revolute_table
-   end type revolute_joint_t
-
-   !> Universal (Cardan) joint: d = 0, x_a.y_b = 0 (shafts along z, cross arms x_a and y_b).
-   type, extends(table_joint_t) :: universal_joint_t
-   contains
-      procedure, nopass :: equation_table => universal_table
-   end type universal_joint_t
-
-   !> Prismatic joint along marker a's z axis: x_a.d = 0, y_a.d = 0 and the frames parallel
-   !> (x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0).
-   type, extends(table_joint_t) :: prismatic_joint_t
-   contains
-      procedure, nopass :: equation_table => prismatic_table
-   end type prismatic_joint_t
-
-   !> Fixed (welded) joint: d = 0 and the frames parallel.
-   type, extends(table_joint_t) :: fixed_joint_t
-   contains
-      procedure, nopass :: equation_table => fixed_table
-   end type fixed_joint_t
-
-   !> Cylindrical joint along marker a's z axis: x_a.d = 0, y_a.d = 0 and the z axes parallel
-   !> (x_a.z_b = 0, y_a.z_b = 0); it turns about and slides along z.
-   type, extends(table_joint_t) :: cylindrical_joint_t
-   contains
-      procedure, nopass :: equation_table => cylindrical_table
-   end type cylindrical_joint_t
+      procedure :: equation_table => kind_joint_table
+   end type kind_joint_t
 
 contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Factory and common procedures
 
-   !> Allocate a joint of `kind` (JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL,
-   !> JOINT_PRISMATIC, JOINT_FIXED or JOINT_CYLINDRICAL). Any other value is an FFRF_INPUT_ERROR listing the valid
+   !> Allocate a joint of `kind` (a JOINT_* of joint_choices: its equations are the kind's
+   !> column of kind_equations). Any other value is an FFRF_INPUT_ERROR listing the valid
    !> kinds. The joint still has to be connected to its markers (connect).
    subroutine new_joint(kind, joint, error)
       !> Joint kind (JOINT_*)
@@ -256,25 +247,13 @@ contains
       !> The new joint
       class(joint_t), allocatable, intent(out) :: joint
       type(error_t), allocatable, intent(out) :: error
-      select case (kind)
-      case (JOINT_SPHERICAL)
-         allocate (spherical_joint_t :: joint)
-      case (JOINT_REVOLUTE)
-         allocate (revolute_joint_t :: joint)
-      case (JOINT_UNIVERSAL)
-         allocate (universal_joint_t :: joint)
-      case (JOINT_PRISMATIC)
-         allocate (prismatic_joint_t :: joint)
-      case (JOINT_FIXED)
-         allocate (fixed_joint_t :: joint)
-      case (JOINT_CYLINDRICAL)
-         allocate (cylindrical_joint_t :: joint)
-      case default
+      if (choice_name(joint_choices, kind, '') == '') then
          call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind ' // to_str(kind) // &
             ' is unknown; valid kinds: JOINT_* of ffrf_mbs_joints (' // &
             choice_words(joint_choices) // ')')
          return
-      end select
+      end if
+      allocate (kind_joint_t :: joint)
       joint%kind = kind
       select type (joint)
       class is (table_joint_t)
@@ -720,68 +699,11 @@ contains
       c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
    end function cross
 
-   ! ----------------------------------------------------------------------------------------------
-   ! The kinds: equation table [kind, index a, index b] per equation
-
-   !> d = 0.
-   pure function spherical_table() result(table)
+   !> The equations of the joint's kind (kind_equations).
+   pure function kind_joint_table(self) result(table)
+      class(kind_joint_t), intent(in) :: self
       integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: spherical_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0], &
-         [3, max_table_equations], pad=[0])
-      table = spherical_equations
-   end function spherical_table
-
-   !> d = 0, x_a.z_b = 0, y_a.z_b = 0.
-   pure function revolute_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: revolute_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
-      table = revolute_equations
-   end function revolute_table
-
-   !> d = 0, x_a.y_b = 0.
-   pure function universal_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: universal_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
-      table = universal_equations
-   end function universal_table
-
-   !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
-   pure function prismatic_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: prismatic_equations(3, max_table_equations) = &
-         reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
-         EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
-      table = prismatic_equations
-   end function prismatic_table
-
-   !> d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
-   pure function fixed_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: fixed_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], &
-         [3, max_table_equations], pad=[0])
-      table = fixed_equations
-   end function fixed_table
-
-   !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0 (the prismatic table without x_a.y_b).
-   pure function cylindrical_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: cylindrical_equations(3, max_table_equations) = &
-         reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
-         EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
-      table = cylindrical_equations
-   end function cylindrical_table
+      table = kind_equations(:, :, self%kind)
+   end function kind_joint_table
 
 end module ffrf_mbs_joints

@@ -46,21 +46,24 @@ def spec_keys(list_keys):
     return specs
 
 
-def group_tables(path):
-    """{(group, key): [row text, ...]} of the `| group | key | meaning |` tables."""
-    rows = {}
-    group = None
-    in_table = False
+def table_rows(path):
+    """(line number, header cells, cells) of every data row of every table of `path`."""
+    header = None
     for number, line in enumerate(path.read_text(encoding='utf-8').splitlines(), 1):
         if not line.startswith('|'):
-            in_table = False
-            continue
-        c = cells(line)
-        if len(c) >= 3 and c[0] == 'group' and c[1] == 'key':
-            in_table = True
-            group = None
-            continue
-        if not in_table or set(line.replace('|', '').strip()) <= set('-: '):
+            header = None
+        elif header is None:
+            header = cells(line)
+        elif not set(line.replace('|', '').strip()) <= set('-: '):
+            yield number, header, cells(line)
+
+
+def group_tables(path):
+    """{(group, key): [(where, meaning), ...]} of the `| group | key | meaning |` tables."""
+    rows = {}
+    group = None
+    for number, header, c in table_rows(path):
+        if header[:2] != ['group', 'key']:
             continue
         names = re.findall(r'`&([a-z_]+)`', c[0])
         if names:
@@ -73,22 +76,13 @@ def group_tables(path):
 
 
 def sensor_tables(path):
+    """The &sensor `| key | meaning |` table, and its `| type | ... |` table as the type row."""
     rows = {}
     type_words = []
-    table = None
-    for number, line in enumerate(path.read_text(encoding='utf-8').splitlines(), 1):
-        if not line.startswith('|'):
-            table = None
-            continue
-        c = cells(line)
-        if table is None:
-            table = {'key': 'keys', 'type': 'types'}.get(c[0])
-            continue
-        if set(line.replace('|', '').strip()) <= set('-: '):
-            continue
-        if table == 'keys':
+    for number, header, c in table_rows(path):
+        if header[0] == 'key':
             rows.setdefault(('sensor', c[0]), []).append((f'{path.name}:{number}', c[1]))
-        else:
+        elif header[0] == 'type':
             type_words += [(f'{path.name}:{number}', w) for w in backticked(c[0])]
     if type_words:
         rows.setdefault(('sensor', 'type'), []).append(
