@@ -91,8 +91,11 @@ module ffrf_mbs_joints
    !> The equations of each kind (the module header's table), kind_equations(:, :, JOINT_*):
    !> columns [equation kind EQ_*, index a, index b]; for EQ_POSITION index a is the global
    !> component, otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; zero columns after
-   !> the last equation. A named constant: evaluated at compile time.
-   integer, parameter :: kind_equations(3, max_table_equations, 6) = reshape([ &
+   !> the last equation. A named constant: evaluated at compile time; one kind per row of
+   !> joint_choices (JOINT_* numbered 1, 2, ...), so a row without its equations (or the other
+   !> way round) does not compile.
+   integer, parameter :: kind_equations(3, max_table_equations, size(joint_choices)) = &
+      reshape([ &
       ! JOINT_SPHERICAL: d = 0
       EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
       ! JOINT_REVOLUTE: d = 0, x_a.z_b = 0, y_a.z_b = 0
@@ -109,7 +112,7 @@ module ffrf_mbs_joints
       EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2, &
       ! JOINT_CYLINDRICAL: x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0
       EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, &
-      0, 0, 0, 0, 0, 0], [3, max_table_equations, 6])
+      0, 0, 0, 0, 0, 0], [3, max_table_equations, size(joint_choices)])
 
    !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
    !> marker_b of body b.
