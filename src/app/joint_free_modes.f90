@@ -19,7 +19,7 @@
 !> i of body k, turned to global by A_k; ffrf_mbs_joints: the marker axes of an interface are the body axes). A joint
 !> locks the relative motion components (du_2 - du_1, dphi_2 - dphi_1) in its frame:
 !>     spherical T xyz; revolute T xyz, R xy; universal T xyz, R z; prismatic T xy, R xyz;
-!>     fixed T xyz, R xyz
+!>     fixed T xyz, R xyz; cylindrical T xy, R xy
 !> (the linearisation of the equations of ffrf_mbs_joints: x_a.z_b = 0 holds R y, y_a.z_b = 0
 !> R x, x_a.y_b = 0 R z, x_a.d = 0 T x). Stacked: C_r r + C_eta eta = 0, rotations scaled by
 !> the body's size L (rows and rigid rotation columns) so that all entries are lengths.
@@ -41,7 +41,7 @@ module ffrf_app_joint_free_modes
    use ffrf_model_model, only: model_t
    use ffrf_mbs_rotation, only: frame_from_axis, identity3
    use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
-      JOINT_PRISMATIC, JOINT_FIXED
+      JOINT_PRISMATIC, JOINT_FIXED, JOINT_CYLINDRICAL
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mpc_interface, only: VIRTUAL_NODE_POSITION
    use ffrf_modes_fingerprint, only: set_joint_projection
@@ -169,6 +169,8 @@ contains
          locked = [.true., .true., .false., .true., .true., .true.]
       case (JOINT_FIXED)
          locked = .true.
+      case (JOINT_CYLINDRICAL)
+         locked = [.true., .true., .false., .true., .true., .false.]
       case default
          locked = .false.
       end select

@@ -4,10 +4,23 @@ module ffrf_input_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
-   use ffrf_mpc_interface, only: DOF_NAMES
+   use ffrf_core_choices, only: choice_t
+   use ffrf_mpc_interface, only: DOF_NAMES, MPC_RBE2, MPC_RBE3, WEIGHTING_UNIFORM, &
+      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
    implicit none
    private
    public :: interface_input_t, parse_dofs
+   public :: mpc_choices, weighting_choices, virtual_node_choices
+
+   !> The &interface choice tables: words (any case), kinds of ffrf_mpc_interface, names in
+   !> messages (docs/developer.md "One table per choice"); the key specs (interface_keys) take
+   !> their words from here, the model (ffrf_model_specs) their kinds
+   type(choice_t), parameter :: mpc_choices(*) = [choice_t('RBE2', MPC_RBE2), &
+      choice_t('RBE3', MPC_RBE3)]
+   type(choice_t), parameter :: weighting_choices(*) = [choice_t('uniform', WEIGHTING_UNIFORM), &
+      choice_t('area', WEIGHTING_AREA), choice_t('area_consistent', WEIGHTING_AREA_CONSISTENT)]
+   type(choice_t), parameter :: virtual_node_choices(*) = [ &
+      choice_t('centroid', VIRTUAL_NODE_CENTROID), choice_t('position', VIRTUAL_NODE_POSITION)]
 
    !> One interface as the user describes it (namelist group &interface).
    type :: interface_input_t

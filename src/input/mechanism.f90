@@ -4,6 +4,7 @@
 !> so.
 module ffrf_input_mechanism
    use ffrf_core_kinds, only: dp, i8
+   use ffrf_core_choices, only: choice_t
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
@@ -14,9 +15,28 @@ module ffrf_input_mechanism
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
    public :: spring_input_t, time_law_input_t, driver_input_t, law_function
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
+   public :: load_choices, selection_choices
+   public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
+   public :: SELECTION_MANUAL, SELECTION_AUTO
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
    character(len=*), parameter :: GROUND_NAME = 'ground'
+
+   !> Load kinds (&load type): the cylinder gas force (&pressure), the starter torque, the drag
+   !> torque T = -c omega |omega|, a constant force, a constant torque (the model resolves the
+   !> word, ffrf_model_mechanism; the builder makes the load)
+   integer, parameter :: LOAD_PRESSURE = 1, LOAD_STARTER = 2, LOAD_DRAG = 3, &
+      LOAD_CONSTANT_FORCE = 4, LOAD_CONSTANT_TORQUE = 5
+   !> The load kinds' table: &load type words, kinds, names in messages (docs/developer.md
+   !> "One table per choice")
+   type(choice_t), parameter :: load_choices(*) = [choice_t('pressure', LOAD_PRESSURE), &
+      choice_t('starter', LOAD_STARTER), choice_t('drag', LOAD_DRAG), &
+      choice_t('force', LOAD_CONSTANT_FORCE), choice_t('torque', LOAD_CONSTANT_TORQUE)]
+   !> &model selection: none (manual defaults) or the automatic model of an engine run
+   integer, parameter :: SELECTION_MANUAL = 0, SELECTION_AUTO = 1
+   !> The &model selection table
+   type(choice_t), parameter :: selection_choices(*) = [choice_t('auto', SELECTION_AUTO), &
+      choice_t('manual', SELECTION_MANUAL)]
 
    !> How a &body moves in a mechanism run.
    type :: body_motion_input_t
@@ -63,7 +83,7 @@ module ffrf_input_mechanism
    !> A joint between a marker of body1 and a marker of body2 (&joint).
    type :: joint_input_t
       character(len=64) :: name = ''
-      !> revolute, prismatic, spherical, universal or fixed
+      !> A word of joint_choices (ffrf_mbs_joints): 'revolute', ...
       character(len=16) :: type = ''
       !> Bodies and markers; a flexible body's markers are its interfaces (virtual nodes)
       character(len=64) :: body1 = '', marker1 = '', body2 = '', marker2 = ''
@@ -104,8 +124,8 @@ module ffrf_input_mechanism
    !> An applied load on a body at one of its markers (&load).
    type :: load_input_t
       character(len=64) :: name = ''
-      !> pressure (in-cylinder gas force, &pressure), starter, drag (T = -c omega |omega|),
-      !> force or torque (constant value)
+      !> A word of load_choices: pressure (in-cylinder gas force, &pressure), starter, drag
+      !> (T = -c omega |omega|), force or torque (constant value)
       character(len=16) :: type = ''
       character(len=64) :: body = '', marker = ''
       !> Global direction of the force or axis of the moment

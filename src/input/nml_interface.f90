@@ -13,7 +13,9 @@ module ffrf_input_nml_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_input_interface, only: interface_input_t, parse_dofs
+   use ffrf_core_choices, only: choice_words
+   use ffrf_input_interface, only: interface_input_t, parse_dofs, mpc_choices, &
+      weighting_choices, virtual_node_choices
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
    implicit none
@@ -25,9 +27,10 @@ contains
    !> Keys of &interface, their types and ranges (module header).
    function interface_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [string_key('body', 64), string_key('name', 64), choice_key('mpc', 8, 'RBE2, RBE3'), &
-         choice_key('weighting', 16, 'uniform, area, area_consistent'), &
-         choice_key('virtual_node', 16, 'centroid, position'), &
+      keys = [string_key('body', 64), string_key('name', 64), &
+         choice_key('mpc', 8, choice_words(mpc_choices)), &
+         choice_key('weighting', 16, choice_words(weighting_choices)), &
+         choice_key('virtual_node', 16, choice_words(virtual_node_choices)), &
          real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), string_key('rc', 64)]
    end function interface_keys
 
@@ -70,24 +73,7 @@ contains
                ': body and name (the physical surface) are required')
             return
          end if
-         if (all(to_lower(mpc) /= [character(len=8) :: 'rbe2', 'rbe3'])) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
-               trim(name) // '": mpc = "' // trim(mpc) // '"; use "RBE2" or "RBE3"')
-            return
-         end if
-         if (all(to_lower(weighting) /= [character(len=16) :: 'uniform', 'area', &
-            'area_consistent'])) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
-               trim(name) // '": weighting = "' // trim(weighting) // '"; use "uniform", ' // &
-               '"area" or "area_consistent"')
-            return
-         end if
-         if (all(to_lower(virtual_node) /= [character(len=16) :: 'centroid', 'position'])) then
-            call fatal_error(error, FFRF_INPUT_ERROR, '&interface #' // to_str(k) // ' "' // &
-               trim(name) // '": virtual_node = "' // trim(virtual_node) // &
-               '"; use "centroid" or "position"')
-            return
-         end if
+         ! mpc, weighting and virtual_node were checked by the key spec (interface_keys)
          call parse_dofs(rc, dofs, error)
          if (allocated(error)) then
             call add_context(error, src%where('interface', k, 'rc'))

@@ -3,7 +3,7 @@
 !>                progress_interval [s], animation_frames                     (optional, single)
 !>   &marker      body, name, position [m, body frame; ground: global]       (repeatable)
 !>   &joint       name, type, body1, marker1, body2, marker2, axis            (repeatable)
-!>   &load        name, type (pressure|starter|drag|force|torque), body, marker, direction,
+!>   &load        name, type (a word of load_choices), body, marker, direction,
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
 !>   &spring      name, body1, marker1, body2, marker2, stiffness [N/m], damping [N s/m],
 !>                free_length [m]                                             (repeatable)
@@ -40,8 +40,8 @@
 !>               /energy like any applied load); progress_interval in (0, 1e6] s;
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
 !>   &marker     position: 3 reals in [-1e4, 1e4] m
-!>   &joint      type: revolute, prismatic, spherical, universal or fixed; axis: 3 reals in
-!>               [-1e6, 1e6], not all zero
+!>   &joint      type: a word of joint_choices (ffrf_mbs_joints); axis: 3 reals in [-1e6, 1e6],
+!>               not all zero
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
 !>               N m; stall_torque in [0, 1e9] N m; free_speed in (0, 1e5] rad/s; switch_off in
 !>               [0, 1e6] s; coefficient in [0, 1e9] N m s^2
@@ -80,20 +80,21 @@
 module ffrf_input_nml_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_strings, only: to_str, to_lower, join_words
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
-      driver_input_t, time_law_input_t, law_function
+      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
-   use ffrf_mbs_joints, only: joint_kinds
+   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
+   use ffrf_mbs_joints, only: joint_choices
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
-      energy_watch_word
+      energy_watch_word, ENERGY_WATCH_WORDS
    implicit none
    private
    public :: read_mechanism_groups
@@ -103,8 +104,10 @@ module ffrf_input_nml_mechanism
    !> The law keys, for messages (module header)
    character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
       'duration, table_time, table_value, interpolation, beyond'
-   !> Load types &load accepts
-   character(len=*), parameter :: load_types = 'pressure, starter, drag, force, torque'
+   !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
+   type(choice_t), parameter :: jacobian_choices(*) = [ &
+      choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
+      choice_t('full', GALPHA_NEWTON_FULL)]
 
 contains
 
@@ -128,7 +131,7 @@ contains
    !> Keys of &joint (module header).
    function joint_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [string_key('name', 64), choice_key('type', 16, joint_kinds), &
+      keys = [string_key('name', 64), choice_key('type', 16, choice_words(joint_choices)), &
          string_key('body1', 64), string_key('marker1', 64), string_key('body2', 64), &
          string_key('marker2', 64), real_key('axis', -1.0e6_dp, 1.0e6_dp, '', count=3)]
    end function joint_keys
@@ -136,7 +139,7 @@ contains
    !> Keys of &load (module header).
    function load_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [string_key('name', 64), choice_key('type', 16, load_types), &
+      keys = [string_key('name', 64), choice_key('type', 16, choice_words(load_choices)), &
          string_key('body', 64), string_key('marker', 64), &
          real_key('direction', -1.0e6_dp, 1.0e6_dp, '', count=3), &
          real_key('value', -1.0e12_dp, 1.0e12_dp, 'N or N m'), &
@@ -202,13 +205,13 @@ contains
          integer_key('max_iterations', 1_i8, 1000_i8), &
          real_key('min_step', 0.0_dp, 10.0_dp, 's', lower_open=.true.), &
          real_key('rank_rtol', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
-         choice_key('jacobian', 16, 'adaptive, step, full'), &
+         choice_key('jacobian', 16, choice_words(jacobian_choices)), &
          integer_key('tangent_reuse', 0_i8, 1000000_i8), &
          integer_key('sparse_threshold', 1_i8, int(huge(1), i8)), &
          integer_key('max_steps', 1_i8, 1000000000000_i8, in_namelist=.false.), &
          integer_key('checkpoint_steps', 0_i8, int(huge(1), i8)), &
          real_key('checkpoint_seconds', 0.0_dp, 1.0e9_dp, 's'), &
-         choice_key('energy_watch', 16, 'off, warn, stop'), &
+         choice_key('energy_watch', 16, join_words(ENERGY_WATCH_WORDS, ', ')), &
          real_key('energy_watch_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true.), &
          real_key('energy_watch_window', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.)]
    end function integrator_keys
@@ -216,7 +219,7 @@ contains
    !> Keys of &model (module header).
    function model_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [choice_key('selection', 16, 'auto, manual'), &
+      keys = [choice_key('selection', 16, choice_words(selection_choices)), &
          real_key('speed_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          real_key('force_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          integer_key('candidate_modes', 1_i8, 200_i8), &
@@ -279,24 +282,8 @@ contains
             'force_tolerance, candidate_modes, resonance_floor')
          return
       end if
+      ! selection's word and the ranges were checked by the key spec (model_keys)
       selection = to_lower(selection)
-      if (all(selection /= [character(len=16) :: 'auto', 'manual'])) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: selection = ''' // trim(selection) &
-            // ''', must be ''auto'' or ''manual''')
-      else if (.not. (speed_tolerance > 0.0_dp .and. speed_tolerance < 1.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: speed_tolerance = ' // &
-            to_str(speed_tolerance) // ', must lie in (0, 1) (relative error, e.g. 1e-3)')
-      else if (.not. (force_tolerance > 0.0_dp .and. force_tolerance < 1.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: force_tolerance = ' // &
-            to_str(force_tolerance) // ', must lie in (0, 1) (relative error, e.g. 1e-2)')
-      else if (.not. (resonance_floor > 0.0_dp .and. resonance_floor <= 1.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: resonance_floor = ' // &
-            to_str(resonance_floor) // ', must lie in (0, 1]')
-      else if (candidate_modes < 1 .or. candidate_modes > 200) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: candidate_modes = ' // &
-            to_str(candidate_modes) // ', must lie in 1..200')
-      end if
-      if (allocated(error)) return
       input%selection = selection
       input%speed_tolerance = speed_tolerance
       input%force_tolerance = force_tolerance
@@ -418,9 +405,10 @@ contains
          else if (any(joints%name == name)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'name') // &
                ': the name is used twice; joint names must be unique')
-         else if (index(joint_kinds, trim(type)) == 0 .or. len_trim(type) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type = ''' // trim(type) // &
-               ''', must be one of ' // joint_kinds)
+         else if (len_trim(type) == 0) then
+            ! a word given was checked by the key spec (joint_keys); here only its absence
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type is missing; give one of ' &
+               // choice_words(joint_choices))
          else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
             len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
@@ -490,10 +478,10 @@ contains
          type = to_lower(type)
          if (len_trim(name) == 0) name = type
          where = src%where('load', k, '') // ' "' // trim(name) // '"'
-         if (all(type /= [character(len=16) :: 'pressure', 'starter', 'drag', 'force', &
-            'torque'])) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type = ''' // trim(type) // &
-               ''', must be one of ' // load_types)
+         if (len_trim(type) == 0) then
+            ! a word given was checked by the key spec (load_keys); here only its absence
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type is missing; give one of ' &
+               // choice_words(load_choices))
          else if (len_trim(body) == 0 .or. len_trim(marker) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body and marker are required')
          else if (.not. (norm2(direction) > 0.0_dp)) then
@@ -757,14 +745,7 @@ contains
       rank_rtol = settings%rank_rtol
       tangent_reuse = settings%tangent_reuse
       sparse_threshold = settings%sparse_threshold
-      select case (settings%jacobian)
-      case (GALPHA_NEWTON_FULL)
-         jacobian = 'full'
-      case (GALPHA_NEWTON_ADAPTIVE)
-         jacobian = 'adaptive'
-      case default
-         jacobian = 'step'
-      end select
+      jacobian = choice_name(jacobian_choices, settings%jacobian, 'step')
       rewind (unit)
       read (unit, nml=integrator, iostat=stat, iomsg=msg)
       if (.not. is_iostat_end(stat)) then
@@ -789,26 +770,11 @@ contains
       settings%sparse_threshold = sparse_threshold
       settings%checkpoint_seconds = checkpoint_seconds
       settings%checkpoint_steps = checkpoint_steps
+      ! the words of energy_watch and jacobian were checked by the key spec (integrator_keys)
       watch%mode = energy_watch_kind(to_lower(energy_watch))
-      if (watch%mode == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&integrator: energy_watch = ''' // &
-            trim(energy_watch) // ''', must be ''off'', ''warn'' or ''stop''')
-         return
-      end if
       watch%tolerance = energy_watch_tolerance
       watch%window = energy_watch_window
-      select case (to_lower(jacobian))
-      case ('adaptive')
-         settings%jacobian = GALPHA_NEWTON_ADAPTIVE
-      case ('step')
-         settings%jacobian = GALPHA_NEWTON_STEP
-      case ('full')
-         settings%jacobian = GALPHA_NEWTON_FULL
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, '&integrator: jacobian = ''' // &
-            trim(jacobian) // ''', must be ''adaptive'', ''step'' or ''full''')
-         return
-      end select
+      settings%jacobian = jacobian_choices(choice_position(jacobian_choices, jacobian))%kind
       if (.not. (settings%min_step <= settings%h)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'min_step') // &
             ': must not exceed h = ' // to_str(settings%h) // ' s')

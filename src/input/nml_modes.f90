@@ -33,7 +33,9 @@ module ffrf_input_nml_modes
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR
    use ffrf_core_posix, only: file_kind, file_kind_name, FILE_DIRECTORY, FILE_MISSING
    use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_input_modes, only: modes_input_t
+   use ffrf_core_choices, only: choice_words
+   use ffrf_input_modes, only: modes_input_t, formulation_choices, basis_choices, &
+      eigensolver_choices
    use ffrf_modes_shift_invert, only: DEFAULT_WINDOW_SIZE
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
@@ -49,13 +51,14 @@ contains
       type(key_spec_t), allocatable :: keys(:)
       keys = [integer_key('num_modes', 1_i8, 10000_i8), &
          real_key('shift_hz', -1.0e9_dp, 1.0e9_dp, 'Hz'), &
-         choice_key('formulation', 16, 'multipliers, null_space'), string_key('rc_label', 64), &
+         choice_key('formulation', 16, choice_words(formulation_choices)), &
+         string_key('rc_label', 64), &
          real_key('tolerance', 0.0_dp, 1.0e-2_dp, '', upper_open=.true.), &
          integer_key('lanczos_vectors', 0_i8, 100000_i8), &
-         choice_key('basis', 16, 'rc_normal, craig_bampton'), logical_key('out_of_core'), &
+         choice_key('basis', 16, choice_words(basis_choices)), logical_key('out_of_core'), &
          string_key('ooc_tmpdir', 256), integer_key('memory_limit_mb', -1_i8, 1000000000_i8), &
          real_key('compression_tolerance', 0.0_dp, 1.0_dp, '', upper_open=.true.), &
-         choice_key('eigensolver', 16, 'auto, arpack, block'), &
+         choice_key('eigensolver', 16, choice_words(eigensolver_choices)), &
          real_key('max_frequency_hz', 0.0_dp, 1.0e9_dp, 'Hz'), logical_key('sturm_check')]
    end function modes_keys
 
@@ -111,30 +114,14 @@ contains
       formulation = to_lower(formulation)
       basis = to_lower(basis)
       eigensolver = to_lower(eigensolver)
-      if (num_modes < 1 .or. num_modes > 10000) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: num_modes = ' // to_str(num_modes) // &
-            ', must lie in 1..10000')
-      else if (shift_hz /= shift_hz) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: shift_hz is NaN')
-      else if (all(formulation /= [character(len=16) :: 'multipliers', 'null_space'])) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: formulation = "' // &
-            trim(formulation) // '"; use "multipliers" or "null_space"')
-      else if (all(basis /= [character(len=16) :: 'rc_normal', 'craig_bampton'])) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: basis = "' // trim(basis) // &
-            '"; use "rc_normal" (constrained normal modes) or "craig_bampton"')
-      else if (all(eigensolver /= [character(len=16) :: 'auto', 'arpack', 'block'])) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'eigensolver') // &
-            ': "' // trim(eigensolver) // '"; use "auto" (default), "arpack" or "block"')
-      else if (lanczos_vectors /= 0 .and. lanczos_vectors <= min(num_modes, &
+      ! the ranges, shift_hz's finiteness and the words of formulation, basis and eigensolver
+      ! were checked by the key spec (modes_keys); here the rules between keys
+      if (lanczos_vectors /= 0 .and. lanczos_vectors <= min(num_modes, &
                int(DEFAULT_WINDOW_SIZE))) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'lanczos_vectors') // &
             ': must exceed num_modes = ' // to_str(num_modes) // ' (at most the ' // &
             to_str(DEFAULT_WINDOW_SIZE) // ' modes of one shift window; about twice that; ' // &
             '0 = automatic)')
-      else if (.not. (max_frequency_hz >= 0.0_dp .and. max_frequency_hz <= 1.0e9_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'max_frequency_hz') // &
-            ': ' // to_str(max_frequency_hz) // ' Hz, must lie in [0, 1e9] (0: off, the ' // &
-            'num_modes lowest modes)')
       else if (max_frequency_hz > 0.0_dp .and. shift_hz > 0.0_dp) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'shift_hz') // &
             ' Hz cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: ' // &
@@ -145,17 +132,6 @@ contains
             ' cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: the ' // &
             'Sturm counts are how the shift windows find every mode below it; remove ' // &
             'sturm_check = .false. or max_frequency_hz')
-      else if (.not. (tolerance >= 0.0_dp .and. tolerance < 1.0e-2_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: tolerance = ' // to_str(tolerance) // &
-            ', must lie in [0, 1e-2)')
-      else if (memory_limit_mb < -1) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: memory_limit_mb = ' // &
-            to_str(memory_limit_mb) // ', must be -1 (automatic: MemAvailable), 0 (no ' // &
-            'check) or a size in MB')
-      else if (.not. (compression_tolerance >= 0.0_dp .and. compression_tolerance < 1.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: compression_tolerance = ' // &
-            to_str(compression_tolerance) // ', must lie in [0, 1) (0: full-rank factors; ' // &
-            'e.g. 1e-8)')
       else if (compression_tolerance > 0.0_dp) then
          ! Measured on this toolchain (docs/performance.md "Large meshes"): about one BLR analysis
          ! in four ends with SIGSEGV inside SCOTCH, and the crank's fronts hardly compress.

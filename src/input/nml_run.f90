@@ -9,14 +9,20 @@
 !> Types, lengths and choices are checked by ffrf_input_nml_source from run_keys; the output
 !> paths by ffrf_input_case.
 module ffrf_input_nml_run
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_lower
+   use ffrf_core_choices, only: choice_t, choice_words, choice_position
    use ffrf_core_log, only: LOG_QUIET, LOG_INFO, LOG_DEBUG
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key
    implicit none
    private
    public :: run_input_t, read_run_group, run_keys, log_level_code
+
+   !> The &run log_level table (LOG_* of ffrf_core_log; docs/developer.md "One table per
+   !> choice")
+   type(choice_t), parameter :: log_level_choices(*) = [choice_t('quiet', LOG_QUIET), &
+      choice_t('info', LOG_INFO), choice_t('debug', LOG_DEBUG)]
 
    !> Resolved &run input.
    type :: run_input_t
@@ -32,7 +38,8 @@ contains
    function run_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('title', 256), string_key('output', 256), &
-         string_key('mode_shapes_msh', 256), choice_key('log_level', 16, 'quiet, info, debug')]
+         string_key('mode_shapes_msh', 256), choice_key('log_level', 16, &
+         choice_words(log_level_choices))]
    end function run_keys
 
    !> Read &run from an open case file (optional group; defaults kept when absent).
@@ -57,12 +64,8 @@ contains
             'title, output, mode_shapes_msh, log_level')
          return
       end if
+      ! log_level's word was checked by the key spec (run_keys)
       log_level = to_lower(log_level)
-      if (all(log_level /= [character(len=16) :: 'quiet', 'info', 'debug'])) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&run: log_level = "' // trim(log_level) // &
-            '"; use "quiet", "info" or "debug"')
-         return
-      end if
       input = run_input_t(title, output, mode_shapes_msh, log_level)
    end subroutine read_run_group
 
@@ -70,14 +73,10 @@ contains
    !> word ('quiet', 'info', 'debug'; any case); LOG_INFO for any other word.
    pure integer function log_level_code(word)
       character(len=*), intent(in) :: word
-      select case (to_lower(trim(adjustl(word))))
-      case ('quiet')
-         log_level_code = LOG_QUIET
-      case ('debug')
-         log_level_code = LOG_DEBUG
-      case default
-         log_level_code = LOG_INFO
-      end select
+      integer :: position
+      position = choice_position(log_level_choices, word)
+      log_level_code = LOG_INFO
+      if (position > 0) log_level_code = log_level_choices(position)%kind
    end function log_level_code
 
 end module ffrf_input_nml_run

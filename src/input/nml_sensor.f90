@@ -72,8 +72,9 @@ contains
          where = src%where('sensor', k, '') // ' "' // trim(name) // '"'
          kind = sensor_kind_of(type)
          if (kind == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'type') // &
-               ': type = ''' // trim(type) // ''', must be one of ' // sensor_words)
+            ! a word given was checked by the key spec (sensor_keys); here only its absence
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, '') // &
+               ': type is missing; give one of ' // sensor_words)
          else if (any(sensors%name == name)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
                ': sensor "' // trim(name) // '" is given twice; sensor names must be unique')

@@ -16,13 +16,15 @@
 !> coincide (the perpendicularity equations also hold for some flipped poses, e.g. z_b = -z_a:
 !> assemble from a pose near the intended one).
 !>
-!> | kind      | equations                                             | n | free relative motion |
-!> |-----------|-------------------------------------------------------|---|----------------------|
-!> | spherical | d = 0                                                 | 3 | 3 rotations          |
-!> | revolute  | d = 0, x_a.z_b = 0, y_a.z_b = 0                       | 5 | rotation about z     |
-!> | universal | d = 0, x_a.y_b = 0                                    | 4 | about x_a and y_b    |
-!> | prismatic | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = x_a.y_b = 0    | 5 | translation along z  |
-!> | fixed     | d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0          | 6 | none                 |
+!> | kind        | equations                                          | n | free relative motion   |
+!> |-------------|----------------------------------------------------|---|------------------------|
+!> | spherical   | d = 0                                              | 3 | 3 rotations            |
+!> | revolute    | d = 0, x_a.z_b = 0, y_a.z_b = 0                    | 5 | rotation about z       |
+!> | universal   | d = 0, x_a.y_b = 0                                 | 4 | about x_a and y_b      |
+!> | prismatic   | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = x_a.y_b = 0 | 5 | translation along z    |
+!> | fixed       | d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0       | 6 | none                   |
+!> | cylindrical | x_a.d = y_a.d = 0, x_a.z_b = y_a.z_b = 0           | 4 | rotation about and     |
+!> |             |                                                    |   | translation along z    |
 !>
 !> Universal joint (Cardan): the shafts are the z axes of the markers; the cross has its arm
 !> fixed in body a along x_a and its arm fixed in body b along y_b, kept perpendicular. It
@@ -52,15 +54,15 @@ module ffrf_mbs_joints
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_choices, only: choice_t, choice_words, choice_name
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_dae_system, only: fd_step
    implicit none
    private
-   public :: joint_t, table_joint_t
-   public :: spherical_joint_t, revolute_joint_t, universal_joint_t, prismatic_joint_t
-   public :: fixed_joint_t
-   public :: new_joint, joint_reaction, joint_kinds, joint_kind_name
+   public :: joint_t, table_joint_t, kind_joint_t
+   public :: new_joint, joint_reaction, joint_choices, joint_kind_name
    public :: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
+   public :: JOINT_CYLINDRICAL
    public :: EQ_POSITION, EQ_LATERAL, EQ_PERPENDICULAR
 
    !> Equation kind: a global component of d = r_b - r_a
@@ -76,10 +78,41 @@ module ffrf_mbs_joints
    !> Joint kinds, as new_joint and mechanism_t%add_joint take them (the model maps the &joint
    !> type words onto them: ffrf_model_mechanism)
    integer, parameter :: JOINT_SPHERICAL = 1, JOINT_REVOLUTE = 2, JOINT_UNIVERSAL = 3, &
-      JOINT_PRISMATIC = 4, JOINT_FIXED = 5
+      JOINT_PRISMATIC = 4, JOINT_FIXED = 5, JOINT_CYLINDRICAL = 6
 
-   !> The names of the joint kinds (joint_kind_name), for messages
-   character(len=*), parameter :: joint_kinds = 'revolute, prismatic, spherical, universal, fixed'
+   !> The joint kinds' table: the &joint type words, the kinds they stand for and the names in
+   !> messages and results (joint_kind_name), in the order messages list them
+   !> (docs/developer.md "One table per choice")
+   type(choice_t), parameter :: joint_choices(*) = [choice_t('revolute', JOINT_REVOLUTE), &
+      choice_t('prismatic', JOINT_PRISMATIC), choice_t('spherical', JOINT_SPHERICAL), &
+      choice_t('universal', JOINT_UNIVERSAL), choice_t('fixed', JOINT_FIXED), &
+      choice_t('cylindrical', JOINT_CYLINDRICAL)]
+
+   !> The equations of each kind (the module header's table), kind_equations(:, :, JOINT_*):
+   !> columns [equation kind EQ_*, index a, index b]; for EQ_POSITION index a is the global
+   !> component, otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; zero columns after
+   !> the last equation. A named constant: evaluated at compile time; one kind per row of
+   !> joint_choices (JOINT_* numbered 1, 2, ...), so a row without its equations (or the other
+   !> way round) does not compile.
+   integer, parameter :: kind_equations(3, max_table_equations, size(joint_choices)) = &
+      reshape([ &
+      ! JOINT_SPHERICAL: d = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+      ! JOINT_REVOLUTE: d = 0, x_a.z_b = 0, y_a.z_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, 0, 0, 0, &
+      ! JOINT_UNIVERSAL: d = 0, x_a.y_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, EQ_PERPENDICULAR, 1, 2, &
+      0, 0, 0, 0, 0, 0, &
+      ! JOINT_PRISMATIC: x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0
+      EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, &
+      EQ_PERPENDICULAR, 1, 2, 0, 0, 0, &
+      ! JOINT_FIXED: d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0
+      EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
+      EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2, &
+      ! JOINT_CYLINDRICAL: x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0
+      EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, &
+      0, 0, 0, 0, 0, 0], [3, max_table_equations, size(joint_choices)])
 
    !> A joint: num_equations algebraic equations Phi(q_a, q_b) = 0 between marker_a of body a and
    !> marker_b of body b.
@@ -88,9 +121,11 @@ module ffrf_mbs_joints
       integer :: num_equations = 0
       !> Marker of body a and of body b (set by connect)
       integer :: marker_a = 0, marker_b = 0
+      !> Its kind (JOINT_*, set by new_joint)
+      integer :: kind = 0
    contains
       !> The name of its kind ('revolute', ...: joint_kind_name of its JOINT_* kind)
-      procedure(joint_kind_name_interface), deferred :: kind_name
+      procedure :: kind_name => joint_kind_name_of
       !> Phi(q_a, q_b)
       procedure(joint_residual), deferred :: residual
       !> dPhi/dq_a, dPhi/dq_b
@@ -106,15 +141,6 @@ module ffrf_mbs_joints
    end type joint_t
 
    abstract interface
-      !> Name of the joint kind.
-      pure function joint_kind_name_interface(self) result(name)
-         import :: joint_t
-         implicit none
-         !> The joint
-         class(joint_t), intent(in) :: self
-         character(len=:), allocatable :: name
-      end function joint_kind_name_interface
-
       !> Constraint residuals.
       pure subroutine joint_residual(self, body_a, q_a, body_b, q_b, phi)
          import :: joint_t, body_t, dp
@@ -184,7 +210,7 @@ module ffrf_mbs_joints
       !> Equations as columns [kind (EQ_*), index a, index b]: for EQ_POSITION index a is the
       !> global component; otherwise the marker axes (1 = x, 2 = y, 3 = z) of a and b; unused
       !> columns (kind 0) after the last equation
-      procedure(joint_table), deferred, nopass :: equation_table
+      procedure(joint_table), deferred :: equation_table
       procedure :: connect => table_joint_connect
       procedure :: residual => table_joint_residual
       procedure :: jacobian => table_joint_jacobian
@@ -195,56 +221,28 @@ module ffrf_mbs_joints
 
    abstract interface
       !> Equation table (3, max_table_equations), unused columns zero.
-      pure function joint_table() result(table)
-         import :: max_table_equations
+      pure function joint_table(self) result(table)
+         import :: table_joint_t, max_table_equations
          implicit none
+         class(table_joint_t), intent(in) :: self
          integer :: table(3, max_table_equations)
       end function joint_table
    end interface
 
-   !> Spherical joint: d = 0.
-   type, extends(table_joint_t) :: spherical_joint_t
+   !> A joint of one of the JOINT_* kinds: its equations are the kind's column of
+   !> kind_equations (the module header's table).
+   type, extends(table_joint_t) :: kind_joint_t
    contains
-      procedure :: kind_name => spherical_name
-      procedure, nopass :: equation_table => spherical_table
-   end type spherical_joint_t
-
-   !> Revolute joint about the markers' z axis: d = 0, x_a.z_b = 0, y_a.z_b = 0.
-   type, extends(table_joint_t) :: revolute_joint_t
-   contains
-      procedure :: kind_name => revolute_name
-      procedure, nopass :: equation_table => revolute_table
-   end type revolute_joint_t
-
-   !> Universal (Cardan) joint: d = 0, x_a.y_b = 0 (shafts along z, cross arms x_a and y_b).
-   type, extends(table_joint_t) :: universal_joint_t
-   contains
-      procedure :: kind_name => universal_name
-      procedure, nopass :: equation_table => universal_table
-   end type universal_joint_t
-
-   !> Prismatic joint along marker a's z axis: x_a.d = 0, y_a.d = 0 and the frames parallel
-   !> (x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0).
-   type, extends(table_joint_t) :: prismatic_joint_t
-   contains
-      procedure :: kind_name => prismatic_name
-      procedure, nopass :: equation_table => prismatic_table
-   end type prismatic_joint_t
-
-   !> Fixed (welded) joint: d = 0 and the frames parallel.
-   type, extends(table_joint_t) :: fixed_joint_t
-   contains
-      procedure :: kind_name => fixed_name
-      procedure, nopass :: equation_table => fixed_table
-   end type fixed_joint_t
+      procedure :: equation_table => kind_joint_table
+   end type kind_joint_t
 
 contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Factory and common procedures
 
-   !> Allocate a joint of `kind` (JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL,
-   !> JOINT_PRISMATIC or JOINT_FIXED). Any other value is an FFRF_INPUT_ERROR listing the valid
+   !> Allocate a joint of `kind` (a JOINT_* of joint_choices: its equations are the kind's
+   !> column of kind_equations). Any other value is an FFRF_INPUT_ERROR listing the valid
    !> kinds. The joint still has to be connected to its markers (connect).
    subroutine new_joint(kind, joint, error)
       !> Joint kind (JOINT_*)
@@ -252,22 +250,14 @@ contains
       !> The new joint
       class(joint_t), allocatable, intent(out) :: joint
       type(error_t), allocatable, intent(out) :: error
-      select case (kind)
-      case (JOINT_SPHERICAL)
-         allocate (spherical_joint_t :: joint)
-      case (JOINT_REVOLUTE)
-         allocate (revolute_joint_t :: joint)
-      case (JOINT_UNIVERSAL)
-         allocate (universal_joint_t :: joint)
-      case (JOINT_PRISMATIC)
-         allocate (prismatic_joint_t :: joint)
-      case (JOINT_FIXED)
-         allocate (fixed_joint_t :: joint)
-      case default
+      if (choice_name(joint_choices, kind, '') == '') then
          call fatal_error(error, FFRF_INPUT_ERROR, 'joint kind ' // to_str(kind) // &
-            ' is unknown; valid kinds: JOINT_* of ffrf_mbs_joints (' // joint_kinds // ')')
+            ' is unknown; valid kinds: JOINT_* of ffrf_mbs_joints (' // &
+            choice_words(joint_choices) // ')')
          return
-      end select
+      end if
+      allocate (kind_joint_t :: joint)
+      joint%kind = kind
       select type (joint)
       class is (table_joint_t)
          joint%num_equations = table_size(joint%equation_table())
@@ -280,21 +270,15 @@ contains
       !> Joint kind (JOINT_*)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (JOINT_SPHERICAL)
-         name = 'spherical'
-      case (JOINT_REVOLUTE)
-         name = 'revolute'
-      case (JOINT_UNIVERSAL)
-         name = 'universal'
-      case (JOINT_PRISMATIC)
-         name = 'prismatic'
-      case (JOINT_FIXED)
-         name = 'fixed'
-      case default
-         name = 'unknown'
-      end select
+      name = choice_name(joint_choices, kind)
    end function joint_kind_name
+
+   !> The name of the joint's kind (joint_kind_name).
+   pure function joint_kind_name_of(self) result(name)
+      class(joint_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = joint_kind_name(self%kind)
+   end function joint_kind_name_of
 
    !> Attach the joint to marker marker_a of body a and marker_b of body b; checks that the
    !> markers exist.
@@ -718,93 +702,11 @@ contains
       c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
    end function cross
 
-   ! ----------------------------------------------------------------------------------------------
-   ! The kinds: name and equation table [kind, index a, index b] per equation
-
-   pure function spherical_name(self) result(name)
-      class(spherical_joint_t), intent(in) :: self
-      character(len=:), allocatable :: name
-      name = 'spherical'
-      if (same_type_as(self, self)) return
-   end function spherical_name
-
-   !> d = 0.
-   pure function spherical_table() result(table)
+   !> The equations of the joint's kind (kind_equations).
+   pure function kind_joint_table(self) result(table)
+      class(kind_joint_t), intent(in) :: self
       integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: spherical_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0], &
-         [3, max_table_equations], pad=[0])
-      table = spherical_equations
-   end function spherical_table
-
-   pure function revolute_name(self) result(name)
-      class(revolute_joint_t), intent(in) :: self
-      character(len=:), allocatable :: name
-      name = 'revolute'
-      if (same_type_as(self, self)) return
-   end function revolute_name
-
-   !> d = 0, x_a.z_b = 0, y_a.z_b = 0.
-   pure function revolute_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: revolute_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3], [3, max_table_equations], pad=[0])
-      table = revolute_equations
-   end function revolute_table
-
-   pure function universal_name(self) result(name)
-      class(universal_joint_t), intent(in) :: self
-      character(len=:), allocatable :: name
-      name = 'universal'
-      if (same_type_as(self, self)) return
-   end function universal_name
-
-   !> d = 0, x_a.y_b = 0.
-   pure function universal_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: universal_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
-      table = universal_equations
-   end function universal_table
-
-   pure function prismatic_name(self) result(name)
-      class(prismatic_joint_t), intent(in) :: self
-      character(len=:), allocatable :: name
-      name = 'prismatic'
-      if (same_type_as(self, self)) return
-   end function prismatic_name
-
-   !> x_a.d = 0, y_a.d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
-   pure function prismatic_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: prismatic_equations(3, max_table_equations) = &
-         reshape([EQ_LATERAL, 1, 0, EQ_LATERAL, 2, 0, EQ_PERPENDICULAR, 1, 3, &
-         EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], [3, max_table_equations], pad=[0])
-      table = prismatic_equations
-   end function prismatic_table
-
-   pure function fixed_name(self) result(name)
-      class(fixed_joint_t), intent(in) :: self
-      character(len=:), allocatable :: name
-      name = 'fixed'
-      if (same_type_as(self, self)) return
-   end function fixed_name
-
-   !> d = 0, x_a.z_b = 0, y_a.z_b = 0, x_a.y_b = 0.
-   pure function fixed_table() result(table)
-      integer :: table(3, max_table_equations)
-      ! a named constant: the reshape is evaluated at compile time, not per call
-      integer, parameter :: fixed_equations(3, max_table_equations) = &
-         reshape([EQ_POSITION, 1, 0, EQ_POSITION, 2, 0, EQ_POSITION, 3, 0, &
-         EQ_PERPENDICULAR, 1, 3, EQ_PERPENDICULAR, 2, 3, EQ_PERPENDICULAR, 1, 2], &
-         [3, max_table_equations], pad=[0])
-      table = fixed_equations
-   end function fixed_table
+      table = kind_equations(:, :, self%kind)
+   end function kind_joint_table
 
 end module ffrf_mbs_joints

@@ -9,9 +9,11 @@
 module ffrf_model_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_lower
-   use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
-      JOINT_PRISMATIC, JOINT_FIXED, joint_kinds
+   use ffrf_core_choices, only: choice_kind, choice_name
+   use ffrf_mbs_joints, only: joint_choices
+   use ffrf_input_mechanism, only: load_choices, selection_choices, LOAD_PRESSURE, &
+      LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE, SELECTION_MANUAL, &
+      SELECTION_AUTO
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    use ffrf_mbs_time_function, only: time_function_t
@@ -23,12 +25,8 @@ module ffrf_model_mechanism
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
 
-   !> Load kinds (&load type): the cylinder gas force (&pressure), the starter torque, the drag
-   !> torque T = -c omega |omega|, a constant force, a constant torque
-   integer, parameter :: LOAD_PRESSURE = 1, LOAD_STARTER = 2, LOAD_DRAG = 3, &
-      LOAD_CONSTANT_FORCE = 4, LOAD_CONSTANT_TORQUE = 5
-   !> &model selection: none (manual defaults) or the automatic model of an engine run
-   integer, parameter :: SELECTION_MANUAL = 0, SELECTION_AUTO = 1
+   ! LOAD_* and SELECTION_* come with their tables from ffrf_input_mechanism (load_choices,
+   ! selection_choices), the joint kinds with joint_choices from ffrf_mbs_joints
 
    !> A point of a rigid body without interfaces or of the ground (&marker).
    type :: model_marker_t
@@ -136,28 +134,13 @@ module ffrf_model_mechanism
 
 contains
 
-   !> The joint kind of a &joint type word (any case).
+   !> The joint kind (JOINT_* of ffrf_mbs_joints) of a &joint type word (any case).
    subroutine joint_kind_of(word, kind, error)
       character(len=*), intent(in) :: word
-      !> JOINT_* of ffrf_mbs_joints
+      !> JOINT_*
       integer, intent(out) :: kind
       type(error_t), allocatable, intent(out) :: error
-      kind = 0
-      select case (to_lower(trim(adjustl(word))))
-      case ('spherical')
-         kind = JOINT_SPHERICAL
-      case ('revolute')
-         kind = JOINT_REVOLUTE
-      case ('universal')
-         kind = JOINT_UNIVERSAL
-      case ('prismatic')
-         kind = JOINT_PRISMATIC
-      case ('fixed')
-         kind = JOINT_FIXED
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'type = "' // trim(word) // &
-            '" is not a joint kind; use one of ' // joint_kinds)
-      end select
+      call choice_kind(joint_choices, 'type', 'a joint kind', word, kind, error)
    end subroutine joint_kind_of
 
    !> The load kind of a &load type word (any case).
@@ -166,42 +149,14 @@ contains
       !> LOAD_*
       integer, intent(out) :: kind
       type(error_t), allocatable, intent(out) :: error
-      kind = 0
-      select case (to_lower(trim(adjustl(word))))
-      case ('pressure')
-         kind = LOAD_PRESSURE
-      case ('starter')
-         kind = LOAD_STARTER
-      case ('drag')
-         kind = LOAD_DRAG
-      case ('force')
-         kind = LOAD_CONSTANT_FORCE
-      case ('torque')
-         kind = LOAD_CONSTANT_TORQUE
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'type = "' // trim(word) // &
-            '" is not a load kind; use one of pressure, starter, drag, force, torque')
-      end select
+      call choice_kind(load_choices, 'type', 'a load kind', word, kind, error)
    end subroutine load_kind_of
 
    !> The name of a load kind (the &load type word), for messages.
    pure function load_kind_name(kind) result(name)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (LOAD_PRESSURE)
-         name = 'pressure'
-      case (LOAD_STARTER)
-         name = 'starter'
-      case (LOAD_DRAG)
-         name = 'drag'
-      case (LOAD_CONSTANT_FORCE)
-         name = 'force'
-      case (LOAD_CONSTANT_TORQUE)
-         name = 'torque'
-      case default
-         name = 'unknown'
-      end select
+      name = choice_name(load_choices, kind)
    end function load_kind_name
 
    !> SELECTION_AUTO or SELECTION_MANUAL of the &model selection word (any case).
@@ -209,16 +164,8 @@ contains
       character(len=*), intent(in) :: word
       integer, intent(out) :: selection
       type(error_t), allocatable, intent(out) :: error
-      selection = SELECTION_MANUAL
-      select case (to_lower(trim(adjustl(word))))
-      case ('auto')
-         selection = SELECTION_AUTO
-      case ('manual')
-         selection = SELECTION_MANUAL
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model: selection = "' // trim(word) // &
-            '" is not known; use "auto" or "manual"')
-      end select
+      call choice_kind(selection_choices, '&model: selection', 'known', word, selection, error)
+      if (allocated(error)) selection = SELECTION_MANUAL
    end subroutine selection_of
 
 end module ffrf_model_mechanism

@@ -5,14 +5,13 @@
 !> virtual_node_shape rows 6k-5..6k). The choices were checked by the readers (src/input/, with
 !> FILE:LINE); an unknown word here comes from a case built in memory and is an input error.
 module ffrf_model_specs
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_lower
-   use ffrf_mpc_interface, only: interface_spec_t, MPC_RBE2, MPC_RBE3, WEIGHTING_UNIFORM, &
-      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
-   use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE
-   use ffrf_modes_input, only: modes_spec_t, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON
-   use ffrf_input_interface, only: interface_input_t, parse_dofs
-   use ffrf_input_modes, only: modes_input_t
+   use ffrf_core_error, only: error_t
+   use ffrf_core_choices, only: choice_kind
+   use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_modes_input, only: modes_spec_t
+   use ffrf_input_interface, only: interface_input_t, parse_dofs, mpc_choices, &
+      weighting_choices, virtual_node_choices
+   use ffrf_input_modes, only: modes_input_t, formulation_choices, basis_choices
    use ffrf_input_case, only: case_input_t
    implicit none
    private
@@ -28,6 +27,7 @@ contains
       !> The interface for build_interface
       type(interface_spec_t), intent(out) :: spec
       type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: where
       spec%name = input%name
       spec%position = input%position
       ! rc was parsed once by the reader (rc_dofs); a case built in memory may give rc only
@@ -36,41 +36,12 @@ contains
          call parse_dofs(input%rc, spec%rc, error)
          if (allocated(error)) return
       end if
-      select case (to_lower(trim(input%mpc)))
-      case ('rbe2')
-         spec%mpc = MPC_RBE2
-      case ('rbe3')
-         spec%mpc = MPC_RBE3
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // trim(input%name) // &
-            '": mpc = "' // trim(input%mpc) // '" is not known; use "RBE2" (rigid) or ' // &
-            '"RBE3" (interpolation)')
-         return
-      end select
-      select case (to_lower(trim(input%weighting)))
-      case ('uniform')
-         spec%weighting = WEIGHTING_UNIFORM
-      case ('area')
-         spec%weighting = WEIGHTING_AREA
-      case ('area_consistent')
-         spec%weighting = WEIGHTING_AREA_CONSISTENT
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // trim(input%name) // &
-            '": weighting = "' // trim(input%weighting) // '" is not known; use "uniform" ' // &
-            '(Nastran default), "area" or "area_consistent"')
-         return
-      end select
-      select case (to_lower(trim(input%virtual_node)))
-      case ('centroid')
-         spec%virtual_node = VIRTUAL_NODE_CENTROID
-      case ('position')
-         spec%virtual_node = VIRTUAL_NODE_POSITION
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // trim(input%name) // &
-            '": virtual_node = "' // trim(input%virtual_node) // '" is not known; use ' // &
-            '"centroid" or "position"')
-         return
-      end select
+      where = 'interface "' // trim(input%name) // '": '
+      call choice_kind(mpc_choices, where // 'mpc', 'known', input%mpc, spec%mpc, error)
+      if (.not. allocated(error)) call choice_kind(weighting_choices, where // 'weighting', &
+         'known', input%weighting, spec%weighting, error)
+      if (.not. allocated(error)) call choice_kind(virtual_node_choices, &
+         where // 'virtual_node', 'known', input%virtual_node, spec%virtual_node, error)
    end subroutine interface_spec_of
 
    !> The resolved modes specification of &modes (num_modes as given there; a body's own
@@ -93,26 +64,10 @@ contains
       spec%eigensolver = input%eigensolver
       spec%max_frequency_hz = input%max_frequency_hz
       spec%sturm_check = input%sturm_check
-      select case (to_lower(trim(input%formulation)))
-      case ('multipliers')
-         spec%formulation = FORMULATION_MULTIPLIERS
-      case ('null_space')
-         spec%formulation = FORMULATION_NULL_SPACE
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: formulation = "' // &
-            trim(input%formulation) // '" is not known; use "multipliers" or "null_space"')
-         return
-      end select
-      select case (to_lower(trim(input%basis)))
-      case ('rc_normal')
-         spec%basis = BASIS_RC_NORMAL
-      case ('craig_bampton')
-         spec%basis = BASIS_CRAIG_BAMPTON
-      case default
-         call fatal_error(error, FFRF_INPUT_ERROR, '&modes: basis = "' // trim(input%basis) // &
-            '" is not known; use "rc_normal" or "craig_bampton"')
-         return
-      end select
+      call choice_kind(formulation_choices, '&modes: formulation', 'known', input%formulation, &
+         spec%formulation, error)
+      if (.not. allocated(error)) call choice_kind(basis_choices, '&modes: basis', 'known', &
+         input%basis, spec%basis, error)
    end subroutine modes_spec_of
 
    !> The modes of body k, num_modes decided here once for every run: 0 for a rigid body (its

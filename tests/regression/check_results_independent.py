@@ -824,10 +824,10 @@ def check_mechanism(h5, groups, mesh_dir):
     for gj in joint_groups:
         kind = text(gj.get('type'))
         b1, m1, b2, m2 = (text(gj.get(key)) for key in ('body1', 'marker1', 'body2', 'marker2'))
-        if kind not in ('revolute', 'fixed', 'prismatic'):
+        if kind not in ('revolute', 'fixed', 'prismatic', 'cylindrical'):
             continue
         gap = np.array([point(b2, m2, s) - point(b1, m1, s) for s in steps])
-        if kind == 'prismatic':
+        if kind in ('prismatic', 'cylindrical'):
             axis = np.array(gj.get('axis'), float)
             axis /= np.linalg.norm(axis)
             gap = gap - np.outer(gap @ axis, axis)
@@ -835,7 +835,8 @@ def check_mechanism(h5, groups, mesh_dir):
         # the joints' point equations hold to the Newton tolerance (1e-10 atol on 1e-1 m
         # positions) at every step; the recorded rows are the converged states
         check_le(f'joint {text(gj.get("name"))} ({kind}): points {b1}.{m1} and {b2}.{m2} '
-                 f'{"on the axis" if kind == "prismatic" else "coincide"} at every step (m)',
+                 f'{"on the axis" if kind in ("prismatic", "cylindrical") else "coincide"} '
+                 'at every step (m)',
                  worst, 1e-14, f'index 3: positions closed to round-off; '
                  f'/integrator/max_constraint_violation {viol:.2g}, measured <= 1.1e-16')
     # joint reactions: action and reaction (the force on body 2 opposite to that on body 1, the

@@ -45,6 +45,7 @@ ALTERNATIVE = {
     'jacobian': {"'step'": "'full'", "'full'": "'step'", "'adaptive'": "'step'"},
     'selection': {"'auto'": "'manual'", "'manual'": "'auto'"},
     'type': {"'revolute'": "'spherical'", "'prismatic'": "'revolute'", "'fixed'": "'revolute'",
+             "'cylindrical'": "'revolute'",
              "'flexible'": "'rigid'", "'rigid'": "'flexible'", "'drag'": "'torque'",
              "'starter'": "'torque'", "'pressure'": "'force'"},
 }

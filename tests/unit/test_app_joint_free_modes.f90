@@ -15,22 +15,32 @@
 !> - a prismatic guide along y at interface 1 (0, 0.2, 0) and a spherical joint at interface 2
 !>   (0.1, 0, 0): the guide holds every rotation of interface 1 and its translations across y,
 !>   the spherical joint the body's rigid rotations: a mode that slides interface 1 along y is
-!>   free, one that twists it about y is locked;
+!>   free, one that twists it about y and one that moves it along x are locked (the rows of the
+!>   cylindrical case below plus Ry1 = wy: two combinations no rigid motion reaches);
 !> - the prismatic guide with the body turned by 90 degrees about z (&body orientation: body x =
 !>   global y, body y = global -x; the guide axis and the ground markers turned with it): the
 !>   slide along the guide is still free and the twist locked, since the virtual-node rows are
 !>   turned to global (without that, both would be locked: body y would be taken as global y,
-!>   across the guide).
+!>   across the guide);
+!> - a cylindrical joint along y at interface 1 (0, 0.2, 0) and a spherical joint at interface 2
+!>   (0.1, 0, 0): the cylinder holds interface 1's translations across y (global x, z) and its
+!>   rotations across y (x, z). The body's rigid motions (t, w) change the seven held components
+!>   by Ux1 = tx - 0.2 wz, Uz1 = tz + 0.2 wx, Rx1 = wx, Rz1 = wz, U2 = (tx, ty + 0.1 wz,
+!>   tz - 0.1 wy); the only combination no rigid motion reaches is Ux1 + 0.2 Rz1 - Ux2 (by
+!>   hand: the left null vector of those seven rows). So a mode that slides interface 1 along y
+!>   and one that twists it about y are free (the twist is locked by a prismatic guide), one
+!>   that moves it along x is locked.
 module test_app_joint_free_modes
    use ffrf_core_kinds, only: dp, pi
    use ffrf_core_error, only: error_t
    use ffrf_model_model, only: model_t
    use ffrf_model_mechanism, only: model_joint_t, model_marker_t
-   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_SPHERICAL, JOINT_PRISMATIC
+   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_SPHERICAL, JOINT_PRISMATIC, JOINT_CYLINDRICAL
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mpc_interface, only: interface_spec_t
    use ffrf_app_joint_free_modes, only: joint_locks_t, joint_free_modes
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check
+   use ffrf_core_strings, only: to_str
    implicit none
    private
    public :: collect_app_joint_free_modes
@@ -42,7 +52,8 @@ contains
       tests = [new_unittest('revolute_bearing_locks_the_journal_tilt', test_revolute), &
          new_unittest('one_bearing_locks_nothing', test_one_bearing), &
          new_unittest('rigid_motion_takes_back_a_lever_arm', test_lever_arm), &
-         new_unittest('prismatic_guide_locks_rotations', test_prismatic), &
+         new_unittest('prismatic_guide_locks_rotations_cylindrical_not_the_twist', &
+            test_prismatic), &
          new_unittest('turned_body_keeps_its_guide', test_turned_guide)]
    end subroutine collect_app_joint_free_modes
 
@@ -190,26 +201,59 @@ contains
          modes%frequency_hz(1), 1.0_dp, rtol=1.0e-12_dp)
    end subroutine test_turned_guide
 
+   !> The guide case (guide_case) with a prismatic joint (slide free; twist and across locked)
+   !> and with a cylindrical one (slide and twist free; across locked).
    subroutine test_prismatic(error)
       type(error_t), allocatable, intent(out) :: error
-      type(model_t) :: model
       type(body_modes_t) :: modes
       type(joint_locks_t) :: locks
-      call make_case(reshape([0.0_dp, 0.2_dp, 0.0_dp, 0.1_dp, 0.0_dp, 0.0_dp], [3, 2]), &
-         [JOINT_PRISMATIC, JOINT_SPHERICAL], [1, 2], reshape([0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
-         0.0_dp, 1.0_dp], [3, 2]), model, modes)
-      modes%frequency_hz = [1.0_dp, 2.0_dp]
-      allocate (modes%virtual_node_shape(12, 2), source=0.0_dp)
-      modes%virtual_node_shape(2, 1) = 1.0_dp      ! along the guide
-      modes%virtual_node_shape(5, 2) = 1.0_dp      ! twist about the guide
-      allocate (modes%shape(3, 2), source=1.0_dp)
-      call joint_free_modes(model, 1, modes, locks, error)
-      if (allocated(error)) return
-      call check(error, 'twist locked, slide free', locks%num_locked == 1 .and. &
-         size(modes%frequency_hz) == 1)
-      if (.not. allocated(error)) call check_close(error, 'free mode: the slide', &
-         modes%frequency_hz(1), 1.0_dp, rtol=1.0e-12_dp)
+      integer, parameter :: kinds(2) = [JOINT_PRISMATIC, JOINT_CYLINDRICAL]
+      character(len=*), parameter :: names(2) = ['prismatic  ', 'cylindrical']
+      integer :: k, j
+      do k = 1, 2
+         call guide_case(kinds(k), modes, locks, error)
+         if (allocated(error)) return
+         call check(error, trim(names(k)) // ': ' // to_str(locks%num_locked) // ' locked, ' // &
+            to_str(size(modes%frequency_hz)) // ' free; expected ' // to_str(3 - k) // ', ' // &
+            to_str(k), locks%num_locked == 3 - k .and. size(modes%frequency_hz) == k)
+         do j = 1, k
+            if (.not. allocated(error)) call check_close(error, trim(names(k)) // &
+               ': free mode ' // to_str(j) // ' (slide, twist)', modes%frequency_hz(j), &
+               real(j, dp), rtol=1.0e-12_dp)
+         end do
+         if (allocated(error)) return
+      end do
    end subroutine test_prismatic
+
+   !> A guide of `kind` along y at interface 1 (0, 0.2, 0), a spherical joint at interface 2
+   !> (0.1, 0, 0), and three candidates at 1, 2, 3 Hz that move interface 1 along the guide
+   !> (Ty), twist it about the guide (Ry) and move it across (Tx); their joint-free modes.
+   subroutine guide_case(kind, modes, locks, error)
+      integer, intent(in) :: kind
+      type(body_modes_t), intent(out) :: modes
+      type(joint_locks_t), intent(out) :: locks
+      type(error_t), allocatable, intent(out) :: error
+      type(model_t) :: model
+      call make_case(reshape([0.0_dp, 0.2_dp, 0.0_dp, 0.1_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+         [kind, JOINT_SPHERICAL], [1, 2], reshape([0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         1.0_dp], [3, 2]), model, modes)
+      call unit_candidates([2, 5, 1], 2, modes)
+      call joint_free_modes(model, 1, modes, locks, error)
+   end subroutine guide_case
+
+   !> Candidate k at k Hz moves virtual-node row rows(k) (6 rows per interface) by 1, nothing
+   !> else; num_interfaces interfaces.
+   subroutine unit_candidates(rows, num_interfaces, modes)
+      integer, intent(in) :: rows(:), num_interfaces
+      type(body_modes_t), intent(inout) :: modes
+      integer :: k
+      modes%frequency_hz = [(real(k, dp), k = 1, size(rows))]
+      allocate (modes%virtual_node_shape(6 * num_interfaces, size(rows)), source=0.0_dp)
+      do k = 1, size(rows)
+         modes%virtual_node_shape(rows(k), k) = 1.0_dp
+      end do
+      allocate (modes%shape(3, size(rows)), source=1.0_dp)
+   end subroutine unit_candidates
 
 end module test_app_joint_free_modes
 

@@ -26,7 +26,8 @@ module test_mbs_joints
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_joints, only: joint_t, new_joint, joint_reaction, joint_kind_name, &
-      JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED
+      JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, JOINT_FIXED, &
+      JOINT_CYLINDRICAL
    use ffrf_mbs_galpha_linalg, only: find_redundant_rows
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_mesh_dir, report
    implicit none
@@ -53,11 +54,11 @@ module test_mbs_joints
    end type joint_box_t
 
    real(dp), parameter :: young = 210.0e9_dp, poisson = 0.3_dp, density = 7850.0_dp
-   character(len=9), parameter :: kinds(5) = [character(len=9) :: 'spherical', 'revolute', &
-      'universal', 'prismatic', 'fixed']
+   character(len=11), parameter :: kinds(6) = [character(len=11) :: 'spherical', 'revolute', &
+      'universal', 'prismatic', 'fixed', 'cylindrical']
    !> Their kinds (new_joint), in the order of `kinds`
-   integer, parameter :: kind_codes(5) = [JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
-      JOINT_PRISMATIC, JOINT_FIXED]
+   integer, parameter :: kind_codes(6) = [JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, &
+      JOINT_PRISMATIC, JOINT_FIXED, JOINT_CYLINDRICAL]
    !> Slider-crank of scene.md: crank radius and conrod length (m)
    real(dp), parameter :: crank_radius = 0.045_dp, rod_length = 0.150_dp
 
@@ -489,9 +490,9 @@ contains
       type(error_t), allocatable :: failure
       type(rigid_body_t) :: body
       type(ground_t) :: ground
-      integer, parameter :: expected(5) = [3, 5, 4, 5, 6]
+      integer, parameter :: expected(6) = [3, 5, 4, 5, 6, 4]
       integer :: i
-      do i = 1, 5
+      do i = 1, size(kinds)
          call new_joint(kind_codes(i), joint, error)
          if (allocated(error)) return
          call check(error, trim(kinds(i)) // ': ' // to_str(joint%num_equations) // &
@@ -506,7 +507,7 @@ contains
       call report(failure%message)
       call check(error, 'message lists the kinds: ' // failure%message, index(failure%message, &
          'joint kind 0') > 0 .and. index(failure%message, 'revolute, prismatic, spherical, ' // &
-         'universal, fixed') > 0)
+         'universal, fixed, cylindrical') > 0)
       if (allocated(error)) return
       call check(error, 'joint_kind_name of no kind: ' // joint_kind_name(99), &
          joint_kind_name(99) == 'unknown')
@@ -530,15 +531,17 @@ contains
    !> body poses and marker frames): Phi = 0 (1e-14); Phi stays 0 (1e-14) under a rigid motion of
    !> the pair and under the joint's free motions (spherical: rotation about a random axis
    !> through the joint; revolute: rotation about z; universal: rotation about x_a then about the
-   !> rotated y_b; prismatic: translation along z), and becomes non-zero (> 1e-3) for a forbidden
-   !> motion (translation along x for spherical, revolute and universal; rotation about x for the
-   !> revolute; rotation about z for the universal, prismatic and fixed).
+   !> rotated y_b; prismatic: translation along z; cylindrical: rotation about z and translation
+   !> along z at once), and becomes non-zero (> 1e-3) for a forbidden motion (translation along x
+   !> for spherical, revolute and universal; rotation about x for the revolute and cylindrical;
+   !> translation along y for prismatic and cylindrical; rotation about z for the universal,
+   !> prismatic and fixed).
    subroutine test_joint_motions(error)
       type(error_t), allocatable, intent(out) :: error
       type(rigid_body_t) :: body_a, body_b
       class(joint_t), allocatable :: joint
       real(dp) :: q_a(7), q_b(7), q_bm(7), q_am(7), A_b(3, 3), r_a(3), frame_a(3, 3), Q(3, 3)
-      real(dp) :: worst_free, least_forbidden, y_b(3), frame_b(3, 3)
+      real(dp) :: worst_free, least_forbidden, y_b(3), frame_b(3, 3), turn, tilt(3)
       integer :: i
       call test_rigid_body(5, body_a, error)
       if (.not. allocated(error)) call test_rigid_body(6, body_b, error)
@@ -551,7 +554,7 @@ contains
       q_b(1:3) = r_a - matmul(A_b, body_b%marker_xyz(:, 2))
       worst_free = 0.0_dp
       least_forbidden = huge(1.0_dp)
-      do i = 1, 5
+      do i = 1, size(kinds)
          call new_joint(kind_codes(i), joint, error)
          if (.not. allocated(error)) call joint%connect(body_a, 1, body_b, 2, error)
          if (allocated(error)) return
@@ -591,11 +594,19 @@ contains
                [0.0_dp, 0.0_dp, 0.0_dp]))
             if (.not. allocated(error)) call expect_nonzero('translation along x', q_a, &
                moved(body_b, q_b, identity3(), r_a, 0.01_dp * frame_a(:, 1)))
-         case ('prismatic')
-            q_bm = moved(body_b, q_b, identity3(), r_a, 0.07_dp * frame_a(:, 3))
-            call expect_zero('translation along z', q_a, q_bm)
-            if (.not. allocated(error)) call expect_nonzero('rotation about z', q_a, &
-               moved(body_b, q_b, axis_rotation(frame_a(:, 3), 0.1_dp), r_a, &
+         case ('prismatic', 'cylindrical')
+            ! the cylinder also turns about z; what the guide forbids instead is a tilt about x
+            turn = 0.0_dp
+            tilt = frame_a(:, 3)
+            if (kinds(i) == 'cylindrical') then
+               turn = 1.3_dp
+               tilt = frame_a(:, 1)
+            end if
+            q_bm = moved(body_b, q_b, axis_rotation(frame_a(:, 3), turn), r_a, &
+               0.07_dp * frame_a(:, 3))
+            call expect_zero('translation along z (cylindrical: turning about z)', q_a, q_bm)
+            if (.not. allocated(error)) call expect_nonzero('rotation about z (cylindrical: ' // &
+               'about x)', q_a, moved(body_b, q_b, axis_rotation(tilt, 0.1_dp), r_a, &
                [0.0_dp, 0.0_dp, 0.0_dp]))
             if (.not. allocated(error)) call expect_nonzero('translation along y', q_a, &
                moved(body_b, q_b, identity3(), r_a, 0.01_dp * frame_a(:, 2)))
@@ -660,7 +671,7 @@ contains
       if (.not. allocated(error)) call get_crank(error)
       if (allocated(error)) return
       worst = 0.0_dp
-      do i = 1, 5
+      do i = 1, size(kinds)
          call check_pair(kinds(i), 'rigid-rigid', body_a, 1, body_b, 2, 90 + i, worst, error)
          if (.not. allocated(error)) call check_pair(kinds(i), 'ground-rigid', ground, 1, &
             body_b, 1, 100 + i, worst, error)
@@ -672,7 +683,8 @@ contains
             body_b, 1, 130 + i, worst, error)
          if (allocated(error)) return
       end do
-      call report('worst relative Jacobian error over 5 kinds x 5 pairs: ' // to_str(worst, 3))
+      call report('worst relative Jacobian error over ' // to_str(size(kinds)) // &
+         ' kinds x 5 pairs: ' // to_str(worst, 3))
    end subroutine test_joint_jacobians
 
    subroutine check_pair(kind, pair, body_a, marker_a, body_b, marker_b, seed, worst, error)
@@ -733,7 +745,7 @@ contains
       call test_rigid_body(10, body_a, error)
       if (.not. allocated(error)) call get_crank(error)
       if (allocated(error)) return
-      do i = 1, 5
+      do i = 1, size(kinds)
          call check_reaction(kinds(i), body_a, 1, crank, 2, 140 + i, worst, error)
          if (.not. allocated(error)) call check_reaction(kinds(i), crank, 1, body_a, 2, &
             150 + i, worst, error)

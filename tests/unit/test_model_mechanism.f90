@@ -9,7 +9,9 @@
 module test_model_mechanism
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, FFRF_INPUT_ERROR
-   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC, JOINT_SPHERICAL
+   use ffrf_core_strings, only: to_lower
+   use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC, JOINT_SPHERICAL, &
+      JOINT_UNIVERSAL, JOINT_FIXED, JOINT_CYLINDRICAL, joint_kind_name
    use ffrf_input_body, only: body_input_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_mechanism, only: body_motion_input_t, marker_input_t, joint_input_t, &
@@ -18,6 +20,7 @@ module test_model_mechanism
    use ffrf_model_mechanism, only: LOAD_PRESSURE, LOAD_DRAG, LOAD_CONSTANT_TORQUE, &
       SELECTION_AUTO, SELECTION_MANUAL
    use ffrf_model_model, only: model_t, build_model
+   use ffrf_model_mechanism, only: joint_kind_of
    use ffrf_testing, only: unittest_t, new_unittest, check, report
    implicit none
    private
@@ -31,7 +34,8 @@ contains
          new_unittest('joints_resolved', test_joints), &
          new_unittest('loads_crank_selection_resolved', test_loads), &
          new_unittest('unknown_words_refused', test_unknown_words), &
-         new_unittest('unknown_marker_refused', test_unknown_marker)]
+         new_unittest('unknown_marker_refused', test_unknown_marker), &
+         new_unittest('joint_word_map', test_joint_word_map)]
    end subroutine collect_model_mechanism
 
    !> A slider-crank: flexible crank (interfaces main, pin), rigid piston with &marker points,
@@ -146,7 +150,7 @@ contains
       case = slider_crank()
       case%mechanism%model%selection = 'smart'
       call expect(case, [character(len=64) :: '&model: selection = "smart" is not known', &
-         'use "auto" or "manual"'], error)
+         'use one of auto, manual'], error)
    end subroutine test_unknown_words
 
    !> A joint or load naming a marker or body that does not exist: FFRF_INPUT_ERROR naming it.
@@ -168,6 +172,31 @@ contains
       call expect(case, [character(len=64) :: '&load "gas"', &
          'body "pistn" is neither a &body nor the ground'], error)
    end subroutine test_unknown_marker
+
+   !> The &joint type word map (joint_kind_of) against the JOINT_* constants written out here,
+   !> each word in another case, and back through joint_kind_name; a partial word ('cyl', the
+   !> substring the readers once let through) is refused.
+   subroutine test_joint_word_map(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: failure
+      character(len=11), parameter :: words(6) = [character(len=11) :: 'Revolute', 'PRISMATIC', &
+         'spherical', 'Universal', 'fixed', 'Cylindrical']
+      integer, parameter :: expected(6) = [JOINT_REVOLUTE, JOINT_PRISMATIC, JOINT_SPHERICAL, &
+         JOINT_UNIVERSAL, JOINT_FIXED, JOINT_CYLINDRICAL]
+      integer :: k, kind
+      do k = 1, size(words)
+         call joint_kind_of(words(k), kind, error)
+         if (allocated(error)) return
+         call check(error, trim(words(k)) // ' -> ' // joint_kind_name(kind), &
+            kind == expected(k) .and. joint_kind_name(kind) == to_lower(trim(words(k))))
+         if (allocated(error)) return
+      end do
+      call joint_kind_of('cyl', kind, failure)
+      call check(error, '"cyl" refused with the list of words', allocated(failure))
+      if (allocated(error)) return
+      call check(error, failure%message, index(failure%message, 'type = "cyl" is not a joint ' &
+         // 'kind; use one of revolute, prismatic, spherical, universal, fixed, cylindrical') > 0)
+   end subroutine test_joint_word_map
 
    !> build_model refuses `case` with FFRF_INPUT_ERROR and a message holding every fragment.
    subroutine expect(case, fragments, error)

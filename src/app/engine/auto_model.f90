@@ -20,10 +20,9 @@ module ffrf_app_engine_auto_model
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_modes_fingerprint, only: set_kept_modes
    use ffrf_app_body_modes, only: compute_body_modes_from_file
-   use ffrf_app_joint_free_modes, only: joint_locks_t, joint_free_modes
+   use ffrf_app_joint_free_modes, only: joint_locks_t, joint_free_modes, locked_components
    use ffrf_model_model, only: model_t
    use ffrf_model_mechanism, only: LOAD_PRESSURE, LOAD_DRAG, SELECTION_AUTO
-   use ffrf_mbs_joints, only: JOINT_PRISMATIC
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
       mode_effect_t, select_modes, mesh_frequency_error, select_time_step, step_errors
@@ -301,7 +300,8 @@ contains
    end function paired_modes
 
    !> .true. for each interface of body k held to the ground by a joint that fixes its
-   !> translations (revolute, spherical, universal, fixed).
+   !> translations (locked_components: revolute, spherical, universal, fixed; not prismatic or
+   !> cylindrical).
    pure function grounded_interfaces(model, k, modes) result(grounded)
       !> The case resolved (joints with model body indices and marker handles)
       type(model_t), intent(in) :: model
@@ -309,12 +309,14 @@ contains
       type(body_modes_t), intent(in) :: modes
       logical :: grounded(size(modes%interfaces))
       integer :: i, j
+      logical :: locked(6)
       grounded = .false.
       do i = 1, size(modes%interfaces)
          ! the body's interface i is its marker handle i (ffrf_model_model)
          do j = 1, size(model%mechanism%joints)
             associate (joint => model%mechanism%joints(j))
-               if (joint%kind == JOINT_PRISMATIC) cycle
+               locked = locked_components(joint%kind)
+               if (.not. all(locked(1:3))) cycle
                if (all(joint%body == [0, k]) .and. joint%marker(2) == i .or. &
                   all(joint%body == [k, 0]) .and. joint%marker(1) == i) grounded(i) = .true.
             end associate
