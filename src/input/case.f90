@@ -566,10 +566,10 @@ contains
       end do
    end function vector_text
 
-   !> A joint at a &marker with an orientation acts in that frame (docs/mechanisms.md "Joint
-   !> frames": marker1's when both have one): a revolute, prismatic or universal joint's axis
-   !> must be the frame's z axis in the starting pose (global: the body's orientation times
-   !> the marker's).
+   !> A joint at a &marker with an orientation acts in that frame, marker1's when both have one
+   !> (docs/mechanisms.md "Joint frames"): a revolute, prismatic or universal joint's axis must
+   !> be the frame's z axis in the starting pose (global: the body's orientation times the
+   !> marker's).
    subroutine check_joint_axis(where, case, joint, error)
       character(len=*), intent(in) :: where
       type(case_input_t), intent(in) :: case

@@ -36,7 +36,7 @@
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
 !>   &marker     position: 3 reals in [-1e4, 1e4] m; orientation: 9 reals in [-1e6, 1e6], a
 !>               rotation (|A A^T - I| <= 1e-9, det A > 0; absent: the joint's axis sets the
-!>               marker frame, docs/mechanisms.md "Joints")
+!>               marker frame, docs/mechanisms.md "Joint frames")
 !>   &joint      type: revolute, prismatic, spherical, universal or fixed; axis: 3 reals in
 !>               [-1e6, 1e6], not all zero
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or

@@ -14,8 +14,8 @@ reference:
      bend in their x-y plane there, in their x-z plane here) agrees to INVARIANCE_TOL (the
      links are cylinders; only the tet mesh's anisotropy between the body's y and z
      directions, in inertia and bending, differs);
-  2. the rigid double pendulum (Lagrange's equations, scipy DOP853 rtol 1e-12, written here as
-     in check_gravity_pendulum.py): angles within ANGLE_TOL;
+  2. the rigid double pendulum (Lagrange's equations, scipy DOP853 rtol 1e-12, the right-hand
+     side of check_gravity_pendulum.py): angles within ANGLE_TOL;
   3. energy: T + U - W (kinetic, strain, and the work of gravity from /energy) stays within
      ENERGY_TOL of m g L over the run; with --half, a second run at h/2: the drift falls as h^2
      (ratio >= ORDER_RATIO). rho_inf = 1 (no numerical dissipation) is refused by the
@@ -29,7 +29,8 @@ import h5py
 import numpy as np
 from scipy.integrate import solve_ivp
 
-RADIUS, LENGTH, DENSITY, G = 0.010, 0.200, 7850.0, 9.81
+from check_gravity_pendulum import DENSITY, G, LENGTH, RADIUS, rigid_rate
+
 POSED_TOL = 1.0e-10       # rad; measured 7.3e-14 (round-off)
 INVARIANCE_TOL = 5.0e-6   # rad; measured 1.6e-6 (mesh anisotropy, module docstring)
 ANGLE_TOL = 1.0e-4        # rad, as check_gravity_pendulum.py (flexibility ~1e-5, O(h^2) phase)
@@ -37,24 +38,15 @@ ENERGY_TOL = 2.0e-5       # of m g L; measured 4.2e-6 at h = 0.25 ms
 ORDER_RATIO = 3.0         # drift(h) / drift(h/2); 4 for second order, measured 3.95
 
 
-def rigid_rate(_t, y):
-    p1, p2, w1, w2 = y
-    m, L = 1.0, LENGTH
-    ic = m * (3.0 * RADIUS**2 + L**2) / 12.0
-    d = p1 - p2
-    mass = np.array([[1.25 * m * L**2 + ic, 0.5 * m * L**2 * np.cos(d)],
-                     [0.5 * m * L**2 * np.cos(d), 0.25 * m * L**2 + ic]])
-    rhs = -np.array([1.5 * m * G * L * np.cos(p1), 0.5 * m * G * L * np.cos(p2)]) \
-        - 0.5 * m * L**2 * np.sin(d) * np.array([w2**2, -w1**2])
-    acc = np.linalg.solve(mass, rhs)
-    return [w1, w2, acc[0], acc[1]]
+def status_of(f):
+    status = f.attrs['status']
+    return status.decode() if isinstance(status, bytes) else str(status)
 
 
 def read(path, component, sign):
     """Times, the two links' angles about the joint axis, the energy drift and the status."""
     with h5py.File(path, 'r') as f:
-        status = f.attrs['status']
-        status = status.decode() if isinstance(status, bytes) else str(status)
+        status = status_of(f)
         t = f['time/t'][:]
         phi = []
         for link in ('link1', 'link2'):
@@ -82,6 +74,15 @@ def turned_angle(e):
     return np.arctan2(relative[:, 1, 0], relative[:, 0, 0])
 
 
+def compare(failures, label, phi, other, tolerance):
+    """Invariance: the largest angle difference from another run within tolerance."""
+    deviation = np.abs(phi - other).max()
+    print(f'invariance, {label}: max |phi_xz - phi| = {deviation:.3e} rad '
+          f'(tolerance {tolerance:.0e})')
+    if not deviation <= tolerance:
+        failures.append(f'{label}: angles differ by {deviation:.3e} rad > {tolerance}')
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument('xz', help='results of frames_pendulum_xz.nml')
@@ -99,27 +100,17 @@ def main():
     if t.shape != t_xy.shape or np.abs(t - t_xy).max() > 1e-12:
         failures.append('the two runs have different time series')
     else:
-        deviation = np.abs(phi - phi_xy).max()
-        print(f'invariance: max |phi_xz - phi_xy| = {deviation:.3e} rad over {t[-1]} s '
-              f'(tolerance {INVARIANCE_TOL:.0e})')
-        if not deviation <= INVARIANCE_TOL:
-            failures.append(f'x-z and x-y angles differ by {deviation:.3e} rad > {INVARIANCE_TOL}')
+        compare(failures, 'the unturned x-y run', phi, phi_xy, INVARIANCE_TOL)
     if args.posed:
         with h5py.File(args.posed, 'r') as f:
-            status_posed = f.attrs['status']
-            status_posed = status_posed.decode() if isinstance(status_posed, bytes) \
-                else str(status_posed)
+            status_posed = status_of(f)
             t_posed = f['time/t'][:]
             phi_posed = np.stack([turned_angle(f[f'bodies/{link}/euler_parameters'][:])
                                   for link in ('link1', 'link2')])
         if status_posed != 'complete' or t_posed.shape != t.shape:
             failures.append(f'posed run: status {status_posed!r}, {t_posed.shape} steps')
         else:
-            deviation = np.abs(phi - phi_posed).max()
-            print(f'invariance (the scene turned as a whole): max |phi_xz - phi_posed| = '
-                  f'{deviation:.3e} rad (tolerance {POSED_TOL:.0e})')
-            if not deviation <= POSED_TOL:
-                failures.append(f'turned scene differs by {deviation:.3e} rad > {POSED_TOL}')
+            compare(failures, 'the scene turned as a whole', phi, phi_posed, POSED_TOL)
     ref = solve_ivp(rigid_rate, (t[0], t[-1]), [0.0, 0.0, 0.0, 0.0], method='DOP853',
                     t_eval=t, rtol=1e-12, atol=1e-14)
     deviation = np.abs(phi - ref.y[:2]).max()

@@ -67,8 +67,6 @@ ffrf_error_case(joint_bad_type 2 "joint_bad_type\\.nml:4: &joint type = 'hinge':
   "${_arm}\n&joint name = 'pivot', type = 'hinge', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
 ffrf_error_case(load_needs_crank 2 "&load \"starter\" \\(starter\\) depends on the crank"
   "${_arm}\n${_pivot}\n&load name = 'starter', type = 'starter', body = 'arm', marker = 'hinge' /")
-ffrf_error_case(joint_axis_on_flexible 2 "&joint \"bearing\": a revolute joint at an interface of a flexible body"
-  "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0.045, 0 /\n&joint name = 'bearing', type = 'revolute', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B2', axis = 1, 0, 0 /\n&modes num_modes = 2 /")
 ffrf_error_case(integrator_rho 2 "integrator_rho\\.nml:5: &integrator rho_inf = 1.5: out of range. give a finite real in \\[0, 1\\]"
   "${_arm}\n${_pivot}\n&integrator rho_inf = 1.5 /")
 file(WRITE "${_dir}/bad_table.txt" "# angle_deg pressure_pa\n0 1.0e5\n90 1.0e5\nninety 2.0e5\n")

@@ -158,6 +158,37 @@ contains
       qt(4:7) = euler_normalized(qt(4:7))
    end function path_point
 
+   !> Central differences (3 x nc) of A_V a, marker k, in every coordinate (step h).
+   function axis_differences(body, q, k, axis, h) result(fd)
+      type(flexible_body_t), intent(in) :: body
+      real(dp), intent(in) :: q(:), axis(3), h
+      integer, intent(in) :: k
+      real(dp) :: fd(3, size(q))
+      real(dp) :: dq(size(q))
+      integer :: i
+      do i = 1, size(q)
+         dq = 0.0_dp
+         dq(i) = h
+         fd(:, i) = (matmul(body%marker_orientation(q + dq, k), axis) - &
+            matmul(body%marker_orientation(q - dq, k), axis)) / (2.0_dp * h)
+      end do
+   end function axis_differences
+
+   !> [|axial(dA_V/dt A_V^T) - L_w v|, |L_w v|] of marker k along the path through q with
+   !> velocity v (central differences, path step hp).
+   function angular_velocity_defect(body, q, v, k, hp) result(d)
+      type(flexible_body_t), intent(in) :: body
+      real(dp), intent(in) :: q(:), v(:), hp
+      integer, intent(in) :: k
+      real(dp) :: d(2)
+      real(dp) :: A_v(3, 3), A_dot(3, 3), omega(3)
+      A_v = body%marker_orientation(q, k)
+      A_dot = (body%marker_orientation(path_point(q, v, hp), k) - &
+         body%marker_orientation(path_point(q, v, -hp), k)) / (2.0_dp * hp)
+      omega = matmul(body%marker_rotation_jacobian(q, k), v)
+      d = [norm2(axial3(matmul(A_dot, transpose(A_v))) - omega), norm2(omega)]
+   end function angular_velocity_defect
+
    function max_abs(a) result(s)
       real(dp), intent(in) :: a(:, :)
       real(dp) :: s
@@ -448,7 +479,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), parameter :: h = 1.0e-6_dp
       real(dp), allocatable :: q(:), v(:), dq(:), jac(:, :), fd(:, :), jac_axis(:, :)
-      real(dp) :: axis(3), r_dot(3), A_dot(3, 3), omega(3), A_v(3, 3), worst(4), hp
+      real(dp) :: axis(3), r_dot(3), A_v(3, 3), worst(4), hp, spin(2)
       integer :: k, i, nc
       worst = 0.0_dp
       call get_crank(error)
@@ -471,12 +502,7 @@ contains
          call check_close(error, 'marker ' // to_str(k) // ': dr_V/dq vs central differences', &
             max_abs(jac - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac))
          if (allocated(error)) return
-         do i = 1, nc
-            dq = 0.0_dp
-            dq(i) = h
-            fd(:, i) = (matmul(crank%marker_orientation(q + dq, k), axis) - &
-               matmul(crank%marker_orientation(q - dq, k), axis)) / (2.0_dp * h)
-         end do
+         fd = axis_differences(crank, q, k, axis, h)
          worst(2) = max(worst(2), max_abs(jac_axis - fd) / max_abs(jac_axis))
          call check_close(error, 'marker ' // to_str(k) // ': d(A_V a)/dq vs central ' // &
             'differences', max_abs(jac_axis - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac_axis))
@@ -494,15 +520,11 @@ contains
             norm2(matmul(crank%marker_velocity_jacobian(q, k) - jac, v)), 0.0_dp, &
             atol=1.0e-12_dp * norm2(r_dot))
          if (allocated(error)) return
-         A_v = crank%marker_orientation(q, k)
-         A_dot = (crank%marker_orientation(path_point(q, v, hp), k) - &
-            crank%marker_orientation(path_point(q, v, -hp), k)) / (2.0_dp * hp)
-         omega = matmul(crank%marker_rotation_jacobian(q, k), v)
-         worst(4) = max(worst(4), norm2(axial3(matmul(A_dot, transpose(A_v))) - omega) / &
-            norm2(omega))
+         spin = angular_velocity_defect(crank, q, v, k, hp)
+         worst(4) = max(worst(4), spin(1) / spin(2))
          call check_close(error, 'marker ' // to_str(k) // ': L_w v vs axial(dA_V/dt A_V^T)', &
-            norm2(axial3(matmul(A_dot, transpose(A_v))) - omega), 0.0_dp, &
-            atol=1.0e-7_dp * norm2(omega))
+            spin(1), 0.0_dp, atol=1.0e-7_dp * spin(2))
+         A_v = crank%marker_orientation(q, k)
          if (allocated(error)) return
          call check_close(error, 'marker ' // to_str(k) // ': A_V orthonormal', &
             max_abs(matmul(transpose(A_v), A_v) - identity3()), 0.0_dp, atol=1.0e-14_dp)
@@ -530,8 +552,8 @@ contains
       type(flexible_body_t) :: body
       real(dp), allocatable :: q(:), v(:), dq(:), jac(:, :), fd(:, :), pj(:, :), aj(:, :, :)
       real(dp), allocatable :: hess(:, :), fd_hess(:, :), node_aj(:, :, :)
-      real(dp) :: C(3, 3), axis(3), r(3), frame(3, 3), A_v(3, 3), A_dot(3, 3), omega(3)
-      real(dp) :: w_p(3), W(3, 3), worst(4), hp, bad(3, 3), plus(3, 3), minus(3, 3)
+      real(dp) :: C(3, 3), axis(3), r(3), frame(3, 3), A_v(3, 3), omega(3)
+      real(dp) :: w_p(3), W(3, 3), worst(4), hp, bad(3, 3), spin(2)
       integer :: k, kf, i, j, nc, nodes, marker
       logical :: refused
       character(len=:), allocatable :: message
@@ -574,12 +596,7 @@ contains
          if (allocated(error)) return
          ! d(A_V a)/dq
          jac = body%marker_axis_jacobian(q, kf, axis)
-         do i = 1, nc
-            dq = 0.0_dp
-            dq(i) = h
-            fd(:, i) = (matmul(body%marker_orientation(q + dq, kf), axis) - &
-               matmul(body%marker_orientation(q - dq, kf), axis)) / (2.0_dp * h)
-         end do
+         fd = axis_differences(body, q, kf, axis, h)
          worst(1) = max(worst(1), max_abs(jac - fd) / max_abs(jac))
          call check_close(error, 'framed marker ' // to_str(kf) // ': d(A_V a)/dq vs ' // &
             'central differences', max_abs(jac - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac))
@@ -590,13 +607,7 @@ contains
             max_abs(frame - body%marker_orientation(q, kf)), 0.0_dp, atol=1.0e-15_dp)
          if (allocated(error)) return
          do j = 1, 3
-            do i = 1, nc
-               dq = 0.0_dp
-               dq(i) = h
-               plus = body%marker_orientation(q + dq, kf)
-               minus = body%marker_orientation(q - dq, kf)
-               fd(:, i) = (plus(:, j) - minus(:, j)) / (2.0_dp * h)
-            end do
+            fd = axis_differences(body, q, kf, unit(j), h)
             worst(2) = max(worst(2), max_abs(aj(:, :, j) - fd) / max_abs(aj(:, :, j)))
             call check_close(error, 'framed marker ' // to_str(kf) // ': kinematics ' // &
                'd(A_V e_' // to_str(j) // ')/dq vs central differences', &
@@ -616,15 +627,10 @@ contains
             atol=1.0e-6_dp * max_abs(hess))
          if (allocated(error)) return
          ! angular velocity along a path on |theta| = 1
-         A_v = body%marker_orientation(q, kf)
-         A_dot = (body%marker_orientation(path_point(q, v, hp), kf) - &
-            body%marker_orientation(path_point(q, v, -hp), kf)) / (2.0_dp * hp)
-         omega = matmul(body%marker_rotation_jacobian(q, kf), v)
-         worst(4) = max(worst(4), norm2(axial3(matmul(A_dot, transpose(A_v))) - omega) / &
-            norm2(omega))
+         spin = angular_velocity_defect(body, q, v, kf, hp)
+         worst(4) = max(worst(4), spin(1) / spin(2))
          call check_close(error, 'framed marker ' // to_str(kf) // ': L_w v vs ' // &
-            'axial(dA_V/dt A_V^T)', norm2(axial3(matmul(A_dot, transpose(A_v))) - omega), &
-            0.0_dp, atol=1.0e-7_dp * norm2(omega))
+            'axial(dA_V/dt A_V^T)', spin(1), 0.0_dp, atol=1.0e-7_dp * spin(2))
          if (allocated(error)) return
       end do
       ! C = I: the node marker's numbers, bit for bit
