@@ -25,7 +25,8 @@
 !> interface's virtual node with the constant orientation C = A^T frame (flexible_body_t
 !> add_marker: frame A(theta) exp(phi~) C), so a joint at a flexible interface takes any axis;
 !> with the axis along A e_z (or a spherical joint) the interface's marker, the node frame,
-!> serves as before.
+!> serves as before. A &marker orientation (rigid bodies and the ground) gives a joint its frame
+!> instead of the axis (resolve_markers).
 module ffrf_app_mechanism_builder
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
@@ -42,8 +43,8 @@ module ffrf_app_mechanism_builder
    use ffrf_app_body_modes, only: compute_body_modes_from_file, reuse_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME
-   use ffrf_model_mechanism, only: model_joint_t, model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
-      LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
+   use ffrf_model_mechanism, only: model_joint_t, model_load_t, LOAD_PRESSURE, LOAD_STARTER, &
+      LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    use ffrf_mbs_joints, only: JOINT_SPHERICAL
    use ffrf_mbs_rotation, only: identity3, frame_from_axis, euler_from_rotation, euler_g
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -247,8 +248,6 @@ contains
       !> Markers of the two ends of each &spring (a rigid body's or the ground's point with the
       !> body's axes)
       integer, allocatable, intent(out) :: spring_ends(:, :)
-      real(dp), parameter :: body_axes(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-         1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
       real(dp) :: frame(3, 3)
       logical :: given
       integer :: j, l, e
@@ -263,7 +262,7 @@ contains
             end do
          end do
          do l = 1, size(loads)
-            call marker_of(loads(l)%body, loads(l)%marker, body_axes, .false., ends(3, l), &
+            call marker_of(loads(l)%body, loads(l)%marker, identity3(), .false., ends(3, l), &
                .true.)
          end do
       end associate
@@ -271,14 +270,14 @@ contains
          allocate (sensor_markers(size(sensors)), source=0)
          do l = 1, size(sensors)
             if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
-               body_axes, .false., sensor_markers(l), .true.)
+               identity3(), .false., sensor_markers(l), .true.)
          end do
       end associate
       associate (springs => resolved%mechanism%springs)
          allocate (spring_ends(2, size(springs)), source=0)
          do l = 1, size(springs)
             do e = 1, 2
-               call marker_of(springs(l)%body(e), springs(l)%marker(e), body_axes, .false., &
+               call marker_of(springs(l)%body(e), springs(l)%marker(e), identity3(), .false., &
                   spring_ends(e, l), .true.)
             end do
          end do
