@@ -128,8 +128,9 @@ int ffrf_mechanism_time(const ffrf_case *c, double *t, double *t_end);
 int ffrf_body_state(const ffrf_case *c, int body, double *q, double *v, int capacity,
                     int *count);
 
-/* Number of markers of a body (flexible: its interfaces in input order; rigid: one per joint
- * end and load that uses its &marker points). */
+/* Number of markers of a body (flexible: its interfaces in input order, then one per joint end
+ * whose frame is not the interface's node frame; rigid: one per joint end and load that uses
+ * its &marker points). */
 int ffrf_marker_count(const ffrf_case *c, int body, int *n);
 
 /* Global position (m), velocity (m/s) and angular velocity (rad/s) of a marker. Any of the

@@ -14,15 +14,19 @@
 !> body, off by default).
 !>
 !> Markers and joint frames. A flexible body's markers are its interfaces' virtual nodes, with
-!> the body axes as marker axes (theory.md 3.5). A rigid body's or the ground's markers are
-!> made from its &marker points, one per joint end (and per load) that uses them, with the
-!> joint's frame: z along the joint axis, x = the unit projection of e_x (e_y if the axis is
-!> near e_x) normal to it, y = z × x (global, in the starting pose), stored in the body axes of
-!> the &body orientation A (A^T frame); so axis = e_z of an unrotated body gives the body axes.
-!> Both ends of a joint get the same frame in the starting pose (the joints of ffrf_mbs_joints
-!> expect coinciding frames). A joint at a flexible body's interface therefore needs the axis
-!> along the body's z axis (A e_z) unless it is spherical (its marker axes are the body axes):
-!> this is checked.
+!> the (deformed) node frame as marker axes (theory.md 3.5). A rigid body's or the ground's
+!> markers are made from its &marker points, one per joint end (and per load) that uses them,
+!> with the joint's frame: z along the joint axis, x = the unit projection of e_x (e_y if the
+!> axis is near e_x) normal to it, y = z × x (global, in the starting pose), stored in the body
+!> axes of the &body orientation A (A^T frame); so axis = e_z of an unrotated body gives the body
+!> axes. Both ends of a joint get the same frame in the starting pose (the joints of
+!> ffrf_mbs_joints expect coinciding frames). A non-spherical joint at a flexible body's
+!> interface whose axis is not along the body's z axis (A e_z) gets a marker of its own at the
+!> interface's virtual node with the constant orientation C = A^T frame (flexible_body_t
+!> add_marker: frame A(theta) exp(phi~) C), so a joint at a flexible interface takes any axis;
+!> with the axis along A e_z (or a spherical joint) the interface's marker, the node frame,
+!> serves as before. A &marker orientation (rigid bodies and the ground) gives a joint its frame
+!> instead of the axis (resolve_markers).
 module ffrf_app_mechanism_builder
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
@@ -39,9 +43,9 @@ module ffrf_app_mechanism_builder
    use ffrf_app_body_modes, only: compute_body_modes_from_file, reuse_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME
-   use ffrf_model_mechanism, only: model_load_t, LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, &
-      LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
-   use ffrf_mbs_joints, only: JOINT_SPHERICAL, joint_kind_name
+   use ffrf_model_mechanism, only: model_joint_t, model_load_t, LOAD_PRESSURE, LOAD_STARTER, &
+      LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
+   use ffrf_mbs_joints, only: JOINT_SPHERICAL
    use ffrf_mbs_rotation, only: identity3, frame_from_axis, euler_from_rotation, euler_g
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
@@ -74,11 +78,13 @@ module ffrf_app_mechanism_builder
       type(body_modes_t) :: modes
    end type built_body_t
 
-   !> Marker requests of one rigid body or the ground: position (body frame) and frame.
+   !> Marker requests of one rigid body or the ground: position (body frame) and frame; of one
+   !> flexible body: the markers after its interfaces', each an interface (nodes) and a frame C.
    type :: marker_list_t
       character(len=64), allocatable :: names(:)
       real(dp), allocatable :: xyz(:, :)
       real(dp), allocatable :: frames(:, :, :)
+      integer, allocatable :: nodes(:)
    end type marker_list_t
 
 contains
@@ -118,7 +124,8 @@ contains
       nb = size(case%bodies)
       allocate (bodies(nb), lists(0:nb))
       do k = 0, nb
-         allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0))
+         allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0), &
+            lists(k)%nodes(0))
       end do
       has_pressure = resolved%mechanism%has_pressure
       if (has_pressure) then
@@ -132,8 +139,6 @@ contains
       end do
       ! Markers of the joint ends and loads
       call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
-      call check_interface_markers(resolved, error)
-      if (allocated(error)) return
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
@@ -230,8 +235,11 @@ contains
 
    !> Marker number on its body of every joint end and load: ends(1:2, j) for joint j (body 1
    !> and body 2), ends(3, l) for load l. Flexible bodies: the interface's marker handle in the
-   !> model. Rigid bodies and the ground: a new marker per distinct (&marker point, axis) in
-   !> `lists`.
+   !> model, or a framed marker after the interfaces' (module header). Rigid bodies and the
+   !> ground: a new marker per distinct (&marker point, frame) in `lists`. A joint's frame in
+   !> the starting pose (global) is its marker1's &marker orientation when given, else its
+   !> marker2's, else frame_from_axis(axis) (the input checked that axis is then the frame's
+   !> z axis: ffrf_input_case).
    subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
       !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
@@ -243,64 +251,120 @@ contains
       !> Markers of the two ends of each &spring (a rigid body's or the ground's point with the
       !> body's axes)
       integer, allocatable, intent(out) :: spring_ends(:, :)
-      integer :: j, l
+      real(dp) :: frame(3, 3)
+      logical :: given
+      integer :: j, l, e
       associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
          allocate (ends(3, max(size(joints), size(loads))), source=0)
          do j = 1, size(joints)
-            call marker_of(joints(j)%body(1), joints(j)%marker(1), joints(j)%axis, .true., &
-               ends(1, j))
-            call marker_of(joints(j)%body(2), joints(j)%marker(2), joints(j)%axis, .true., &
-               ends(2, j))
+            call joint_frame(joints(j), frame, given)
+            do e = 1, 2
+               call marker_of(joints(j)%body(e), joints(j)%marker(e), frame, .true., &
+                  ends(e, j), joints(j)%kind == JOINT_SPHERICAL .or. (.not. given .and. &
+                  along_body_z(joints(j)%body(e), joints(j)%axis)))
+            end do
          end do
          do l = 1, size(loads)
-            call marker_of(loads(l)%body, loads(l)%marker, [0.0_dp, 0.0_dp, 1.0_dp], .false., &
-               ends(3, l))
+            call marker_of(loads(l)%body, loads(l)%marker, identity3(), .false., ends(3, l), &
+               .true.)
          end do
       end associate
       associate (sensors => resolved%mechanism%sensors)
          allocate (sensor_markers(size(sensors)), source=0)
          do l = 1, size(sensors)
             if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
-               [0.0_dp, 0.0_dp, 1.0_dp], .false., sensor_markers(l))
+               identity3(), .false., sensor_markers(l), .true.)
          end do
       end associate
       associate (springs => resolved%mechanism%springs)
          allocate (spring_ends(2, size(springs)), source=0)
          do l = 1, size(springs)
-            call marker_of(springs(l)%body(1), springs(l)%marker(1), [0.0_dp, 0.0_dp, 1.0_dp], &
-               .false., spring_ends(1, l))
-            call marker_of(springs(l)%body(2), springs(l)%marker(2), [0.0_dp, 0.0_dp, 1.0_dp], &
-               .false., spring_ends(2, l))
+            do e = 1, 2
+               call marker_of(springs(l)%body(e), springs(l)%marker(e), identity3(), .false., &
+                  spring_ends(e, l), .true.)
+            end do
          end do
       end associate
 
    contains
 
-      !> Marker on model body b (0: ground) of the marker handle `handle` (module
-      !> ffrf_model_mechanism). A joint end's frame is global in the starting pose (in the
-      !> body axes of a rotated body); a load's or sensor's frame is the body axes.
-      subroutine marker_of(b, handle, axis, joint_end, marker)
+      !> The joint's frame in the starting pose (global) and whether a &marker orientation gave
+      !> it.
+      subroutine joint_frame(joint, frame, given)
+         type(model_joint_t), intent(in) :: joint
+         real(dp), intent(out) :: frame(3, 3)
+         logical, intent(out) :: given
+         integer :: e
+         given = .false.
+         frame = frame_from_axis(joint%axis)
+         do e = 1, 2
+            if (.not. is_oriented(joint%body(e), joint%marker(e))) cycle
+            given = .true.
+            frame = resolved%mechanism%markers(joint%marker(e))%orientation
+            if (joint%body(e) > 0) frame = matmul(resolved%bodies(joint%body(e))%motion% &
+               orientation, frame)
+            return
+         end do
+      end subroutine joint_frame
+
+      !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation.
+      logical function is_oriented(b, handle)
          integer, intent(in) :: b, handle
+         is_oriented = .false.
+         if (b > 0) then
+            if (.not. resolved%bodies(b)%rigid) return
+         end if
+         is_oriented = resolved%mechanism%markers(handle)%oriented
+      end function is_oriented
+
+      !> The (unit) joint axis is along model body b's z axis in the starting pose (b > 0).
+      logical function along_body_z(b, axis)
+         integer, intent(in) :: b
          real(dp), intent(in) :: axis(3)
-         logical, intent(in) :: joint_end
+         along_body_z = .false.
+         if (b > 0) along_body_z = abs(dot_product(axis, &
+            resolved%bodies(b)%motion%orientation(:, 3))) >= 1.0_dp - 1.0e-12_dp
+      end function along_body_z
+
+      !> Marker on model body b (0: ground) of the marker handle `handle` (module
+      !> ffrf_model_mechanism). A joint end's `frame` is global in the starting pose (stored in
+      !> the body axes of a rotated body); a load's, sensor's or spring's is the body axes; a
+      !> &marker orientation replaces either. A flexible body's interface marker (the node
+      !> frame) serves when `node_frame`, else a framed marker at its virtual node.
+      subroutine marker_of(b, handle, frame, joint_end, marker, node_frame)
+         integer, intent(in) :: b, handle
+         real(dp), intent(in) :: frame(3, 3)
+         logical, intent(in) :: joint_end, node_frame
          integer, intent(out) :: marker
          integer :: k
-         real(dp) :: frame(3, 3)
+         real(dp) :: local(3, 3)
+         local = frame
+         if (joint_end .and. b > 0) then
+            if (rotated(resolved%bodies(b)%motion%orientation)) local = &
+               matmul(transpose(resolved%bodies(b)%motion%orientation), frame)
+         end if
          if (b > 0) then
             if (.not. resolved%bodies(b)%rigid) then
                marker = handle
+               if (node_frame) return
+               do k = 1, size(lists(b)%nodes)
+                  if (lists(b)%nodes(k) == handle .and. maxval(abs(lists(b)%frames(:, :, k) - &
+                     local)) < 1.0e-12_dp) then
+                     marker = size(resolved%bodies(b)%interfaces) + k
+                     return
+                  end if
+               end do
+               lists(b)%nodes = [lists(b)%nodes, handle]
+               lists(b)%frames = reshape([lists(b)%frames, local], [3, 3, size(lists(b)%nodes)])
+               marker = size(resolved%bodies(b)%interfaces) + size(lists(b)%nodes)
                return
             end if
          end if
-         frame = frame_from_axis(axis)
-         if (joint_end .and. b > 0) then
-            if (rotated(resolved%bodies(b)%motion%orientation)) frame = &
-               matmul(transpose(resolved%bodies(b)%motion%orientation), frame)
-         end if
          associate (point => resolved%mechanism%markers(handle))
+            if (point%oriented) local = point%orientation
             do k = 1, size(lists(b)%names)
                if (lists(b)%names(k) == point%name .and. maxval(abs(lists(b)%frames(:, :, k) - &
-                  frame)) < 1.0e-12_dp) then
+                  local)) < 1.0e-12_dp) then
                   marker = k
                   return
                end if
@@ -308,7 +372,7 @@ contains
             lists(b)%names = [character(len=64) :: lists(b)%names, point%name]
             lists(b)%xyz = reshape([lists(b)%xyz, point%position], [3, size(lists(b)%names)])
          end associate
-         lists(b)%frames = reshape([lists(b)%frames, frame], [3, 3, size(lists(b)%names)])
+         lists(b)%frames = reshape([lists(b)%frames, local], [3, 3, size(lists(b)%names)])
          marker = size(lists(b)%names)
       end subroutine marker_of
 
@@ -398,6 +462,8 @@ contains
             (2.0_dp * pi * built%modes%frequency_hz)**2, built%modes%virtual_node_shape, &
             virtual_positions(built%modes), error)
          call times%add(name // ': inertia invariants', timer%seconds())
+         if (.not. allocated(error)) call add_framed_markers(list, size(resolved%interfaces), &
+            flexible, error)
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
@@ -448,52 +514,27 @@ contains
       end do
    end function virtual_positions
 
-   !> A joint at a flexible body's interface uses the body axes: its axis must be e_z (module
-   !> header) unless it is spherical.
-   subroutine check_interface_markers(resolved, error)
-      !> The case resolved (joints, rigid flags)
-      type(model_t), intent(in) :: resolved
+   !> The framed markers of a flexible body (resolve_markers), after its interfaces' markers.
+   subroutine add_framed_markers(list, num_interfaces, flexible, error)
+      type(marker_list_t), intent(in) :: list
+      !> Number of the body's interfaces (markers 1..num_interfaces)
+      integer, intent(in) :: num_interfaces
+      type(flexible_body_t), intent(inout) :: flexible
       type(error_t), allocatable, intent(out) :: error
-      integer :: j
-      associate (joints => resolved%mechanism%joints)
-         do j = 1, size(joints)
-            if (joints(j)%kind == JOINT_SPHERICAL) cycle
-            if (.not. (is_flexible(joints(j)%body(1)) .or. is_flexible(joints(j)%body(2)))) cycle
-            if (.not. (along_body_z(joints(j)%body(1), joints(j)%axis) .and. &
-               along_body_z(joints(j)%body(2), joints(j)%axis))) then
-               call fatal_error(error, FFRF_INPUT_ERROR, '&joint "' // trim(joints(j)%name) // &
-                  '": a ' // joint_kind_name(joints(j)%kind) // ' joint at an interface of a ' &
-                  // 'flexible body turns about the body z axis (its marker axes are the ' // &
-                  'body axes), but axis = (' // to_str(joints(j)%axis(1)) // ', ' // &
-                  to_str(joints(j)%axis(2)) // ', ' // to_str(joints(j)%axis(3)) // &
-                  ') is not along the body''s z axis (the third column of its &body ' // &
-                  'orientation); mesh the body with the joint axis along z')
-               return
-            end if
-         end do
-      end associate
-
-   contains
-
-      !> Model body k (0: ground) is flexible.
-      logical function is_flexible(k)
-         integer, intent(in) :: k
-         is_flexible = .false.
-         if (k > 0) is_flexible = .not. resolved%bodies(k)%rigid
-      end function is_flexible
-
-      !> The (unit) joint axis is along model body k's z axis in the starting pose, or k is
-      !> not flexible.
-      logical function along_body_z(k, axis)
-         integer, intent(in) :: k
-         real(dp), intent(in) :: axis(3)
-         along_body_z = .true.
-         if (.not. is_flexible(k)) return
-         along_body_z = abs(dot_product(axis, &
-            resolved%bodies(k)%motion%orientation(:, 3))) >= 1.0_dp - 1.0e-12_dp
-      end function along_body_z
-
-   end subroutine check_interface_markers
+      integer :: i, marker
+      do i = 1, size(list%nodes)
+         call flexible%add_marker(list%nodes(i), list%frames(:, :, i), marker, error)
+         if (allocated(error)) return
+         if (marker /= num_interfaces + i) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'joint frame marker ' // to_str(i) // &
+               ' became marker ' // to_str(marker) // ', expected ' // &
+               to_str(num_interfaces + i) // ' (the modes have ' // &
+               to_str(flexible%num_markers - i) // ' interfaces, the case ' // &
+               to_str(num_interfaces) // ')')
+            return
+         end if
+      end do
+   end subroutine add_framed_markers
 
    subroutine add_joints(resolved, bodies, ground_index, ends, mech, error)
       !> The case resolved (joints: kinds and model body indices)

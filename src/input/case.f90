@@ -23,7 +23,7 @@ module ffrf_input_case
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME, &
-      time_law_input_t
+      time_law_input_t, joint_input_t
    use ffrf_mbs_generalized_alpha, only: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_word
    implicit none
@@ -410,7 +410,11 @@ contains
             text = text // '&marker body = ''' // nml_string(mech%markers(k)%body) // &
                ''', name = ''' &
                // nml_string(mech%markers(k)%name) // ''', position = ' // &
-               vector_text(mech%markers(k)%position) // ' /' // nl
+               vector_text(mech%markers(k)%position)
+            ! only when given (old echoes unchanged); 17 digits read back to the same rotation
+            if (mech%markers(k)%oriented) text = text // ', orientation = ' // &
+               vector_text(reshape(transpose(mech%markers(k)%orientation), [9]), 17)
+            text = text // ' /' // nl
          end do
          do k = 1, size(mech%joints)
             associate (j => mech%joints(k))
@@ -571,6 +575,47 @@ contains
       end do
    end function vector_text
 
+   !> A joint at a &marker with an orientation acts in that frame, marker1's when both have one
+   !> (docs/mechanisms.md "Joint frames"): a revolute, prismatic or universal joint's axis must
+   !> be the frame's z axis in the starting pose (global: the body's orientation times the
+   !> marker's).
+   subroutine check_joint_axis(where, case, joint, error)
+      character(len=*), intent(in) :: where
+      type(case_input_t), intent(in) :: case
+      type(joint_input_t), intent(in) :: joint
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: z(3)
+      integer :: m
+      character(len=64) :: body, marker
+      if (joint%type == 'spherical' .or. joint%type == 'fixed') return
+      body = joint%body1
+      marker = joint%marker1
+      m = oriented_marker(body, marker)
+      if (m == 0) then
+         body = joint%body2
+         marker = joint%marker2
+         m = oriented_marker(body, marker)
+      end if
+      if (m == 0) return
+      z = case%mechanism%markers(m)%orientation(:, 3)
+      if (body /= GROUND_NAME) z = matmul(case%motions(body_index(case, body))%orientation, z)
+      if (abs(dot_product(joint%axis / norm2(joint%axis), z)) < 1.0_dp - 1.0e-9_dp) &
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': axis = (' // &
+         vector_text(joint%axis) // ') is not the z axis (' // vector_text(z) // ') of ' // &
+         '&marker "' // trim(marker) // '" of body "' // trim(body) // '" (its orientation, ' // &
+         'in the starting pose); give axis along it, or leave the marker''s orientation out')
+   contains
+      !> Index of the &marker (body, name) when it has an orientation, else 0.
+      integer function oriented_marker(b, name)
+         character(len=*), intent(in) :: b, name
+         oriented_marker = findloc(case%mechanism%markers%body == b .and. &
+            case%mechanism%markers%name == name, .true., dim=1)
+         if (oriented_marker > 0) then
+            if (.not. case%mechanism%markers(oriented_marker)%oriented) oriented_marker = 0
+         end if
+      end function oriented_marker
+   end subroutine check_joint_axis
+
    !> Every body, marker and interface a &joint, &load, &marker or &mechanism names exists: the
    !> markers of a body with a mesh are its interfaces, those of a rigid body or the ground
    !> are its &marker groups.
@@ -613,6 +658,8 @@ contains
                   trim(j%name) // '"', j%body1, j%marker1, error)
                if (.not. allocated(error)) call check_marker(case, src%at('joint', k, 'body2') &
                   // ': &joint "' // trim(j%name) // '"', j%body2, j%marker2, error)
+               if (.not. allocated(error)) call check_joint_axis(src%at('joint', k, 'axis') // &
+                  ': &joint "' // trim(j%name) // '"', case, j, error)
                if (allocated(error)) return
             end associate
          end do

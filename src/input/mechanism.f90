@@ -78,6 +78,13 @@ module ffrf_input_mechanism
       character(len=64) :: name = ''
       !> Position in the body frame (m); for the ground, global
       real(dp) :: position(3) = 0.0_dp
+      !> Orientation of the marker frame (its columns the marker axes in the body frame; for
+      !> the ground, global), given by rows as &marker orientation; the identity when not given
+      real(dp) :: orientation(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, &
+         0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
+      !> orientation was given: the joints at this marker act between this frame and the
+      !> other end's (ffrf_app_mechanism_builder)
+      logical :: oriented = .false.
    end type marker_input_t
 
    !> A joint between a marker of body1 and a marker of body2 (&joint).

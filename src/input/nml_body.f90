@@ -41,14 +41,12 @@ module ffrf_input_nml_body
    use ffrf_input_body, only: body_input_t, MAX_VOLUMES
    use ffrf_input_mechanism, only: body_motion_input_t
    use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_mbs_rotation, only: rotation_defect, determinant3, ROTATION_TOLERANCE
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &
       choice_key, nml_source_t
    implicit none
    private
    public :: read_body_groups, inertia_tensor, body_keys
-
-   !> Largest |A A^T - I| accepted of an &body orientation
-   real(dp), parameter :: ROTATION_TOLERANCE = 1.0e-9_dp
 
 contains
 
@@ -230,26 +228,6 @@ contains
       real(dp) :: J(3, 3)
       J = reshape([j6(1), j6(4), j6(6), j6(4), j6(2), j6(5), j6(6), j6(5), j6(3)], [3, 3])
    end function inertia_tensor
-
-   !> Largest entry of |A A^T - I|: how far A is from orthonormal.
-   pure real(dp) function rotation_defect(A) result(defect)
-      real(dp), intent(in) :: A(3, 3)
-      real(dp) :: product(3, 3)
-      integer :: i
-      product = matmul(A, transpose(A))
-      do i = 1, 3
-         product(i, i) = product(i, i) - 1.0_dp
-      end do
-      defect = maxval(abs(product))
-   end function rotation_defect
-
-   !> Determinant of a 3 x 3 matrix.
-   pure real(dp) function determinant3(A) result(det)
-      real(dp), intent(in) :: A(3, 3)
-      det = A(1, 1) * (A(2, 2) * A(3, 3) - A(2, 3) * A(3, 2)) &
-         - A(1, 2) * (A(2, 1) * A(3, 3) - A(2, 3) * A(3, 1)) &
-         + A(1, 3) * (A(2, 1) * A(3, 2) - A(2, 2) * A(3, 1))
-   end function determinant3
 
    !> Cholesky of a symmetric 3 x 3 matrix succeeds (all pivots > 0).
    pure logical function positive_definite(A) result(ok)

@@ -1,7 +1,8 @@
 !> Namelist groups of a mechanism run (a case with at least one &joint is a mechanism run):
 !>   &mechanism   crank, crank_angle_deg, crank_speed [rad/s], gravity [m/s^2], label,
 !>                progress_interval [s], animation_frames                     (optional, single)
-!>   &marker      body, name, position [m, body frame; ground: global]       (repeatable)
+!>   &marker      body, name, position [m, body frame; ground: global], orientation
+!>                [rotation matrix by rows: the marker axes in the body frame]  (repeatable)
 !>   &joint       name, type, body1, marker1, body2, marker2, axis            (repeatable)
 !>   &load        name, type (a word of load_choices), body, marker, direction,
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
@@ -39,7 +40,9 @@
 !>               integral int rho Psi dV; docs/theory.md 3.6, docs/gravity.md; its work enters
 !>               /energy like any applied load); progress_interval in (0, 1e6] s;
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
-!>   &marker     position: 3 reals in [-1e4, 1e4] m
+!>   &marker     position: 3 reals in [-1e4, 1e4] m; orientation: 9 reals in [-1e6, 1e6], a
+!>               rotation (|A A^T - I| <= 1e-9, det A > 0; absent: the joint's axis sets the
+!>               marker frame, docs/mechanisms.md "Joint frames")
 !>   &joint      type: a word of joint_choices (ffrf_mbs_joints); axis: 3 reals in [-1e6, 1e6],
 !>               not all zero
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
@@ -93,6 +96,7 @@ module ffrf_input_nml_mechanism
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
    use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
    use ffrf_mbs_joints, only: joint_choices
+   use ffrf_mbs_rotation, only: check_rotation
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
       energy_watch_word, ENERGY_WATCH_WORDS
    implicit none
@@ -125,7 +129,8 @@ contains
    function marker_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('body', 64), string_key('name', 64), &
-         real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3)]
+         real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
+         real_key('orientation', -1.0e6_dp, 1.0e6_dp, '', count=9)]
    end function marker_keys
 
    !> Keys of &joint (module header).
@@ -334,21 +339,23 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(marker_input_t) :: defaults
       character(len=64) :: body, name
-      real(dp) :: position(3)
+      real(dp) :: position(3), orientation(9)
       integer :: stat, k
       character(len=512) :: msg
-      namelist /marker/ body, name, position
+      namelist /marker/ body, name, position, orientation
       allocate (markers(0))
       rewind (unit)
       do
          body = defaults%body
          name = defaults%name
          position = defaults%position
+         ! all zero: not given (a zero matrix is no rotation)
+         orientation = 0.0_dp
          read (unit, nml=marker, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          if (stat /= 0) then
             call namelist_read_error(error, 'marker', size(markers) + 1, msg, &
-               'body, name, position')
+               'body, name, position, orientation')
             return
          end if
          k = size(markers) + 1
@@ -362,7 +369,16 @@ contains
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" is given twice')
             return
          end if
-         markers = [markers, marker_input_t(body, name, position)]
+         if (any(orientation /= 0.0_dp)) then
+            call check_rotation(transpose(reshape(orientation, [3, 3])), &
+               src%where('marker', k, 'orientation') // ': marker "' // trim(name) // &
+               '" of body "' // trim(body) // '": the orientation', error)
+            if (allocated(error)) return
+            markers = [markers, marker_input_t(body, name, position, &
+               transpose(reshape(orientation, [3, 3])), .true.)]
+         else
+            markers = [markers, marker_input_t(body, name, position)]
+         end if
       end do
    end subroutine read_marker_groups
 

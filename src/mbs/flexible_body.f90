@@ -25,6 +25,13 @@
 !> in zeta (the FFRF model is linear in zeta) but orthonormal, so that joint equations on marker
 !> axes are exact functions of q with exact Jacobians. Angular velocity of the marker (global)
 !> omega_V = A (omega_bar + T(phi) Psi_Vr zeta_dot), T the tangent operator of exp (T = I + O(phi)).
+!> Marker frames: markers 1..(number of interfaces) carry the virtual node's frame; add_marker
+!> adds markers at a virtual node with a constant orientation C (columns: the marker axes in the
+!> node frame), frame A exp(phi~) C, so that a joint at an interface takes any axis. C is
+!> constant, so the position, the angular velocity (L_w) and the generalized force are the
+!> node's; the axes b_j = exp(phi~) C e_j enter the axis Jacobians exactly (d b / d phi =
+!> -b~ T(phi)) and the Hessian through the weights w_axes C^T. C = I takes no product (the
+!> interface markers' numbers are unchanged by it, bit for bit).
 !>
 !> Geometric (centrifugal) stiffening, optional (set_geometric_stiffness; linear modal FFRF
 !> without it). The modal stiffness of the spinning body becomes K_ff + K_G(omega_bar),
@@ -49,7 +56,7 @@ module ffrf_mbs_flexible_body
    use ffrf_fe_geometric_stiffness, only: centrifugal_products, centrifugal_product_jacobian, &
       NUM_CENTRIFUGAL_CASES
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
-      rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
+      rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent, check_rotation
    use ffrf_mbs_body, only: body_t
    implicit none
    private
@@ -86,14 +93,24 @@ module ffrf_mbs_flexible_body
       real(dp), allocatable :: damping(:)
       !> Virtual-node mode rows (6 num_markers x m): [Psi_Vt; Psi_Vr] per interface
       real(dp), allocatable :: virtual_shapes(:, :)
-      !> Virtual node positions x_V in the body frame (3, num_markers) (m)
+      !> Virtual node positions x_V in the body frame (3, number of interfaces) (m)
       real(dp), allocatable :: virtual_xyz(:, :)
+      !> Virtual node of each marker (num_markers): markers 1..number of interfaces are the
+      !> interfaces' virtual nodes with the node frame, later ones added by add_marker
+      integer, allocatable :: marker_node(:)
+      !> Constant orientation C of each marker relative to its virtual node's (deformed) frame
+      !> (3, 3, num_markers): marker frame A exp(phi~) C (module header)
+      real(dp), allocatable :: marker_frame(:, :, :)
+      !> The marker has a frame C /= I (identity markers skip the product: no round-off)
+      logical, allocatable :: framed(:)
       !> Modal geometric stiffness K_G^(c) (m x m x 6) of the centrifugal load cases (module
       !> header); not allocated: linear modal FFRF, no stiffening (the default)
       real(dp), allocatable :: geometric_stiffness(:, :, :)
    contains
       procedure :: init => flexible_body_init
       procedure :: set_modal_damping => flexible_body_set_modal_damping
+      !> A further marker at a virtual node with a constant orientation C (joint frames)
+      procedure :: add_marker => flexible_body_add_marker
       !> Turn on the geometric stiffening with the K_G^(c) of the six centrifugal load cases
       procedure :: set_geometric_stiffness => flexible_body_set_geometric_stiffness
       procedure :: mass_matrix => flexible_body_mass_matrix
@@ -198,6 +215,12 @@ contains
       allocate (self%damping(nm), source=0.0_dp)
       self%virtual_shapes = virtual_shapes
       self%virtual_xyz = virtual_xyz
+      self%marker_node = [(i, i=1, self%num_markers)]
+      allocate (self%marker_frame(3, 3, self%num_markers), source=0.0_dp)
+      do i = 1, self%num_markers
+         self%marker_frame(:, :, i) = identity3()
+      end do
+      allocate (self%framed(self%num_markers), source=.false.)
 
       call check_scalar_mass(M, n, error)
       if (allocated(error)) return
@@ -253,6 +276,35 @@ contains
          self%m_psi_psi = gram(psi, psi)
       end associate
    end subroutine flexible_body_init
+
+   !> Add marker num_markers + 1 at virtual node `node` with the constant orientation `frame` (C,
+   !> marker axes in the virtual node's frame; module header): its frame is A exp(phi~) C. C
+   !> must be a rotation (check_rotation: |C C^T - I| <= 1e-9, det C > 0).
+   subroutine flexible_body_add_marker(self, node, frame, marker, error)
+      class(flexible_body_t), intent(inout) :: self
+      !> Interface (virtual node) number, 1..size(virtual_xyz, 2)
+      integer, intent(in) :: node
+      !> C (3 x 3), columns the marker axes in the virtual node's frame
+      real(dp), intent(in) :: frame(3, 3)
+      !> Number of the new marker
+      integer, intent(out) :: marker
+      type(error_t), allocatable, intent(out) :: error
+      marker = 0
+      if (node < 1 .or. node > size(self%virtual_xyz, 2)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body marker: virtual node ' // &
+            to_str(node) // ' out of range 1..' // to_str(size(self%virtual_xyz, 2)) // &
+            '; pass an interface number')
+         return
+      end if
+      call check_rotation(frame, 'flexible body marker at interface ' // to_str(node) // &
+         ': the frame', error)
+      if (allocated(error)) return
+      self%num_markers = self%num_markers + 1
+      marker = self%num_markers
+      self%marker_node = [self%marker_node, node]
+      self%marker_frame = reshape([self%marker_frame, frame], [3, 3, marker])
+      self%framed = [self%framed, any(frame /= identity3())]
+   end subroutine flexible_body_add_marker
 
    !> M = Ms (x) I3: M applied to p (x) e_c (p a fixed node field) has only c-components, the
    !> same for c = 1, 2, 3, to 1e-12 relative. Else the invariants would not be exact under A.
@@ -647,7 +699,8 @@ contains
    end function g_bar_transpose_derivative
 
    !> Hessian (7+m) x (7+m) of w_r . r_V + sum_j w_j . A_V e_j for marker k (the second
-   !> derivatives of joint equations, weighted by their multipliers). With b_p = x_V + Psi_Vt zeta
+   !> derivatives of joint equations, weighted by their multipliers; a marker frame C turns the
+   !> weights into the node frame's, W = w_axes C^T). With b_p = x_V + Psi_Vt zeta
    !> and b_j = exp(phi~) e_j, phi = Psi_Vr zeta, every term is w . A(theta) b(zeta):
    !> - theta-theta: exact, constant in theta (A + I is a quadratic form in theta): euler terms
    !>   of X = w_r b_p^T + sum_j w_j b_j^T;
@@ -671,9 +724,17 @@ contains
       real(dp), intent(out) :: H(:, :)
       real(dp) :: A(3, 3), E(3, 3), X(3, 3), phi(3), delta, b_p(3), Z(4, 3), y(3, 3)
       real(dp) :: T(3, 3), Z_axes(4, 3, 3), column(4), t_l(3), dt(3, 3), t_plus(3), t_minus(3)
-      real(dp) :: shifted(3)
+      real(dp) :: shifted(3), W(3, 3)
       logical :: need(3)
       integer :: m, j, l
+      integer :: row
+      row = 6 * self%marker_node(k)
+      ! sum_j w_j . A E C e_j = sum_i (W C^T)(:, i) . A E e_i: the node frame's weights
+      if (self%framed(k)) then
+         W = matmul(w_axes, transpose(self%marker_frame(:, :, k)))
+      else
+         W = w_axes
+      end if
       m = self%num_modes
       A = euler_rotation(q(4:7))
       phi = marker_rotation_vector(self, q, k)
@@ -681,7 +742,7 @@ contains
       b_p = marker_local(self, q, k)
       H = 0.0_dp
       ! theta-theta
-      X = matmul(w_axes, transpose(E))
+      X = matmul(W, transpose(E))
       do j = 1, 3
          X(:, j) = X(:, j) + w_position * b_p(j)
       end do
@@ -690,13 +751,13 @@ contains
       T = rotation_vector_tangent(phi)
       Z = theta_gradient_matrix(q(4:7), w_position)
       do j = 1, 3
-         need(j) = .not. all(w_axes(:, j) == 0.0_dp)
-         if (need(j)) Z_axes(:, :, j) = matmul(theta_gradient_matrix(q(4:7), w_axes(:, j)), &
+         need(j) = .not. all(W(:, j) == 0.0_dp)
+         if (need(j)) Z_axes(:, :, j) = matmul(theta_gradient_matrix(q(4:7), W(:, j)), &
             skew3(E(:, j)))
       end do
       do l = 1, m
-         column = matmul(Z, self%virtual_shapes(6 * k - 5:6 * k - 3, l))
-         t_l = matmul(T, self%virtual_shapes(6 * k - 2:6 * k, l))
+         column = matmul(Z, self%virtual_shapes(row - 5:row - 3, l))
+         t_l = matmul(T, self%virtual_shapes(row - 2:row, l))
          do j = 1, 3
             if (need(j)) column = column - matmul(Z_axes(:, :, j), t_l)
          end do
@@ -704,8 +765,8 @@ contains
          H(7 + l, 4:7) = column
       end do
       ! zeta-zeta
-      if (any(w_axes /= 0.0_dp)) then
-         y = matmul(transpose(A), w_axes)
+      if (any(W /= 0.0_dp)) then
+         y = matmul(transpose(A), W)
          do j = 1, 3
             delta = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(abs(phi(j)), 1.0_dp)
             shifted = phi
@@ -717,9 +778,9 @@ contains
          end do
          dt = 0.5_dp * (dt + transpose(dt))
          do l = 1, m
-            t_l = matmul(dt, self%virtual_shapes(6 * k - 2:6 * k, l))
+            t_l = matmul(dt, self%virtual_shapes(row - 2:row, l))
             do j = 1, m
-               H(7 + j, 7 + l) = dot_product(self%virtual_shapes(6 * k - 2:6 * k, j), t_l)
+               H(7 + j, 7 + l) = dot_product(self%virtual_shapes(row - 2:row, j), t_l)
             end do
          end do
       end if
@@ -783,6 +844,8 @@ contains
       real(dp) :: A(3, 3), G_bar(3, 4), u(3), y(3), n(3), p(3), dy(3, 4), dn(3, 4), phi(3)
       real(dp) :: psi_r(3, self%num_modes), delta, t_plus(3), t_minus(3), shifted(3), dt(3, 3)
       integer :: m, nc, l
+      integer :: row
+      row = 6 * self%marker_node(k)
       m = self%num_modes
       nc = self%num_coordinates
       A = euler_rotation(q(4:7))
@@ -793,16 +856,16 @@ contains
       p = cross_product(u, y) + n
       dy = transposed_rotation_derivative(q(4:7), force)
       dn = transposed_rotation_derivative(q(4:7), moment)
-      psi_r = self%virtual_shapes(6 * k - 2:6 * k, :)
+      psi_r = self%virtual_shapes(row - 2:row, :)
       phi = matmul(psi_r, q(8:nc))
       tangent = 0.0_dp
       tangent(4:7, 4:7) = g_bar_transpose_derivative(p) + matmul(transpose(G_bar), &
          matmul(skew3(u), dy) + dn)
       do l = 1, m
          tangent(4:7, 7 + l) = matmul(transpose(G_bar), &
-            cross_product(self%virtual_shapes(6 * k - 5:6 * k - 3, l), y))
+            cross_product(self%virtual_shapes(row - 5:row - 3, l), y))
       end do
-      tangent(8:nc, 4:7) = matmul(transpose(self%virtual_shapes(6 * k - 5:6 * k - 3, :)), dy) &
+      tangent(8:nc, 4:7) = matmul(transpose(self%virtual_shapes(row - 5:row - 3, :)), dy) &
          + matmul(transpose(psi_r), matmul(transpose(rotation_vector_tangent(phi)), dn))
       if (any(moment /= 0.0_dp)) then
          ! Psi_Vr^T d(T(phi)^T n)/dphi Psi_Vr, the 3 x 3 derivative by central differences
@@ -911,17 +974,20 @@ contains
       real(dp), intent(inout) :: axis_jacobian(:, :, :)
       real(dp) :: A(3, 3), u(3), phi(3), E(3, 3), T(3, 3), t_l(3), AE_skew(3, 3, 3)
       integer :: j, l
+      integer :: row
+      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       u = marker_local(self, q, k)
       phi = marker_rotation_vector(self, q, k)
       E = rotation_vector_matrix(phi)
+      if (self%framed(k)) E = matmul(E, self%marker_frame(:, :, k))
       position = q(1:3) + matmul(A, u)
       orientation = matmul(A, E)
       position_jacobian(:, 1:3) = identity3()
       position_jacobian(:, 4:7) = rotated_vector_jacobian(q(4:7), u)
       ! Mode by mode (3-vectors): no m-sized temporaries
       do l = 1, self%num_modes
-         position_jacobian(:, 7 + l) = matmul(A, self%virtual_shapes(6 * k - 5:6 * k - 3, l))
+         position_jacobian(:, 7 + l) = matmul(A, self%virtual_shapes(row - 5:row - 3, l))
       end do
       if (.not. any(need_axes)) return
       T = rotation_vector_tangent(phi)
@@ -932,7 +998,7 @@ contains
          AE_skew(:, :, j) = -matmul(A, skew3(E(:, j)))
       end do
       do l = 1, self%num_modes
-         t_l = matmul(T, self%virtual_shapes(6 * k - 2:6 * k, l))
+         t_l = matmul(T, self%virtual_shapes(row - 2:row, l))
          do j = 1, 3
             if (need_axes(j)) axis_jacobian(:, 7 + l, j) = matmul(AE_skew(:, :, j), t_l)
          end do
@@ -999,9 +1065,11 @@ contains
       integer, intent(in) :: k
       real(dp) :: u(3)
       integer :: l
-      u = self%virtual_xyz(:, k)
+      integer :: row
+      row = 6 * self%marker_node(k)
+      u = self%virtual_xyz(:, self%marker_node(k))
       do l = 1, self%num_modes
-         u = u + q(7 + l) * self%virtual_shapes(6 * k - 5:6 * k - 3, l)
+         u = u + q(7 + l) * self%virtual_shapes(row - 5:row - 3, l)
       end do
    end function marker_local
 
@@ -1012,9 +1080,11 @@ contains
       integer, intent(in) :: k
       real(dp) :: phi(3)
       integer :: l
+      integer :: row
+      row = 6 * self%marker_node(k)
       phi = 0.0_dp
       do l = 1, self%num_modes
-         phi = phi + q(7 + l) * self%virtual_shapes(6 * k - 2:6 * k, l)
+         phi = phi + q(7 + l) * self%virtual_shapes(row - 2:row, l)
       end do
    end function marker_rotation_vector
 
@@ -1032,7 +1102,7 @@ contains
       r = q(1:3) + matmul(A, u)
    end function flexible_body_marker_position
 
-   !> Orientation of marker k (body of V -> global), A_V = A exp(skew(Psi_Vr zeta)).
+   !> Orientation of marker k (marker frame -> global), A_V = A exp(skew(Psi_Vr zeta)) C.
    pure function flexible_body_marker_orientation(self, q, k) result(A_v)
       class(flexible_body_t), intent(in) :: self
       !> Coordinates
@@ -1043,6 +1113,7 @@ contains
       real(dp) :: A(3, 3), R(3, 3)
       A = euler_rotation(q(4:7))
       R = rotation_vector_matrix(marker_rotation_vector(self, q, k))
+      if (self%framed(k)) R = matmul(R, self%marker_frame(:, :, k))
       A_v = matmul(A, R)
    end function flexible_body_marker_orientation
 
@@ -1057,10 +1128,12 @@ contains
       integer, intent(in) :: k
       real(dp) :: jac(3, self%num_coordinates)
       real(dp) :: A(3, 3)
+      integer :: row
+      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       jac(:, 1:3) = identity3()
       jac(:, 4:7) = -matmul(A, matmul(skew3(marker_local(self, q, k)), euler_g_bar(q(4:7))))
-      jac(:, 8:) = matmul(A, self%virtual_shapes(6 * k - 5:6 * k - 3, :))
+      jac(:, 8:) = matmul(A, self%virtual_shapes(row - 5:row - 3, :))
    end function flexible_body_marker_velocity_jacobian
 
    !> Exact partial derivatives of the marker position, dr_V/dq (3 x (7+m)), in all four
@@ -1073,9 +1146,11 @@ contains
       !> Interface (marker) number
       integer, intent(in) :: k
       real(dp) :: jac(3, self%num_coordinates)
+      integer :: row
+      row = 6 * self%marker_node(k)
       jac(:, 1:3) = identity3()
       jac(:, 4:7) = rotated_vector_jacobian(q(4:7), marker_local(self, q, k))
-      jac(:, 8:) = matmul(euler_rotation(q(4:7)), self%virtual_shapes(6 * k - 5:6 * k - 3, :))
+      jac(:, 8:) = matmul(euler_rotation(q(4:7)), self%virtual_shapes(row - 5:row - 3, :))
    end function flexible_body_marker_position_jacobian
 
    !> Rotation Jacobian L_w of marker k (3 x (7+m)) = [0, A G_bar, A T(phi) Psi_Vr]: the global
@@ -1090,11 +1165,13 @@ contains
       integer, intent(in) :: k
       real(dp) :: jac(3, self%num_coordinates)
       real(dp) :: A(3, 3)
+      integer :: row
+      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       jac(:, 1:3) = 0.0_dp
       jac(:, 4:7) = matmul(A, euler_g_bar(q(4:7)))
       jac(:, 8:) = matmul(matmul(A, rotation_vector_tangent(marker_rotation_vector(self, q, k))), &
-         self%virtual_shapes(6 * k - 2:6 * k, :))
+         self%virtual_shapes(row - 2:row, :))
    end function flexible_body_marker_rotation_jacobian
 
    !> Exact partial derivatives d(A_V a)/dq (3 x (7+m)) of a marker-fixed axis a, all four
@@ -1110,13 +1187,19 @@ contains
       real(dp), intent(in) :: axis(3)
       real(dp) :: jac(3, self%num_coordinates)
       real(dp) :: A(3, 3), phi(3), b(3)
+      integer :: row
+      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       phi = marker_rotation_vector(self, q, k)
-      b = matmul(rotation_vector_matrix(phi), axis)
+      if (self%framed(k)) then
+         b = matmul(rotation_vector_matrix(phi), matmul(self%marker_frame(:, :, k), axis))
+      else
+         b = matmul(rotation_vector_matrix(phi), axis)
+      end if
       jac(:, 1:3) = 0.0_dp
       jac(:, 4:7) = rotated_vector_jacobian(q(4:7), b)
       jac(:, 8:) = -matmul(matmul(A, matmul(skew3(b), rotation_vector_tangent(phi))), &
-         self%virtual_shapes(6 * k - 2:6 * k, :))
+         self%virtual_shapes(row - 2:row, :))
    end function flexible_body_marker_axis_jacobian
 
    !> Generalized force of a global force F and a global moment M_V applied at marker k, by
@@ -1138,6 +1221,8 @@ contains
       integer :: l
       ! The header's closed forms (= matmul(force, L_r) + matmul(moment, L_w) without the
       ! 3 x (7+m) Jacobians)
+      integer :: row
+      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       u = marker_local(self, q, k)
       y = matmul(force, A)
@@ -1147,8 +1232,8 @@ contains
       gen(1:3) = force
       gen(4:7) = matmul(cross_product(u, y) + n, euler_g_bar(q(4:7)))
       do l = 1, self%num_modes
-         gen(7 + l) = dot_product(self%virtual_shapes(6 * k - 5:6 * k - 3, l), y) + &
-            dot_product(self%virtual_shapes(6 * k - 2:6 * k, l), Tn)
+         gen(7 + l) = dot_product(self%virtual_shapes(row - 5:row - 3, l), y) + &
+            dot_product(self%virtual_shapes(row - 2:row, l), Tn)
       end do
    end function flexible_body_marker_generalized_force
 

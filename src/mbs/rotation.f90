@@ -16,13 +16,19 @@
 !> the formula above also off the constraint (it is then not orthogonal).
 module ffrf_mbs_rotation
    use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
    implicit none
    private
    public :: euler_rotation, euler_g_bar, euler_g, euler_constraint, euler_constraint_jacobian
    public :: euler_from_rotation, euler_from_axis_angle, euler_normalized
    public :: rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
-   public :: frame_from_axis
+   public :: frame_from_axis, rotation_defect, determinant3, check_rotation, ROTATION_TOLERANCE
    public :: skew3, axial3, identity3
+
+   !> Largest |A A^T - I| of a rotation matrix given as input (&body and &marker orientation,
+   !> marker frames)
+   real(dp), parameter :: ROTATION_TOLERANCE = 1.0e-9_dp
 
 contains
 
@@ -257,5 +263,42 @@ contains
          z(1) * x(2) - z(2) * x(1)]
       frame(:, 3) = z
    end function frame_from_axis
+
+   !> Largest entry of |A A^T - I|: how far A is from orthonormal.
+   pure real(dp) function rotation_defect(A) result(defect)
+      real(dp), intent(in) :: A(3, 3)
+      real(dp) :: product(3, 3)
+      integer :: i
+      product = matmul(A, transpose(A))
+      do i = 1, 3
+         product(i, i) = product(i, i) - 1.0_dp
+      end do
+      defect = maxval(abs(product))
+   end function rotation_defect
+
+   !> Determinant of a 3 x 3 matrix.
+   pure real(dp) function determinant3(A) result(det)
+      real(dp), intent(in) :: A(3, 3)
+      det = A(1, 1) * (A(2, 2) * A(3, 3) - A(2, 3) * A(3, 2)) &
+         - A(1, 2) * (A(2, 1) * A(3, 3) - A(2, 3) * A(3, 1)) &
+         + A(1, 3) * (A(2, 1) * A(3, 2) - A(2, 2) * A(3, 1))
+   end function determinant3
+
+   !> An input error unless A is a rotation: |A A^T - I| <= ROTATION_TOLERANCE and det A > 0.
+   !> `what` starts the one-line message (where the matrix was given).
+   subroutine check_rotation(A, what, error)
+      real(dp), intent(in) :: A(3, 3)
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. rotation_defect(A) <= ROTATION_TOLERANCE) then
+         call fatal_error(error, FFRF_INPUT_ERROR, what // ' is not orthonormal: largest ' // &
+            '|A A^T - I| = ' // to_str(rotation_defect(A)) // ' > 1e-9 (give the rotation ' // &
+            'matrix by rows, 9 reals, its columns the axes)')
+      else if (.not. determinant3(A) > 0.0_dp) then
+         call fatal_error(error, FFRF_INPUT_ERROR, what // ' has det = ' // &
+            to_str(determinant3(A)) // ', a reflection, not a rotation (det must be +1: ' // &
+            'right-handed axes)')
+      end if
+   end subroutine check_rotation
 
 end module ffrf_mbs_rotation

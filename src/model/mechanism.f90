@@ -35,6 +35,9 @@ module ffrf_model_mechanism
       character(len=64) :: name = ''
       !> Position in the body frame (m); for the ground, global
       real(dp) :: position(3) = 0.0_dp
+      !> &marker orientation (marker axes in the body frame; ground: global), when oriented
+      real(dp) :: orientation(3, 3) = 0.0_dp
+      logical :: oriented = .false.
    end type model_marker_t
 
    !> A joint (&joint), resolved.

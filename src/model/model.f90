@@ -122,7 +122,8 @@ contains
             m%loads(size(input%loads)))
          do k = 1, size(input%markers)
             m%markers(k) = model_marker_t(model%body_index(input%markers(k)%body), &
-               input%markers(k)%name, input%markers(k)%position)
+               input%markers(k)%name, input%markers(k)%position, input%markers(k)%orientation, &
+               input%markers(k)%oriented)
          end do
          do k = 1, size(input%joints)
             associate (joint => m%joints(k), given => input%joints(k))

@@ -9,6 +9,8 @@
 #    area weights, to 1e-12) on a Tet10 block built from arrays.
 #  - capi_sensors: ffrf_sensor_count/name/values on a crank-less slider mechanism (closed
 #    forms) and the engine (crank sensors = ffrf_crank_state), failure paths included.
+#  - capi_frames: marker frames (a ground &marker orientation, framed markers at flexible
+#    interfaces) and a bad orientation refused through ffrf_case_open.
 #  - capi_compare_driver: the C API's frequencies (crank lc 8 mm, RC set 2) equal the driver's
 #    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
 #    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
@@ -54,7 +56,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
 foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
-    test_capi_values test_capi_sensors test_capi_drivers)
+    test_capi_values test_capi_sensors test_capi_drivers test_capi_frames)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -97,6 +99,16 @@ add_test(NAME capi_drivers COMMAND test_capi_drivers
   "${PROJECT_SOURCE_DIR}/input/driven_crank.nml" "${PROJECT_BINARY_DIR}/meshes")
 set_tests_properties(capi_drivers PROPERTIES LABELS "capi;drivers" ENVIRONMENT
   "OPENBLAS_NUM_THREADS=1")
+# Marker frames through the C API (test_capi_frames.c): a rigid pendulum about a ground
+# &marker orientation against energy conservation, the framed markers of a flexible pendulum
+# about its links' y axis, a bad orientation refused with its place
+add_test(NAME capi_frames COMMAND test_capi_frames
+  "${PROJECT_SOURCE_DIR}/tests/data/frames/rigid_pendulum_oriented.nml"
+  "${PROJECT_SOURCE_DIR}/tests/regression/frames_pendulum_xz.nml"
+  "${PROJECT_SOURCE_DIR}/tests/data/frames/bad_marker_orientation.nml"
+  "${PROJECT_BINARY_DIR}/meshes")
+set_tests_properties(capi_frames PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+  FIXTURES_REQUIRED beam_lc6_mesh)
 
 add_test(NAME capi_compare_driver
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}

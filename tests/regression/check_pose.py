@@ -35,8 +35,8 @@ The log line of each run says what the assembly changed (case 1: nothing, "moved
 
 `flexible`: tests/data/pose/flexible_pendulum.nml, a flexible conrod (4 modes) hinged at its big
 end, started turning at 2 rad/s about z under gravity along -x, and the same scene rotated by
-Q = Rz(0.7) (orientation Q, gravity Q g; the hinge axis stays z: at a flexible body's interface
-it must be the body z axis). References: the tip's (small-end virtual node) starting velocity
+Q = Rz(0.7) (orientation Q, gravity Q g; the hinge axis stays z, the body z axis: joints off it
+at a flexible interface are tests/regression/check_frames_pendulum.py's). References: the tip's (small-end virtual node) starting velocity
 is omega x r (the modal rates start at zero), 1e-12 m/s (round-off of |v| = 0.3 m/s); the
 rotated run's tip is Q times the unrotated one's at every step, 1e-12 m (round-off, as case 1;
 the modes are computed in the body frame and equal).

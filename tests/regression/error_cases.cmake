@@ -65,16 +65,14 @@ ffrf_error_case(joint_undefined_marker 2 "marker \"tip\" of body \"arm\" is not 
   "${_arm}\n&joint name = 'pivot', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'tip' /")
 ffrf_error_case(joint_bad_type 2 "joint_bad_type\\.nml:4: &joint type = 'hinge': not allowed. type is one of revolute"
   "${_arm}\n&joint name = 'pivot', type = 'hinge', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
-# a partial word (the readers' old substring check let 'cyl' through to the model) and the
-# cylindrical joint's axis rule at a flexible interface (like every kind but spherical)
+# a partial word (the readers' old substring check let 'cyl' through to the model) and a misuse
+# of the cylindrical joint: a &driver on it (drivers take revolute and prismatic joints)
 ffrf_error_case(joint_partial_type 2 "joint_partial_type\\.nml:4: &joint type = 'cyl': not allowed. type is one of revolute, prismatic, spherical, universal, fixed, cylindrical"
   "${_arm}\n&joint name = 'pivot', type = 'cyl', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
-ffrf_error_case(cylindrical_axis_on_flexible 2 "&joint \"bearing\": a cylindrical joint at an interface of a flexible body"
-  "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0.045, 0 /\n&joint name = 'bearing', type = 'cylindrical', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B2', axis = 1, 0, 0 /\n&modes num_modes = 2 /")
+ffrf_error_case(driver_on_cylindrical 2 "driver_on_cylindrical\\.nml:5: &driver \"m\": joint \"sleeve\" is cylindrical; a driver needs a revolute or prismatic joint"
+  "${_arm}\n&joint name = 'sleeve', type = 'cylindrical', body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /\n&driver name = 'm', joint = 'sleeve', law = 'constant_speed', speed = 1.0 /")
 ffrf_error_case(load_needs_crank 2 "&load \"starter\" \\(starter\\) depends on the crank"
   "${_arm}\n${_pivot}\n&load name = 'starter', type = 'starter', body = 'arm', marker = 'hinge' /")
-ffrf_error_case(joint_axis_on_flexible 2 "&joint \"bearing\": a revolute joint at an interface of a flexible body"
-  "${_body}\n${_iface}\n&marker body = 'ground', name = 'axis', position = 0, 0.045, 0 /\n&joint name = 'bearing', type = 'revolute', body1 = 'ground', marker1 = 'axis', body2 = 'crank', marker2 = 'B2', axis = 1, 0, 0 /\n&modes num_modes = 2 /")
 ffrf_error_case(integrator_rho 2 "integrator_rho\\.nml:5: &integrator rho_inf = 1.5: out of range. give a finite real in \\[0, 1\\]"
   "${_arm}\n${_pivot}\n&integrator rho_inf = 1.5 /")
 file(WRITE "${_dir}/bad_table.txt" "# angle_deg pressure_pa\n0 1.0e5\n90 1.0e5\nninety 2.0e5\n")

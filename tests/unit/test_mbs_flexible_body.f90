@@ -48,6 +48,7 @@ contains
          new_unittest('quadratic_velocity_lagrange', test_quadratic_velocity), &
          new_unittest('mean_axis_free_free', test_mean_axis), &
          new_unittest('marker_jacobians', test_marker_jacobians), &
+         new_unittest('framed_marker_jacobians', test_framed_markers), &
          new_unittest('marker_rigid_motion_and_forces', test_marker_forces), &
          new_unittest('stiff_modes_rigid_limit', test_rigid_limit), &
          new_unittest('init_rejects_bad_input', test_bad_input)]
@@ -156,6 +157,37 @@ contains
       qt = q + t * v
       qt(4:7) = euler_normalized(qt(4:7))
    end function path_point
+
+   !> Central differences (3 x nc) of A_V a, marker k, in every coordinate (step h).
+   function axis_differences(body, q, k, axis, h) result(fd)
+      type(flexible_body_t), intent(in) :: body
+      real(dp), intent(in) :: q(:), axis(3), h
+      integer, intent(in) :: k
+      real(dp) :: fd(3, size(q))
+      real(dp) :: dq(size(q))
+      integer :: i
+      do i = 1, size(q)
+         dq = 0.0_dp
+         dq(i) = h
+         fd(:, i) = (matmul(body%marker_orientation(q + dq, k), axis) - &
+            matmul(body%marker_orientation(q - dq, k), axis)) / (2.0_dp * h)
+      end do
+   end function axis_differences
+
+   !> [|axial(dA_V/dt A_V^T) - L_w v|, |L_w v|] of marker k along the path through q with
+   !> velocity v (central differences, path step hp).
+   function angular_velocity_defect(body, q, v, k, hp) result(d)
+      type(flexible_body_t), intent(in) :: body
+      real(dp), intent(in) :: q(:), v(:), hp
+      integer, intent(in) :: k
+      real(dp) :: d(2)
+      real(dp) :: A_v(3, 3), A_dot(3, 3), omega(3)
+      A_v = body%marker_orientation(q, k)
+      A_dot = (body%marker_orientation(path_point(q, v, hp), k) - &
+         body%marker_orientation(path_point(q, v, -hp), k)) / (2.0_dp * hp)
+      omega = matmul(body%marker_rotation_jacobian(q, k), v)
+      d = [norm2(axial3(matmul(A_dot, transpose(A_v))) - omega), norm2(omega)]
+   end function angular_velocity_defect
 
    function max_abs(a) result(s)
       real(dp), intent(in) :: a(:, :)
@@ -447,7 +479,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), parameter :: h = 1.0e-6_dp
       real(dp), allocatable :: q(:), v(:), dq(:), jac(:, :), fd(:, :), jac_axis(:, :)
-      real(dp) :: axis(3), r_dot(3), A_dot(3, 3), omega(3), A_v(3, 3), worst(4), hp
+      real(dp) :: axis(3), r_dot(3), A_v(3, 3), worst(4), hp, spin(2)
       integer :: k, i, nc
       worst = 0.0_dp
       call get_crank(error)
@@ -470,12 +502,7 @@ contains
          call check_close(error, 'marker ' // to_str(k) // ': dr_V/dq vs central differences', &
             max_abs(jac - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac))
          if (allocated(error)) return
-         do i = 1, nc
-            dq = 0.0_dp
-            dq(i) = h
-            fd(:, i) = (matmul(crank%marker_orientation(q + dq, k), axis) - &
-               matmul(crank%marker_orientation(q - dq, k), axis)) / (2.0_dp * h)
-         end do
+         fd = axis_differences(crank, q, k, axis, h)
          worst(2) = max(worst(2), max_abs(jac_axis - fd) / max_abs(jac_axis))
          call check_close(error, 'marker ' // to_str(k) // ': d(A_V a)/dq vs central ' // &
             'differences', max_abs(jac_axis - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac_axis))
@@ -493,15 +520,11 @@ contains
             norm2(matmul(crank%marker_velocity_jacobian(q, k) - jac, v)), 0.0_dp, &
             atol=1.0e-12_dp * norm2(r_dot))
          if (allocated(error)) return
-         A_v = crank%marker_orientation(q, k)
-         A_dot = (crank%marker_orientation(path_point(q, v, hp), k) - &
-            crank%marker_orientation(path_point(q, v, -hp), k)) / (2.0_dp * hp)
-         omega = matmul(crank%marker_rotation_jacobian(q, k), v)
-         worst(4) = max(worst(4), norm2(axial3(matmul(A_dot, transpose(A_v))) - omega) / &
-            norm2(omega))
+         spin = angular_velocity_defect(crank, q, v, k, hp)
+         worst(4) = max(worst(4), spin(1) / spin(2))
          call check_close(error, 'marker ' // to_str(k) // ': L_w v vs axial(dA_V/dt A_V^T)', &
-            norm2(axial3(matmul(A_dot, transpose(A_v))) - omega), 0.0_dp, &
-            atol=1.0e-7_dp * norm2(omega))
+            spin(1), 0.0_dp, atol=1.0e-7_dp * spin(2))
+         A_v = crank%marker_orientation(q, k)
          if (allocated(error)) return
          call check_close(error, 'marker ' // to_str(k) // ': A_V orthonormal', &
             max_abs(matmul(transpose(A_v), A_v) - identity3()), 0.0_dp, atol=1.0e-14_dp)
@@ -511,6 +534,163 @@ contains
          'dr_V/dq ' // to_str(worst(1), 2) // ', d(A_V a)/dq ' // to_str(worst(2), 2) // &
          ', L_r v ' // to_str(worst(3), 2) // ', L_w v ' // to_str(worst(4), 2))
    end subroutine test_marker_jacobians
+
+   !> Framed markers (add_marker, marker frame A exp(phi~) C) at the crank's three virtual nodes,
+   !> C a rotation by 1.1 rad about (1, 2, -2)/3 (it takes the node's x axis far from any body
+   !> axis), random state (zeta ~ 0.02): against an independent product the orientation is the
+   !> node marker's times C (1e-14); marker_axis_jacobian, marker_kinematics' axis Jacobians and
+   !> its orientation against central differences of marker_orientation (h = 1e-6, 1e-7 of max
+   !> |J|); the Hessian of w_r . r + sum_j w_j . A_V e_j against central differences of its
+   !> exact gradient (from the position and axis Jacobians; 1e-6 of max |H|: the zeta-zeta
+   !> block is itself a central difference of the exponential map); L_w v against
+   !> axial(dA_V/dt A_V^T) along a path (1e-7); the position, L_r and the generalized force
+   !> equal the node marker's (C is constant). A marker with C = I gives the node marker's
+   !> numbers bit for bit (no product), and C not a rotation is refused with its interface.
+   subroutine test_framed_markers(error)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), parameter :: h = 1.0e-6_dp
+      type(flexible_body_t) :: body
+      real(dp), allocatable :: q(:), v(:), dq(:), jac(:, :), fd(:, :), pj(:, :), aj(:, :, :)
+      real(dp), allocatable :: hess(:, :), fd_hess(:, :), node_aj(:, :, :)
+      real(dp) :: C(3, 3), axis(3), r(3), frame(3, 3), A_v(3, 3), omega(3)
+      real(dp) :: w_p(3), W(3, 3), worst(4), hp, bad(3, 3), spin(2)
+      integer :: k, kf, i, j, nc, nodes, marker
+      logical :: refused
+      character(len=:), allocatable :: message
+      worst = 0.0_dp
+      call get_crank(error)
+      if (allocated(error)) return
+      body = crank
+      nc = body%num_coordinates
+      nodes = body%num_markers
+      C = euler_rotation(euler_from_axis_angle([1.0_dp, 2.0_dp, -2.0_dp] / 3.0_dp, 1.1_dp))
+      do k = 1, nodes
+         call body%add_marker(k, C, marker, error)
+         if (allocated(error)) return
+         call check(error, 'add_marker numbers markers after the interfaces: ' // &
+            to_str(marker), marker == nodes + k)
+         if (allocated(error)) return
+      end do
+      call random_state(body, 23, 0.02_dp, q, v)
+      hp = h / norm2(v(4:7))
+      axis = [0.3_dp, -0.5_dp, 0.8_dp]
+      w_p = [0.7_dp, -0.2_dp, 0.4_dp]
+      W = reshape([0.5_dp, -1.0_dp, 0.3_dp, 0.2_dp, 0.9_dp, -0.6_dp, -0.4_dp, 0.1_dp, 0.8_dp], &
+         [3, 3])
+      allocate (dq(nc), fd(3, nc), pj(3, nc), aj(3, nc, 3), hess(nc, nc), fd_hess(nc, nc), &
+         node_aj(3, nc, 3))
+      do k = 1, nodes
+         kf = nodes + k
+         call check_close(error, 'framed marker ' // to_str(kf) // ': A_V = A_node C', &
+            max_abs(body%marker_orientation(q, kf) - matmul(body%marker_orientation(q, k), C)), &
+            0.0_dp, atol=1.0e-14_dp)
+         if (allocated(error)) return
+         call check_close(error, 'framed marker ' // to_str(kf) // ': position = the node''s', &
+            norm2(body%marker_position(q, kf) - body%marker_position(q, k)), 0.0_dp, atol=0.0_dp)
+         if (allocated(error)) return
+         call check_close(error, 'framed marker ' // to_str(kf) // ': L_r, L_w and the ' // &
+            'generalized force = the node''s', max_abs(body%marker_velocity_jacobian(q, kf) - &
+            body%marker_velocity_jacobian(q, k)) + max_abs(body%marker_rotation_jacobian(q, kf) &
+            - body%marker_rotation_jacobian(q, k)) + maxval(abs(body%marker_generalized_force(q, &
+            kf, w_p, axis) - body%marker_generalized_force(q, k, w_p, axis))), 0.0_dp, atol=0.0_dp)
+         if (allocated(error)) return
+         ! d(A_V a)/dq
+         jac = body%marker_axis_jacobian(q, kf, axis)
+         fd = axis_differences(body, q, kf, axis, h)
+         worst(1) = max(worst(1), max_abs(jac - fd) / max_abs(jac))
+         call check_close(error, 'framed marker ' // to_str(kf) // ': d(A_V a)/dq vs ' // &
+            'central differences', max_abs(jac - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(jac))
+         if (allocated(error)) return
+         ! marker_kinematics: orientation and the three axis Jacobians
+         call body%marker_kinematics(q, kf, [.true., .true., .true.], r, frame, pj, aj)
+         call check_close(error, 'framed marker ' // to_str(kf) // ': kinematics orientation', &
+            max_abs(frame - body%marker_orientation(q, kf)), 0.0_dp, atol=1.0e-15_dp)
+         if (allocated(error)) return
+         do j = 1, 3
+            fd = axis_differences(body, q, kf, unit(j), h)
+            worst(2) = max(worst(2), max_abs(aj(:, :, j) - fd) / max_abs(aj(:, :, j)))
+            call check_close(error, 'framed marker ' // to_str(kf) // ': kinematics ' // &
+               'd(A_V e_' // to_str(j) // ')/dq vs central differences', &
+               max_abs(aj(:, :, j) - fd), 0.0_dp, atol=1.0e-7_dp * max_abs(aj(:, :, j)))
+            if (allocated(error)) return
+         end do
+         ! Hessian of the weighted position and axes
+         call body%marker_hessian(q, kf, w_p, W, hess)
+         do i = 1, nc
+            dq = 0.0_dp
+            dq(i) = h
+            fd_hess(:, i) = (gradient(q + dq) - gradient(q - dq)) / (2.0_dp * h)
+         end do
+         worst(3) = max(worst(3), max_abs(hess - fd_hess) / max_abs(hess))
+         call check_close(error, 'framed marker ' // to_str(kf) // ': Hessian vs central ' // &
+            'differences of the gradient', max_abs(hess - fd_hess), 0.0_dp, &
+            atol=1.0e-6_dp * max_abs(hess))
+         if (allocated(error)) return
+         ! angular velocity along a path on |theta| = 1
+         spin = angular_velocity_defect(body, q, v, kf, hp)
+         worst(4) = max(worst(4), spin(1) / spin(2))
+         call check_close(error, 'framed marker ' // to_str(kf) // ': L_w v vs ' // &
+            'axial(dA_V/dt A_V^T)', spin(1), 0.0_dp, atol=1.0e-7_dp * spin(2))
+         if (allocated(error)) return
+      end do
+      ! C = I: the node marker's numbers, bit for bit
+      call body%add_marker(2, identity3(), marker, error)
+      if (allocated(error)) return
+      call body%marker_kinematics(q, marker, [.true., .true., .true.], r, frame, pj, aj)
+      call body%marker_kinematics(q, 2, [.true., .true., .true.], omega, A_v, jac, node_aj)
+      call body%marker_hessian(q, marker, w_p, W, hess)
+      call body%marker_hessian(q, 2, w_p, W, fd_hess)
+      call check(error, 'a marker with C = I reproduces the node marker bit for bit', &
+         all(frame == body%marker_orientation(q, 2)) .and. all(frame == A_v) .and. &
+         all(aj == node_aj) .and. all(pj == jac) .and. all(r == omega) .and. &
+         all(body%marker_axis_jacobian(q, marker, axis) == body%marker_axis_jacobian(q, 2, &
+         axis)) .and. all(hess == fd_hess))
+      if (allocated(error)) return
+      ! C not a rotation
+      bad = C
+      bad(1, 1) = bad(1, 1) + 1.0e-6_dp
+      call body%add_marker(3, bad, marker, error)
+      refused = allocated(error)
+      message = ''
+      if (refused) message = error%message
+      call check(error, 'add_marker refuses a non-orthonormal frame, naming the interface ' // &
+         'and the defect: "' // message // '"', refused .and. index(message, 'interface 3') > 0 &
+         .and. index(message, 'not orthonormal') > 0)
+      if (allocated(error)) return
+      call body%add_marker(3, -C, marker, error)
+      refused = allocated(error)
+      message = ''
+      if (refused) message = error%message
+      call check(error, 'add_marker refuses a reflection (det -1): "' // message // '"', &
+         refused .and. index(message, 'det =') > 0)
+      if (allocated(error)) return
+      call report('framed markers, worst relative errors over 3 markers x ' // to_str(nc) // &
+         ' coordinates: d(A_V a)/dq ' // to_str(worst(1), 2) // ', kinematics axes ' // &
+         to_str(worst(2), 2) // ', Hessian ' // to_str(worst(3), 2) // ', L_w v ' // &
+         to_str(worst(4), 2))
+
+   contains
+
+      !> Exact gradient of w_p . r + sum_j W(:, j) . A_V e_j of marker kf (position and axis
+      !> Jacobians).
+      function gradient(x) result(g)
+         real(dp), intent(in) :: x(:)
+         real(dp) :: g(size(x))
+         integer :: c
+         g = matmul(w_p, body%marker_position_jacobian(x, kf))
+         do c = 1, 3
+            g = g + matmul(W(:, c), body%marker_axis_jacobian(x, kf, unit(c)))
+         end do
+      end function gradient
+
+      function unit(c) result(e)
+         integer, intent(in) :: c
+         real(dp) :: e(3)
+         e = 0.0_dp
+         e(c) = 1.0_dp
+      end function unit
+
+   end subroutine test_framed_markers
 
    !> Rigid motion (zeta = 0): every marker sits at R + A x_V and turns with A (round-off,
    !> 1e-15 of the scale). Generalized force of a force F and moment M_V at a marker: its

@@ -1,0 +1,59 @@
+# Marker frames (issue 24: joints act between marker frames, so joints at flexible interfaces
+# take any axis). The flexible double pendulum of gravity.cmake turned into the x-z plane with
+# its meshes left as they were (frames_pendulum_xz.nml: revolute joints about the links' -y
+# axis, framed markers at the interfaces); check_frames_pendulum.py compares its angles with
+# the x-y scene whose links are turned so that the whole scene is this one turned by -90 deg
+# about x (exact invariance), with the unturned x-y run (mesh anisotropy only), with the rigid
+# double pendulum, and checks its energy balance and the balance's order in h with a run at
+# h/2. About 3 x 3 + 5 s of CPU.
+# frames_run(NAME CASE DIR [ARGS...]): the driver on CASE into ${_out}/DIR, one thread,
+# setting up frames_pendulum_results
+function(frames_run name case dir)
+  file(MAKE_DIRECTORY "${_out}/${dir}")
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+      ${CMAKE_CURRENT_SOURCE_DIR}/regression/${case} --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --output-dir ${_out}/${dir} ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS "regression;mbs"
+    FIXTURES_REQUIRED beam_lc6_mesh FIXTURES_SETUP frames_pendulum_results)
+endfunction()
+add_test(NAME regression_frames_pendulum_check
+  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/regression/frames_pendulum_xz.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_out} --check)
+set_tests_properties(regression_frames_pendulum_check PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED beam_lc6_mesh)
+frames_run(regression_frames_pendulum frames_pendulum_xz.nml frames)
+frames_run(regression_frames_pendulum_half frames_pendulum_xz.nml frames_half
+  --set integrator.h=1.25e-4)
+# the x-y scene with both links turned by R_x(-90 deg): frames_pendulum_xz.nml turned as a whole
+frames_run(regression_frames_pendulum_posed gravity_double_pendulum.nml frames_posed
+  --set "body[link1].orientation=1, 0, 0, 0, 0, 1, 0, -1, 0"
+  --set "body[link2].orientation=1, 0, 0, 0, 0, 1, 0, -1, 0")
+add_test(NAME regression_frames_pendulum_values
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_frames_pendulum.py
+    ${_out}/frames/frames_pendulum_xz.h5 ${_out}/gravity_double_pendulum.h5
+    --half ${_out}/frames_half/frames_pendulum_xz.h5
+    --posed ${_out}/frames_posed/gravity_double_pendulum.h5)
+set_tests_properties(regression_frames_pendulum_values PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED "frames_pendulum_results;gravity_pendulum_results")
+# A &marker orientation that is not a rotation, and a joint axis that is not an oriented
+# marker's z axis: one-line input errors naming the place, exit 2, also under --check.
+# frames_error(NAME CASE MESSAGE [ARGS...]): the driver's --check on tests/data/frames/CASE
+# exits 2 with MESSAGE on one line
+function(frames_error name case message)
+  set(_command $<TARGET_FILE:ffrf> ${PROJECT_SOURCE_DIR}/tests/data/frames/${case}
+    --output-dir ${_out} --check ${ARGN})
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} "-DCOMMAND=${_command}"
+      -DEXIT_CODE=2 "-DMESSAGE=${message}"
+      -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+  set_tests_properties(${name} PROPERTIES LABELS "regression;errors")
+endfunction()
+frames_error(error_marker_orientation_not_orthonormal bad_marker_orientation.nml
+  "bad_marker_orientation.nml:11: &marker orientation = .*: marker \"pivot\" of body \"ground\": the orientation is not orthonormal: largest \\|A A\\^T - I\\| = ")
+frames_error(error_marker_orientation_reflection rigid_pendulum_oriented.nml
+  "marker \"pivot\" of body \"ground\": the orientation has det = -"
+  --set "marker[pivot].orientation=1,0,0,0,0,1,0,1,0")
+frames_error(error_joint_axis_not_marker_z rigid_pendulum_oriented.nml
+  "&joint \"hinge\": axis = \\(.*\\) is not the z axis \\(.*\\) of &marker \"pivot\" of body \"ground\""
+  --set "joint[hinge].axis=0,0,1")
