@@ -131,6 +131,33 @@ def run_tests(build, names, ctest, jobs, stop_on_failure):
     return out.returncode, failed, ran, out.stdout + out.stderr
 
 
+def entry_problem(e, source):
+    """Why the entry cannot be applied to the sources (None: it can)."""
+    path = source / e["file"]
+    if not e["file"].startswith("src/") or not path.is_file():
+        return f"no file {e['file']} under src/"
+    count = path.read_text().count(e["find"])
+    if count != 1:
+        return f"find text occurs {count} times in {e['file']}"
+    return None
+
+
+def check_list(entries, source, build, ctest):
+    """Exit status 0 when every entry applies as written (a moved or edited line breaks an entry
+    silently until the next full mutation run: this check runs in ctest)."""
+    problems = []
+    for e in entries:
+        problem = entry_problem(e, source)
+        if problem is None and not ctest_tests(build, e["tests"], ctest):
+            problem = f"no test matches '{e['tests']}'"
+        if problem:
+            problems.append(f"{e['id']}: {problem}")
+    for line in problems:
+        print("broken entry " + line)
+    print(f"mutation list: {len(entries)} entries, {len(problems)} broken")
+    return 1 if problems else 0
+
+
 def main():
     here = Path(__file__).resolve().parent
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -145,9 +172,15 @@ def main():
     parser.add_argument("--cmake", default="cmake")
     parser.add_argument("--ctest", default="ctest")
     parser.add_argument("--generator", default="Ninja")
+    parser.add_argument("--check-list", type=Path, metavar="BUILD",
+                        help="only check that every entry applies (its file under src/, its find "
+                        "text there exactly once, its tests regex selecting a test of the build "
+                        "folder BUILD), without building or mutating: ctest mutation_list_applies")
     args = parser.parse_args()
 
     entries = load_list(args.list)
+    if args.check_list:
+        sys.exit(check_list(entries, args.source.resolve(), args.check_list, args.ctest))
     if args.only:
         keep = set(args.only.split(","))
         unknown = keep - {e["id"] for e in entries}
@@ -173,13 +206,9 @@ def main():
     targets = ninja_targets(build)
     plan = []
     for e in entries:
-        path = source / e["file"]
-        if not e["file"].startswith("src/") or not path.is_file():
-            results[e["id"]] = ("broken", f"no file {e['file']} under src/", 0.0)
-            continue
-        count = path.read_text().count(e["find"])
-        if count != 1:
-            results[e["id"]] = ("broken", f"find text occurs {count} times", 0.0)
+        problem = entry_problem(e, source)
+        if problem:
+            results[e["id"]] = ("broken", problem, 0.0)
             continue
         tests = ctest_tests(build, e["tests"], args.ctest)
         if not tests:
