@@ -576,7 +576,7 @@ contains
    end function vector_text
 
    !> A joint at a &marker with an orientation acts in that frame, marker1's when both have one
-   !> (docs/mechanisms.md "Joint frames"): a revolute, prismatic or universal joint's axis must
+   !> (docs/mechanisms.md "Joint frames"): the axis of every kind but spherical and fixed must
    !> be the frame's z axis in the starting pose (global: the body's orientation times the
    !> marker's).
    subroutine check_joint_axis(where, case, joint, error)
