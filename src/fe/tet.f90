@@ -43,7 +43,7 @@ module ffrf_fe_tet
    implicit none
    private
    public :: tet_shape, tet_stiffness, tet_mass, tet_stiffness_mass, tet_volume, tet_check_jacobian
-   public :: physical_gradients
+   public :: physical_gradients, simplex_shape
    public :: TET10_EDGES, TET_REFERENCE_NODES, GMSH_TO_C3D10, DEGENERATE_RATIO
 
    !> Corner pair of each Tet10 edge node 5..10 (Gmsh order)
@@ -75,30 +75,52 @@ contains
       !> Derivatives with respect to (u, v, w)
       real(dp), intent(out) :: dN(3, nen)
       real(dp) :: L(4), dL(3, 4)
-      integer :: c, e, i, j
       L = [1.0_dp - xi(1) - xi(2) - xi(3), xi(1), xi(2), xi(3)]
       dL = reshape([-1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
          0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 4])
       select case (nen)
-      case (4)
-         N = L
-         dN = dL
-      case (10)
-         do c = 1, 4
-            N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
-            dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)
-         end do
-         do e = 1, 6
-            i = TET10_EDGES(1, e)
-            j = TET10_EDGES(2, e)
-            N(4 + e) = 4.0_dp*L(i)*L(j)
-            dN(:, 4 + e) = 4.0_dp*(L(i)*dL(:, j) + L(j)*dL(:, i))
-         end do
+      case (4, 10)
+         call simplex_shape(L, dL, TET10_EDGES, nen == 10, N, dN)
       case default
          N = 0.0_dp
          dN = 0.0_dp
       end select
    end subroutine tet_shape
+
+   !> Shape functions of a simplex (tetrahedron, triangle) from its barycentric coordinates L(m)
+   !> and their reference derivatives dL(:, m): linear N = L, or quadratic (m corners
+   !> L (2 L - 1), then one mid-side node 4 L_i L_j per edge (i, j) = edges(:, e)).
+   pure subroutine simplex_shape(L, dL, edges, quadratic, N, dN)
+      !> Barycentric coordinates
+      real(dp), intent(in) :: L(:)
+      !> Their reference derivatives
+      real(dp), intent(in) :: dL(:, :)
+      !> Corners of each edge, in mid-side node order
+      integer(ip), intent(in) :: edges(:, :)
+      !> Quadratic (mid-side nodes) or linear
+      logical, intent(in) :: quadratic
+      !> Shape functions: m, or m + size(edges, 2) if quadratic
+      real(dp), intent(out) :: N(:)
+      !> Their reference derivatives
+      real(dp), intent(out) :: dN(:, :)
+      integer :: c, e, i, j, m
+      if (.not. quadratic) then
+         N = L
+         dN = dL
+         return
+      end if
+      m = size(L)
+      do c = 1, m
+         N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
+         dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)
+      end do
+      do e = 1, size(edges, 2)
+         i = edges(1, e)
+         j = edges(2, e)
+         N(m + e) = 4.0_dp*L(i)*L(j)
+         dN(:, m + e) = 4.0_dp*(L(i)*dL(:, j) + L(j)*dL(:, i))
+      end do
+   end subroutine simplex_shape
 
    !> Jacobian determinant and physical gradients g(3, nen) = J^-T dN at one point.
    pure subroutine physical_gradients(xe, dN, g, detj)

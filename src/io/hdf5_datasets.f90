@@ -111,8 +111,7 @@ contains
          character(kind=c_char, len=1), allocatable, target :: bytes(:)
          integer(hid_t) :: string_type
          integer :: hdferr
-         call pack_strings([text], len(text), .false., bytes)
-         call make_string_type(size(bytes), string_type, hdferr)
+         call packed_strings([text], len(text), .false., bytes, string_type, hdferr)
          if (hdferr < 0) then
             call fail(self, error, path, 'cannot make a string type of length ' // &
                to_str(size(bytes)))
@@ -136,8 +135,7 @@ contains
          do i = 1, size(strings)
             width = max(width, len_trim(strings(i)))
          end do
-         call pack_strings(strings, width, .true., bytes)
-         call make_string_type(width, string_type, hdferr)
+         call packed_strings(strings, width, .true., bytes, string_type, hdferr)
          if (hdferr < 0) then
             call fail(self, error, path, 'cannot make a string type of length ' // to_str(width))
             exit section

@@ -336,23 +336,28 @@ contains
       integer, intent(out) :: hdferr
       character(kind=c_char, len=1), allocatable, target :: bytes(:)
       integer(hid_t) :: string_type
-      call pack_strings([units], len(units), .false., bytes)
-      call make_string_type(size(bytes), string_type, hdferr)
+      call packed_strings([units], len(units), .false., bytes, string_type, hdferr)
       if (hdferr < 0) return
       call put_scalar_attribute(dset, 'units', string_type, c_loc(bytes), hdferr)
       call release(type=string_type)
    end subroutine put_units
-   !> A fixed-length, NUL-padded string type of `width` bytes (at least 1).
-   subroutine make_string_type(width, string_type, hdferr)
+
+   !> `strings` packed into `bytes` (pack_strings) and the fixed-length, NUL-padded string type
+   !> of their `width` (at least 1) bytes, for the caller to close.
+   subroutine packed_strings(strings, width, trim_each, bytes, string_type, hdferr)
+      character(len=*), intent(in) :: strings(:)
       integer, intent(in) :: width
+      logical, intent(in) :: trim_each
+      character(kind=c_char, len=1), allocatable, intent(out) :: bytes(:)
       integer(hid_t), intent(out) :: string_type
       integer, intent(out) :: hdferr
+      call pack_strings(strings, width, trim_each, bytes)
       call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
       if (hdferr < 0) return
       call h5tset_size_f(string_type, int(max(1, width), size_t), hdferr)
       if (hdferr >= 0) call h5tset_strpad_f(string_type, H5T_STR_NULLPAD_F, hdferr)
       if (hdferr < 0) call release(type=string_type)
-   end subroutine make_string_type
+   end subroutine packed_strings
 
    !> Bytes of `strings`, each NUL-padded to `width` (at least 1) characters; `trim_each`
    !> drops trailing blanks first (a list), else the text is kept exactly (a scalar).

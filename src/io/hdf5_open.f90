@@ -141,8 +141,7 @@ contains
          character(kind=c_char, len=1), allocatable, target :: bytes(:)
          integer(hid_t) :: string_type
          integer :: hdferr
-         call pack_strings([value], len(value), .false., bytes)
-         call make_string_type(size(bytes), string_type, hdferr)
+         call packed_strings([value], len(value), .false., bytes, string_type, hdferr)
          if (hdferr < 0) then
             call fail(self, error, path, 'cannot make a string type for attribute ' // name)
             exit section

@@ -74,28 +74,8 @@ contains
          id%irn = irn
          id%jcn = jcn
          id%perm_in = iperm
-         id%n = n
-         id%nnz = size(irn, kind=i8)
-         id%icntl(7) = 1
-         id%job = 1
-         t0 = wall_time()
-         call serial_dmumps(id)
-         self%time_analysis = wall_time() - t0
-         self%status = id%infog(1)
-         if (id%infog(1) < 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
-               ', ' // to_str(id%nnz) // ' entries): ' // &
-               describe_status(id%infog(1), id%infog(2)))
-            self%phase = phase_initialised
-            return
-         end if
-         self%ordering_used = id%infog(7)
-         self%estimated_factor_entries = mumps_count(id%infog(20))
-         call record_estimates(self)
       end associate
-      self%n = n
-      self%nnz = size(irn, kind=i8)
-      self%phase = phase_analysed
+      call run_analysis(self, n, size(irn, kind=i8), '', error)
    end procedure mumps_solver_analyse
 
    module procedure mumps_solver_factorise
@@ -206,7 +186,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer(i8) :: nnz
       integer :: stat
-      real(dp) :: t0
       nnz = size(irn, kind=i8)
       self%first_entry = nnz * self%parallel%rank / self%parallel%num_ranks + 1
       self%last_entry = nnz * (self%parallel%rank + 1) / self%parallel%num_ranks
@@ -221,10 +200,28 @@ contains
          id%irn_loc = irn(first:last)
          id%jcn_loc = jcn(first:last)
          id%nnz_loc = last - first + 1
-         id%n = n
-         id%nnz = nnz
          if (self%parallel%is_root()) id%perm_in = iperm
          id%icntl(18) = 3
+      end associate
+      call run_analysis(self, n, nnz, ' on ' // to_str(self%parallel%num_ranks) // ' ranks', &
+         error)
+   end subroutine analyse_distributed
+
+   !> JOB = 1 on the index arrays set in self%id, PERM_IN given (ICNTL(7) = 1): its time and
+   !> status, the ordering used and the estimates (per-rank INFO(15)/(17) and the global
+   !> INFOG/RINFOG ones, on every rank); the phase goes to analysed, or back to initialised.
+   subroutine run_analysis(self, n, nnz, on_ranks, error)
+      type(mumps_solver_t), intent(inout) :: self
+      !> Matrix order and entries (all ranks)
+      integer(ip), intent(in) :: n
+      integer(i8), intent(in) :: nnz
+      !> ' on N ranks' for the message, or ''
+      character(len=*), intent(in) :: on_ranks
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: t0
+      associate (id => self%id)
+         id%n = n
+         id%nnz = nnz
          id%icntl(7) = 1
          id%job = 1
          t0 = wall_time()
@@ -233,20 +230,19 @@ contains
          self%status = id%infog(1)
          if (id%infog(1) < 0) then
             call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
-               ', ' // to_str(nnz) // ' entries on ' // to_str(self%parallel%num_ranks) // &
-               ' ranks): ' // describe_status(id%infog(1), id%infog(2)))
+               ', ' // to_str(nnz) // ' entries' // on_ranks // '): ' // &
+               describe_status(id%infog(1), id%infog(2)))
             self%phase = phase_initialised
             return
          end if
          self%ordering_used = id%infog(7)
          self%estimated_factor_entries = mumps_count(id%infog(20))
-         ! per-rank INFO(15)/(17) and the global INFOG/RINFOG estimates, on every rank
          call record_estimates(self)
       end associate
       self%n = n
       self%nnz = nnz
       self%phase = phase_analysed
-   end subroutine analyse_distributed
+   end subroutine run_analysis
 
    !> Distributed input: this rank's slice of `values` as A_loc (ICNTL(18) = 3).
    subroutine set_local_values(self, values, error)

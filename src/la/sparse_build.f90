@@ -159,33 +159,12 @@ contains
             to_str(n) // ' triplets')
          return
       end if
-      ! stable counting sort by column
-      start = 0
+      ! stable counting sort by column, then of the column-sorted list by row
       do k = 1, n
-         start(cols(k) + 1) = start(cols(k) + 1) + 1
+         by_row(k) = k
       end do
-      start(1) = 1
-      do j = 1, num_cols
-         start(j + 1) = start(j + 1) + start(j)
-      end do
-      do k = 1, n
-         by_col(start(cols(k))) = k
-         start(cols(k)) = start(cols(k)) + 1
-      end do
-      ! stable counting sort by row of the column-sorted list
-      start = 0
-      do k = 1, n
-         start(rows(k) + 1) = start(rows(k) + 1) + 1
-      end do
-      start(1) = 1
-      do i = 1, num_rows
-         start(i + 1) = start(i + 1) + start(i)
-      end do
-      do k = 1, n
-         i = rows(by_col(k))
-         by_row(start(i)) = by_col(k)
-         start(i) = start(i) + 1
-      end do
+      call counting_sort(cols, num_cols, by_row, by_col)
+      call counting_sort(rows, num_rows, by_col, by_row)
       deallocate (by_col)
       ! merge duplicates
       A%num_rows = num_rows
@@ -226,6 +205,26 @@ contains
             A%val(nnz) = A%val(nnz) + vals(by_row(k))
          end if
       end do
+   contains
+      !> `sorted` = the items of `order` stably sorted by keys(item), keys in 1..num_keys.
+      subroutine counting_sort(keys, num_keys, order, sorted)
+         integer(ip), intent(in) :: keys(:), num_keys, order(:)
+         integer(ip), intent(out) :: sorted(:)
+         integer(ip) :: k, key
+         start = 0
+         do k = 1, n
+            start(keys(k) + 1) = start(keys(k) + 1) + 1
+         end do
+         start(1) = 1
+         do key = 1, num_keys
+            start(key + 1) = start(key + 1) + start(key)
+         end do
+         do k = 1, n
+            key = keys(order(k))
+            sorted(start(key)) = order(k)
+            start(key) = start(key) + 1
+         end do
+      end subroutine counting_sort
    end procedure csr_from_coo
 
    module procedure csr_upper_coo

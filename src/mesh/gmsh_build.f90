@@ -216,37 +216,12 @@ contains
    subroutine sort_columns(keys, perm)
       integer(ip), intent(in) :: keys(:, :)
       integer(ip), allocatable, intent(out) :: perm(:)
-      integer(ip), allocatable :: work(:)
-      integer(ip) :: n, width, left, mid, right, i, a, b
-      n = size(keys, 2, kind=ip)
-      perm = [(i, i=1, n)]
-      allocate (work(n))
-      width = 1
-      do while (width < n)
-         do left = 1, n, 2 * width
-            mid = min(left + width - 1, n)
-            right = min(left + 2 * width - 1, n)
-            a = left
-            b = mid + 1
-            do i = left, right
-               if (b > right) then
-                  work(i) = perm(a)
-                  a = a + 1
-               else if (a > mid) then
-                  work(i) = perm(b)
-                  b = b + 1
-               else if (column_less(keys(:, perm(b)), keys(:, perm(a)))) then
-                  work(i) = perm(b)
-                  b = b + 1
-               else
-                  work(i) = perm(a)
-                  a = a + 1
-               end if
-            end do
-         end do
-         perm = work
-         width = 2 * width
-      end do
+      call merge_permutation(size(keys, 2, kind=ip), before, perm)
+   contains
+      logical function before(i, j)
+         integer(ip), intent(in) :: i, j
+         before = column_less(keys(:, i), keys(:, j))
+      end function before
    end subroutine sort_columns
 
    !> The distinct columns of `keys`, in lexicographic order.

@@ -5,10 +5,6 @@ submodule(ffrf_mesh_gmsh:ffrf_mesh_gmsh_sections) ffrf_mesh_gmsh_elements
 
 contains
 
-   ! ------------------------------------------------------------------------------------------
-   ! Elements
-   ! ------------------------------------------------------------------------------------------
-
    !> $Elements (4.1): blocks of (entityDim, entityTag, type, count), then per element its tag
    !> and node tags (one line each in ASCII). The header's element count and tag range must
    !> match the blocks, every type must be known and of its entity's dimension.
@@ -53,22 +49,18 @@ contains
                '32-bit indices hold', error)
             return
          end if
-         if (element_type < 1 .or. element_type > huge(0_ip)) then
-            nodes_per_element = -1
-         else
-            nodes_per_element = nodes_of_type(int(element_type, ip))
-         end if
+         nodes_per_element = nodes_of_type(element_type)
          if (nodes_per_element < 0) then
             call unknown_type_error(r%c, element_type, 'the element block of ' // &
                dimension_word(int(max(0_i8, min(3_i8, dim)), ip)) // ' entity ' // &
                to_str(entity), error)
             return
          end if
-         if (dim_of_type(int(element_type, ip)) /= dim) then
+         if (dim_of_type(element_type) /= dim) then
             call location_error(r%c, 'an element block of entity dimension ' // to_str(dim) // &
                ' (entity ' // to_str(entity) // ') holds ' // type_name(element_type) // &
                ' elements, which have dimension ' // &
-               to_str(dim_of_type(int(element_type, ip))), error)
+               to_str(dim_of_type(element_type)), error)
             return
          end if
          call check_count_fits(r%c, 'elements in block', n, &
@@ -216,16 +208,12 @@ contains
             if (j == 1) physical = value
             if (j == 2) elementary = value
          end do
-         if (element_type < 1 .or. element_type > huge(0_ip)) then
-            nodes_per_element = -1
-         else
-            nodes_per_element = nodes_of_type(int(element_type, ip))
-         end if
+         nodes_per_element = nodes_of_type(element_type)
          if (nodes_per_element < 0) then
             call unknown_type_error(r%c, element_type, 'element ' // to_str(tag), error)
             return
          end if
-         dim = dim_of_type(int(element_type, ip))
+         dim = dim_of_type(element_type)
          if (physical /= 0) call add_link(r, dim, int(physical, ip), int(elementary, ip))
          select case (element_type)
          case (4, 11, 2, 9)

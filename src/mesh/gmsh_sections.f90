@@ -5,10 +5,6 @@ submodule(ffrf_mesh_gmsh:ffrf_mesh_gmsh_tokens) ffrf_mesh_gmsh_sections
 
 contains
 
-   ! ------------------------------------------------------------------------------------------
-   ! Sections
-   ! ------------------------------------------------------------------------------------------
-
    !> $MeshFormat: "4.1 0 8" (ASCII) or "4.1 1 8" plus the int 1 in this machine's byte order.
    subroutine read_mesh_format(r, error)
       type(reader_t), intent(inout) :: r
@@ -295,16 +291,8 @@ contains
       real(dp) :: value
       logical :: ok
       do i = first + 1, first + n
-         call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
-         if (.not. ok) then
-            call missing_item_error(r%c, 'a node tag', 'a node block announces ' // to_str(n) // &
-               ' nodes, the section ends after ' // to_str(i - first - 1), error)
-            return
-         end if
-         if (r%node_tags(i) < 1) then
-            call node_tag_error(r%c, r%node_tags(i), error)
-            return
-         end if
+         call scan_node_tag(r, i, 'a node block', n, i - first - 1, error)
+         if (allocated(error)) return
       end do
       do i = first + 1, first + n
          line = -1
@@ -348,16 +336,8 @@ contains
       call allocate_nodes(r, int(num_nodes, i8), error)
       if (allocated(error)) return
       do i = 1, num_nodes
-         call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
-         if (.not. ok) then
-            call missing_item_error(r%c, 'a node tag', '$Nodes announces ' // &
-               to_str(num_nodes) // ' nodes, the section ends after ' // to_str(i - 1), error)
-            return
-         end if
-         if (r%node_tags(i) < 1) then
-            call node_tag_error(r%c, r%node_tags(i), error)
-            return
-         end if
+         call scan_node_tag(r, int(i, i8), '$Nodes', int(num_nodes, i8), int(i - 1, i8), error)
+         if (allocated(error)) return
          line = r%c%line
          do j = 1, 3
             call scan_real(r%c%text, r%c%pos, r%c%line, r%xyz(j, i), ok)
@@ -512,41 +492,32 @@ contains
       end do
    end subroutine check_coordinates
 
+   !> Tag of node i (ASCII), at least 1; `who` announced `count` nodes of which `done` are read.
+   subroutine scan_node_tag(r, i, who, count, done, error)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: i, count, done
+      character(len=*), intent(in) :: who
+      type(error_t), allocatable, intent(out) :: error
+      logical :: ok
+      call scan_int(r%c%text, r%c%pos, r%c%line, r%node_tags(i), ok)
+      if (.not. ok) then
+         call missing_item_error(r%c, 'a node tag', who // ' announces ' // to_str(count) // &
+            ' nodes, the section ends after ' // to_str(done), error)
+         return
+      end if
+      if (r%node_tags(i) < 1) call node_tag_error(r%c, r%node_tags(i), error)
+   end subroutine scan_node_tag
+
    !> Permutation putting `tags` in ascending order (stable).
    subroutine sort_tags(tags, perm)
       integer(i8), intent(in) :: tags(:)
       integer(ip), allocatable, intent(out) :: perm(:)
-      integer(ip), allocatable :: work(:)
-      integer(ip) :: n, width, left, mid, right, i, a, b
-      n = size(tags, kind=ip)
-      perm = [(i, i=1, n)]
-      allocate (work(n))
-      width = 1
-      do while (width < n)
-         do left = 1, n, 2 * width
-            mid = min(left + width - 1, n)
-            right = min(left + 2 * width - 1, n)
-            a = left
-            b = mid + 1
-            do i = left, right
-               if (b > right) then
-                  work(i) = perm(a)
-                  a = a + 1
-               else if (a > mid) then
-                  work(i) = perm(b)
-                  b = b + 1
-               else if (tags(perm(b)) < tags(perm(a))) then
-                  work(i) = perm(b)
-                  b = b + 1
-               else
-                  work(i) = perm(a)
-                  a = a + 1
-               end if
-            end do
-         end do
-         perm = work
-         width = 2 * width
-      end do
+      call merge_permutation(size(tags, kind=ip), before, perm)
+   contains
+      logical function before(i, j)
+         integer(ip), intent(in) :: i, j
+         before = tags(i) < tags(j)
+      end function before
    end subroutine sort_tags
 
 end submodule ffrf_mesh_gmsh_sections

@@ -35,6 +35,14 @@ submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_text
       end function c_strtod
    end interface
 
+   abstract interface
+      !> Whether item i sorts strictly before item j (merge_permutation).
+      logical function item_before(i, j)
+         import :: ip
+         integer(ip), intent(in) :: i, j
+      end function item_before
+   end interface
+
    !> The whole file in memory and the read position in it.
    type :: cursor_t
       !> File contents
@@ -478,7 +486,7 @@ contains
 
    !> Nodes per element of Gmsh element `element_type`, -1 if unknown to ffrf.
    pure function nodes_of_type(element_type) result(n)
-      integer(ip), intent(in) :: element_type
+      integer(i8), intent(in) :: element_type
       integer(ip) :: n
       integer(ip), parameter :: table(31) = [2, 3, 4, 4, 8, 6, 5, 3, 6, 9, 10, 27, 18, 14, 1, &
          8, 20, 15, 13, 9, 10, 12, 15, 15, 21, 4, 5, 6, 20, 35, 56]
@@ -496,7 +504,7 @@ contains
 
    !> Dimension of Gmsh element `element_type`, -1 if unknown to ffrf.
    pure function dim_of_type(element_type) result(dim)
-      integer(ip), intent(in) :: element_type
+      integer(i8), intent(in) :: element_type
       integer(ip) :: dim
       integer(ip), parameter :: table(31) = [1, 2, 2, 3, 3, 3, 3, 1, 2, 2, 3, 3, 3, 3, 0, &
          2, 3, 3, 3, 2, 2, 2, 2, 2, 2, 1, 1, 1, 3, 3, 3]
@@ -516,5 +524,43 @@ contains
       character(len=:), allocatable :: name
       name = element_type_name(element_type)
    end function type_name
+
+   !> Permutation putting items 1..n in the order `before` gives (a stable bottom-up merge sort;
+   !> `before(i, j)`: item i strictly before item j).
+   subroutine merge_permutation(n, before, perm)
+      integer(ip), intent(in) :: n
+      procedure(item_before) :: before
+      integer(ip), allocatable, intent(out) :: perm(:)
+      integer(ip), allocatable :: work(:)
+      integer(ip) :: width, left, mid, right, i, a, b
+      perm = [(i, i=1, n)]
+      allocate (work(n))
+      width = 1
+      do while (width < n)
+         do left = 1, n, 2 * width
+            mid = min(left + width - 1, n)
+            right = min(left + 2 * width - 1, n)
+            a = left
+            b = mid + 1
+            do i = left, right
+               if (b > right) then
+                  work(i) = perm(a)
+                  a = a + 1
+               else if (a > mid) then
+                  work(i) = perm(b)
+                  b = b + 1
+               else if (before(perm(b), perm(a))) then
+                  work(i) = perm(b)
+                  b = b + 1
+               else
+                  work(i) = perm(a)
+                  a = a + 1
+               end if
+            end do
+         end do
+         perm = work
+         width = 2 * width
+      end do
+   end subroutine merge_permutation
 
 end submodule ffrf_mesh_gmsh_text

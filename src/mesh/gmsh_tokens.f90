@@ -5,10 +5,6 @@ submodule(ffrf_mesh_gmsh:ffrf_mesh_gmsh_text) ffrf_mesh_gmsh_tokens
 
 contains
 
-   ! ------------------------------------------------------------------------------------------
-   ! Tokens
-   ! ------------------------------------------------------------------------------------------
-
    !> "$EndX" closing the current section "$X".
    subroutine expect_end(c, error)
       type(cursor_t), intent(inout) :: c

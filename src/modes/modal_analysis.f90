@@ -225,7 +225,7 @@ contains
                to_str(size(f%nodes)) // ' nodes, area ' // to_str(f%area, 6) // &
                ' m^2, virtual node (' // to_str(f%virtual_xyz(1), 6) // ', ' // &
                to_str(f%virtual_xyz(2), 6) // ', ' // to_str(f%virtual_xyz(3), 6) // ')' // &
-               ', RC ' // rc_text(f%rc))
+               ', RC ' // dofs_text(f%rc, none='none'))
             if (f%rank_deficient .and. .not. any(f%rc(4:6))) call log%note('mpc', tag // ', ' // &
                f%name // ': nodes are collinear; the virtual-node rotation about that line ' // &
                'is undefined and reads zero')
@@ -296,12 +296,5 @@ contains
       call make_fingerprint(body%mesh, body%interfaces, body_spec, modes, modes%num_modes, &
          body%fingerprint)
    end subroutine compute_body_modes
-
-   function rc_text(rc) result(text)
-      logical, intent(in) :: rc(6)
-      character(len=:), allocatable :: text
-      text = dofs_text(rc)
-      if (len(text) == 0) text = 'none'
-   end function rc_text
 
 end module ffrf_modes_modal_analysis
