@@ -268,15 +268,8 @@ contains
       real(dp), intent(out) :: me(:, :)
       !> Inverted or degenerate element, unsupported nen
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: lambda, mu
-      call tet_check_jacobian(xe, tag, error)
+      call tet_stiffness(xe, material, tag, ke, error)
       if (allocated(error)) return
-      call lame_parameters(material, lambda, mu)
-      if (size(xe, 2) == 4) then
-         call stiffness_kernel(xe, lambda, mu, TET1_POINTS, TET1_WEIGHTS, ke)
-      else
-         call stiffness_kernel(xe, lambda, mu, TET4_POINTS, TET4_WEIGHTS, ke)
-      end if
       call mass_kernel(xe, material%density, me)
    end subroutine tet_stiffness_mass
 

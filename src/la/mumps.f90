@@ -70,6 +70,30 @@ module ffrf_la_mumps
          implicit none
          type(dmumps_struc), intent(inout) :: id
       end subroutine dmumps
+
+      !> What INFOG(1) < 0 means and what to do (MUMPS 5.5 user guide, section 8).
+      module function describe_status(info1, info2) result(text)
+         integer, intent(in) :: info1, info2
+         character(len=:), allocatable :: text
+      end function describe_status
+
+      !> MUMPS sizes: a negative value counts millions (INFOG(9), (20), (29)).
+      module pure function mumps_count(value) result(count)
+         integer, intent(in) :: value
+         integer(i8) :: count
+      end function mumps_count
+
+      !> Deallocate the arrays this wrapper hands to MUMPS (never MUMPS's own).
+      module subroutine release_user_arrays(id)
+         type(dmumps_struc), intent(inout) :: id
+      end subroutine release_user_arrays
+
+      !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
+      !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each
+      !> other even on distinct DMUMPS_STRUC (serial_section.c).
+      module subroutine serial_dmumps(id)
+         type(DMUMPS_STRUC), intent(inout) :: id
+      end subroutine serial_dmumps
    end interface
 
    !> A sparse symmetric matrix factorised by MUMPS, ready for repeated solves. Do not copy a
@@ -446,69 +470,6 @@ contains
       self%num_solves = self%num_solves + nrhs
    end subroutine solve_columns
 
-   !> MUMPS sizes: a negative value counts millions (INFOG(9), (20), (29)).
-   pure function mumps_count(value) result(count)
-      integer, intent(in) :: value
-      integer(i8) :: count
-      if (value < 0) then
-         count = -int(value, i8) * 1000000_i8
-      else
-         count = int(value, i8)
-      end if
-   end function mumps_count
-
-   !> What INFOG(1) < 0 means and what to do (MUMPS 5.5 user guide, section 8).
-   function describe_status(info1, info2) result(text)
-      integer, intent(in) :: info1, info2
-      character(len=:), allocatable :: text
-      text = 'INFOG(1) = ' // to_str(info1) // ', INFOG(2) = ' // to_str(info2) // ': '
-      select case (info1)
-      case (-2)
-         text = text // 'NNZ out of range; the matrix must have at least one entry'
-      case (-5, -7, -13)
-         text = text // 'memory allocation failed (' // memory_text(info2) // &
-            '); free memory, or remedies: ' // MEMORY_REMEDIES
-      case (-6)
-         text = text // 'matrix is structurally singular (structural rank ' // &
-            to_str(info2) // '); a row and column without entries, e.g. an unconstrained ' // &
-            'dof with no stiffness, or dependent constraint rows'
-      case (-8, -9)
-         text = text // 'MUMPS workspace too small even after raising ICNTL(14) ' // &
-            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init' &
-            // ', or remedies: ' // MEMORY_REMEDIES
-      case (-10)
-         text = text // 'matrix is singular (zero pivot): a dof without stiffness, a ' // &
-            'rigid-body motion left free, dependent constraint rows, or an eigen shift equal ' &
-            // 'to an eigenvalue'
-      case (-11, -14, -15)
-         text = text // 'workspace too small for the solution; pass a larger ' // &
-            'workspace_percent to init'
-      case (-16)
-         text = text // 'N out of range; the matrix order must be at least 1'
-      case (-22)
-         text = text // 'an input array (IRN, JCN, A, RHS or PERM_IN) is not allocated or ' // &
-            'too small (internal error of the wrapper)'
-      case (-23)
-         text = text // 'MPI not initialised (linked against the MPI MUMPS instead of ' // &
-            'the sequential one?)'
-      case (-40)
-         text = text // 'SYM = 1 but the matrix is not positive definite; use SYM = 2'
-      case default
-         text = text // 'see the MUMPS 5.5 user guide, section 8 (error diagnostics)'
-      end select
-   end function describe_status
-
-   !> INFO(2) of an allocation error: bytes, or millions of bytes when negative.
-   function memory_text(info2) result(text)
-      integer, intent(in) :: info2
-      character(len=:), allocatable :: text
-      if (info2 < 0) then
-         text = to_str(-info2) // ' million bytes requested'
-      else
-         text = to_str(info2) // ' bytes requested'
-      end if
-   end function memory_text
-
    !> Nullify the input pointers of the structure (MUMPS tests `associated` on them).
    subroutine nullify_user_pointers(id)
       type(dmumps_struc), intent(inout) :: id
@@ -517,33 +478,6 @@ contains
                id%redrhs, id%rhs_sparse, id%sol_loc, id%rhs_loc, id%irhs_sparse, id%irhs_ptr, &
                id%isol_loc, id%irhs_loc, id%schur, id%listvar_schur, id%wk_user)
    end subroutine nullify_user_pointers
-
-   !> Deallocate the arrays this wrapper hands to MUMPS (never MUMPS's own).
-   subroutine release_user_arrays(id)
-      type(dmumps_struc), intent(inout) :: id
-      if (associated(id%irn)) deallocate (id%irn)
-      if (associated(id%jcn)) deallocate (id%jcn)
-      if (associated(id%a)) deallocate (id%a)
-      if (associated(id%perm_in)) deallocate (id%perm_in)
-      if (associated(id%rhs)) deallocate (id%rhs)
-      if (associated(id%irn_loc)) deallocate (id%irn_loc)
-      if (associated(id%jcn_loc)) deallocate (id%jcn_loc)
-      if (associated(id%a_loc)) deallocate (id%a_loc)
-   end subroutine release_user_arrays
-
-   !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
-   !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each
-   !> other even on distinct DMUMPS_STRUC (serial_section.c).
-   subroutine serial_dmumps(id)
-      type(DMUMPS_STRUC), intent(inout) :: id
-      call enter_serial_section(SECTION_MUMPS)
-      ! MUMPS 5.5 installs no signal handlers (it imports neither signal nor sigaction); the
-      ! run signals' handlers are restored after it all the same (issue 23)
-      call hold_signals(block=.false.)
-      call dmumps(id)
-      call release_signals()
-      call leave_serial_section(SECTION_MUMPS)
-   end subroutine serial_dmumps
 
    !> The remedies for factors that do not fit, without those already in use.
    function mumps_solver_memory_remedies(self) result(text)

@@ -1,5 +1,6 @@
 !> ffrf_la_mumps: the symbolic analysis (serial or distributed input, METIS ordering) and the
-!> numerical factorisation with its retries, and the analysis's memory estimates.
+!> numerical factorisation with its retries, the analysis's memory estimates, and the helpers
+!> the module shares (one MUMPS call at a time, status texts, release of the user arrays).
 submodule (ffrf_la_mumps) ffrf_la_mumps_factorise
    implicit none
 
@@ -289,5 +290,83 @@ contains
       self%memory_checked = .false.
       self%checked_limit_mb = 0
    end subroutine record_estimates
+
+   module procedure describe_status
+      text = 'INFOG(1) = ' // to_str(info1) // ', INFOG(2) = ' // to_str(info2) // ': '
+      select case (info1)
+      case (-2)
+         text = text // 'NNZ out of range; the matrix must have at least one entry'
+      case (-5, -7, -13)
+         text = text // 'memory allocation failed (' // memory_text(info2) // &
+            '); free memory, or remedies: ' // MEMORY_REMEDIES
+      case (-6)
+         text = text // 'matrix is structurally singular (structural rank ' // &
+            to_str(info2) // '); a row and column without entries, e.g. an unconstrained ' // &
+            'dof with no stiffness, or dependent constraint rows'
+      case (-8, -9)
+         text = text // 'MUMPS workspace too small even after raising ICNTL(14) ' // &
+            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init' &
+            // ', or remedies: ' // MEMORY_REMEDIES
+      case (-10)
+         text = text // 'matrix is singular (zero pivot): a dof without stiffness, a ' // &
+            'rigid-body motion left free, dependent constraint rows, or an eigen shift equal ' &
+            // 'to an eigenvalue'
+      case (-11, -14, -15)
+         text = text // 'workspace too small for the solution; pass a larger ' // &
+            'workspace_percent to init'
+      case (-16)
+         text = text // 'N out of range; the matrix order must be at least 1'
+      case (-22)
+         text = text // 'an input array (IRN, JCN, A, RHS or PERM_IN) is not allocated or ' // &
+            'too small (internal error of the wrapper)'
+      case (-23)
+         text = text // 'MPI not initialised (linked against the MPI MUMPS instead of ' // &
+            'the sequential one?)'
+      case (-40)
+         text = text // 'SYM = 1 but the matrix is not positive definite; use SYM = 2'
+      case default
+         text = text // 'see the MUMPS 5.5 user guide, section 8 (error diagnostics)'
+      end select
+   end procedure describe_status
+
+   module procedure mumps_count
+      if (value < 0) then
+         count = -int(value, i8) * 1000000_i8
+      else
+         count = int(value, i8)
+      end if
+   end procedure mumps_count
+
+   module procedure release_user_arrays
+      if (associated(id%irn)) deallocate (id%irn)
+      if (associated(id%jcn)) deallocate (id%jcn)
+      if (associated(id%a)) deallocate (id%a)
+      if (associated(id%perm_in)) deallocate (id%perm_in)
+      if (associated(id%rhs)) deallocate (id%rhs)
+      if (associated(id%irn_loc)) deallocate (id%irn_loc)
+      if (associated(id%jcn_loc)) deallocate (id%jcn_loc)
+      if (associated(id%a_loc)) deallocate (id%a_loc)
+   end procedure release_user_arrays
+
+   module procedure serial_dmumps
+      call enter_serial_section(SECTION_MUMPS)
+      ! MUMPS 5.5 installs no signal handlers (it imports neither signal nor sigaction); the
+      ! run signals' handlers are restored after it all the same (issue 23)
+      call hold_signals(block=.false.)
+      call dmumps(id)
+      call release_signals()
+      call leave_serial_section(SECTION_MUMPS)
+   end procedure serial_dmumps
+
+   !> INFO(2) of an allocation error: bytes, or millions of bytes when negative.
+   function memory_text(info2) result(text)
+      integer, intent(in) :: info2
+      character(len=:), allocatable :: text
+      if (info2 < 0) then
+         text = to_str(-info2) // ' million bytes requested'
+      else
+         text = to_str(info2) // ' bytes requested'
+      end if
+   end function memory_text
 
 end submodule ffrf_la_mumps_factorise

@@ -11,9 +11,7 @@ contains
       integer(i8) :: total
       integer(ip) :: i, ka, kb, j, row_start, count, stat
       if (A%num_cols /= B%num_rows) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'csr_matmul: A is ' // to_str(A%num_rows) // &
-            ' x ' // to_str(A%num_cols) // ' but B is ' // to_str(B%num_rows) // ' x ' // &
-            to_str(B%num_cols) // '; the inner dimensions must agree')
+         call shape_error(error, 'csr_matmul', A, B, 'the inner dimensions must agree')
          return
       end if
       C%num_rows = A%num_rows
@@ -78,9 +76,7 @@ contains
       integer(i8) :: total
       integer(ip) :: i, ka, kb, kc, pass
       if (A%num_rows /= B%num_rows .or. A%num_cols /= B%num_cols) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'csr_add: A is ' // to_str(A%num_rows) // &
-            ' x ' // to_str(A%num_cols) // ' but B is ' // to_str(B%num_rows) // ' x ' // &
-            to_str(B%num_cols) // '; the shapes must agree')
+         call shape_error(error, 'csr_add', A, B, 'the shapes must agree')
          return
       end if
       C%num_rows = A%num_rows
@@ -288,5 +284,15 @@ contains
          if (pass == 1) allocate (adjncy(count))
       end do
    end procedure csr_adjacency
+
+   !> "<what>: A is 3 x 4 but B is 5 x 2; <rule>".
+   subroutine shape_error(error, what, A, B, rule)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: what, rule
+      type(csr_t), intent(in) :: A, B
+      call fatal_error(error, FFRF_INPUT_ERROR, what // ': A is ' // to_str(A%num_rows) // ' x ' &
+         // to_str(A%num_cols) // ' but B is ' // to_str(B%num_rows) // ' x ' // &
+         to_str(B%num_cols) // '; ' // rule)
+   end subroutine shape_error
 
 end submodule ffrf_la_sparse_build

@@ -97,6 +97,62 @@ module ffrf_mesh_mesh
          !> Part of each tetrahedron, 1..num_parts in the order of their first tetrahedron
          integer(ip), allocatable, intent(out) :: part_of_tet(:)
       end subroutine face_connected_parts
+
+      !> The file name, or "(unnamed)" for a mesh not read from a file.
+      module pure function file_of(mesh) result(name)
+         type(mesh_t), intent(in) :: mesh
+         character(len=:), allocatable :: name
+      end function file_of
+
+      !> Positions of the true entries of `mask`, ascending.
+      module pure function pack_indices(mask) result(indices)
+         logical, intent(in) :: mask(:)
+         integer(ip), allocatable :: indices(:)
+      end function pack_indices
+
+      !> Columns `selected` of `elements` with every node index i replaced by new_index(i).
+      module pure function renumbered(elements, selected, new_index) result(subset)
+         !> (nodes_per_element, num_elements) node indices
+         integer(ip), intent(in) :: elements(:, :)
+         !> Elements to keep, in this order
+         integer(ip), intent(in) :: selected(:)
+         !> New index of every old node index
+         integer(ip), intent(in) :: new_index(:)
+         integer(ip) :: subset(size(elements, 1), size(selected))
+      end function renumbered
+
+      !> "'a', 'b'" for messages.
+      module pure function quoted_list(words) result(text)
+         character(len=*), intent(in) :: words(:)
+         character(len=:), allocatable :: text
+      end function quoted_list
+
+      !> Set used(node) for every node of the selected elements.
+      module pure subroutine mark_nodes(elements, selected, used)
+         !> (nodes_per_element, num_elements) node indices
+         integer(ip), intent(in) :: elements(:, :)
+         !> Which elements count
+         logical, intent(in) :: selected(:)
+         !> Node flags, set where used
+         logical, intent(inout) :: used(:)
+      end subroutine mark_nodes
+
+      !> "mesh 'crank.msh': no physical volume 'crnk'; volumes: crank".
+      module subroutine unknown_group_error(mesh, dim, name, error)
+         type(mesh_t), intent(in) :: mesh
+         integer(ip), intent(in) :: dim
+         character(len=*), intent(in) :: name
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine unknown_group_error
+
+      !> For each element, whether its entity tag is one of `entities`.
+      module pure function in_entities(element_entity, entities) result(inside)
+         !> Entity tag of each element
+         integer(ip), intent(in) :: element_entity(:)
+         !> Entity tags of a physical group
+         integer(ip), intent(in) :: entities(:)
+         logical :: inside(size(element_entity))
+      end function in_entities
    end interface
 
 contains
@@ -315,119 +371,5 @@ contains
          word = 'dimension-' // to_str(dim)
       end select
    end function dimension_word
-
-   !> "mesh 'crank.msh': no physical volume 'crnk'; volumes: crank".
-   subroutine unknown_group_error(mesh, dim, name, error)
-      type(mesh_t), intent(in) :: mesh
-      integer(ip), intent(in) :: dim
-      character(len=*), intent(in) :: name
-      type(error_t), allocatable, intent(out) :: error
-      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
-         ''': no physical ' // dimension_word(dim) // ' ''' // trim(name) // '''; ' // &
-         dimension_word(dim) // 's: ' // mesh%group_names(dim))
-   end subroutine unknown_group_error
-
-   !> The file name, or "(unnamed)" for a mesh not read from a file.
-   pure function file_of(mesh) result(name)
-      type(mesh_t), intent(in) :: mesh
-      character(len=:), allocatable :: name
-      if (allocated(mesh%file_name)) then
-         name = mesh%file_name
-      else
-         name = '(unnamed)'
-      end if
-   end function file_of
-
-   !> "'a', 'b'" for messages.
-   pure function quoted_list(words) result(text)
-      character(len=*), intent(in) :: words(:)
-      character(len=:), allocatable :: text
-      integer :: i
-      text = ''
-      do i = 1, size(words)
-         if (i > 1) text = text // ', '
-         text = text // '''' // trim(words(i)) // ''''
-      end do
-   end function quoted_list
-
-   !> For each element, whether its entity tag is one of `entities`.
-   pure function in_entities(element_entity, entities) result(inside)
-      !> Entity tag of each element
-      integer(ip), intent(in) :: element_entity(:)
-      !> Entity tags of a physical group
-      integer(ip), intent(in) :: entities(:)
-      logical :: inside(size(element_entity))
-      logical, allocatable :: lookup(:)
-      integer(ip) :: low, high, i
-      inside = .false.
-      if (size(element_entity) == 0 .or. size(entities) == 0) return
-      ! A direct table over the range of element entity tags (entity tags are small integers);
-      ! a plain search if they are spread far apart.
-      low = minval(element_entity)
-      high = maxval(element_entity)
-      if (int(high, i8) - low > 4_i8 * size(element_entity) + 1024_i8) then
-         do i = 1, size(element_entity, kind=ip)
-            inside(i) = any(entities == element_entity(i))
-         end do
-         return
-      end if
-      allocate (lookup(low:high))
-      lookup = .false.
-      do i = 1, size(entities, kind=ip)
-         if (entities(i) >= low .and. entities(i) <= high) lookup(entities(i)) = .true.
-      end do
-      do i = 1, size(element_entity, kind=ip)
-         inside(i) = lookup(element_entity(i))
-      end do
-   end function in_entities
-
-   !> Set used(node) for every node of the selected elements.
-   pure subroutine mark_nodes(elements, selected, used)
-      !> (nodes_per_element, num_elements) node indices
-      integer(ip), intent(in) :: elements(:, :)
-      !> Which elements count
-      logical, intent(in) :: selected(:)
-      !> Node flags, set where used
-      logical, intent(inout) :: used(:)
-      integer(ip) :: e, k
-      do e = 1, size(elements, 2, kind=ip)
-         if (.not. selected(e)) cycle
-         do k = 1, size(elements, 1, kind=ip)
-            used(elements(k, e)) = .true.
-         end do
-      end do
-   end subroutine mark_nodes
-
-   !> Columns `selected` of `elements` with every node index i replaced by new_index(i).
-   pure function renumbered(elements, selected, new_index) result(subset)
-      !> (nodes_per_element, num_elements) node indices
-      integer(ip), intent(in) :: elements(:, :)
-      !> Elements to keep, in this order
-      integer(ip), intent(in) :: selected(:)
-      !> New index of every old node index
-      integer(ip), intent(in) :: new_index(:)
-      integer(ip) :: subset(size(elements, 1), size(selected))
-      integer(ip) :: e, k
-      do e = 1, size(selected, kind=ip)
-         do k = 1, size(elements, 1, kind=ip)
-            subset(k, e) = new_index(elements(k, selected(e)))
-         end do
-      end do
-   end function renumbered
-
-   !> Positions of the true entries of `mask`, ascending.
-   pure function pack_indices(mask) result(indices)
-      logical, intent(in) :: mask(:)
-      integer(ip), allocatable :: indices(:)
-      integer(ip) :: i, n
-      allocate (indices(count(mask)))
-      n = 0
-      do i = 1, size(mask, kind=ip)
-         if (mask(i)) then
-            n = n + 1
-            indices(n) = i
-         end if
-      end do
-   end function pack_indices
 
 end module ffrf_mesh_mesh

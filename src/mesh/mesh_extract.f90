@@ -1,5 +1,6 @@
 !> ffrf_mesh_mesh: extract_body (one body cut out of a mesh), the checks of its nodes (Tet10
-!> mid-side nodes, one node-connected piece) and its face-connected parts.
+!> mid-side nodes, one node-connected piece), its face-connected parts, and the helpers the module
+!> shares with its submodules (file names, index lists, renumbering, group errors).
 submodule (ffrf_mesh_mesh:ffrf_mesh_mesh_checks) ffrf_mesh_mesh_extract
    implicit none
 
@@ -396,5 +397,84 @@ contains
          part_of_tet(e) = part_of_root(root)
       end do
    end procedure face_connected_parts
+
+   module procedure file_of
+      if (allocated(mesh%file_name)) then
+         name = mesh%file_name
+      else
+         name = '(unnamed)'
+      end if
+   end procedure file_of
+
+   module procedure pack_indices
+      integer(ip) :: i, n
+      allocate (indices(count(mask)))
+      n = 0
+      do i = 1, size(mask, kind=ip)
+         if (mask(i)) then
+            n = n + 1
+            indices(n) = i
+         end if
+      end do
+   end procedure pack_indices
+
+   module procedure renumbered
+      integer(ip) :: e, k
+      do e = 1, size(selected, kind=ip)
+         do k = 1, size(elements, 1, kind=ip)
+            subset(k, e) = new_index(elements(k, selected(e)))
+         end do
+      end do
+   end procedure renumbered
+
+   module procedure quoted_list
+      integer :: i
+      text = ''
+      do i = 1, size(words)
+         if (i > 1) text = text // ', '
+         text = text // '''' // trim(words(i)) // ''''
+      end do
+   end procedure quoted_list
+
+   module procedure mark_nodes
+      integer(ip) :: e, k
+      do e = 1, size(elements, 2, kind=ip)
+         if (.not. selected(e)) cycle
+         do k = 1, size(elements, 1, kind=ip)
+            used(elements(k, e)) = .true.
+         end do
+      end do
+   end procedure mark_nodes
+
+   module procedure unknown_group_error
+      call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(mesh) // &
+         ''': no physical ' // dimension_word(dim) // ' ''' // trim(name) // '''; ' // &
+         dimension_word(dim) // 's: ' // mesh%group_names(dim))
+   end procedure unknown_group_error
+
+   module procedure in_entities
+      logical, allocatable :: lookup(:)
+      integer(ip) :: low, high, i
+      inside = .false.
+      if (size(element_entity) == 0 .or. size(entities) == 0) return
+      ! A direct table over the range of element entity tags (entity tags are small integers);
+      ! a plain search if they are spread far apart.
+      low = minval(element_entity)
+      high = maxval(element_entity)
+      if (int(high, i8) - low > 4_i8 * size(element_entity) + 1024_i8) then
+         do i = 1, size(element_entity, kind=ip)
+            inside(i) = any(entities == element_entity(i))
+         end do
+         return
+      end if
+      allocate (lookup(low:high))
+      lookup = .false.
+      do i = 1, size(entities, kind=ip)
+         if (entities(i) >= low .and. entities(i) <= high) lookup(entities(i)) = .true.
+      end do
+      do i = 1, size(element_entity, kind=ip)
+         inside(i) = lookup(element_entity(i))
+      end do
+   end procedure in_entities
 
 end submodule ffrf_mesh_mesh_extract

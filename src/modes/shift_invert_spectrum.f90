@@ -23,7 +23,7 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_spectrum
    use ffrf_core_log, only: wall_time
    use ffrf_core_kinds, only: pi
    use ffrf_la_sparse, only: csr_matvec, csr_matmat
-   use ffrf_la_lapack, only: dgemm, dpotrf, dtrsm
+   use ffrf_modes_block_krylov, only: m_cholesky_qr2
    implicit none
 
    character(len=*), parameter :: stage = 'modes'
@@ -161,26 +161,10 @@ contains
    subroutine m_orthonormalise(X, MX, error)
       real(dp), intent(inout) :: X(:, :), MX(:, :)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: gram(:, :)
-      integer(ip) :: n, d, pass, info, i
-      n = int(size(X, 1), ip)
-      d = int(size(X, 2), ip)
-      allocate (gram(d, d))
-      do pass = 1, 2
-         call dgemm('T', 'N', d, d, n, 1.0_dp, X, n, MX, n, 0.0_dp, gram, d)
-         gram = 0.5_dp * (gram + transpose(gram))
-         call dpotrf('U', d, gram, d, info)
-         if (info /= 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'M-Gram matrix not positive ' // &
-               'definite at column ' // to_str(info) // ' (dependent vectors)')
-            return
-         end if
-         do i = 1, d
-            gram(i + 1:, i) = 0.0_dp
-         end do
-         call dtrsm('R', 'U', 'N', 'N', n, d, 1.0_dp, gram, d, X, n)
-         call dtrsm('R', 'U', 'N', 'N', n, d, 1.0_dp, gram, d, MX, n)
-      end do
+      integer(ip) :: info
+      call m_cholesky_qr2(X, MX, info)
+      if (info /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'M-Gram matrix not positive ' // &
+         'definite at column ' // to_str(info) // ' (dependent vectors)')
    end subroutine m_orthonormalise
 
    !> Room for `capacity` pairs of size n.
