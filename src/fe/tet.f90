@@ -172,7 +172,7 @@ contains
       !> Inverted or degenerate element: tag, det J, where, and what to do
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: h, detj
-      integer :: a, b, q
+      integer :: a, b
       call check_nodes_per_element(size(xe, 2), tag, error)
       if (allocated(error)) return
       h = 0.0_dp
@@ -181,29 +181,26 @@ contains
             h = max(h, norm2(xe(:, a) - xe(:, b)))
          end do
       end do
-      do a = 1, 4
-         detj = jacobian_determinant(xe, TET_REFERENCE_NODES(:, a))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('corner ' // to_str(a))
-            return
-         end if
-      end do
-      if (size(xe, 2) == 4) return     ! constant det J
-      do q = 1, size(TET4_WEIGHTS)
-         detj = jacobian_determinant(xe, TET4_POINTS(:, q))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('stiffness quadrature point ' // to_str(q))
-            return
-         end if
-      end do
-      do q = 1, size(TET14_WEIGHTS)
-         detj = jacobian_determinant(xe, TET14_POINTS(:, q))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('mass quadrature point ' // to_str(q))
-            return
-         end if
-      end do
+      call check_points(TET_REFERENCE_NODES(:, 1:4), 'corner ')
+      if (allocated(error) .or. size(xe, 2) == 4) return     ! Tet4: constant det J
+      call check_points(TET4_POINTS, 'stiffness quadrature point ')
+      if (allocated(error)) return
+      call check_points(TET14_POINTS, 'mass quadrature point ')
    contains
+      !> det J at each column of `points` (reference coordinates), the first failure reported.
+      subroutine check_points(points, what)
+         real(dp), intent(in) :: points(:, :)
+         character(len=*), intent(in) :: what
+         integer :: q
+         do q = 1, size(points, 2)
+            detj = jacobian_determinant(xe, points(:, q))
+            if (.not. (detj > DEGENERATE_RATIO*h**3)) then
+               call bad_jacobian(what // to_str(q))
+               return
+            end if
+         end do
+      end subroutine check_points
+
       subroutine bad_jacobian(where)
          character(len=*), intent(in) :: where
          character(len=:), allocatable :: kind
