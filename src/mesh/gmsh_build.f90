@@ -216,12 +216,7 @@ contains
    subroutine sort_columns(keys, perm)
       integer(ip), intent(in) :: keys(:, :)
       integer(ip), allocatable, intent(out) :: perm(:)
-      call merge_permutation(size(keys, 2, kind=ip), before, perm)
-   contains
-      logical function before(i, j)
-         integer(ip), intent(in) :: i, j
-         before = column_less(keys(:, i), keys(:, j))
-      end function before
+      call merge_permutation(int(keys, i8), perm)
    end subroutine sort_columns
 
    !> The distinct columns of `keys`, in lexicographic order.
@@ -240,19 +235,5 @@ contains
       end do
       unique = keys(:, pack(perm, first))
    end function unique_columns
-
-   !> Whether column `x` comes strictly before column `y` lexicographically.
-   pure function column_less(x, y) result(less)
-      integer(ip), intent(in) :: x(:), y(:)
-      logical :: less
-      integer :: k
-      less = .false.
-      do k = 1, size(x)
-         if (x(k) /= y(k)) then
-            less = x(k) < y(k)
-            return
-         end if
-      end do
-   end function column_less
 
 end submodule ffrf_mesh_gmsh_build

@@ -512,12 +512,7 @@ contains
    subroutine sort_tags(tags, perm)
       integer(i8), intent(in) :: tags(:)
       integer(ip), allocatable, intent(out) :: perm(:)
-      call merge_permutation(size(tags, kind=ip), before, perm)
-   contains
-      logical function before(i, j)
-         integer(ip), intent(in) :: i, j
-         before = tags(i) < tags(j)
-      end function before
+      call merge_permutation(reshape(tags, [1, size(tags)]), perm)
    end subroutine sort_tags
 
 end submodule ffrf_mesh_gmsh_sections

@@ -35,14 +35,6 @@ submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_text
       end function c_strtod
    end interface
 
-   abstract interface
-      !> Whether item i sorts strictly before item j (merge_permutation).
-      logical function item_before(i, j)
-         import :: ip
-         integer(ip), intent(in) :: i, j
-      end function item_before
-   end interface
-
    !> The whole file in memory and the read position in it.
    type :: cursor_t
       !> File contents
@@ -525,14 +517,14 @@ contains
       name = element_type_name(element_type)
    end function type_name
 
-   !> Permutation putting items 1..n in the order `before` gives (a stable bottom-up merge sort;
-   !> `before(i, j)`: item i strictly before item j).
-   subroutine merge_permutation(n, before, perm)
-      integer(ip), intent(in) :: n
-      procedure(item_before) :: before
+   !> Permutation putting the columns of `keys` in lexicographic order (a stable bottom-up
+   !> merge sort; one row: the values in ascending order).
+   subroutine merge_permutation(keys, perm)
+      integer(i8), intent(in) :: keys(:, :)
       integer(ip), allocatable, intent(out) :: perm(:)
       integer(ip), allocatable :: work(:)
-      integer(ip) :: width, left, mid, right, i, a, b
+      integer(ip) :: n, width, left, mid, right, i, a, b
+      n = size(keys, 2, kind=ip)
       perm = [(i, i=1, n)]
       allocate (work(n))
       width = 1
@@ -549,7 +541,7 @@ contains
                else if (a > mid) then
                   work(i) = perm(b)
                   b = b + 1
-               else if (before(perm(b), perm(a))) then
+               else if (column_less(keys(:, perm(b)), keys(:, perm(a)))) then
                   work(i) = perm(b)
                   b = b + 1
                else
@@ -562,5 +554,19 @@ contains
          width = 2 * width
       end do
    end subroutine merge_permutation
+
+   !> Whether column `x` comes strictly before column `y` lexicographically.
+   pure function column_less(x, y) result(less)
+      integer(i8), intent(in) :: x(:), y(:)
+      logical :: less
+      integer :: k
+      less = .false.
+      do k = 1, size(x)
+         if (x(k) /= y(k)) then
+            less = x(k) < y(k)
+            return
+         end if
+      end do
+   end function column_less
 
 end submodule ffrf_mesh_gmsh_text
