@@ -238,6 +238,28 @@ contains
          'cannot write the values (disk full, quota or file size limit?)')
    end subroutine close_written
 
+   !> Open the dataset `path` of an open file (dset = -1 if that fails, the error worded by
+   !> `missing` when there is no such object and by `not_dataset` when it is no dataset).
+   subroutine open_existing(self, path, missing, not_dataset, dset, error)
+      class(h5_file_t), intent(in) :: self
+      character(len=*), intent(in) :: path, missing, not_dataset
+      integer(hid_t), intent(out) :: dset
+      type(error_t), allocatable, intent(out) :: error
+      integer :: hdferr
+      dset = -1
+      call require_open(self, path, error)
+      if (allocated(error)) return
+      if (.not. self%exists(path)) then
+         call fail(self, error, path, missing)
+         return
+      end if
+      call h5dopen_f(self%id, path, dset, hdferr)
+      if (hdferr < 0) then
+         dset = -1
+         call fail(self, error, path, not_dataset)
+      end if
+   end subroutine open_existing
+
    !> Open dataset `path`, check it has `rank` dimensions, return its Fortran dims. On error the
    !> dataset is closed.
    subroutine open_dataset(self, path, rank, dset, dims, error)
@@ -250,20 +272,9 @@ contains
       integer(hid_t) :: space
       integer(hsize_t) :: all_dims(8), max_dims(8)
       integer :: hdferr, close_status, file_rank
-      dset = -1
       dims = 0
-      call require_open(self, path, error)
+      call open_existing(self, path, 'no such dataset', 'not a dataset (a group?)', dset, error)
       if (allocated(error)) return
-      if (.not. self%exists(path)) then
-         call fail(self, error, path, 'no such dataset')
-         return
-      end if
-      call h5dopen_f(self%id, path, dset, hdferr)
-      if (hdferr < 0) then
-         dset = -1
-         call fail(self, error, path, 'not a dataset (a group?)')
-         return
-      end if
       call h5dget_space_f(dset, space, hdferr)
       if (hdferr >= 0) then
          call h5sget_simple_extent_ndims_f(space, file_rank, hdferr)

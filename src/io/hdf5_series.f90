@@ -110,17 +110,9 @@ contains
       integer(hid_t) :: dset, space
       integer :: hdferr, close_status
       rank = 0
-      call require_open(self, path, error)
+      call open_existing(self, path, 'no such time series; make it with create_series first', &
+         'not a dataset', dset, error)
       if (allocated(error)) return
-      if (.not. self%exists(path)) then
-         call fail(self, error, path, 'no such time series; make it with create_series first')
-         return
-      end if
-      call h5dopen_f(self%id, path, dset, hdferr)
-      if (hdferr < 0) then
-         call fail(self, error, path, 'not a dataset')
-         return
-      end if
       call h5dget_space_f(dset, space, hdferr)
       if (hdferr >= 0) then
          call h5sget_simple_extent_ndims_f(space, rank, hdferr)

@@ -101,7 +101,7 @@ contains
                   k = (e - 1) * (nodes_per_element + 1)
                   if (values(k + 1) < 1) then
                      r%c%pos = data_start + 8 * k
-                     call element_tag_error(r%c, values(k + 1), error)
+                     call bad_tag_error(r%c, 'element', values(k + 1), error)
                      return
                   end if
                   do j = 1, nodes_per_element
@@ -143,7 +143,7 @@ contains
                   call skip_line(r%c)
                end if
                if (tag < 1) then
-                  call element_tag_error(r%c, tag, error)
+                  call bad_tag_error(r%c, 'element', tag, error)
                   return
                end if
                if (e == 1) first_tag = tag
@@ -194,7 +194,7 @@ contains
          if (.not. allocated(error)) call read_int(r%c, 'number of tags', num_tags, error)
          if (allocated(error)) return
          if (tag < 1) then
-            call element_tag_error(r%c, tag, error)
+            call bad_tag_error(r%c, 'element', tag, error)
             return
          end if
          physical = 0
@@ -360,7 +360,7 @@ contains
             return
          end if
          if (element_tag < 1) then
-            call element_tag_error(r%c, element_tag, error)
+            call bad_tag_error(r%c, 'element', element_tag, error)
             return
          end if
       end if

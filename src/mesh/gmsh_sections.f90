@@ -240,7 +240,7 @@ contains
             do i = first + 1, first + n
                if (r%node_tags(i) < 1) then
                   r%c%pos = k + 8 * (i - first - 1)
-                  call node_tag_error(r%c, r%node_tags(i), error)
+                  call bad_tag_error(r%c, 'node', r%node_tags(i), error)
                   return
                end if
             end do
@@ -505,7 +505,7 @@ contains
             ' nodes, the section ends after ' // to_str(done), error)
          return
       end if
-      if (r%node_tags(i) < 1) call node_tag_error(r%c, r%node_tags(i), error)
+      if (r%node_tags(i) < 1) call bad_tag_error(r%c, 'node', r%node_tags(i), error)
    end subroutine scan_node_tag
 
    !> Permutation putting `tags` in ascending order (stable).

@@ -216,21 +216,15 @@ contains
       call location_error(c, 'node tag ' // to_str(tag) // ' appears twice', error)
    end subroutine duplicate_tag_error
 
-   subroutine node_tag_error(c, tag, error)
+   !> A node or element (`what`) tag below 1.
+   subroutine bad_tag_error(c, what, tag, error)
       type(cursor_t), intent(in) :: c
+      character(len=*), intent(in) :: what
       integer(i8), intent(in) :: tag
       type(error_t), allocatable, intent(out) :: error
-      call location_error(c, 'node tag ' // to_str(tag) // ' is not allowed: Gmsh node ' // &
-         'tags are 1 or more', error)
-   end subroutine node_tag_error
-
-   subroutine element_tag_error(c, tag, error)
-      type(cursor_t), intent(in) :: c
-      integer(i8), intent(in) :: tag
-      type(error_t), allocatable, intent(out) :: error
-      call location_error(c, 'element tag ' // to_str(tag) // ' is not allowed: Gmsh ' // &
-         'element tags are 1 or more', error)
-   end subroutine element_tag_error
+      call location_error(c, what // ' tag ' // to_str(tag) // ' is not allowed: Gmsh ' // what &
+         // ' tags are 1 or more', error)
+   end subroutine bad_tag_error
 
    !> An element type the reader does not know: its node count, and so the file layout, is
    !> unknown, wherever the element lies.
