@@ -1,9 +1,9 @@
 !> Leveled progress log and stage timers. One logger writes to a unit the caller picks; every
 !> stage reports its size and wall time: `[modes] crank, RC set 2: 20 modes ... 2.93 s`.
 module ffrf_core_log
-   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use, intrinsic :: iso_fortran_env, only: output_unit
    use ffrf_core_kinds, only: dp, i8
+   use ffrf_core_memory, only: read_proc_field
    implicit none
    private
    public :: logger_t, stage_timer_t, stage_times_t, wall_time, peak_memory_mib
@@ -136,28 +136,11 @@ contains
    !> Peak resident memory of this process in MiB (VmHWM of /proc/self/status; 0 if unknown).
    function peak_memory_mib() result(mib)
       real(dp) :: mib
-      character(len=256) :: line
-      integer :: unit, stat
       integer(i8) :: kib
+      logical :: found
       mib = 0.0_dp
-      ! one unit per file in the process (Fortran 2008, 9.5.4): threads take turns
-      call enter_serial_section(SECTION_FILES)
-      open (newunit=unit, file='/proc/self/status', action='read', status='old', iostat=stat)
-      if (stat /= 0) then
-         call leave_serial_section(SECTION_FILES)
-         return
-      end if
-      do
-         read (unit, '(a)', iostat=stat) line
-         if (stat /= 0) exit
-         if (line(1:6) == 'VmHWM:') then
-            read (line(7:), *, iostat=stat) kib
-            if (stat == 0) mib = real(kib, dp) / 1024.0_dp
-            exit
-         end if
-      end do
-      close (unit)
-      call leave_serial_section(SECTION_FILES)
+      call read_proc_field('/proc/self/status', 'VmHWM:', kib, found)
+      if (found) mib = real(kib, dp) / 1024.0_dp
    end function peak_memory_mib
 
 end module ffrf_core_log

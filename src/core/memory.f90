@@ -6,7 +6,7 @@ module ffrf_core_memory
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    implicit none
    private
-   public :: available_memory_mb, resident_memory_mb
+   public :: available_memory_mb, resident_memory_mb, read_proc_field
 
 contains
 
@@ -26,9 +26,22 @@ contains
    function proc_field_mb(file_name, field) result(mb)
       character(len=*), intent(in) :: file_name, field
       integer(i8) :: mb, kib
+      logical :: found
+      mb = -1
+      call read_proc_field(file_name, field, kib, found)
+      if (found) mb = kib * 1024_i8 / 1000000_i8
+   end function proc_field_mb
+
+   !> The value (kB) of the first "Name:  1234 kB" line of a /proc file whose start is `field`
+   !> ('VmHWM:'); `found` false if the file, the line or a number there is missing.
+   subroutine read_proc_field(file_name, field, kib, found)
+      character(len=*), intent(in) :: file_name, field
+      integer(i8), intent(out) :: kib
+      logical, intent(out) :: found
       character(len=256) :: line
       integer :: unit, stat
-      mb = -1
+      kib = 0
+      found = .false.
       ! one unit per file in the process (Fortran 2008, 9.5.4): threads take turns
       call enter_serial_section(SECTION_FILES)
       open (newunit=unit, file=file_name, action='read', status='old', iostat=stat)
@@ -41,12 +54,12 @@ contains
          if (stat /= 0) exit
          if (line(1:len(field)) == field) then
             read (line(len(field) + 1:), *, iostat=stat) kib
-            if (stat == 0) mb = kib * 1024_i8 / 1000000_i8
+            found = stat == 0
             exit
          end if
       end do
       close (unit)
       call leave_serial_section(SECTION_FILES)
-   end function proc_field_mb
+   end subroutine read_proc_field
 
 end module ffrf_core_memory

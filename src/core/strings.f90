@@ -16,9 +16,7 @@ contains
       !> Number to format
       integer(ip), intent(in) :: value
       character(len=:), allocatable :: text
-      character(len=24) :: buffer
-      write (buffer, '(i0)') value
-      text = trim(buffer)
+      text = long_to_str(int(value, i8))
    end function int_to_str
 
    pure function long_to_str(value) result(text)

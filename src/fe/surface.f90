@@ -19,6 +19,7 @@ module ffrf_fe_surface
    use ffrf_core_strings, only: to_str
    use ffrf_la_sparse, only: sort_indices
    use ffrf_fe_quadrature, only: TRI3_POINTS, TRI3_WEIGHTS, TRI7_POINTS, TRI7_WEIGHTS
+   use ffrf_fe_tet, only: simplex_shape
    implicit none
    private
    public :: tri_shape, surface_area_centroid, nodal_area_weights, nodal_consistent_weights
@@ -45,25 +46,12 @@ contains
       !> Derivatives with respect to (u, v)
       real(dp), intent(out) :: dN(2, nen)
       real(dp) :: L(3), dL(2, 3)
-      integer, parameter :: EDGES(2, 3) = reshape([1, 2, 2, 3, 3, 1], [2, 3])
-      integer :: c, e, i, j
+      integer(ip), parameter :: EDGES(2, 3) = reshape([1, 2, 2, 3, 3, 1], [2, 3])
       L = [1.0_dp - xi(1) - xi(2), xi(1), xi(2)]
       dL = reshape([-1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 3])
       select case (nen)
-      case (3)
-         N = L
-         dN = dL
-      case (6)
-         do c = 1, 3
-            N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
-            dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)
-         end do
-         do e = 1, 3
-            i = EDGES(1, e)
-            j = EDGES(2, e)
-            N(3 + e) = 4.0_dp*L(i)*L(j)
-            dN(:, 3 + e) = 4.0_dp*(L(i)*dL(:, j) + L(j)*dL(:, i))
-         end do
+      case (3, 6)
+         call simplex_shape(L, dL, EDGES, nen == 6, N, dN)
       case default
          N = 0.0_dp
          dN = 0.0_dp

@@ -43,7 +43,7 @@ module ffrf_fe_tet
    implicit none
    private
    public :: tet_shape, tet_stiffness, tet_mass, tet_stiffness_mass, tet_volume, tet_check_jacobian
-   public :: physical_gradients
+   public :: physical_gradients, simplex_shape
    public :: TET10_EDGES, TET_REFERENCE_NODES, GMSH_TO_C3D10, DEGENERATE_RATIO
 
    !> Corner pair of each Tet10 edge node 5..10 (Gmsh order)
@@ -75,30 +75,52 @@ contains
       !> Derivatives with respect to (u, v, w)
       real(dp), intent(out) :: dN(3, nen)
       real(dp) :: L(4), dL(3, 4)
-      integer :: c, e, i, j
       L = [1.0_dp - xi(1) - xi(2) - xi(3), xi(1), xi(2), xi(3)]
       dL = reshape([-1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
          0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 4])
       select case (nen)
-      case (4)
-         N = L
-         dN = dL
-      case (10)
-         do c = 1, 4
-            N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
-            dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)
-         end do
-         do e = 1, 6
-            i = TET10_EDGES(1, e)
-            j = TET10_EDGES(2, e)
-            N(4 + e) = 4.0_dp*L(i)*L(j)
-            dN(:, 4 + e) = 4.0_dp*(L(i)*dL(:, j) + L(j)*dL(:, i))
-         end do
+      case (4, 10)
+         call simplex_shape(L, dL, TET10_EDGES, nen == 10, N, dN)
       case default
          N = 0.0_dp
          dN = 0.0_dp
       end select
    end subroutine tet_shape
+
+   !> Shape functions of a simplex (tetrahedron, triangle) from its barycentric coordinates L(m)
+   !> and their reference derivatives dL(:, m): linear N = L, or quadratic (m corners
+   !> L (2 L - 1), then one mid-side node 4 L_i L_j per edge (i, j) = edges(:, e)).
+   pure subroutine simplex_shape(L, dL, edges, quadratic, N, dN)
+      !> Barycentric coordinates
+      real(dp), intent(in) :: L(:)
+      !> Their reference derivatives
+      real(dp), intent(in) :: dL(:, :)
+      !> Corners of each edge, in mid-side node order
+      integer(ip), intent(in) :: edges(:, :)
+      !> Quadratic (mid-side nodes) or linear
+      logical, intent(in) :: quadratic
+      !> Shape functions: m, or m + size(edges, 2) if quadratic
+      real(dp), intent(out) :: N(:)
+      !> Their reference derivatives
+      real(dp), intent(out) :: dN(:, :)
+      integer :: c, e, i, j, m
+      if (.not. quadratic) then
+         N = L
+         dN = dL
+         return
+      end if
+      m = size(L)
+      do c = 1, m
+         N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
+         dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)
+      end do
+      do e = 1, size(edges, 2)
+         i = edges(1, e)
+         j = edges(2, e)
+         N(m + e) = 4.0_dp*L(i)*L(j)
+         dN(:, m + e) = 4.0_dp*(L(i)*dL(:, j) + L(j)*dL(:, i))
+      end do
+   end subroutine simplex_shape
 
    !> Jacobian determinant and physical gradients g(3, nen) = J^-T dN at one point.
    pure subroutine physical_gradients(xe, dN, g, detj)
@@ -150,7 +172,7 @@ contains
       !> Inverted or degenerate element: tag, det J, where, and what to do
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: h, detj
-      integer :: a, b, q
+      integer :: a, b
       call check_nodes_per_element(size(xe, 2), tag, error)
       if (allocated(error)) return
       h = 0.0_dp
@@ -159,29 +181,26 @@ contains
             h = max(h, norm2(xe(:, a) - xe(:, b)))
          end do
       end do
-      do a = 1, 4
-         detj = jacobian_determinant(xe, TET_REFERENCE_NODES(:, a))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('corner ' // to_str(a))
-            return
-         end if
-      end do
-      if (size(xe, 2) == 4) return     ! constant det J
-      do q = 1, size(TET4_WEIGHTS)
-         detj = jacobian_determinant(xe, TET4_POINTS(:, q))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('stiffness quadrature point ' // to_str(q))
-            return
-         end if
-      end do
-      do q = 1, size(TET14_WEIGHTS)
-         detj = jacobian_determinant(xe, TET14_POINTS(:, q))
-         if (.not. (detj > DEGENERATE_RATIO*h**3)) then
-            call bad_jacobian('mass quadrature point ' // to_str(q))
-            return
-         end if
-      end do
+      call check_points(TET_REFERENCE_NODES(:, 1:4), 'corner ')
+      if (allocated(error) .or. size(xe, 2) == 4) return     ! Tet4: constant det J
+      call check_points(TET4_POINTS, 'stiffness quadrature point ')
+      if (allocated(error)) return
+      call check_points(TET14_POINTS, 'mass quadrature point ')
    contains
+      !> det J at each column of `points` (reference coordinates), the first failure reported.
+      subroutine check_points(points, what)
+         real(dp), intent(in) :: points(:, :)
+         character(len=*), intent(in) :: what
+         integer :: q
+         do q = 1, size(points, 2)
+            detj = jacobian_determinant(xe, points(:, q))
+            if (.not. (detj > DEGENERATE_RATIO*h**3)) then
+               call bad_jacobian(what // to_str(q))
+               return
+            end if
+         end do
+      end subroutine check_points
+
       subroutine bad_jacobian(where)
          character(len=*), intent(in) :: where
          character(len=:), allocatable :: kind
@@ -246,15 +265,8 @@ contains
       real(dp), intent(out) :: me(:, :)
       !> Inverted or degenerate element, unsupported nen
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: lambda, mu
-      call tet_check_jacobian(xe, tag, error)
+      call tet_stiffness(xe, material, tag, ke, error)
       if (allocated(error)) return
-      call lame_parameters(material, lambda, mu)
-      if (size(xe, 2) == 4) then
-         call stiffness_kernel(xe, lambda, mu, TET1_POINTS, TET1_WEIGHTS, ke)
-      else
-         call stiffness_kernel(xe, lambda, mu, TET4_POINTS, TET4_WEIGHTS, ke)
-      end if
       call mass_kernel(xe, material%density, me)
    end subroutine tet_stiffness_mass
 

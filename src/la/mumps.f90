@@ -70,6 +70,30 @@ module ffrf_la_mumps
          implicit none
          type(dmumps_struc), intent(inout) :: id
       end subroutine dmumps
+
+      !> What INFOG(1) < 0 means and what to do (MUMPS 5.5 user guide, section 8).
+      module function describe_status(info1, info2) result(text)
+         integer, intent(in) :: info1, info2
+         character(len=:), allocatable :: text
+      end function describe_status
+
+      !> MUMPS sizes: a negative value counts millions (INFOG(9), (20), (29)).
+      module pure function mumps_count(value) result(count)
+         integer, intent(in) :: value
+         integer(i8) :: count
+      end function mumps_count
+
+      !> Deallocate the arrays this wrapper hands to MUMPS (never MUMPS's own).
+      module subroutine release_user_arrays(id)
+         type(dmumps_struc), intent(inout) :: id
+      end subroutine release_user_arrays
+
+      !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
+      !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each
+      !> other even on distinct DMUMPS_STRUC (serial_section.c).
+      module subroutine serial_dmumps(id)
+         type(DMUMPS_STRUC), intent(inout) :: id
+      end subroutine serial_dmumps
    end interface
 
    !> A sparse symmetric matrix factorised by MUMPS, ready for repeated solves. Do not copy a
@@ -184,6 +208,62 @@ module ffrf_la_mumps
       procedure :: memory_options_text
    end type mumps_solver_t
 
+   interface
+      !> Symbolic analysis (JOB = 1) of the pattern (irn, jcn): one triangle of a symmetric matrix
+      !> (entries given in both triangles are summed by MUMPS). Without `perm` a METIS nested-
+      !> dissection ordering of the pattern is computed and passed as PERM_IN (ICNTL(7) = 1).
+      module subroutine mumps_solver_analyse(self, n, irn, jcn, perm, error)
+         class(mumps_solver_t), intent(inout) :: self
+         !> Matrix order
+         integer(ip), intent(in) :: n
+         !> Row index of each entry, 1-based
+         integer(ip), intent(in) :: irn(:)
+         !> Column index of each entry, 1-based
+         integer(ip), intent(in) :: jcn(:)
+         !> Optional elimination order: variable i is eliminated at step perm(i) (MUMPS PERM_IN)
+         integer(ip), intent(in), optional :: perm(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mumps_solver_analyse
+
+      !> Numerical factorisation (JOB = 2) of the matrix with the analysed pattern and `values`
+      !> (same order as irn/jcn). Retries up to twice with ICNTL(14) doubled on INFOG(1) = -8/-9.
+      module subroutine mumps_solver_factorise(self, values, error)
+         class(mumps_solver_t), intent(inout) :: self
+         !> Matrix entries, one per (irn(k), jcn(k)) given to `analyse`
+         real(dp), intent(in) :: values(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mumps_solver_factorise
+
+      !> Memory options, after `init` and before `analyse` (compression must be known to the
+      !> analysis). Absent arguments keep their current values (defaults: in-core, full rank, no
+      !> limit). The out-of-core files go to `ooc_directory` (default: TMPDIR, else the current
+      !> folder) with the prefix ffrf_ooc_; MUMPS deletes them in `free` (JOB = -2), also after an
+      !> error, but a killed process (SIGKILL, out-of-memory killer) leaves them behind.
+      module subroutine mumps_solver_set_memory_options(self, error, out_of_core, ooc_directory, &
+                                                        compression_tolerance, memory_limit_mb)
+         class(mumps_solver_t), intent(inout) :: self
+         type(error_t), allocatable, intent(out) :: error
+         !> Out-of-core factorisation (ICNTL(22) = 1)
+         logical, intent(in), optional :: out_of_core
+         !> Folder of the out-of-core files; blank: TMPDIR, else '.'
+         character(len=*), intent(in), optional :: ooc_directory
+         !> BLR dropping tolerance CNTL(7) in [0, 1); 0 = full-rank factors
+         real(dp), intent(in), optional :: compression_tolerance
+         !> Memory limit in MB: -1 automatic (MemAvailable), 0 none, > 0 the limit
+         integer(i8), intent(in), optional :: memory_limit_mb
+      end subroutine mumps_solver_set_memory_options
+
+      !> Refuse a factorisation whose predicted memory exceeds the limit: resident memory of the
+      !> process + the analysis's estimate for the chosen options (predicted_memory_mb) + the
+      !> caller's workspace_mb against
+      !> memory_limit_mb (automatic: resident + MemAvailable). Called by `factorise` once per
+      !> analysis; no limit (0) or an unreadable /proc makes it a no-op.
+      module subroutine mumps_solver_check_memory(self, error)
+         class(mumps_solver_t), intent(inout) :: self
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mumps_solver_check_memory
+   end interface
+
 contains
 
    !> Start a MUMPS instance (JOB = -1) for a symmetric matrix, silenced, exact inertia on.
@@ -253,194 +333,6 @@ contains
       self%sym = sym
       self%phase = phase_initialised
    end subroutine mumps_solver_init
-
-   !> Symbolic analysis (JOB = 1) of the pattern (irn, jcn): one triangle of a symmetric matrix
-   !> (entries given in both triangles are summed by MUMPS). Without `perm` a METIS nested-
-   !> dissection ordering of the pattern is computed and passed as PERM_IN (ICNTL(7) = 1).
-   subroutine mumps_solver_analyse(self, n, irn, jcn, perm, error)
-      class(mumps_solver_t), intent(inout) :: self
-      !> Matrix order
-      integer(ip), intent(in) :: n
-      !> Row index of each entry, 1-based
-      integer(ip), intent(in) :: irn(:)
-      !> Column index of each entry, 1-based
-      integer(ip), intent(in) :: jcn(:)
-      !> Optional elimination order: variable i is eliminated at step perm(i) (MUMPS PERM_IN)
-      integer(ip), intent(in), optional :: perm(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer(ip), allocatable :: order(:), iperm(:)
-      integer(i8) :: k
-      integer :: stat
-      real(dp) :: t0
-
-      if (self%phase < phase_initialised) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: solver not initialised; ' &
-            // 'call init(sym, error) first')
-         return
-      end if
-      if (n < 1 .or. size(irn) /= size(jcn) .or. size(irn) < 1) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: n = ' // to_str(n) // &
-            ', size(irn) = ' // to_str(size(irn)) // ', size(jcn) = ' // to_str(size(jcn)) // &
-            '; need n >= 1 and equal, non-empty index arrays')
-         return
-      end if
-      do k = 1, size(irn, kind=i8)
-         if (irn(k) < 1 .or. irn(k) > n .or. jcn(k) < 1 .or. jcn(k) > n) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: entry ' // to_str(k) // &
-               ' at (' // to_str(irn(k)) // ', ' // to_str(jcn(k)) // ') lies outside the ' // &
-               to_str(n) // ' x ' // to_str(n) // ' matrix')
-            return
-         end if
-      end do
-
-      allocate (iperm(n))
-      self%time_ordering = 0.0_dp
-      if (present(perm)) then
-         if (.not. is_permutation(perm, n)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS analyse: perm (size ' // &
-               to_str(size(perm)) // ') is not a permutation of 1..' // to_str(n))
-            return
-         end if
-         iperm = perm
-         self%metis_ordering = .false.
-      else if (self%parallel%is_root()) then
-         ! (more than one rank: only the host's PERM_IN is read)
-         t0 = wall_time()
-         allocate (order(n))
-         call pattern_nested_dissection(n, irn, jcn, order, iperm, error)
-         if (allocated(error)) then
-            call add_context(error, 'MUMPS analyse, METIS ordering')
-            call self%parallel%agree(error)
-            return
-         end if
-         self%time_ordering = wall_time() - t0
-         self%metis_ordering = .true.
-      else
-         self%metis_ordering = .true.
-      end if
-      if (self%parallel%num_ranks > 1) then
-         call self%parallel%agree(error)
-         if (allocated(error)) return
-         call analyse_distributed(self, n, irn, jcn, iperm, error)
-         return
-      end if
-
-      associate (id => self%id)
-         call release_user_arrays(id)
-         allocate (id%irn(size(irn)), id%jcn(size(jcn)), id%perm_in(n), stat=stat)
-         if (stat /= 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analyse: cannot allocate the ' &
-               // 'index arrays of ' // to_str(size(irn, kind=i8)) // ' entries')
-            return
-         end if
-         id%irn = irn
-         id%jcn = jcn
-         id%perm_in = iperm
-         id%n = n
-         id%nnz = size(irn, kind=i8)
-         id%icntl(7) = 1
-         id%job = 1
-         t0 = wall_time()
-         call serial_dmumps(id)
-         self%time_analysis = wall_time() - t0
-         self%status = id%infog(1)
-         if (id%infog(1) < 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
-               ', ' // to_str(id%nnz) // ' entries): ' // &
-               describe_status(id%infog(1), id%infog(2)))
-            self%phase = phase_initialised
-            return
-         end if
-         self%ordering_used = id%infog(7)
-         self%estimated_factor_entries = mumps_count(id%infog(20))
-         call record_estimates(self)
-      end associate
-      self%n = n
-      self%nnz = size(irn, kind=i8)
-      self%phase = phase_analysed
-   end subroutine mumps_solver_analyse
-
-   !> Numerical factorisation (JOB = 2) of the matrix with the analysed pattern and `values`
-   !> (same order as irn/jcn). Retries up to twice with ICNTL(14) doubled on INFOG(1) = -8/-9.
-   subroutine mumps_solver_factorise(self, values, error)
-      class(mumps_solver_t), intent(inout) :: self
-      !> Matrix entries, one per (irn(k), jcn(k)) given to `analyse`
-      real(dp), intent(in) :: values(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer :: stat, attempt
-      real(dp) :: t0
-
-      if (self%phase < phase_analysed) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS factorise: no analysed pattern; ' // &
-            'call analyse(n, irn, jcn, error=error) first')
-         return
-      end if
-      if (size(values, kind=i8) /= self%nnz) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS factorise: ' // &
-            to_str(size(values, kind=i8)) // ' values given for a pattern of ' // &
-            to_str(self%nnz) // ' entries')
-         return
-      end if
-      call self%check_memory(error)
-      ! One rank's refusal is every rank's: the factorisation below is collective.
-      if (self%parallel%num_ranks > 1) call self%parallel%agree(error)
-      if (allocated(error)) return
-      self%phase = phase_analysed
-      associate (id => self%id)
-         if (self%parallel%num_ranks > 1) call set_local_values(self, values, error)
-         if (allocated(error)) return
-         if (.not. associated(id%a) .and. self%parallel%num_ranks == 1) then
-            allocate (id%a(self%nnz), stat=stat)
-            if (stat /= 0) then
-               call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorise: cannot allocate ' &
-                  // to_str(self%nnz) // ' matrix values')
-               return
-            end if
-         end if
-         if (self%parallel%num_ranks == 1) id%a = values
-         id%job = 2
-         self%num_workspace_retries = 0
-         t0 = wall_time()
-         call signal_test_point('factorisation:before')
-         call signal_test_point('factorisation:during')
-         do attempt = 0, max_workspace_retries
-            call serial_dmumps(id)
-            if (id%infog(1) /= -8 .and. id%infog(1) /= -9) exit
-            if (attempt == max_workspace_retries) exit
-            id%icntl(14) = 2 * max(id%icntl(14), 10)
-            self%num_workspace_retries = self%num_workspace_retries + 1
-         end do
-         call signal_test_point('factorisation:after')
-         self%time_factorisation = wall_time() - t0
-         self%workspace_percent = id%icntl(14)
-         self%status = id%infog(1)
-         if (id%infog(1) < 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorisation (n = ' // &
-               to_str(self%n) // ', ' // to_str(self%nnz) // ' entries, SYM = ' // &
-               to_str(self%sym) // ', ICNTL(14) = ' // to_str(id%icntl(14)) // '): ' // &
-               describe_status(id%infog(1), id%infog(2)))
-            return
-         end if
-         self%num_negative_pivots = id%infog(12)
-         self%num_delayed_pivots = id%infog(13)
-         self%max_front_size = id%infog(11)
-         if (id%icntl(24) == 1) then
-            self%num_null_pivots = id%infog(28)
-         else
-            self%num_null_pivots = 0
-         end if
-         self%factor_entries = mumps_count(id%infog(29))
-         self%factor_storage = mumps_count(id%infog(9))
-         self%memory_allocated_mb = id%infog(18)
-         self%memory_used_mb = id%infog(21)
-         self%factor_flops = id%rinfog(3)
-         self%compressed_factor_entries = mumps_count(id%infog(35))
-         self%factor_flops_done = id%rinfog(14)
-      end associate
-      self%time_solve = 0.0_dp
-      self%num_solves = 0
-      self%phase = phase_factorised
-   end subroutine mumps_solver_factorise
 
    !> Solve A x = b (JOB = 3) with the current factors; `rhs` holds b on entry and x on exit.
    subroutine mumps_solver_solve_one(self, rhs, error)
@@ -578,92 +470,6 @@ contains
       self%num_solves = self%num_solves + nrhs
    end subroutine solve_columns
 
-   !> MUMPS sizes: a negative value counts millions (INFOG(9), (20), (29)).
-   pure function mumps_count(value) result(count)
-      integer, intent(in) :: value
-      integer(i8) :: count
-      if (value < 0) then
-         count = -int(value, i8) * 1000000_i8
-      else
-         count = int(value, i8)
-      end if
-   end function mumps_count
-
-   !> What INFOG(1) < 0 means and what to do (MUMPS 5.5 user guide, section 8).
-   function describe_status(info1, info2) result(text)
-      integer, intent(in) :: info1, info2
-      character(len=:), allocatable :: text
-      text = 'INFOG(1) = ' // to_str(info1) // ', INFOG(2) = ' // to_str(info2) // ': '
-      select case (info1)
-      case (-2)
-         text = text // 'NNZ out of range; the matrix must have at least one entry'
-      case (-5, -7, -13)
-         text = text // 'memory allocation failed (' // memory_text(info2) // &
-            '); free memory, or remedies: ' // MEMORY_REMEDIES
-      case (-6)
-         text = text // 'matrix is structurally singular (structural rank ' // &
-            to_str(info2) // '); a row and column without entries, e.g. an unconstrained ' // &
-            'dof with no stiffness, or dependent constraint rows'
-      case (-8, -9)
-         text = text // 'MUMPS workspace too small even after raising ICNTL(14) ' // &
-            to_str(max_workspace_retries) // ' times; pass a larger workspace_percent to init' &
-            // ', or remedies: ' // MEMORY_REMEDIES
-      case (-10)
-         text = text // 'matrix is singular (zero pivot): a dof without stiffness, a ' // &
-            'rigid-body motion left free, dependent constraint rows, or an eigen shift equal ' &
-            // 'to an eigenvalue'
-      case (-11, -14, -15)
-         text = text // 'workspace too small for the solution; pass a larger ' // &
-            'workspace_percent to init'
-      case (-16)
-         text = text // 'N out of range; the matrix order must be at least 1'
-      case (-22)
-         text = text // 'an input array (IRN, JCN, A, RHS or PERM_IN) is not allocated or ' // &
-            'too small (internal error of the wrapper)'
-      case (-23)
-         text = text // 'MPI not initialised (linked against the MPI MUMPS instead of ' // &
-            'the sequential one?)'
-      case (-40)
-         text = text // 'SYM = 1 but the matrix is not positive definite; use SYM = 2'
-      case default
-         text = text // 'see the MUMPS 5.5 user guide, section 8 (error diagnostics)'
-      end select
-   end function describe_status
-
-   !> INFO(2) of an allocation error: bytes, or millions of bytes when negative.
-   function memory_text(info2) result(text)
-      integer, intent(in) :: info2
-      character(len=:), allocatable :: text
-      if (info2 < 0) then
-         text = to_str(-info2) // ' million bytes requested'
-      else
-         text = to_str(info2) // ' bytes requested'
-      end if
-   end function memory_text
-
-   !> .true. if p holds each of 1..n exactly once.
-   pure function is_permutation(p, n) result(valid)
-      integer(ip), intent(in) :: p(:)
-      integer(ip), intent(in) :: n
-      logical :: valid
-      logical, allocatable :: seen(:)
-      integer(ip) :: i
-      valid = size(p) == n
-      if (.not. valid) return
-      allocate (seen(n), source=.false.)
-      do i = 1, n
-         if (p(i) < 1 .or. p(i) > n) then
-            valid = .false.
-            return
-         end if
-         if (seen(p(i))) then
-            valid = .false.
-            return
-         end if
-         seen(p(i)) = .true.
-      end do
-   end function is_permutation
-
    !> Nullify the input pointers of the structure (MUMPS tests `associated` on them).
    subroutine nullify_user_pointers(id)
       type(dmumps_struc), intent(inout) :: id
@@ -672,232 +478,6 @@ contains
                id%redrhs, id%rhs_sparse, id%sol_loc, id%rhs_loc, id%irhs_sparse, id%irhs_ptr, &
                id%isol_loc, id%irhs_loc, id%schur, id%listvar_schur, id%wk_user)
    end subroutine nullify_user_pointers
-
-   !> Deallocate the arrays this wrapper hands to MUMPS (never MUMPS's own).
-   subroutine release_user_arrays(id)
-      type(dmumps_struc), intent(inout) :: id
-      if (associated(id%irn)) deallocate (id%irn)
-      if (associated(id%jcn)) deallocate (id%jcn)
-      if (associated(id%a)) deallocate (id%a)
-      if (associated(id%perm_in)) deallocate (id%perm_in)
-      if (associated(id%rhs)) deallocate (id%rhs)
-      if (associated(id%irn_loc)) deallocate (id%irn_loc)
-      if (associated(id%jcn_loc)) deallocate (id%jcn_loc)
-      if (associated(id%a_loc)) deallocate (id%a_loc)
-   end subroutine release_user_arrays
-
-   !> Analysis (JOB = 1) with distributed assembled input (ICNTL(18) = 3) on more than one
-   !> rank: this rank's contiguous slice of the entries; n and PERM_IN (ICNTL(7) = 1) on the
-   !> host. Entries of one (i, j) on several ranks are summed by MUMPS, as within one rank.
-   subroutine analyse_distributed(self, n, irn, jcn, iperm, error)
-      type(mumps_solver_t), intent(inout) :: self
-      integer(ip), intent(in) :: n, irn(:), jcn(:), iperm(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: nnz
-      integer :: stat
-      real(dp) :: t0
-      nnz = size(irn, kind=i8)
-      self%first_entry = nnz * self%parallel%rank / self%parallel%num_ranks + 1
-      self%last_entry = nnz * (self%parallel%rank + 1) / self%parallel%num_ranks
-      associate (id => self%id, first => self%first_entry, last => self%last_entry)
-         call release_user_arrays(id)
-         allocate (id%irn_loc(last - first + 1), id%jcn_loc(last - first + 1), stat=stat)
-         if (stat == 0 .and. self%parallel%is_root()) allocate (id%perm_in(n), stat=stat)
-         if (stat /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analyse: cannot ' &
-            // 'allocate the index arrays of ' // to_str(last - first + 1) // ' entries')
-         call self%parallel%agree(error)
-         if (allocated(error)) return
-         id%irn_loc = irn(first:last)
-         id%jcn_loc = jcn(first:last)
-         id%nnz_loc = last - first + 1
-         id%n = n
-         id%nnz = nnz
-         if (self%parallel%is_root()) id%perm_in = iperm
-         id%icntl(18) = 3
-         id%icntl(7) = 1
-         id%job = 1
-         t0 = wall_time()
-         call serial_dmumps(id)
-         self%time_analysis = wall_time() - t0
-         self%status = id%infog(1)
-         if (id%infog(1) < 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS analysis (n = ' // to_str(n) // &
-               ', ' // to_str(nnz) // ' entries on ' // to_str(self%parallel%num_ranks) // &
-               ' ranks): ' // describe_status(id%infog(1), id%infog(2)))
-            self%phase = phase_initialised
-            return
-         end if
-         self%ordering_used = id%infog(7)
-         self%estimated_factor_entries = mumps_count(id%infog(20))
-         ! per-rank INFO(15)/(17) and the global INFOG/RINFOG estimates, on every rank
-         call record_estimates(self)
-      end associate
-      self%n = n
-      self%nnz = nnz
-      self%phase = phase_analysed
-   end subroutine analyse_distributed
-
-   !> Distributed input: this rank's slice of `values` as A_loc (ICNTL(18) = 3).
-   subroutine set_local_values(self, values, error)
-      type(mumps_solver_t), intent(inout) :: self
-      real(dp), intent(in) :: values(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer :: stat
-      associate (id => self%id, first => self%first_entry, last => self%last_entry)
-         stat = 0
-         if (.not. associated(id%a_loc)) allocate (id%a_loc(last - first + 1), stat=stat)
-         if (stat /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorise: ' // &
-            'cannot allocate ' // to_str(last - first + 1) // ' matrix values')
-         call self%parallel%agree(error)
-         if (allocated(error)) return
-         id%a_loc = values(first:last)
-      end associate
-   end subroutine set_local_values
-
-   !> One MUMPS call, one thread at a time: the sequential MUMPS 5.5 keeps state in module
-   !> variables (DMUMPS_LOAD's flop counters among them), so concurrent instances corrupt each
-   !> other even on distinct DMUMPS_STRUC (serial_section.c).
-   subroutine serial_dmumps(id)
-      type(DMUMPS_STRUC), intent(inout) :: id
-      call enter_serial_section(SECTION_MUMPS)
-      ! MUMPS 5.5 installs no signal handlers (it imports neither signal nor sigaction); the
-      ! run signals' handlers are restored after it all the same (issue 23)
-      call hold_signals(block=.false.)
-      call dmumps(id)
-      call release_signals()
-      call leave_serial_section(SECTION_MUMPS)
-   end subroutine serial_dmumps
-
-   ! --- Memory: out-of-core, block low-rank compression, limit (issue 12) ----------------------
-
-   !> Memory options, after `init` and before `analyse` (compression must be known to the
-   !> analysis). Absent arguments keep their current values (defaults: in-core, full rank, no
-   !> limit). The out-of-core files go to `ooc_directory` (default: TMPDIR, else the current
-   !> folder) with the prefix ffrf_ooc_; MUMPS deletes them in `free` (JOB = -2), also after an
-   !> error, but a killed process (SIGKILL, out-of-memory killer) leaves them behind.
-   subroutine mumps_solver_set_memory_options(self, error, out_of_core, ooc_directory, &
-                                              compression_tolerance, memory_limit_mb)
-      class(mumps_solver_t), intent(inout) :: self
-      type(error_t), allocatable, intent(out) :: error
-      !> Out-of-core factorisation (ICNTL(22) = 1)
-      logical, intent(in), optional :: out_of_core
-      !> Folder of the out-of-core files; blank: TMPDIR, else '.'
-      character(len=*), intent(in), optional :: ooc_directory
-      !> BLR dropping tolerance CNTL(7) in [0, 1); 0 = full-rank factors
-      real(dp), intent(in), optional :: compression_tolerance
-      !> Memory limit in MB: -1 automatic (MemAvailable), 0 none, > 0 the limit
-      integer(i8), intent(in), optional :: memory_limit_mb
-      character(len=:), allocatable :: folder
-      character(len=4096) :: env
-      integer :: length, stat
-
-      if (self%phase /= phase_initialised) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS set_memory_options: call it after ' // &
-            'init and before analyse')
-         return
-      end if
-      if (present(compression_tolerance)) then
-         if (.not. (compression_tolerance >= 0.0_dp .and. compression_tolerance < 1.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: compression tolerance ' // &
-               to_str(compression_tolerance) // ' must lie in [0, 1) (0 = no compression)')
-            return
-         end if
-         self%compression_tolerance = compression_tolerance
-      end if
-      if (present(memory_limit_mb)) then
-         if (memory_limit_mb < -1) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: memory limit ' // &
-               to_str(memory_limit_mb) // ' MB; give -1 (automatic), 0 (none) or a size in MB')
-            return
-         end if
-         self%memory_limit_mb = memory_limit_mb
-      end if
-      if (present(out_of_core)) self%out_of_core = out_of_core
-      folder = ''
-      if (present(ooc_directory)) folder = trim(ooc_directory)
-      if (len(folder) == 0) then
-         call get_environment_variable('TMPDIR', env, length, stat)
-         if (stat == 0 .and. length > 0) then
-            folder = env(:length)
-         else
-            folder = '.'
-         end if
-      end if
-      if (len(folder) > len(self%id%ooc_tmpdir)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'MUMPS: out-of-core folder "' // folder // &
-            '" is ' // to_str(len(folder)) // ' characters long; MUMPS takes at most ' // &
-            to_str(len(self%id%ooc_tmpdir)))
-         return
-      end if
-      self%ooc_directory = folder
-      associate (id => self%id)
-         if (self%out_of_core) then
-            id%icntl(22) = 1
-            id%ooc_tmpdir = folder
-            id%ooc_prefix = 'ffrf_ooc_'
-         else
-            id%icntl(22) = 0
-         end if
-         if (self%compression_tolerance > 0.0_dp) then
-            ! BLR factorisation, low-rank factors kept for the solves (user guide: ICNTL(35)),
-            ! and a fixed number of iterative-refinement steps with the exact matrix in each
-            ! solve (ICNTL(10) < 0): without them the approximate inverse leaves eigen residuals
-            ! of 2e-6 (CNTL(7) = 1e-10) to 3.5e-4 (1e-8) on the crank at lc = 3 mm
-            id%icntl(35) = 2
-            id%cntl(7) = self%compression_tolerance
-            id%icntl(10) = -BLR_REFINEMENT_STEPS
-         else
-            id%icntl(35) = 0
-            id%cntl(7) = 0.0_dp
-         end if
-      end associate
-   end subroutine mumps_solver_set_memory_options
-
-   !> Refuse a factorisation whose predicted memory exceeds the limit: resident memory of the
-   !> process + the analysis's estimate for the chosen options (predicted_memory_mb) + the
-   !> caller's workspace_mb against
-   !> memory_limit_mb (automatic: resident + MemAvailable). Called by `factorise` once per
-   !> analysis; no limit (0) or an unreadable /proc makes it a no-op.
-   subroutine mumps_solver_check_memory(self, error)
-      class(mumps_solver_t), intent(inout) :: self
-      type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: resident, available, limit
-      character(len=:), allocatable :: limit_text
-
-      if (self%memory_checked .or. self%memory_limit_mb == 0) return
-      self%memory_checked = .true.
-      resident = max(resident_memory_mb(), 0_i8)
-      if (self%memory_limit_mb < 0) then
-         available = available_memory_mb()
-         if (available < 0) return
-         ! the ranks of one node share its free memory
-         available = available / max(self%parallel%ranks_on_node, 1)
-         limit = resident + available
-         limit_text = 'the automatic limit ' // to_str(limit) // ' MB (resident ' // &
-            to_str(resident) // ' MB + MemAvailable of /proc/meminfo'
-         if (self%parallel%ranks_on_node > 1) limit_text = limit_text // ' / ' // &
-            to_str(self%parallel%ranks_on_node) // ' ranks on this node'
-         limit_text = limit_text // ': ' // to_str(available) // ' MB)'
-      else
-         limit = self%memory_limit_mb
-         limit_text = 'the memory limit ' // to_str(limit) // ' MB (&modes memory_limit_mb)'
-      end if
-      self%resident_memory_mb = resident
-      self%checked_limit_mb = limit
-      if (resident + self%predicted_memory_mb + self%workspace_mb > limit) then
-         self%status = MUMPS_STATUS_MEMORY_LIMIT
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'MUMPS factorisation (n = ' // &
-            to_str(self%n) // ') would not fit: predicted ' // &
-            to_str(resident + self%predicted_memory_mb + self%workspace_mb) // &
-            ' MB (MUMPS analysis: ' // to_str(self%predicted_memory_mb) // ' MB for the ' // &
-            self%memory_options_text() // ' factorisation, ' // &
-            to_str(real(self%estimated_factor_entries, dp) / 1.0e6_dp, 4) // &
-            ' M factor entries; + ' // to_str(resident) // ' MB resident + ' // &
-            to_str(self%workspace_mb) // ' MB of eigensolver vectors) exceeds ' // &
-            limit_text // '; remedies: ' // self%memory_remedies() // &
-            ' (memory_limit_mb = 0 turns the check off)')
-      end if
-   end subroutine mumps_solver_check_memory
 
    !> The remedies for factors that do not fit, without those already in use.
    function mumps_solver_memory_remedies(self) result(text)
@@ -918,34 +498,5 @@ contains
          self%compression_tolerance > 0.0_dp)
       text = trim(text)
    end function memory_options_text
-
-   !> The analysis's estimates (INFO(15), (17), INFOG(16), (17), (26), (27), (36)-(39),
-   !> RINFOG(1), (15)) and the one for the chosen options, predicted_memory_mb.
-   subroutine record_estimates(self)
-      class(mumps_solver_t), intent(inout) :: self
-      associate (id => self%id)
-         self%estimated_memory_incore_mb = id%info(15)
-         self%estimated_memory_incore_max_mb = id%infog(16)
-         self%estimated_memory_incore_total_mb = id%infog(17)
-         self%estimated_memory_ooc_mb = id%info(17)
-         self%estimated_memory_ooc_max_mb = id%infog(26)
-         self%estimated_memory_ooc_total_mb = id%infog(27)
-         self%estimated_memory_blr_incore_mb = id%infog(36)
-         self%estimated_memory_blr_incore_total_mb = id%infog(37)
-         self%estimated_memory_blr_ooc_mb = id%infog(38)
-         self%estimated_memory_blr_ooc_total_mb = id%infog(39)
-         self%estimated_flops = id%rinfog(1)
-         self%estimated_disk_mb = id%rinfog(15)
-      end associate
-      if (self%compression_tolerance > 0.0_dp) then
-         self%predicted_memory_mb = merge(self%estimated_memory_blr_ooc_mb, &
-            self%estimated_memory_blr_incore_mb, self%out_of_core)
-      else
-         self%predicted_memory_mb = merge(self%estimated_memory_ooc_mb, &
-            self%estimated_memory_incore_mb, self%out_of_core)
-      end if
-      self%memory_checked = .false.
-      self%checked_limit_mb = 0
-   end subroutine record_estimates
 
 end module ffrf_la_mumps

@@ -32,7 +32,7 @@ module ffrf_modes_block_krylov
    implicit none
    private
    public :: block_krylov_settings_t, block_krylov_stats_t, block_krylov_eigen, &
-             default_block_settings
+             default_block_settings, m_cholesky_qr2
 
    character(len=*), parameter :: stage = 'modes'
 
@@ -291,33 +291,43 @@ contains
       real(dp), intent(inout) :: W(:, :), MW(:, :)
       real(dp), intent(out) :: R(:, :)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: gram(:, :)
-      integer(ip) :: n, b, pass, info, i
-      n = size(W, 1)
-      b = size(W, 2)
-      allocate (gram(b, b))
+      integer(ip) :: info, i
       R = 0.0_dp
-      do i = 1, b
+      do i = 1, int(size(W, 2), ip)
          R(i, i) = 1.0_dp
       end do
+      call m_cholesky_qr2(W, MW, info, R)
+      if (info /= 0) call fatal_error(error, FFRF_NUMERIC_ERROR, 'block Lanczos: the new ' // &
+         'block lost rank (Cholesky of its M-Gram matrix failed at column ' // to_str(info) // &
+         '): the Krylov space is (nearly) exhausted; use eigensolver = ''arpack''')
+   end subroutine m_orthonormalise
+
+   !> Cholesky QR twice in the M inner product: X (n, d) becomes Q with Q^T M Q = I, MX = M X on
+   !> entry is M Q on exit, and R (if present) is multiplied from the left by each pass's
+   !> triangular factor. info > 0: the M-Gram matrix is not positive definite at column info
+   !> (dependent vectors); X and MX are then partly transformed.
+   subroutine m_cholesky_qr2(X, MX, info, R)
+      real(dp), intent(inout) :: X(:, :), MX(:, :)
+      integer(ip), intent(out) :: info
+      real(dp), intent(inout), optional :: R(:, :)
+      real(dp), allocatable :: gram(:, :)
+      integer(ip) :: n, d, pass, i
+      n = int(size(X, 1), ip)
+      d = int(size(X, 2), ip)
+      allocate (gram(d, d))
       do pass = 1, 2
-         call dgemm('T', 'N', b, b, n, 1.0_dp, W, n, MW, n, 0.0_dp, gram, b)
+         call dgemm('T', 'N', d, d, n, 1.0_dp, X, n, MX, n, 0.0_dp, gram, d)
          gram = 0.5_dp * (gram + transpose(gram))
-         call dpotrf('U', b, gram, b, info)
-         if (info /= 0) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'block Lanczos: the new block ' // &
-               'lost rank (Cholesky of its M-Gram matrix failed at column ' // to_str(info) // &
-               '): the Krylov space is (nearly) exhausted; use eigensolver = ''arpack''')
-            return
-         end if
-         do i = 1, b
+         call dpotrf('U', d, gram, d, info)
+         if (info /= 0) return
+         do i = 1, d
             gram(i + 1:, i) = 0.0_dp
          end do
-         call dtrsm('R', 'U', 'N', 'N', n, b, 1.0_dp, gram, b, W, n)
-         call dtrsm('R', 'U', 'N', 'N', n, b, 1.0_dp, gram, b, MW, n)
-         R = matmul(gram, R)
+         call dtrsm('R', 'U', 'N', 'N', n, d, 1.0_dp, gram, d, X, n)
+         call dtrsm('R', 'U', 'N', 'N', n, d, 1.0_dp, gram, d, MX, n)
+         if (present(R)) R = matmul(gram, R)
       end do
-   end subroutine m_orthonormalise
+   end subroutine m_cholesky_qr2
 
    !> Eigenpairs of the symmetric part of H(1:p, 1:p), the order of decreasing |theta| and the
    !> OP-residual norms ||H(p+1:p+b, 1:p) y||.

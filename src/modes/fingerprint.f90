@@ -106,7 +106,7 @@ contains
                prefix = f%name // ': '
                call add(c, prefix // 'mpc', trim(mpc_name(f%mpc)))
                call add(c, prefix // 'weighting', weighting_name(f%weighting))
-               call add(c, prefix // 'rc', rc_text(f%rc))
+               call add(c, prefix // 'rc', dofs_text(f%rc, none='none'))
                call add(c, prefix // 'virtual node', '(' // exact_text(f%virtual_xyz(1)) // &
                   ', ' // exact_text(f%virtual_xyz(2)) // ', ' // &
                   exact_text(f%virtual_xyz(3)) // ') m')
@@ -276,14 +276,6 @@ contains
          if (stat == 0 .and. back == x) return
       end do
    end function exact_text
-
-   !> The RC dofs ('Tx Ty'), 'none' without.
-   function rc_text(rc) result(text)
-      logical, intent(in) :: rc(6)
-      character(len=:), allocatable :: text
-      text = dofs_text(rc)
-      if (len(text) == 0) text = 'none'
-   end function rc_text
 
    function weighting_name(weighting) result(name)
       integer, intent(in) :: weighting

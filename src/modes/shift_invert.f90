@@ -25,10 +25,11 @@
 !> upper bound `max_eigenvalue` every eigenvalue below it is computed by shift windows
 !> (spectrum slicing), each window proven by the counts at its ends.
 !>
-!> The implementation is split in two submodules: ffrf_modes_shift_invert_lanczos (KKT
-!> matrix, factorisations, ARPACK and block eigen loops on one factorisation, the checks of the
-!> eigenpairs) and ffrf_modes_shift_invert_spectrum (the driver: windows, Sturm counts,
-!> recoveries).
+!> The implementation is split in two families of submodules: ffrf_modes_shift_invert_lanczos
+!> (ARPACK and block eigen loops on one factorisation) with its children _factorise (KKT
+!> matrix, factorisations) and _pairs (the checks of the eigenpairs), and
+!> ffrf_modes_shift_invert_spectrum (deflation, Sturm counts) with its child _windows (the
+!> driver: windows, recoveries).
 module ffrf_modes_shift_invert
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t

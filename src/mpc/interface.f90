@@ -274,10 +274,12 @@ contains
       iface%area = 0.0_dp
    end subroutine node_set_interface
 
-   !> "Tx Ty Tz Rz" for a dof selection ('' if none).
-   function dofs_text(dofs) result(text)
+   !> "Tx Ty Tz Rz" for a dof selection (`none`, default '', if none).
+   function dofs_text(dofs, none) result(text)
       !> Selected dofs
       logical, intent(in) :: dofs(6)
+      !> The text when no dof is selected (default: empty)
+      character(len=*), intent(in), optional :: none
       character(len=:), allocatable :: text
       integer :: d
       text = ''
@@ -286,6 +288,7 @@ contains
          if (len(text) > 0) text = text // ' '
          text = text // DOF_NAMES(d)
       end do
+      if (len(text) == 0 .and. present(none)) text = none
    end function dofs_text
 
    !> 'RBE2' or 'RBE3'.

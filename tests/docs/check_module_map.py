@@ -2,8 +2,8 @@
 """docs/developer.md lists every Fortran module of src/ (issue 25, item 3).
 
 Reference: the source tree itself. Every src/**/*.f90 holds one `module NAME` or
-`submodule (PARENT) NAME`; the "Module map" section of docs/developer.md must have a line naming
-both the file (relative to src/, in backticks) and NAME (in backticks), and every file that
+`submodule (PARENT[:ANCESTOR]) NAME`; the "Module map" section of docs/developer.md must have a
+line naming both the file (relative to src/, in backticks) and NAME (in backticks), and every file that
 section names must exist. Exit 1 listing the modules missing and the stale lines.
 
     check_module_map.py SOURCE_DIR
@@ -28,7 +28,7 @@ def main():
     for path in sorted((root / 'src').rglob('*.f90')):
         rel = path.relative_to(root / 'src').as_posix()
         source = path.read_text(encoding='utf-8')
-        m = re.search(r'^\s*submodule\s*\(\s*\w+\s*\)\s*(\w+)|^\s*module\s+(?!procedure)(\w+)',
+        m = re.search(r'^\s*submodule\s*\(\s*\w+\s*(?::\s*\w+\s*)?\)\s*(\w+)|^\s*module\s+(?!procedure)(\w+)',
                       source, re.M | re.I)
         if not m:
             problems.append(f'src/{rel}: no module statement found')
