@@ -2,7 +2,7 @@
 // "Flexible benchmarks"; scene input/cantilever_sag.nml). Units: metres. A straight bar along x
 // from the root face at x = 0 to the tip face at x = L = 0.4, square cross-section a x a =
 // 0.01 x 0.01 centred on the x axis (slenderness L/a = 40), so Euler-Bernoulli theory holds to
-// O((a/L)^2): I = a^4/12, the shear term is 1.2e-3 of the bending one (docs/validation.md).
+// O((a/L)^2): I = a^4/12, the shear term is 6.4e-4 of the bending one (docs/validation.md).
 // Mesh: structured, as input/link.geo: the root face is cut into (a/lc)^2 squares of two
 // triangles each and swept along x in L/lc layers, each prism split into three tetrahedra;
 // straight-sided Tet10 (Mesh.SecondOrderLinear), so the axis node (L, 0, 0) exists whenever
