@@ -11,7 +11,7 @@ translation of its nodes). Checked:
      Timoshenko sag q L^4 / (8 E I) + q L^2 / (2 kappa G A), q = rho g A, I = a^4 / 12, kappa =
      10 (1 + nu) / (12 + 11 nu) (Cowper, rectangle). The shear term is 6.4e-4 of the bending one
      here. What beam theory leaves out: the 3-D clamp (the root face held rigidly, its Poisson
-     contraction too) and the stress in the section, both O((a/L)^2) ~ 1e-3 per unit of the
+     contraction too) and the stress in the section, both O((a/L)^2) = 6.3e-4 times order-one
      coefficients, and the mesh's discretization error (two Tet10 across: measured by CalculiX
      on this mesh, on lc = 2.5 mm and on 1.25 mm; docs/validation.md "Flexible benchmarks").
   2. Full FE statics (second method, with --ccx): CalculiX solves K u = f on the same mesh (same
