@@ -1,0 +1,58 @@
+# Flexible benchmarks (issue 24 item 4; docs/validation.md "Flexible benchmarks"): scenes of
+# input/ that a user copies, each checked against an independent reference.
+#
+# Static sag of a cantilever under its own weight (input/cantilever_sag.nml, mesh cantilever):
+# the scene run to rest with 2, 4, 8 and its own 12 modes; check_cantilever_sag.py compares the
+# sag with Timoshenko beam theory and, where CalculiX is installed, with the full static FE
+# solution K u = f of the same mesh (the modal truncation error must fall as modes are added).
+# About 4 x 0.5 s of CPU, and 0.4 s for CalculiX.
+find_program(CCX_EXECUTABLE ccx)
+set(_flex "${PROJECT_BINARY_DIR}/tests/flexible_benchmarks")
+# flex_run(NAME CASE DIR FIXTURE MESH [ARGS...]): the driver on CASE into ${_flex}/DIR, one thread
+function(flex_run name case dir fixture mesh)
+  file(MAKE_DIRECTORY "${_flex}/${dir}")
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf> ${case}
+      --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_flex}/${dir} --quiet ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS "regression;mbs"
+    FIXTURES_REQUIRED ${mesh}_mesh FIXTURES_SETUP ${fixture})
+endfunction()
+set(_sag "${PROJECT_SOURCE_DIR}/input/cantilever_sag.nml")
+flex_run(regression_cantilever_sag ${_sag} sag cantilever_sag_results cantilever)
+set(_sag_runs "")
+foreach(_modes 2 4 8)
+  flex_run(regression_cantilever_sag_modes${_modes} ${_sag} sag_modes${_modes}
+    cantilever_sag_results cantilever --set "body[bar].num_modes=${_modes}")
+  list(APPEND _sag_runs ${_flex}/sag_modes${_modes}/cantilever_sag.h5)
+endforeach()
+set(_ccx_args "")
+if(CCX_EXECUTABLE)
+  set(_ccx_args --ccx ${CCX_EXECUTABLE} --mesh ${PROJECT_BINARY_DIR}/meshes/cantilever.msh
+    --work ${_flex}/sag_ccx)
+endif()
+add_test(NAME regression_cantilever_sag_values
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_cantilever_sag.py
+    ${_ccx_args} ${_sag_runs} ${_flex}/sag/cantilever_sag.h5)
+set_tests_properties(regression_cantilever_sag_values PROPERTIES
+  LABELS "regression;mbs" FIXTURES_REQUIRED "cantilever_sag_results;cantilever_mesh")
+
+# Spatial double pendulum of flexible links, perpendicular joint axes (input/spatial_pendulum.nml,
+# mesh link): runs at h and h/2 (energy T + U - W and its order 2 in h), with the links stiffened
+# to 1e13 Pa, and the same scene of rigid bodies (spatial_pendulum_rigid.nml);
+# check_spatial_pendulum.py. About 0.5 + 1 + 0.5 + 0.2 s of CPU.
+set(_spatial "${PROJECT_SOURCE_DIR}/input/spatial_pendulum.nml")
+flex_run(regression_spatial_pendulum ${_spatial} spatial spatial_pendulum_results link)
+flex_run(regression_spatial_pendulum_half ${_spatial} spatial_half spatial_pendulum_results link
+  --set integrator.h=2.5e-4)
+flex_run(regression_spatial_pendulum_stiff ${_spatial} spatial_stiff spatial_pendulum_results link
+  --set "body[link1].young=1e13" --set "body[link2].young=1e13")
+flex_run(regression_spatial_pendulum_rigid
+  ${CMAKE_CURRENT_SOURCE_DIR}/regression/spatial_pendulum_rigid.nml spatial_rigid
+  spatial_pendulum_results link)
+add_test(NAME regression_spatial_pendulum_values
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_spatial_pendulum.py
+    ${_flex}/spatial/spatial_pendulum.h5 --half ${_flex}/spatial_half/spatial_pendulum.h5
+    --stiff ${_flex}/spatial_stiff/spatial_pendulum.h5
+    --rigid ${_flex}/spatial_rigid/spatial_pendulum_rigid.h5)
+set_tests_properties(regression_spatial_pendulum_values PROPERTIES
+  LABELS "regression;mbs" FIXTURES_REQUIRED spatial_pendulum_results)
