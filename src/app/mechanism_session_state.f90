@@ -36,14 +36,8 @@ contains
 
    module procedure body_of
       index = 0
-      if (.not. self%prepared) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: not prepared')
-      else if (body < 1 .or. body > self%num_bodies()) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: body ' // to_str(body) // &
-            ' does not exist; the case has ' // to_str(self%num_bodies()) // ' bodies')
-      else
-         index = self%bodies(body)%index
-      end if
+      call check_item(self, 'body', 'bodies', body, self%num_bodies(), error)
+      if (.not. allocated(error)) index = self%bodies(body)%index
    end procedure body_of
 
    module procedure session_body_state
@@ -95,12 +89,7 @@ contains
    end procedure session_num_sensors
 
    module procedure sensor_of
-      if (.not. self%prepared) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: not prepared')
-      else if (sensor < 1 .or. sensor > self%num_sensors()) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: sensor ' // to_str(sensor) // &
-            ' does not exist; the case has ' // to_str(self%num_sensors()) // ' sensors')
-      end if
+      call check_item(self, 'sensor', 'sensors', sensor, self%num_sensors(), error)
    end procedure sensor_of
 
    module procedure session_sensor_name
@@ -186,5 +175,20 @@ contains
       end subroutine set_vector
 
    end procedure session_set_marker_load
+
+   !> FFRF_INPUT_ERROR unless the session is prepared and 1 <= index <= count: "mechanism: <word>
+   !> <index> does not exist; the case has <count> <plural>".
+   subroutine check_item(self, word, plural, index, count, error)
+      class(mechanism_session_t), intent(in) :: self
+      character(len=*), intent(in) :: word, plural
+      integer, intent(in) :: index, count
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. self%prepared) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: not prepared')
+      else if (index < 1 .or. index > count) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: ' // word // ' ' // &
+            to_str(index) // ' does not exist; the case has ' // to_str(count) // ' ' // plural)
+      end if
+   end subroutine check_item
 
 end submodule ffrf_app_mechanism_session_state
