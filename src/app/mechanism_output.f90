@@ -258,45 +258,6 @@ module ffrf_app_mechanism_output
          character(len=*), intent(in), optional :: stopped
       end subroutine output_finish
 
-      !> Record the current state (results file and animation history).
-      module subroutine record_step(self, mech, bodies, integrator, pressure, has_pressure, error)
-         class(mechanism_output_t), intent(inout) :: self
-         type(mechanism_t), intent(in) :: mech
-         type(built_body_t), intent(in) :: bodies(:)
-         type(galpha_integrator_t), intent(in) :: integrator
-         type(pressure_model_t), intent(in) :: pressure
-         logical, intent(in) :: has_pressure
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine record_step
-
-      !> True when `error` is the end of a run by a signal.
-      module pure logical function interrupted(error)
-         type(error_t), allocatable, intent(in) :: error
-      end function interrupted
-
-      !> The reported multipliers of the current state (self%reported, issue 30): the integrator's,
-      !> except on near-redundant rows of the kept constraint Jacobian, whose split is the
-      !> minimum-norm one (ffrf_mbs_reaction_split). Logs each row the first time it is so.
-      module subroutine split_reactions(self, mech, bodies, integrator, log, error)
-         class(mechanism_output_t), intent(inout) :: self
-         type(mechanism_t), intent(inout) :: mech
-         type(built_body_t), intent(in) :: bodies(:)
-         type(galpha_integrator_t), intent(in) :: integrator
-         type(logger_t), intent(in) :: log
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine split_reactions
-
-      !> 1 for each of the 12 reaction components of joint j that a min-norm row of the joint
-      !> contributes to (its reaction for a unit multiplier exceeds 1e-9 of that reaction's
-      !> largest component), 0 elsewhere.
-      module function min_norm_flags(mech, j, q, min_norm) result(flags)
-         type(mechanism_t), intent(in) :: mech
-         integer, intent(in) :: j
-         real(dp), intent(in) :: q(:)
-         logical, allocatable, intent(in) :: min_norm(:)
-         real(dp) :: flags(REACTION_ROWS)
-      end function min_norm_flags
-
       ! --- ffrf_app_mechanism_output_file (mechanism_output_file.f90) ----------------------------
 
       !> Sizes and the redundant constraint equations found at the start.
@@ -327,32 +288,6 @@ module ffrf_app_mechanism_output
          type(sensor_t), intent(in) :: sensors(:)
          type(error_t), allocatable, intent(out) :: error
       end subroutine open_results
-
-      !> A series /sensors/<name> per sensor, with its type and what it measures as attributes.
-      module subroutine add_sensor_series(results, mech, sensors, error)
-         type(engine_results_t), intent(inout) :: results
-         type(mechanism_t), intent(in) :: mech
-         type(sensor_t), intent(in) :: sensors(:)
-         type(error_t), allocatable, intent(inout) :: error
-      end subroutine add_sensor_series
-
-      !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
-      !> virtual-node rows, basis, interfaces), engine_results_write_modes.
-      module subroutine write_body_modes(results, name, modes, error)
-         type(engine_results_t), intent(inout) :: results
-         character(len=*), intent(in) :: name
-         type(body_modes_t), intent(in) :: modes
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine write_body_modes
-
-      !> The mode shapes and their fingerprint (ffrf_io_modes_file), so that a later run can take
-      !> this body's modes from the file (&body modes_file) instead of computing them.
-      module subroutine write_reusable_modes(results, name, modes, error)
-         type(engine_results_t), intent(inout) :: results
-         character(len=*), intent(in) :: name
-         type(body_modes_t), intent(in) :: modes
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine write_reusable_modes
 
       !> Double the history's capacity.
       module subroutine grow(history)
@@ -497,13 +432,6 @@ module ffrf_app_mechanism_output
          type(galpha_integrator_t), intent(in) :: integrator
          type(error_t), allocatable, intent(out) :: error
       end subroutine start_watch
-
-      !> T_b and U_b of every body of the mechanism at (q, v) (J).
-      module subroutine body_energies(mech, q, v, kinetic, strain)
-         type(mechanism_t), intent(in) :: mech
-         real(dp), intent(in) :: q(:), v(:)
-         real(dp), allocatable, intent(out) :: kinetic(:), strain(:)
-      end subroutine body_energies
 
       !> After the balance's update: the energy watch's check of the step; a new warning goes to
       !> the log (energy_watch = 'stop': the run ends with FFRF_NUMERIC_ERROR).

@@ -85,7 +85,12 @@ contains
       if (allocated(error)) call add_context(error, 'results file "' // results_file // '"')
    end procedure open_results
 
-   module procedure add_sensor_series
+   !> A series /sensors/<name> per sensor, with its type and what it measures as attributes.
+   subroutine add_sensor_series(results, mech, sensors, error)
+      type(engine_results_t), intent(inout) :: results
+      type(mechanism_t), intent(in) :: mech
+      type(sensor_t), intent(in) :: sensors(:)
+      type(error_t), allocatable, intent(inout) :: error
       character(len=:), allocatable :: body, marker, joint
       integer :: k, joint_kind
       do k = 1, size(sensors)
@@ -113,9 +118,15 @@ contains
             end if
          end associate
       end do
-   end procedure add_sensor_series
+   end subroutine add_sensor_series
 
-   module procedure write_body_modes
+   !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
+   !> virtual-node rows, basis, interfaces), engine_results_write_modes.
+   subroutine write_body_modes(results, name, modes, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
+      type(body_modes_t), intent(in) :: modes
+      type(error_t), allocatable, intent(out) :: error
       character(len=64), allocatable :: names(:)
       real(dp), allocatable :: xyz(:, :)
       integer :: i
@@ -127,9 +138,15 @@ contains
       call results%write_modes(name, modes%frequency_hz, modes%virtual_node_shape, names, xyz, &
          basis_name(modes%basis), int(modes%num_static), error)
       if (.not. allocated(error)) call write_reusable_modes(results, name, modes, error)
-   end procedure write_body_modes
+   end subroutine write_body_modes
 
-   module procedure write_reusable_modes
+   !> The mode shapes and their fingerprint (ffrf_io_modes_file), so that a later run can take
+   !> this body's modes from the file (&body modes_file) instead of computing them.
+   subroutine write_reusable_modes(results, name, modes, error)
+      type(engine_results_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
+      type(body_modes_t), intent(in) :: modes
+      type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: dataset
       character(len=:), allocatable :: values(:)
       integer :: k
@@ -142,7 +159,7 @@ contains
          call results%write_strings('/bodies/' // name // '/modes/fingerprint/' // dataset, &
             values, error)
       end do
-   end procedure write_reusable_modes
+   end subroutine write_reusable_modes
 
    module procedure grow
       real(dp), allocatable :: t(:), angle(:), zeta(:, :)

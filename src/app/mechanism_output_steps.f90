@@ -291,7 +291,15 @@ contains
       call self%release()
    end procedure output_finish
 
-   module procedure record_step
+   !> Record the current state (results file and animation history).
+   subroutine record_step(self, mech, bodies, integrator, pressure, has_pressure, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(in) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(pressure_model_t), intent(in) :: pressure
+      logical, intent(in) :: has_pressure
+      type(error_t), allocatable, intent(out) :: error
       real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
       real(dp), allocatable :: coordinates(:), sensor_values(:), values(:)
       integer :: j, k, first, n
@@ -340,14 +348,25 @@ contains
          end do
          history%num_steps = n
       end associate
-   end procedure record_step
+   end subroutine record_step
 
-   module procedure interrupted
+   !> True when `error` is the end of a run by a signal.
+   pure logical function interrupted(error)
+      type(error_t), allocatable, intent(in) :: error
       interrupted = .false.
       if (allocated(error)) interrupted = error%code == FFRF_INTERRUPTED
-   end procedure interrupted
+   end function interrupted
 
-   module procedure split_reactions
+   !> The reported multipliers of the current state (self%reported, issue 30): the integrator's,
+   !> except on near-redundant rows of the kept constraint Jacobian, whose split is the
+   !> minimum-norm one (ffrf_mbs_reaction_split). Logs each row the first time it is so.
+   subroutine split_reactions(self, mech, bodies, integrator, log, error)
+      class(mechanism_output_t), intent(inout) :: self
+      type(mechanism_t), intent(inout) :: mech
+      type(built_body_t), intent(in) :: bodies(:)
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: Phi_q(:, :)
       logical, allocatable :: before(:), modal(:)
       logical :: newly
@@ -392,9 +411,17 @@ contains
          if (self%split%ever(k) .and. .not. before(k)) call log%note('mechanism', '  ' // &
             row_name(mech, k))
       end do
-   end procedure split_reactions
+   end subroutine split_reactions
 
-   module procedure min_norm_flags
+   !> 1 for each of the 12 reaction components of joint j that a min-norm row of the joint
+   !> contributes to (its reaction for a unit multiplier exceeds 1e-9 of that reaction's
+   !> largest component), 0 elsewhere.
+   function min_norm_flags(mech, j, q, min_norm) result(flags)
+      type(mechanism_t), intent(in) :: mech
+      integer, intent(in) :: j
+      real(dp), intent(in) :: q(:)
+      logical, allocatable, intent(in) :: min_norm(:)
+      real(dp) :: flags(REACTION_ROWS)
       real(dp) :: force(3, 2), moment(3, 2), unit(REACTION_ROWS)
       real(dp), allocatable :: lambda(:)
       integer :: k, row
@@ -413,6 +440,6 @@ contains
             where (unit > 1.0e-9_dp * maxval(unit)) flags = 1.0_dp
          end do
       end associate
-   end procedure min_norm_flags
+   end function min_norm_flags
 
 end submodule ffrf_app_mechanism_output_steps

@@ -28,7 +28,11 @@ contains
          kinetic + strain, error)
    end procedure start_watch
 
-   module procedure body_energies
+   !> T_b and U_b of every body of the mechanism at (q, v) (J).
+   subroutine body_energies(mech, q, v, kinetic, strain)
+      type(mechanism_t), intent(in) :: mech
+      real(dp), intent(in) :: q(:), v(:)
+      real(dp), allocatable, intent(out) :: kinetic(:), strain(:)
       integer :: b, k, nb
       allocate (kinetic(size(mech%bodies)), strain(size(mech%bodies)))
       kinetic = 0.0_dp
@@ -40,7 +44,7 @@ contains
          kinetic(b) = mech%bodies(b)%body%kinetic_energy(q(k + 1:k + nb), v(k + 1:k + nb))
          strain(b) = mech%bodies(b)%body%strain_energy(q(k + 1:k + nb))
       end do
-   end procedure body_energies
+   end subroutine body_energies
 
    module procedure watch_step
       real(dp), allocatable :: kinetic(:), strain(:)

@@ -120,41 +120,6 @@ module ffrf_app_mechanism_session
 
       ! --- ffrf_app_mechanism_session_advance (mechanism_session_advance.f90) --------------------
 
-      !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
-      !> and start its integration: the integrator settings of the case (h of the automatic model
-      !> when it chose one), the max_steps check, galpha_init (prepare's first part).
-      module subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, &
-            pressure, has_pressure, model, integrator, sensors, error, timer)
-         type(case_input_t), intent(in) :: case
-         !> The case resolved (build_model), built here
-         type(model_t), intent(out) :: resolved
-         !> Folder of relative mesh files
-         character(len=*), intent(in) :: mesh_dir
-         type(logger_t), intent(in) :: log
-         type(stage_times_t), intent(inout) :: times
-         type(mechanism_t), intent(out) :: mech
-         type(built_body_t), allocatable, intent(out) :: bodies(:)
-         type(pressure_model_t), intent(out) :: pressure
-         logical, intent(out) :: has_pressure
-         type(model_choice_t), intent(out) :: model
-         type(galpha_integrator_t), intent(out) :: integrator
-         !> The sensors (build_mechanism)
-         type(sensor_t), allocatable, intent(out) :: sensors(:)
-         type(error_t), allocatable, intent(out) :: error
-         !> Started after the bodies are built (the caller's timer of the integration start)
-         type(stage_timer_t), intent(inout), optional :: timer
-      end subroutine start_integration
-
-      !> The BLAS threads of each stage (issue 24): the modes (ARPACK on MUMPS factors: sparse,
-      !> large) keep the threads set (--threads, OPENBLAS_NUM_THREADS, else every core); the
-      !> integration runs its small dense linear algebra, and MUMPS for an iteration matrix of
-      !> order >= sparse_threshold, on one thread (galpha_step).
-      module subroutine log_threads(log, sparse_threshold)
-         type(logger_t), intent(in) :: log
-         !> Order of the iteration matrix from which the sparse LU is used
-         integer, intent(in) :: sparse_threshold
-      end subroutine log_threads
-
       !> Prepare a mechanism case read by read_case: modes, mechanism, integrator at t_start. With
       !> `options` the run is recorded in options%output_dir (module header), --restart included.
       module subroutine session_prepare(self, case, mesh_dir, log, times, error, options)
@@ -180,16 +145,6 @@ module ffrf_app_mechanism_session
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
       end subroutine session_advance
-
-      !> The steps of advance (module header), recorded when the session records: after every
-      !> step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the run with
-      !> FFRF_INTERRUPTED, and a due restart checkpoint is written.
-      module subroutine step_to(self, t, t_end, tolerance, error)
-         class(mechanism_session_t), intent(inout) :: self
-         !> Time to reach, the case's t_end, the time tolerance (s)
-         real(dp), intent(in) :: t, t_end, tolerance
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine step_to
 
       !> End the recording of a run stopped before t_end: its file goes into place with every
       !> recorded step, /final_state and status "stopped: ..." (nothing when not recording).
@@ -238,14 +193,6 @@ module ffrf_app_mechanism_session
          class(mechanism_session_t), intent(in) :: self
       end function session_num_bodies
 
-      !> Check a body number (1..num_bodies) and give its mechanism index.
-      module subroutine body_of(self, body, index, error)
-         class(mechanism_session_t), intent(in) :: self
-         integer, intent(in) :: body
-         integer, intent(out) :: index
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine body_of
-
       !> Coordinates q and velocities v of body `body` (1..num_bodies): rigid [R; theta] (7),
       !> flexible [R; theta; zeta] (7 + modes); theory.md 3.1.
       module subroutine session_body_state(self, body, q, v, error)
@@ -262,14 +209,6 @@ module ffrf_app_mechanism_session
          !> Body number, 1..num_bodies
          integer, intent(in) :: body
       end function session_num_markers
-
-      !> Check a marker of a body; b is the mechanism index.
-      module subroutine marker_of(self, body, marker, b, error)
-         class(mechanism_session_t), intent(in) :: self
-         integer, intent(in) :: body, marker
-         integer, intent(out) :: b
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine marker_of
 
       !> Global position (m), velocity (m/s) and angular velocity (rad/s) of a marker: r_k(q),
       !> L_r v and L_w v (theory.md 3.5). A flexible body's markers are its interfaces' virtual
@@ -289,13 +228,6 @@ module ffrf_app_mechanism_session
       module pure integer function session_num_sensors(self)
          class(mechanism_session_t), intent(in) :: self
       end function session_num_sensors
-
-      !> Check a sensor number.
-      module subroutine sensor_of(self, sensor, error)
-         class(mechanism_session_t), intent(in) :: self
-         integer, intent(in) :: sensor
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine sensor_of
 
       !> Name of sensor `sensor` (1..num_sensors).
       module subroutine session_sensor_name(self, sensor, name, error)

@@ -16,7 +16,29 @@ submodule (ffrf_app_mechanism_session) ffrf_app_mechanism_session_advance
 
 contains
 
-   module procedure start_integration
+   !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
+   !> and start its integration: the integrator settings of the case (h of the automatic model
+   !> when it chose one), the max_steps check, galpha_init (prepare's first part).
+   subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, &
+         pressure, has_pressure, model, integrator, sensors, error, timer)
+      type(case_input_t), intent(in) :: case
+      !> The case resolved (build_model), built here
+      type(model_t), intent(out) :: resolved
+      !> Folder of relative mesh files
+      character(len=*), intent(in) :: mesh_dir
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(mechanism_t), intent(out) :: mech
+      type(built_body_t), allocatable, intent(out) :: bodies(:)
+      type(pressure_model_t), intent(out) :: pressure
+      logical, intent(out) :: has_pressure
+      type(model_choice_t), intent(out) :: model
+      type(galpha_integrator_t), intent(out) :: integrator
+      !> The sensors (build_mechanism)
+      type(sensor_t), allocatable, intent(out) :: sensors(:)
+      type(error_t), allocatable, intent(out) :: error
+      !> Started after the bodies are built (the caller's timer of the integration start)
+      type(stage_timer_t), intent(inout), optional :: timer
       type(galpha_settings_t) :: settings
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: case_file
@@ -46,9 +68,16 @@ contains
       end if
       call integrator%init(mech, settings, q, v, error)
       if (allocated(error)) call add_context(error, case_file // ': starting the integration')
-   end procedure start_integration
+   end subroutine start_integration
 
-   module procedure log_threads
+   !> The BLAS threads of each stage (issue 24): the modes (ARPACK on MUMPS factors: sparse,
+   !> large) keep the threads set (--threads, OPENBLAS_NUM_THREADS, else every core); the
+   !> integration runs its small dense linear algebra, and MUMPS for an iteration matrix of
+   !> order >= sparse_threshold, on one thread (galpha_step).
+   subroutine log_threads(log, sparse_threshold)
+      type(logger_t), intent(in) :: log
+      !> Order of the iteration matrix from which the sparse LU is used
+      integer, intent(in) :: sparse_threshold
       character(len=:), allocatable :: library, solvers
       library = blas_library_name()
       solvers = ' (dense LU below order ' // to_str(sparse_threshold) // &
@@ -65,7 +94,7 @@ contains
             // 'BLIS): its own setting in every stage; with a threaded BLAS set it to 1 ' // &
             '(e.g. OMP_NUM_THREADS=1) for small mechanisms')
       end select
-   end procedure log_threads
+   end subroutine log_threads
 
    module procedure session_prepare
       type(stage_timer_t) :: timer
@@ -153,7 +182,14 @@ contains
          error)
    end procedure session_advance
 
-   module procedure step_to
+   !> The steps of advance (module header), recorded when the session records: after every
+   !> step a received signal (SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGXCPU) ends the run with
+   !> FFRF_INTERRUPTED, and a due restart checkpoint is written.
+   subroutine step_to(self, t, t_end, tolerance, error)
+      class(mechanism_session_t), intent(inout) :: self
+      !> Time to reach, the case's t_end, the time tolerance (s)
+      real(dp), intent(in) :: t, t_end, tolerance
+      type(error_t), allocatable, intent(out) :: error
       integer :: signal
       associate (integrator => self%integrator)
          call signal_test_point('integration:before')
@@ -195,7 +231,7 @@ contains
          end do
          call signal_test_point('integration:after')
       end associate
-   end procedure step_to
+   end subroutine step_to
 
    module procedure session_close_output
       type(error_t), allocatable :: run_error

@@ -34,11 +34,16 @@ contains
       if (allocated(self%bodies)) session_num_bodies = size(self%bodies)
    end procedure session_num_bodies
 
-   module procedure body_of
+   !> Check a body number (1..num_bodies) and give its mechanism index.
+   subroutine body_of(self, body, index, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: body
+      integer, intent(out) :: index
+      type(error_t), allocatable, intent(out) :: error
       index = 0
       call check_item(self, 'body', 'bodies', body, self%num_bodies(), error)
       if (.not. allocated(error)) index = self%bodies(body)%index
-   end procedure body_of
+   end subroutine body_of
 
    module procedure session_body_state
       integer :: b
@@ -56,7 +61,12 @@ contains
       if (.not. allocated(error)) session_num_markers = self%mech%bodies(b)%body%num_markers
    end procedure session_num_markers
 
-   module procedure marker_of
+   !> Check a marker of a body; b is the mechanism index.
+   subroutine marker_of(self, body, marker, b, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: body, marker
+      integer, intent(out) :: b
+      type(error_t), allocatable, intent(out) :: error
       call body_of(self, body, b, error)
       if (allocated(error)) return
       if (marker < 1 .or. marker > self%mech%bodies(b)%body%num_markers) then
@@ -64,7 +74,7 @@ contains
             self%mech%bodies(b)%name // '" has no marker ' // to_str(marker) // ' (it has ' // &
             to_str(self%mech%bodies(b)%body%num_markers) // ')')
       end if
-   end procedure marker_of
+   end subroutine marker_of
 
    module procedure session_marker_motion
       real(dp), allocatable :: qb(:), vb(:)
@@ -88,9 +98,13 @@ contains
       if (allocated(self%sensors)) session_num_sensors = size(self%sensors)
    end procedure session_num_sensors
 
-   module procedure sensor_of
+   !> Check a sensor number.
+   subroutine sensor_of(self, sensor, error)
+      class(mechanism_session_t), intent(in) :: self
+      integer, intent(in) :: sensor
+      type(error_t), allocatable, intent(out) :: error
       call check_item(self, 'sensor', 'sensors', sensor, self%num_sensors(), error)
-   end procedure sensor_of
+   end subroutine sensor_of
 
    module procedure session_sensor_name
       name = ''

@@ -61,20 +61,6 @@ module ffrf_capi
          character(len=*), intent(in) :: message
       end function bad_call
 
-      !> The handle behind `c`, or null.
-      module function handle_of(c) result(h)
-         type(c_ptr), intent(in) :: c
-         type(capi_handle_t), pointer :: h
-      end function handle_of
-
-      !> The prologue of ffrf_case_open and ffrf_case_new: a new handle stored in *c; false with
-      !> stat = FFRF_BAD_CALL when c is NULL (no handle to keep a message in).
-      module logical function new_handle(c, h, stat)
-         type(c_ptr), intent(in) :: c
-         type(capi_handle_t), pointer, intent(out) :: h
-         integer(c_int), intent(out) :: stat
-      end function new_handle
-
       !> got_handle, then the entry's required pointers: false with stat = FFRF_BAD_CALL and
       !> `message` kept unless every element of `required` (c_associated of each) holds.
       module logical function ready(c, h, stat, required, message)
@@ -105,16 +91,6 @@ module ffrf_capi
          integer(c_int), intent(out) :: stat
       end function got_handle
 
-      !> The end of every *_count call: FFRF_BAD_CALL when the output n is NULL, else *n = count
-      !> and the status of the query's error.
-      module integer(c_int) function put_count(h, what, count, error, n) result(stat)
-         type(capi_handle_t), intent(inout) :: h
-         character(len=*), intent(in) :: what
-         integer, intent(in) :: count
-         type(error_t), allocatable, intent(in) :: error
-         type(c_ptr), intent(in) :: n
-      end function put_count
-
       !> Copy `values` into a C array of `capacity` doubles; count = size(values). FFRF_BAD_CALL
       !> when the array is smaller (its first capacity values written); a NULL array with
       !> capacity 0 only reports the count.
@@ -126,14 +102,6 @@ module ffrf_capi
          integer(c_size_t), intent(in) :: capacity
          integer(c_size_t), intent(out) :: count
       end function copy_out
-
-      !> Copy a name into a C buffer of len bytes (with its NUL); FFRF_BAD_CALL when too small.
-      module integer(c_int) function copy_name(h, what, name, buf, length) result(stat)
-         type(capi_handle_t), intent(inout) :: h
-         character(len=*), intent(in) :: what, name
-         type(c_ptr), intent(in) :: buf
-         integer(c_size_t), intent(in) :: length
-      end function copy_name
 
       !> The body of ffrf_body_count, ffrf_marker_count, ffrf_joint_count and ffrf_sensor_count
       !> (`which`, the entry point's name, selects the list): the prologue, *n, the status.
@@ -218,17 +186,6 @@ module ffrf_capi
          type(c_ptr), value :: c, num_nodes, num_modes, num_interfaces
          integer(c_int), value :: body
       end function ffrf_body_sizes
-
-      !> Common part of the array queries of a body: `kind` (BODY_NODES, BODY_MODE_SHAPES or
-      !> BODY_VIRTUAL_NODE_SHAPES) selects the array, `which` names the entry point in messages.
-      module integer(c_int) function body_array(c, body, kind, which, array, capacity, count) &
-            result(stat)
-         type(c_ptr), intent(in) :: c, array, count
-         integer, intent(in) :: kind
-         integer(c_int), intent(in) :: body
-         character(len=*), intent(in) :: which
-         integer(c_size_t), intent(in) :: capacity
-      end function body_array
 
       !> int ffrf_body_nodes(const ffrf_case *c, int body, double *xyz, size_t capacity,
       !> size_t *count)

@@ -52,7 +52,15 @@ contains
       stat = status_of(h, error)
    end procedure ffrf_body_sizes
 
-   module procedure body_array
+   !> Common part of the array queries of a body: `kind` (BODY_NODES, BODY_MODE_SHAPES or
+   !> BODY_VIRTUAL_NODE_SHAPES) selects the array, `which` names the entry point in messages.
+   integer(c_int) function body_array(c, body, kind, which, array, capacity, count) &
+         result(stat)
+      type(c_ptr), intent(in) :: c, array, count
+      integer, intent(in) :: kind
+      integer(c_int), intent(in) :: body
+      character(len=*), intent(in) :: which
+      integer(c_size_t), intent(in) :: capacity
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp), allocatable :: values(:, :)
@@ -73,7 +81,7 @@ contains
       if (stat /= 0) return
       stat = copy_out(h, which, reshape(values, [size(values)]), array, capacity, n)
       out = n
-   end procedure body_array
+   end function body_array
 
    module procedure ffrf_body_nodes
       stat = body_array(c, body, BODY_NODES, 'ffrf_body_nodes', xyz, capacity, count)

@@ -58,12 +58,20 @@ contains
       stat = status_of(h, error)
    end procedure bad_call
 
-   module procedure handle_of
+   !> The handle behind `c`, or null.
+   function handle_of(c) result(h)
+      type(c_ptr), intent(in) :: c
+      type(capi_handle_t), pointer :: h
       h => null()
       if (c_associated(c)) call c_f_pointer(c, h)
-   end procedure handle_of
+   end function handle_of
 
-   module procedure new_handle
+   !> The prologue of ffrf_case_open and ffrf_case_new: a new handle stored in *c; false with
+   !> stat = FFRF_BAD_CALL when c is NULL (no handle to keep a message in).
+   logical function new_handle(c, h, stat)
+      type(c_ptr), intent(in) :: c
+      type(capi_handle_t), pointer, intent(out) :: h
+      integer(c_int), intent(out) :: stat
       type(c_ptr), pointer :: out
       new_handle = c_associated(c)
       stat = merge(0_c_int, int(FFRF_BAD_CALL, c_int), new_handle)
@@ -71,7 +79,7 @@ contains
       call c_f_pointer(c, out)
       allocate (h)
       out = c_loc(h)
-   end procedure new_handle
+   end function new_handle
 
    module procedure ready
       ready = got_handle(c, h, stat)
@@ -100,7 +108,14 @@ contains
       stat = merge(0_c_int, int(FFRF_BAD_CALL, c_int), got_handle)
    end procedure got_handle
 
-   module procedure put_count
+   !> The end of every *_count call: FFRF_BAD_CALL when the output n is NULL, else *n = count
+   !> and the status of the query's error.
+   integer(c_int) function put_count(h, what, count, error, n) result(stat)
+      type(capi_handle_t), intent(inout) :: h
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: count
+      type(error_t), allocatable, intent(in) :: error
+      type(c_ptr), intent(in) :: n
       integer(c_int), pointer :: out
       if (.not. c_associated(n)) then
          stat = bad_call(h, what // ': n is NULL')
@@ -109,7 +124,7 @@ contains
       call c_f_pointer(n, out)
       out = int(count, c_int)
       stat = status_of(h, error)
-   end procedure put_count
+   end function put_count
 
    module procedure copy_out
       real(c_double), pointer :: out(:)
@@ -137,7 +152,12 @@ contains
       end if
    end procedure copy_out
 
-   module procedure copy_name
+   !> Copy a name into a C buffer of len bytes (with its NUL); FFRF_BAD_CALL when too small.
+   integer(c_int) function copy_name(h, what, name, buf, length) result(stat)
+      type(capi_handle_t), intent(inout) :: h
+      character(len=*), intent(in) :: what, name
+      type(c_ptr), intent(in) :: buf
+      integer(c_size_t), intent(in) :: length
       character(kind=c_char), pointer :: out(:)
       integer :: i, n
       if (.not. c_associated(buf)) then
@@ -162,7 +182,7 @@ contains
          h%message = [c_null_char]
          stat = 0
       end if
-   end procedure copy_name
+   end function copy_name
 
    module procedure count_entry
       type(capi_handle_t), pointer :: h

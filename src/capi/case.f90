@@ -208,13 +208,6 @@ module ffrf_capi_case
          class(ffrf_case_t), intent(out) :: self
       end subroutine case_new
 
-      !> FFRF_BAD_CALL unless the case is built from arrays and has not run.
-      module subroutine check_building(self, what, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_building
-
       !> A body: node coordinates (m) xyz(3, n), tetrahedra tets(4 or 10, m) of node numbers
       !> 1..n in Gmsh order (Tet10: corners, then edges 1-2, 2-3, 3-1, 1-4, 3-4, 2-4 as Gmsh),
       !> isotropic material (Pa, -, kg/m^3).
@@ -226,12 +219,6 @@ module ffrf_capi_case
          real(dp), intent(in) :: young, poisson, density
          type(error_t), allocatable, intent(out) :: error
       end subroutine case_add_body
-
-      !> Move a mesh (its arrays) from `from` to `to`.
-      module subroutine move_mesh(from, to)
-         type(mesh_t), intent(inout) :: from
-         type(mesh_t), intent(out) :: to
-      end subroutine move_mesh
 
       !> A named set of triangles tris(3 or 6, m) on the surface of body `body`, node numbers
       !> 1..n (an interface names it).
@@ -257,17 +244,6 @@ module ffrf_capi_case
          type(error_t), allocatable, intent(out) :: error
          real(dp), intent(in), optional :: position(3)
       end subroutine case_add_interface
-
-      !> Append the &interface of an interface given from arrays: mpc FFRF_RBE2, FFRF_RBE3,
-      !> FFRF_RBE3_AREA or FFRF_RBE3_AREA_CONSISTENT, virtual node at `position` or the centroid.
-      module subroutine append_interface(self, body, name, mpc, rc, position)
-         class(ffrf_case_t), intent(inout) :: self
-         integer, intent(in) :: body
-         character(len=*), intent(in) :: name
-         integer, intent(in) :: mpc
-         logical, intent(in) :: rc(6)
-         real(dp), intent(in), optional :: position(3)
-      end subroutine append_interface
 
       !> An interface of body `body` on the node set `nodes` (node numbers 1..n of add_body, each
       !> once, every one a node of a tetrahedron), called `name`: mpc FFRF_RBE2 or FFRF_RBE3, RBE3
@@ -317,14 +293,6 @@ module ffrf_capi_case
          integer, intent(in) :: body
          type(error_t), allocatable, intent(out) :: error
       end subroutine check_body
-
-      !> FFRF_BAD_CALL unless the body exists and the modes have been computed.
-      module subroutine check_modes(self, what, body, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         integer, intent(in) :: body
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_modes
 
       !> Name of body `body`.
       module subroutine case_body_name(self, body, name, error)
@@ -398,13 +366,6 @@ module ffrf_capi_case
 
       ! --- ffrf_capi_case_mechanism (case_mechanism.f90) -----------------------------------------
 
-      !> FFRF_BAD_CALL unless the case is a mechanism case with a prepared session.
-      module subroutine check_session(self, what, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_session
-
       !> Mechanism case: prepare on the first call (modes, mechanism, consistent start), then
       !> integrate up to time t (ffrf_app_mechanism_session).
       module subroutine case_advance(self, t, error)
@@ -444,14 +405,6 @@ module ffrf_capi_case
          type(error_t), allocatable, intent(out) :: error
       end subroutine case_marker_count
 
-      !> FFRF_BAD_CALL unless the marker exists on the body.
-      module subroutine check_marker(self, what, body, marker, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         integer, intent(in) :: body, marker
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_marker
-
       !> Global position (m), velocity (m/s) and angular velocity (rad/s) of a marker.
       module subroutine case_marker_state(self, body, marker, position, velocity, &
             angular_velocity, error)
@@ -467,14 +420,6 @@ module ffrf_capi_case
          integer, intent(out) :: n
          type(error_t), allocatable, intent(out) :: error
       end subroutine case_joint_count
-
-      !> FFRF_BAD_CALL unless the joint exists.
-      module subroutine check_joint(self, what, joint, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         integer, intent(in) :: joint
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_joint
 
       !> Name of joint `joint`.
       module subroutine case_joint_name(self, joint, name, error)
@@ -498,14 +443,6 @@ module ffrf_capi_case
          integer, intent(out) :: n
          type(error_t), allocatable, intent(out) :: error
       end subroutine case_sensor_count
-
-      !> FFRF_BAD_CALL unless the sensor exists.
-      module subroutine check_sensor(self, what, sensor, error)
-         class(ffrf_case_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         integer, intent(in) :: sensor
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_sensor
 
       !> Name of sensor `sensor`.
       module subroutine case_sensor_name(self, sensor, name, error)

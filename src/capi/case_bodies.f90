@@ -26,12 +26,17 @@ contains
          to_str(size(self%case%bodies) - 1))
    end procedure check_body
 
-   module procedure check_modes
+   !> FFRF_BAD_CALL unless the body exists and the modes have been computed.
+   subroutine check_modes(self, what, body, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: body
+      type(error_t), allocatable, intent(out) :: error
       call check_body(self, what, body, error)
       if (allocated(error)) return
       if (.not. self%have_modes) call bad_call(error, what // ': no modes yet; call ' // &
          'ffrf_case_run first (mechanism case: or ffrf_mechanism_advance)')
-   end procedure check_modes
+   end subroutine check_modes
 
    module procedure case_body_name
       name = ''

@@ -23,13 +23,17 @@ contains
       self%from_arrays = .true.
    end procedure case_new
 
-   module procedure check_building
+   !> FFRF_BAD_CALL unless the case is built from arrays and has not run.
+   subroutine check_building(self, what, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
       if (.not. (self%opened .and. self%from_arrays)) then
          call bad_call(error, what // ': only for a case made by ffrf_case_new')
       else if (self%ran) then
          call bad_call(error, what // ': the case has run; build a new one')
       end if
-   end procedure check_building
+   end subroutine check_building
 
    module procedure case_add_body
       type(body_input_t), allocatable :: bodies(:)
@@ -94,9 +98,12 @@ contains
       call move_alloc(meshes, self%meshes)
    end procedure case_add_body
 
-   module procedure move_mesh
+   !> Move a mesh (its arrays) from `from` to `to`.
+   subroutine move_mesh(from, to)
+      type(mesh_t), intent(inout) :: from
+      type(mesh_t), intent(out) :: to
       to = from
-   end procedure move_mesh
+   end subroutine move_mesh
 
    module procedure case_add_surface
       type(physical_group_t), allocatable :: groups(:)
@@ -172,7 +179,15 @@ contains
       call append_interface(self, body, surface, mpc, rc, position)
    end procedure case_add_interface
 
-   module procedure append_interface
+   !> Append the &interface of an interface given from arrays: mpc FFRF_RBE2, FFRF_RBE3,
+   !> FFRF_RBE3_AREA or FFRF_RBE3_AREA_CONSISTENT, virtual node at `position` or the centroid.
+   subroutine append_interface(self, body, name, mpc, rc, position)
+      class(ffrf_case_t), intent(inout) :: self
+      integer, intent(in) :: body
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: mpc
+      logical, intent(in) :: rc(6)
+      real(dp), intent(in), optional :: position(3)
       character(len=2), parameter :: dof_names(6) = ['Tx', 'Ty', 'Tz', 'Rx', 'Ry', 'Rz']
       type(interface_input_t) :: input
       integer :: k
@@ -191,7 +206,7 @@ contains
       end do
       input%rc = adjustl(input%rc)
       self%case%interfaces = [self%case%interfaces, input]
-   end procedure append_interface
+   end subroutine append_interface
 
    module procedure case_add_interface_nodes
       type(node_set_interface_t) :: node_set

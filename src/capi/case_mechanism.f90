@@ -10,7 +10,11 @@ submodule (ffrf_capi_case) ffrf_capi_case_mechanism
 
 contains
 
-   module procedure check_session
+   !> FFRF_BAD_CALL unless the case is a mechanism case with a prepared session.
+   subroutine check_session(self, what, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
       call check_open(self, what, error)
       if (allocated(error)) return
       if (.not. self%case%is_mechanism) then
@@ -25,7 +29,7 @@ contains
                'ffrf_mechanism_advance first (advance to t_start only prepares)')
          end if
       end if
-   end procedure check_session
+   end subroutine check_session
 
    module procedure case_advance
       type(stage_times_t) :: times
@@ -124,7 +128,12 @@ contains
       if (.not. allocated(error)) n = self%session%num_markers(body)
    end procedure case_marker_count
 
-   module procedure check_marker
+   !> FFRF_BAD_CALL unless the marker exists on the body.
+   subroutine check_marker(self, what, body, marker, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: body, marker
+      type(error_t), allocatable, intent(out) :: error
       integer :: n
       call check_session(self, what, error)
       if (.not. allocated(error)) call check_body(self, what, body, error)
@@ -133,7 +142,7 @@ contains
       if (marker < 1 .or. marker > n) call bad_call(error, what // ': marker ' // &
          to_str(marker - 1) // ' does not exist; body "' // trim(self%case%bodies(body)%name) &
          // '" has ' // to_str(n) // ' markers, 0..' // to_str(n - 1))
-   end procedure check_marker
+   end subroutine check_marker
 
    module procedure case_marker_state
       position = 0.0_dp
@@ -150,11 +159,16 @@ contains
       if (.not. allocated(error)) n = self%session%num_joints()
    end procedure case_joint_count
 
-   module procedure check_joint
+   !> FFRF_BAD_CALL unless the joint exists.
+   subroutine check_joint(self, what, joint, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: joint
+      type(error_t), allocatable, intent(out) :: error
       call check_session(self, what, error)
       if (.not. allocated(error)) call check_index(what, 'joint', joint, &
          self%session%num_joints(), error)
-   end procedure check_joint
+   end subroutine check_joint
 
    module procedure case_joint_name
       name = ''
@@ -175,11 +189,16 @@ contains
       if (.not. allocated(error)) n = self%session%num_sensors()
    end procedure case_sensor_count
 
-   module procedure check_sensor
+   !> FFRF_BAD_CALL unless the sensor exists.
+   subroutine check_sensor(self, what, sensor, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      integer, intent(in) :: sensor
+      type(error_t), allocatable, intent(out) :: error
       call check_session(self, what, error)
       if (.not. allocated(error)) call check_index(what, 'sensor', sensor, &
          self%session%num_sensors(), error)
-   end procedure check_sensor
+   end subroutine check_sensor
 
    !> FFRF_BAD_CALL unless 1 <= index <= count: "<what>: <word> <index - 1> does not exist; the
    !> case has <count> <word>s" (0-based, as the C API counts).

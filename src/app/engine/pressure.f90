@@ -232,26 +232,12 @@ module ffrf_app_engine_pressure
          real(dp), intent(out) :: p, dp_dtheta
       end subroutine evaluate
 
-      !> The cell c in 1..n with x(c-1) <= phi < x(c), the last such for repeated knots (so the
-      !> value at a jump is its right limit); phi in [x(0), x(n)).
-      pure module function find_cell(x, phi) result(cell)
-         real(dp), intent(in) :: x(0:)
-         real(dp), intent(in) :: phi
-         integer :: cell
-      end function find_cell
-
       !> Cubic Hermite value at t in [0, 1] of a cell of width w with end values y0, y1 and slopes
       !> s0, s1 (per unit of x).
       pure module function hermite_value(y0, y1, s0, s1, w, t) result(y)
          real(dp), intent(in) :: y0, y1, s0, s1, w, t
          real(dp) :: y
       end function hermite_value
-
-      !> d/dx of hermite_value.
-      pure module function hermite_slope(y0, y1, s0, s1, w, t) result(s)
-         real(dp), intent(in) :: y0, y1, s0, s1, w, t
-         real(dp) :: s
-      end function hermite_slope
 
       !> Maximum of a piecewise cubic Hermite function over its knots x(0:n): value, position, cell
       !> and local coordinate t. Each cell's candidates are its ends and the zeros of the quadratic
@@ -289,12 +275,6 @@ module ffrf_app_engine_pressure
          real(dp), intent(out) :: s(0:)
       end subroutine periodic_spline_slopes
 
-      !> Solution of the tridiagonal system lower(i) u(i-1) + diag(i) u(i) + upper(i) u(i+1) = r(i)
-      !> (lower(0) and upper(n-1) ignored), no pivoting: diagonally dominant systems only.
-      pure module function thomas(lower, diag, upper, r) result(u)
-         real(dp), intent(in) :: lower(0:), diag(0:), upper(0:), r(0:)
-         real(dp) :: u(0:ubound(r, 1))
-      end function thomas
    end interface
 
 end module ffrf_app_engine_pressure

@@ -19,7 +19,12 @@ contains
          self%slopes(cell - 1), self%slopes(cell), width, t)
    end procedure evaluate
 
-   module procedure find_cell
+   !> The cell c in 1..n with x(c-1) <= phi < x(c), the last such for repeated knots (so the
+   !> value at a jump is its right limit); phi in [x(0), x(n)).
+   pure function find_cell(x, phi) result(cell)
+      real(dp), intent(in) :: x(0:)
+      real(dp), intent(in) :: phi
+      integer :: cell
       integer :: lo, hi, mid
       ! invariant: x(lo) <= phi, and x(hi) > phi or hi = n
       lo = 0
@@ -33,17 +38,20 @@ contains
          end if
       end do
       cell = lo + 1
-   end procedure find_cell
+   end function find_cell
 
    module procedure hermite_value
       y = (1.0_dp + 2.0_dp * t) * (1.0_dp - t)**2 * y0 + t * (1.0_dp - t)**2 * w * s0 &
          + t**2 * (3.0_dp - 2.0_dp * t) * y1 + t**2 * (t - 1.0_dp) * w * s1
    end procedure hermite_value
 
-   module procedure hermite_slope
+   !> d/dx of hermite_value.
+   pure function hermite_slope(y0, y1, s0, s1, w, t) result(s)
+      real(dp), intent(in) :: y0, y1, s0, s1, w, t
+      real(dp) :: s
       s = 6.0_dp * t * (t - 1.0_dp) * (y0 - y1) / w + (1.0_dp - 4.0_dp * t + 3.0_dp * t**2) * s0 &
          + (3.0_dp * t**2 - 2.0_dp * t) * s1
-   end procedure hermite_slope
+   end function hermite_slope
 
    module procedure hermite_peak
       real(dp) :: w, a, b, c, disc, q, roots(2), value, candidates(4)
@@ -154,7 +162,11 @@ contains
       s(n) = s(0)
    end procedure periodic_spline_slopes
 
-   module procedure thomas
+   !> Solution of the tridiagonal system lower(i) u(i-1) + diag(i) u(i) + upper(i) u(i+1) = r(i)
+   !> (lower(0) and upper(n-1) ignored), no pivoting: diagonally dominant systems only.
+   pure function thomas(lower, diag, upper, r) result(u)
+      real(dp), intent(in) :: lower(0:), diag(0:), upper(0:), r(0:)
+      real(dp) :: u(0:ubound(r, 1))
       real(dp) :: c(0:ubound(r, 1)), beta
       integer :: i, n
       n = ubound(r, 1)
@@ -168,6 +180,6 @@ contains
       do i = n - 1, 0, -1
          u(i) = u(i) - c(i + 1) * u(i + 1)
       end do
-   end procedure thomas
+   end function thomas
 
 end submodule ffrf_app_engine_pressure_tables

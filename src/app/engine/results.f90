@@ -234,13 +234,6 @@ module ffrf_app_engine_results
          type(error_t), allocatable, intent(out) :: error
       end subroutine engine_results_append_from
 
-      !> Error unless the file is open and no step has been recorded.
-      module subroutine check_not_started(self, what, error)
-         type(engine_results_t), intent(in) :: self
-         character(len=*), intent(in) :: what
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_not_started
-
       ! --- ffrf_app_engine_results_data (results_data.f90) ---------------------------------------
 
       !> Write run information, e.g. /integrator/newton_iterations, with its unit.

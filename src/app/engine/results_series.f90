@@ -320,7 +320,11 @@ contains
 
    end procedure engine_results_append_from
 
-   module procedure check_not_started
+   !> Error unless the file is open and no step has been recorded.
+   subroutine check_not_started(self, what, error)
+      type(engine_results_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
       if (.not. self%h5%is_open()) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'engine results: ' // what // ' called on ' // &
             'a file that is not open; call create first')
@@ -329,6 +333,6 @@ contains
             '": ' // what // ' called after ' // to_str(self%num_recorded) // ' steps were ' // &
             'recorded; add every body and joint before the first record')
       end if
-   end procedure check_not_started
+   end subroutine check_not_started
 
 end submodule ffrf_app_engine_results_series
