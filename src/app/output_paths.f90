@@ -37,7 +37,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(named_path_t), allocatable :: inputs(:), outputs(:)
       character(len=:), allocatable :: results, mesh_dir, msh, restart
-      logical :: same
       integer :: i, j, k
 
       allocate (inputs(0), outputs(0))
@@ -99,39 +98,38 @@ contains
             ! restart in place: --restart names this run's own results file or checkpoint
             if (inputs(j)%role == 'the --restart file' .and. (outputs(i)%role == &
                'the results file' .or. outputs(i)%role == 'the checkpoint')) cycle
-            call same_file(outputs(i)%path, inputs(j)%path, same, error, &
-               a_entry=outputs(i)%entry)
+            call check_distinct(case%file_name, outputs(i), inputs(j), 'an input', error)
             if (allocated(error)) return
-            if (same) then
-               call refuse(case%file_name, outputs(i), inputs(j), 'an input', error)
-               return
-            end if
          end do
          do j = i + 1, size(outputs)
-            call same_file(outputs(i)%path, outputs(j)%path, same, error, &
-               a_entry=outputs(i)%entry, b_entry=outputs(j)%entry)
+            call check_distinct(case%file_name, outputs(i), outputs(j), 'another output', error, &
+               other_entry=outputs(j)%entry)
             if (allocated(error)) return
-            if (same) then
-               call refuse(case%file_name, outputs(i), outputs(j), 'another output', error)
-               return
-            end if
          end do
       end do
    end subroutine check_output_paths
 
-   subroutine refuse(case_file, output, other, what, error)
+   !> FFRF_INPUT_ERROR when `output` is the same file as `other` (an input, whose path is
+   !> followed, or another output, whose folder entry other_entry compares as for `output`).
+   subroutine check_distinct(case_file, output, other, what, error, other_entry)
       !> The case file, named first
       character(len=*), intent(in) :: case_file
       type(named_path_t), intent(in) :: output, other
       !> "an input" or "another output"
       character(len=*), intent(in) :: what
       type(error_t), allocatable, intent(out) :: error
+      !> other is a temporary (its entry, as named_path_t%entry)
+      logical, intent(in), optional :: other_entry
+      logical :: same
+      call same_file(output%path, other%path, same, error, a_entry=output%entry, &
+         b_entry=other_entry)
+      if (allocated(error) .or. .not. same) return
       call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': output path refused: ' // &
          output%role // &
          ' "' // output%path // '" is the same file as ' // other%role // ' "' // other%path // &
          '" (' // what // ' of this run); give the output another name (&run output, ' // &
          'mode_shapes_msh, --output or --output-dir)')
-   end subroutine refuse
+   end subroutine check_distinct
 
    !> A Gmsh file with its temporary, its option file and the option file's temporary.
    subroutine add_gmsh(list, role, path)
