@@ -51,6 +51,7 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, timed_load_t, &
       LOAD_FORCE, &
@@ -157,6 +158,7 @@ contains
       if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
          mech, error)
       if (.not. allocated(error)) call add_drivers(resolved, mech, error)
+      if (.not. allocated(error)) call add_torsion_springs(resolved, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
@@ -169,6 +171,7 @@ contains
       end if
       call starting_state(case, resolved, bodies, mech, log, q, v, error)
       if (.not. allocated(error)) call mech%set_spring_free_lengths(q, error)
+      if (.not. allocated(error)) call mech%set_torsion_start(q)
    end subroutine build_mechanism
 
    !> The sensors of the case resolved to mechanism indices; an engine case (a crank) gets the
@@ -621,6 +624,31 @@ contains
          end associate
       end do
    end subroutine add_drivers
+
+   !> The &torsion_spring groups as torsion spring-dampers about the mechanism's joints
+   !> (ffrf_mbs_torsion_spring; the mechanism's joints are the &joint groups in order).
+   subroutine add_torsion_springs(resolved, mech, error)
+      type(model_t), intent(in) :: resolved
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      type(torsion_spring_t) :: spring
+      integer :: s
+      do s = 1, size(resolved%mechanism%torsion_springs)
+         associate (given => resolved%mechanism%torsion_springs(s))
+            spring%name = given%name
+            spring%joint = given%joint
+            spring%stiffness = given%stiffness
+            spring%damping = given%damping
+            spring%free_angle = given%free_angle
+            spring%free_angle_given = given%free_angle_given
+            call mech%add_torsion_spring(spring, error)
+            if (allocated(error)) then
+               call add_context(error, '&torsion_spring "' // trim(given%name) // '"')
+               return
+            end if
+         end associate
+      end do
+   end subroutine add_torsion_springs
 
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
       !> The case resolved (loads: kinds, parameters, model body indices)

@@ -8,6 +8,8 @@
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
 !>   &spring      name, body1, marker1, body2, marker2, stiffness [N/m], damping [N s/m],
 !>                free_length [m]                                             (repeatable)
+!>   &torsion_spring  name, joint, stiffness [N m/rad], damping [N m s/rad], free_angle [rad]
+!>                                                                            (repeatable)
 !>   &driver      name, joint, quantity (coordinate|rate), offset [rad or m], and the law keys
 !>                                                                            (repeatable)
 !>   law keys of &driver and of a force or torque &load (docs/mechanisms.md "Laws over time"):
@@ -60,6 +62,9 @@
 !>   &spring     stiffness in [0, 1e12] N/m; damping in [0, 1e12] N s/m; free_length in
 !>               [0, 1e6] m (absent: the distance of the markers at the start, which must not be
 !>               0); body1 /= body2; name unique
+!>   &torsion_spring  joint: a revolute or cylindrical &joint (checked by ffrf_input_case);
+!>               stiffness in [0, 1e12] N m/rad; damping in [0, 1e12] N m s/rad; free_angle in
+!>               [-1e6, 1e6] rad (absent: the joint angle at the start); name unique
 !>   &pressure   bore, stroke in (0, 10] m; conrod_length in (0, 100] m (> stroke/2);
 !>               compression_ratio in (1, 1000]; intake_pressure, exhaust_pressure in (0, 1e9] Pa;
 !>               polytropic_exponent in (1, 3]; wiebe_a in (0, 100]; wiebe_m in [0, 100];
@@ -89,6 +94,7 @@ module ffrf_input_nml_mechanism
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      torsion_spring_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
@@ -103,7 +109,7 @@ module ffrf_input_nml_mechanism
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
-      model_keys, spring_keys, driver_keys
+      model_keys, spring_keys, driver_keys, torsion_spring_keys
 
    !> The law keys, for messages (module header)
    character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
@@ -242,6 +248,15 @@ contains
          real_key('free_length', 0.0_dp, 1.0e6_dp, 'm')]
    end function spring_keys
 
+   !> Keys of &torsion_spring (module header).
+   function torsion_spring_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('joint', 64), &
+         real_key('stiffness', 0.0_dp, 1.0e12_dp, 'N m/rad'), &
+         real_key('damping', 0.0_dp, 1.0e12_dp, 'N m s/rad'), &
+         real_key('free_angle', -1.0e6_dp, 1.0e6_dp, 'rad')]
+   end function torsion_spring_keys
+
    subroutine read_mechanism_groups(unit, src, input, error)
       integer, intent(in) :: unit
       !> The checked case text (FILE:LINE of the keys)
@@ -253,6 +268,8 @@ contains
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
       if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
+      if (.not. allocated(error)) call read_torsion_spring_groups(unit, src, &
+         input%torsion_springs, error)
       if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
@@ -683,6 +700,51 @@ contains
             damping, free_length)]
       end do
    end subroutine read_spring_groups
+
+   !> The &torsion_spring groups (module header), in input order.
+   subroutine read_torsion_spring_groups(unit, src, springs, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(torsion_spring_input_t) :: defaults
+      character(len=64) :: name, joint
+      real(dp) :: stiffness, damping, free_angle
+      real(dp), parameter :: unset = huge(1.0_dp)
+      integer :: stat, k
+      character(len=512) :: msg
+      namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
+      allocate (springs(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         joint = defaults%joint
+         stiffness = defaults%stiffness
+         damping = defaults%damping
+         free_angle = unset
+         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(springs) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'torsion_spring', k, msg, 'name, joint, ' // &
+               'stiffness, damping, free_angle')
+            return
+         end if
+         if (len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
+               ': name is missing')
+         else if (any(springs%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, 'name') &
+               // ': the name is used twice; torsion spring names must be unique')
+         else if (len_trim(joint) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
+               ' "' // trim(name) // '": joint is required (a revolute or cylindrical &joint)')
+         end if
+         if (allocated(error)) return
+         springs = [springs, torsion_spring_input_t(name, joint, stiffness, damping, &
+            merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
+      end do
+   end subroutine read_torsion_spring_groups
 
    subroutine read_pressure_group(unit, input, table_file, error)
       integer, intent(in) :: unit

@@ -76,6 +76,7 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t, torsion_state_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    implicit none
    private
@@ -121,6 +122,9 @@ module ffrf_mbs_mechanism
       type(mechanism_load_t), allocatable :: loads(:)
       !> Spring-dampers between markers (ffrf_mbs_spring_damper), order of add_spring
       type(spring_damper_t), allocatable :: springs(:)
+      !> Torsion spring-dampers about joints (ffrf_mbs_torsion_spring), order of
+      !> add_torsion_spring
+      type(torsion_spring_t), allocatable :: torsion_springs(:)
       !> Drivers of joints (ffrf_mbs_joint_driver), order of add_driver; rows after the joints'
       type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
@@ -158,6 +162,14 @@ module ffrf_mbs_mechanism
       procedure :: spring_energy => mechanism_spring_energy
       !> Free lengths not given are set to the lengths at q (the starting pose)
       procedure :: set_spring_free_lengths => mechanism_set_spring_free_lengths
+      !> Add a torsion spring-damper about a revolute or cylindrical joint
+      procedure :: add_torsion_spring => mechanism_add_torsion_spring
+      !> Angle, rate and torque of torsion spring s at a state
+      procedure :: torsion_state => mechanism_torsion_state
+      !> Potential energy of the torsion springs, sum k (phi - phi0)^2 / 2 (J)
+      procedure :: torsion_energy => mechanism_torsion_energy
+      !> Start of the torsion springs: unwrapping references and the free angles not given
+      procedure :: set_torsion_start => mechanism_set_torsion_start
       !> Choose the rotor body (rotor angle and speed for the loads)
       procedure :: set_rotor => mechanism_set_rotor
       !> Set the unwrapping reference of the rotor angle from q (near a known angle)
@@ -289,6 +301,71 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:)
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_set_spring_free_lengths
+
+      !> Add a copy of a torsion spring-damper about joint spring%joint (a mechanism joint
+      !> number; ffrf_mbs_torsion_spring), its bodies and markers taken from the joint. Refused:
+      !> an unknown joint, a joint neither revolute nor cylindrical, k < 0 or c < 0.
+      module subroutine mechanism_add_torsion_spring(self, spring, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The torsion spring (free_angle_given = .false.: set by set_torsion_start)
+         type(torsion_spring_t), intent(in) :: spring
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_torsion_spring
+
+      !> Angle (unwrapped), rate and torque of torsion spring s at (q, v).
+      module function mechanism_torsion_state(self, s, q, v) result(state)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Torsion spring number (order of add_torsion_spring)
+         integer, intent(in) :: s
+         !> Coordinates and velocities, n
+         real(dp), intent(in) :: q(:), v(:)
+         type(torsion_state_t) :: state
+      end function mechanism_torsion_state
+
+      !> Potential energy of the torsion springs, sum k (phi - phi0)^2 / 2 (J).
+      module function mechanism_torsion_energy(self, q) result(energy)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         real(dp) :: energy
+      end function mechanism_torsion_energy
+
+      !> At the starting pose q: each torsion spring's unwrapping reference becomes its angle
+      !> in (-pi, pi], and a spring without a free angle gets that angle as free angle.
+      module subroutine mechanism_set_torsion_start(self, q)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates of the starting pose, n
+         real(dp), intent(in) :: q(:)
+      end subroutine mechanism_set_torsion_start
+
+      !> Add the torsion springs' generalized forces to f; a non-finite torque is a numeric
+      !> error.
+      module subroutine add_torsion_forces(self, q, v, t, f, error)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         real(dp), intent(inout) :: f(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine add_torsion_forces
+
+      !> Add the torsion springs' exact tangents to K_t (-df/dq) and C_t (-df/dq').
+      module subroutine add_torsion_tangents(self, q, v, t, K_t, C_t, error)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine add_torsion_tangents
+
+      !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
+      module subroutine update_torsion_references(self, q)
+         type(mechanism_t), intent(inout) :: self
+         real(dp), intent(in) :: q(:)
+      end subroutine update_torsion_references
 
       !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
       module subroutine mechanism_set_rotor(self, body, error)

@@ -401,6 +401,7 @@ contains
          end do
       end if
       call add_spring_forces(self, q, v, t, f, error)
+      if (.not. allocated(error)) call add_torsion_forces(self, q, v, t, f, error)
       if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)
@@ -743,6 +744,7 @@ contains
          return
       end if
       self%rotor_reference = self%rotor_angle(q)
+      call update_torsion_references(self, q)
    end procedure mechanism_accepted_step
 
    ! ----------------------------------------------------------------------------------------------
@@ -867,6 +869,7 @@ contains
          end do
       end if
       call add_spring_tangents(self, q, v, t, K_t, C_t, error)
+      if (.not. allocated(error)) call add_torsion_tangents(self, q, v, t, K_t, C_t, error)
       if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)

@@ -20,7 +20,7 @@ module ffrf_model_mechanism
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
-   public :: model_spring_t, model_driver_t
+   public :: model_spring_t, model_driver_t, model_torsion_spring_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -94,6 +94,16 @@ module ffrf_model_mechanism
       real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp, free_length = -1.0_dp
    end type model_spring_t
 
+   !> A torsion spring-damper (&torsion_spring), resolved (ffrf_mbs_torsion_spring).
+   type :: model_torsion_spring_t
+      character(len=64) :: name = ''
+      !> Joint number (&joint order)
+      integer :: joint = 0
+      !> Stiffness (N m/rad), damping (N m s/rad), free angle (rad; used if free_angle_given)
+      real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp, free_angle = 0.0_dp
+      logical :: free_angle_given = .false.
+   end type model_torsion_spring_t
+
    !> A sensor (&sensor), resolved: its kind (SENSOR_* of ffrf_mbs_sensors) and what it measures.
    type :: model_sensor_t
       character(len=64) :: name = ''
@@ -105,7 +115,8 @@ module ffrf_model_mechanism
       integer :: joint = 0
       !> Mesh node (Gmsh node tag; 0: none)
       integer :: node = 0
-      !> Spring number (&spring order; 0: none)
+      !> Spring number (&spring order, or &torsion_spring order for a torsion_spring sensor;
+      !> 0: none)
       integer :: spring = 0
    end type model_sensor_t
 
@@ -116,6 +127,8 @@ module ffrf_model_mechanism
       type(model_load_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), input order
       type(model_spring_t), allocatable :: springs(:)
+      !> Torsion spring-dampers (&torsion_spring), input order
+      type(model_torsion_spring_t), allocatable :: torsion_springs(:)
       !> Drivers of joints (&driver), input order
       type(model_driver_t), allocatable :: drivers(:)
       !> Sensors (&sensor), input order

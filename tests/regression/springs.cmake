@@ -57,3 +57,36 @@ add_test(NAME regression_springs_flexible
     ${_springs_out}/engine_flexible_springs.nml ${PROJECT_BINARY_DIR}/meshes ${_springs_out})
 set_tests_properties(regression_springs_flexible PROPERTIES LABELS "regression;springs"
   FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
+
+# The torsion spring-damper (&torsion_spring, src/mbs/torsion_spring.f90; issue 24, item 1):
+# regression_torsion_springs: input/torsion_pendulum.nml against the closed-form damped
+# torsional oscillator (period, decay, order 2), the energy balance with the damper's
+# dissipation and the results file's external work, and a multi-turn undamped run against
+# (w/w0) sin(w0 t) (tests/regression/check_torsion_springs.py). About 10 s.
+add_test(NAME regression_torsion_springs
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_torsion_springs.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/torsion_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/torsion_springs)
+set_tests_properties(regression_torsion_springs PROPERTIES LABELS "regression;springs")
+
+# Bad &torsion_spring input: one line naming the file, line and group, exit 2, from a run and
+# --check.
+set(_torsion_scene "&body name = 'disc', type = 'rigid', mass = 2.0, inertia = 0.01, 0.01, 0.02, 0, 0, 0 /\n&marker body = 'disc', name = 'centre', position = 0.0, 0.0, 0.0 /\n&marker body = 'ground', name = 'hinge', position = 0.0, 0.0, 0.0 /\n&joint name = 'hinge', type = 'revolute', body1 = 'ground', marker1 = 'hinge', body2 = 'disc', marker2 = 'centre', axis = 0.0, 0.0, 1.0 /\n&joint name = 'slide', type = 'prismatic', body1 = 'ground', marker1 = 'hinge', body2 = 'disc', marker2 = 'centre', axis = 0.0, 0.0, 1.0 /\n&integrator h = 1.0e-3, t_end = 0.01 /\n&model selection = 'manual' /")
+foreach(_mode run check)
+  if(_mode STREQUAL "check")
+    set(_extra "--check")
+  else()
+    set(_extra "")
+  endif()
+  ffrf_error_case(torsion_not_revolute_${_mode} 2 "torsion_not_revolute_${_mode}\\.nml:8: &torsion_spring joint = .slide.: &torsion_spring \"t\": joint \"slide\" is prismatic; a torsion spring needs a revolute or cylindrical joint"
+    "${_torsion_scene}\n&torsion_spring name = 't', joint = 'slide', stiffness = 1.0 /" ${_extra})
+  ffrf_error_case(torsion_unknown_joint_${_mode} 2 "torsion_unknown_joint_${_mode}\\.nml:8: &torsion_spring joint = .axle.: &torsion_spring \"t\": joint \"axle\" is not a &joint of this case \\(joints: hinge, slide\\)"
+    "${_torsion_scene}\n&torsion_spring name = 't', joint = 'axle', stiffness = 1.0 /" ${_extra})
+  ffrf_error_case(torsion_negative_stiffness_${_mode} 2 "torsion_negative_stiffness_${_mode}\\.nml:8: &torsion_spring stiffness = -1\\.0: out of range"
+    "${_torsion_scene}\n&torsion_spring name = 't', joint = 'hinge', stiffness = -1.0 /" ${_extra})
+  ffrf_error_case(torsion_negative_damping_${_mode} 2 "torsion_negative_damping_${_mode}\\.nml:8: &torsion_spring damping = -0.5: out of range"
+    "${_torsion_scene}\n&torsion_spring name = 't', joint = 'hinge', stiffness = 1.0, damping = -0.5 /" ${_extra})
+  ffrf_error_case(torsion_sensor_unknown_${_mode} 2 "torsion_sensor_unknown_${_mode}\\.nml:9: &sensor spring = .spring.: &sensor \"s\": spring \"spring\" is not a &torsion_spring of this case \\(torsion_springs: t\\)"
+    "${_torsion_scene}\n&torsion_spring name = 't', joint = 'hinge', stiffness = 1.0 /\n&sensor name = 's', type = 'torsion_spring', spring = 'spring' /" ${_extra})
+endforeach()

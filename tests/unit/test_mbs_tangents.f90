@@ -31,6 +31,13 @@
 !> exact K and C against the same central differences (same tolerance; measured 6.7e-10 for
 !> -df/dq, the reference's round-off next to k = 5e4 N/m, and 1.6e-10 for -df/dv). A wrong sign
 !> of the damper's geometric term c w^T N gives 1.6e-2.
+!> Torsion spring-dampers (ffrf_mbs_torsion_spring): (5) the ground, a rigid body and the
+!> synthetic flexible crank joined by two revolute joints (ground - rigid, rigid - flexible
+!> virtual node), each with a torsion spring-damper (k = 40 and 300 N m/rad, c = 0.7 and
+!> 0.2 N m s/rad; free angles 0.3 and -0.2 rad): the springs' exact K and C against the same
+!> central differences at the random state (off the joints: the rate z_a . (w_b - w_a) and the
+!> angle atan2(y_a . x_b, x_a . x_b) both vary with every coordinate), same tolerance. A spring
+!> that refuses a prismatic joint, an unknown joint, a negative k or c is checked after it.
 !> Geometric stiffening (flexible_body_t%set_geometric_stiffness, random symmetric K_G^(c)
 !> of order 1 so that -K_G(omega) zeta and its omega derivatives count): the flexible body's
 !> force tangents against central differences (as the flexible-body test) and the engine with
@@ -50,6 +57,7 @@ module test_mbs_tangents
       JOINT_UNIVERSAL
    use ffrf_mbs_mechanism_loads, only: polynomial_drive_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, crank_radius, rod_length
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
       GALPHA_NEWTON_FULL
@@ -74,7 +82,8 @@ contains
          test_geometric_stiffness), &
          new_unittest('engine_run_analytic_equals_differences', test_engine_run), &
          new_unittest('spring_damper_tangents_match_differences', test_springs), &
-         new_unittest('spring_damper_refuses_bad_input', test_spring_refusals)]
+         new_unittest('spring_damper_refuses_bad_input', test_spring_refusals), &
+         new_unittest('torsion_spring_tangents_match_differences', test_torsion_springs)]
    end subroutine collect_mbs_tangents
 
    !> Deterministic pseudo-random numbers in [-1, 1].
@@ -670,6 +679,71 @@ contains
          to_str(mech%springs(1)%free_length), abs(mech%springs(1)%free_length - 0.25_dp) <= &
          1.0e-15_dp)
    end subroutine test_spring_refusals
+
+   !> Two revolute joints with torsion spring-dampers (module header, system 5): K and C against
+   !> central differences; then the refusals of add_torsion_spring.
+   subroutine test_torsion_springs(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: refused
+      type(ground_t) :: ground
+      type(rigid_body_t) :: block
+      type(flexible_body_t) :: crank
+      type(mechanism_t) :: mech
+      real(dp) :: frames(3, 3, 2)
+      integer :: ig, ib, ic
+      frames(:, :, 1) = identity3()
+      frames(:, :, 2) = reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, 1.0_dp], [3, 3])
+      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
+         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call synthetic_crank(crank, 1.0e-3_dp, error)
+      if (allocated(error)) return
+      call mech%add_body(ground, 'ground', ig, error)
+      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
+      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'hinge', ig, 1, ib, 1, &
+         error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'pin', ib, 2, ic, 2, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'slide', ig, 2, ic, 3, &
+         error)
+      if (.not. allocated(error)) call mech%add_torsion_spring(torsion_of('t1', 1, 40.0_dp, &
+         0.7_dp, 0.3_dp), error)
+      if (.not. allocated(error)) call mech%add_torsion_spring(torsion_of('t2', 2, 300.0_dp, &
+         0.2_dp, -0.2_dp), error)
+      if (allocated(error)) return
+      call compare_tangents(mech, 'torsion springs', 53, error)
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('slide', 3, 1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a torsion spring on a prismatic joint is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('none', 4, 1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a torsion spring on an unknown joint is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('k', 1, -1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a negative torsional stiffness is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('c', 1, 1.0_dp, -1.0_dp, 0.0_dp), refused)
+      call check(error, 'a negative torsional damping is refused', allocated(refused))
+   end subroutine test_torsion_springs
+
+   !> A torsion spring-damper record about joint `joint` with a given free angle.
+   pure function torsion_of(name, joint, stiffness, damping, free_angle) result(spring)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: joint
+      real(dp), intent(in) :: stiffness, damping, free_angle
+      type(torsion_spring_t) :: spring
+      spring%name = name
+      spring%joint = joint
+      spring%stiffness = stiffness
+      spring%damping = damping
+      spring%free_angle = free_angle
+      spring%free_angle_given = .true.
+   end function torsion_of
 
    !> A spring-damper record.
    pure function spring_of(name, body_a, marker_a, body_b, marker_b, stiffness, damping, &

@@ -1,0 +1,175 @@
+!> Torsion spring-dampers of ffrf_mbs_mechanism (a submodule): adding them about a joint, their
+!> state, potential energy, unwrapping references, generalized forces and exact tangents
+!> (ffrf_mbs_torsion_spring; docs/mechanisms.md "Torsion springs").
+submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_torsion
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
+   use ffrf_mbs_torsion_spring, only: torsion_evaluate, torsion_generalized_forces, &
+      torsion_tangents
+   implicit none
+
+contains
+
+   !> Add a copy of a torsion spring about a revolute or cylindrical joint.
+   module procedure mechanism_add_torsion_spring
+      type(torsion_spring_t) :: added
+      integer :: nj
+      character(len=:), allocatable :: where
+      where = 'mechanism: torsion spring "' // trim(spring%name) // '"'
+      nj = 0
+      if (allocated(self%joints)) nj = size(self%joints)
+      if (spring%joint < 1 .or. spring%joint > nj) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': the mechanism has no joint ' // &
+            to_str(spring%joint) // ' (' // to_str(nj) // ' joints)')
+         return
+      end if
+      associate (jt => self%joints(spring%joint))
+         select case (jt%joint%kind_name())
+         case ('revolute', 'cylindrical')
+         case default
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': joint "' // jt%name // &
+               '" is ' // jt%joint%kind_name() // '; a torsion spring needs a revolute or ' // &
+               'cylindrical joint')
+            return
+         end select
+         if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
+               to_str(spring%stiffness) // ' N m/rad and damping = ' // &
+               to_str(spring%damping) // ' N m s/rad; both must be >= 0')
+            return
+         end if
+         added = spring
+         added%body_a = jt%body_a
+         added%body_b = jt%body_b
+         added%marker_a = jt%joint%marker_a
+         added%marker_b = jt%joint%marker_b
+      end associate
+      if (.not. allocated(self%torsion_springs)) allocate (self%torsion_springs(0))
+      self%torsion_springs = [self%torsion_springs, added]
+   end procedure mechanism_add_torsion_spring
+
+   !> Angle, rate and torque of torsion spring s at (q, v).
+   module procedure mechanism_torsion_state
+      integer :: ka, kb, na, nb
+      associate (spring => self%torsion_springs(s))
+         ka = self%bodies(spring%body_a)%offset
+         kb = self%bodies(spring%body_b)%offset
+         na = self%bodies(spring%body_a)%body%num_coordinates
+         nb = self%bodies(spring%body_b)%body%num_coordinates
+         state = torsion_evaluate(spring, self%bodies(spring%body_a)%body, &
+            q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(spring%body_b)%body, &
+            q(kb + 1:kb + nb), v(kb + 1:kb + nb))
+      end associate
+   end procedure mechanism_torsion_state
+
+   !> Potential energy of the torsion springs, sum k (phi - phi0)^2 / 2 (J).
+   module procedure mechanism_torsion_energy
+      type(torsion_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      energy = 0.0_dp
+      if (.not. allocated(self%torsion_springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%torsion_springs)
+         state = self%torsion_state(s, q, zero)
+         energy = energy + 0.5_dp * self%torsion_springs(s)%stiffness * &
+            (state%angle - self%torsion_springs(s)%free_angle)**2
+      end do
+   end procedure mechanism_torsion_energy
+
+   !> Unwrapping references from the start, in (-pi, pi]; free angles not given from the start.
+   module procedure mechanism_set_torsion_start
+      type(torsion_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      if (.not. allocated(self%torsion_springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%torsion_springs)
+         self%torsion_springs(s)%reference = 0.0_dp
+         state = self%torsion_state(s, q, zero)
+         self%torsion_springs(s)%reference = state%angle
+         if (.not. self%torsion_springs(s)%free_angle_given) &
+            self%torsion_springs(s)%free_angle = state%angle
+      end do
+   end procedure mechanism_set_torsion_start
+
+   !> The torsion springs' generalized forces (ffrf_mbs_torsion_spring).
+   module procedure add_torsion_forces
+      type(torsion_state_t) :: state
+      real(dp), allocatable :: f_a(:), f_b(:)
+      integer :: s, ka, kb, na, nb
+      if (.not. allocated(self%torsion_springs)) return
+      do s = 1, size(self%torsion_springs)
+         associate (spring => self%torsion_springs(s))
+            state = self%torsion_state(s, q, v)
+            call check_torsion_state(spring%name, state, t, error)
+            if (allocated(error)) return
+            ka = self%bodies(spring%body_a)%offset
+            kb = self%bodies(spring%body_b)%offset
+            na = self%bodies(spring%body_a)%body%num_coordinates
+            nb = self%bodies(spring%body_b)%body%num_coordinates
+            allocate (f_a(na), f_b(nb))
+            call torsion_generalized_forces(spring, state, self%bodies(spring%body_a)%body, &
+               q(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), f_a, f_b)
+            f(ka + 1:ka + na) = f(ka + 1:ka + na) + f_a
+            f(kb + 1:kb + nb) = f(kb + 1:kb + nb) + f_b
+            deallocate (f_a, f_b)
+         end associate
+      end do
+   end procedure add_torsion_forces
+
+   !> The torsion springs' exact tangents (ffrf_mbs_torsion_spring).
+   module procedure add_torsion_tangents
+      type(torsion_state_t) :: state
+      real(dp), allocatable :: K(:, :), C(:, :)
+      integer, allocatable :: rows(:)
+      integer :: s, ka, kb, na, nb, i
+      if (.not. allocated(self%torsion_springs)) return
+      do s = 1, size(self%torsion_springs)
+         associate (spring => self%torsion_springs(s))
+            state = self%torsion_state(s, q, v)
+            call check_torsion_state(spring%name, state, t, error)
+            if (allocated(error)) return
+            ka = self%bodies(spring%body_a)%offset
+            kb = self%bodies(spring%body_b)%offset
+            na = self%bodies(spring%body_a)%body%num_coordinates
+            nb = self%bodies(spring%body_b)%body%num_coordinates
+            allocate (K(na + nb, na + nb), C(na + nb, na + nb))
+            call torsion_tangents(spring, state, self%bodies(spring%body_a)%body, &
+               q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(spring%body_b)%body, &
+               q(kb + 1:kb + nb), v(kb + 1:kb + nb), K, C)
+            rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+            K_t(rows, rows) = K_t(rows, rows) + K
+            C_t(rows, rows) = C_t(rows, rows) + C
+            deallocate (K, C)
+         end associate
+      end do
+   end procedure add_torsion_tangents
+
+   !> The angle at an accepted step becomes each torsion spring's unwrapping reference.
+   module procedure update_torsion_references
+      type(torsion_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      if (.not. allocated(self%torsion_springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%torsion_springs)
+         state = self%torsion_state(s, q, zero)
+         self%torsion_springs(s)%reference = state%angle
+      end do
+   end procedure update_torsion_references
+
+   !> A torsion spring needs a finite torque.
+   subroutine check_torsion_state(name, state, t, error)
+      character(len=*), intent(in) :: name
+      type(torsion_state_t), intent(in) :: state
+      real(dp), intent(in) :: t
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. ieee_is_finite(state%torque)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'torsion spring "' // trim(name) // '": torque ' // to_str(state%torque) // &
+         ' N m at t = ' // to_str(t) // ' s (angle ' // to_str(state%angle) // ' rad); a ' // &
+         'torsion spring needs finite joint frames')
+   end subroutine check_torsion_state
+
+end submodule ffrf_mbs_mechanism_torsion
