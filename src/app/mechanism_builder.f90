@@ -52,6 +52,7 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
    use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, timed_load_t, &
       LOAD_FORCE, &
@@ -119,7 +120,7 @@ contains
       integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
-      integer, allocatable :: ends(:, :), spring_ends(:, :)
+      integer, allocatable :: ends(:, :), spring_ends(:, :), bushing_ends(:, :)
       integer :: nb, k, ground_index
 
       nb = size(case%bodies)
@@ -139,7 +140,7 @@ contains
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
+      call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends, bushing_ends)
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
@@ -159,6 +160,8 @@ contains
          mech, error)
       if (.not. allocated(error)) call add_drivers(resolved, mech, error)
       if (.not. allocated(error)) call add_torsion_springs(resolved, mech, error)
+      if (.not. allocated(error)) call add_bushings(resolved, bodies, ground_index, &
+         bushing_ends, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
@@ -243,7 +246,7 @@ contains
    !> the starting pose (global) is its marker1's &marker orientation when given, else its
    !> marker2's, else frame_from_axis(axis) (the input checked that axis is then the frame's
    !> z axis: ffrf_input_case).
-   subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
+   subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends, bushing_ends)
       !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
@@ -254,6 +257,9 @@ contains
       !> Markers of the two ends of each &spring (a rigid body's or the ground's point with the
       !> body's axes)
       integer, allocatable, intent(out) :: spring_ends(:, :)
+      !> Markers of the two ends of each &bushing (as spring_ends; a &marker orientation gives
+      !> the frame)
+      integer, allocatable, intent(out) :: bushing_ends(:, :)
       real(dp) :: frame(3, 3)
       logical :: given
       integer :: j, l, e
@@ -285,6 +291,15 @@ contains
             do e = 1, 2
                call marker_of(springs(l)%body(e), springs(l)%marker(e), identity3(), .false., &
                   spring_ends(e, l), .true.)
+            end do
+         end do
+      end associate
+      associate (bushings => resolved%mechanism%bushings)
+         allocate (bushing_ends(2, size(bushings)), source=0)
+         do l = 1, size(bushings)
+            do e = 1, 2
+               call marker_of(bushings(l)%body(e), bushings(l)%marker(e), identity3(), &
+                  .false., bushing_ends(e, l), .true.)
             end do
          end do
       end associate
@@ -624,6 +639,36 @@ contains
          end associate
       end do
    end subroutine add_drivers
+
+   !> The &bushing groups as bushings of the mechanism (ffrf_mbs_bushing).
+   subroutine add_bushings(resolved, bodies, ground_index, bushing_ends, mech, error)
+      !> The case resolved (bushings: model body indices, constants)
+      type(model_t), intent(in) :: resolved
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index
+      !> Markers of the bushings' ends (resolve_markers)
+      integer, intent(in) :: bushing_ends(:, :)
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      type(bushing_t) :: bushing
+      integer :: s
+      associate (bushings => resolved%mechanism%bushings)
+         do s = 1, size(bushings)
+            bushing%name = bushings(s)%name
+            bushing%body_a = mechanism_index(bodies, ground_index, bushings(s)%body(1))
+            bushing%marker_a = bushing_ends(1, s)
+            bushing%body_b = mechanism_index(bodies, ground_index, bushings(s)%body(2))
+            bushing%marker_b = bushing_ends(2, s)
+            bushing%stiffness = bushings(s)%stiffness
+            bushing%damping = bushings(s)%damping
+            call mech%add_bushing(bushing, error)
+            if (allocated(error)) then
+               call add_context(error, '&bushing "' // trim(bushings(s)%name) // '"')
+               return
+            end if
+         end do
+      end associate
+   end subroutine add_bushings
 
    !> The &torsion_spring groups as torsion spring-dampers about the mechanism's joints
    !> (ffrf_mbs_torsion_spring; the mechanism's joints are the &joint groups in order).

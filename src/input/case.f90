@@ -20,7 +20,7 @@ module ffrf_input_case
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys, &
-      torsion_spring_keys
+      torsion_spring_keys, bushing_keys
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME, &
@@ -60,7 +60,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(15))
+      allocate (groups(16))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -76,6 +76,7 @@ contains
       call set(13, 'spring', .true., spring_keys())
       call set(14, 'driver', .true., driver_keys())
       call set(15, 'torsion_spring', .true., torsion_spring_keys())
+      call set(16, 'bushing', .true., bushing_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -469,6 +470,15 @@ contains
                text = text // ' /' // nl
             end associate
          end do
+         do k = 1, size(bushing_names(mech))
+            associate (x => mech%bushings(k))
+               text = text // '&bushing name = ''' // nml_string(x%name) // ''', body1 = ''' // &
+                  nml_string(x%body1) // ''', marker1 = ''' // nml_string(x%marker1) // &
+                  ''', body2 = ''' // nml_string(x%body2) // ''', marker2 = ''' // &
+                  nml_string(x%marker2) // ''', stiffness = ' // vector_text(x%stiffness, 17) // &
+                  ', damping = ' // vector_text(x%damping, 17) // ' /' // nl
+            end associate
+         end do
          do k = 1, driver_count(mech)
             associate (x => mech%drivers(k))
                text = text // '&driver name = ''' // nml_string(x%name) // ''', joint = ''' // &
@@ -751,6 +761,15 @@ contains
                if (allocated(error)) return
             end associate
          end do
+         do k = 1, size(bushing_names(mech))
+            associate (x => mech%bushings(k))
+               call check_marker(case, src%at('bushing', k, 'body1') // ': &bushing "' // &
+                  trim(x%name) // '"', x%body1, x%marker1, error)
+               if (.not. allocated(error)) call check_marker(case, src%at('bushing', k, &
+                  'body2') // ': &bushing "' // trim(x%name) // '"', x%body2, x%marker2, error)
+               if (allocated(error)) return
+            end associate
+         end do
          call check_sensor_names(src, case, error)
          if (allocated(error)) return
          if (len_trim(mech%mechanism%crank) > 0) then
@@ -904,7 +923,10 @@ contains
                      trim(x%joint) // ''' /')
                end if
                if (.not. allocated(error) .and. len_trim(x%spring) > 0) then
-                  if (trim(x%type) == 'torsion_spring') then
+                  if (trim(x%type) == 'bushing') then
+                     call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
+                        trim(x%name) // '"', 'bushing', x%spring, bushing_names(mech), error)
+                  else if (trim(x%type) == 'torsion_spring') then
                      call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
                         trim(x%name) // '"', 'torsion_spring', x%spring, &
                         torsion_spring_names(mech), error)
@@ -949,6 +971,14 @@ contains
       allocate (names(0))
       if (allocated(mech%torsion_springs)) names = mech%torsion_springs%name
    end function torsion_spring_names
+
+   !> Names of the &bushing groups (none for a case built in memory without them).
+   pure function bushing_names(mech) result(names)
+      type(mechanism_case_input_t), intent(in) :: mech
+      character(len=64), allocatable :: names(:)
+      allocate (names(0))
+      if (allocated(mech%bushings)) names = mech%bushings%name
+   end function bushing_names
 
    !> body is 'ground' or a &body, and marker one of its markers (module header).
    subroutine check_marker(case, where, body, marker, error)

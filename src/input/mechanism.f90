@@ -13,7 +13,7 @@ module ffrf_input_mechanism
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
-   public :: spring_input_t, torsion_spring_input_t, time_law_input_t, driver_input_t, law_function
+   public :: spring_input_t, torsion_spring_input_t, bushing_input_t, time_law_input_t, driver_input_t, law_function
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
    public :: load_choices, selection_choices
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
@@ -174,6 +174,16 @@ module ffrf_input_mechanism
       logical :: free_angle_given = .false.
    end type torsion_spring_input_t
 
+   !> A 6-dof linear bushing between marker1 of body1 and marker2 of body2 (&bushing;
+   !> ffrf_mbs_bushing): F = -K d - C d', M = -K_r phi - C_r phi' in marker1's frame.
+   type :: bushing_input_t
+      character(len=64) :: name = ''
+      !> Bodies ('ground' for the ground) and markers, as &spring; two different bodies
+      character(len=64) :: body1 = '', marker1 = '', body2 = '', marker2 = ''
+      !> Stiffness kx, ky, kz (N/m), krx, kry, krz (N m/rad) and damping (N s/m, N m s/rad)
+      real(dp) :: stiffness(6) = 0.0_dp, damping(6) = 0.0_dp
+   end type bushing_input_t
+
    !> A sensor: a named measurement written every recorded step under /sensors/<name> (&sensor;
    !> ffrf_mbs_sensors lists the types, docs/sensors.md the results).
    type :: sensor_input_t
@@ -191,7 +201,7 @@ module ffrf_input_mechanism
       !> Mesh node of the body (node types: its Gmsh node tag; 0: none)
       integer :: node = 0
       !> Spring name (type spring: length, rate, tension of a &spring; type torsion_spring:
-      !> angle, rate, torque of a &torsion_spring)
+      !> angle, rate, torque of a &torsion_spring; type bushing: a &bushing)
       character(len=64) :: spring = ''
    end type sensor_input_t
 
@@ -238,6 +248,8 @@ module ffrf_input_mechanism
       type(spring_input_t), allocatable :: springs(:)
       !> Torsion spring-dampers (&torsion_spring), in input order
       type(torsion_spring_input_t), allocatable :: torsion_springs(:)
+      !> Bushings (&bushing), in input order
+      type(bushing_input_t), allocatable :: bushings(:)
       !> Drivers of joints (&driver), in input order
       type(driver_input_t), allocatable :: drivers(:)
       !> Sensors (&sensor), in input order

@@ -10,6 +10,8 @@
 !>                free_length [m]                                             (repeatable)
 !>   &torsion_spring  name, joint, stiffness [N m/rad], damping [N m s/rad], free_angle [rad]
 !>                                                                            (repeatable)
+!>   &bushing     name, body1, marker1, body2, marker2, stiffness (6: kx, ky, kz [N/m], krx,
+!>                kry, krz [N m/rad]), damping (6: [N s/m], [N m s/rad])     (repeatable)
 !>   &driver      name, joint, quantity (coordinate|rate), offset [rad or m], and the law keys
 !>                                                                            (repeatable)
 !>   law keys of &driver and of a force or torque &load (docs/mechanisms.md "Laws over time"):
@@ -65,6 +67,8 @@
 !>   &torsion_spring  joint: a revolute or cylindrical &joint (checked by ffrf_input_case);
 !>               stiffness in [0, 1e12] N m/rad; damping in [0, 1e12] N m s/rad; free_angle in
 !>               [-1e6, 1e6] rad (absent: the joint angle at the start); name unique
+!>   &bushing    stiffness, damping: 6 reals each in [0, 1e12] (default 0); body1 /= body2;
+!>               name unique
 !>   &pressure   bore, stroke in (0, 10] m; conrod_length in (0, 100] m (> stroke/2);
 !>               compression_ratio in (1, 1000]; intake_pressure, exhaust_pressure in (0, 1e9] Pa;
 !>               polytropic_exponent in (1, 3]; wiebe_a in (0, 100]; wiebe_m in [0, 100];
@@ -94,7 +98,7 @@ module ffrf_input_nml_mechanism
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
-      torsion_spring_input_t, &
+      torsion_spring_input_t, bushing_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
@@ -109,7 +113,7 @@ module ffrf_input_nml_mechanism
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
-      model_keys, spring_keys, driver_keys, torsion_spring_keys
+      model_keys, spring_keys, driver_keys, torsion_spring_keys, bushing_keys
 
    !> The law keys, for messages (module header)
    character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
@@ -257,6 +261,15 @@ contains
          real_key('free_angle', -1.0e6_dp, 1.0e6_dp, 'rad')]
    end function torsion_spring_keys
 
+   !> Keys of &bushing (module header).
+   function bushing_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('body1', 64), string_key('marker1', 64), &
+         string_key('body2', 64), string_key('marker2', 64), &
+         real_key('stiffness', 0.0_dp, 1.0e12_dp, 'N/m, N m/rad', count=6), &
+         real_key('damping', 0.0_dp, 1.0e12_dp, 'N s/m, N m s/rad', count=6)]
+   end function bushing_keys
+
    subroutine read_mechanism_groups(unit, src, input, error)
       integer, intent(in) :: unit
       !> The checked case text (FILE:LINE of the keys)
@@ -270,6 +283,7 @@ contains
       if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
       if (.not. allocated(error)) call read_torsion_spring_groups(unit, src, &
          input%torsion_springs, error)
+      if (.not. allocated(error)) call read_bushing_groups(unit, src, input%bushings, error)
       if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
@@ -745,6 +759,57 @@ contains
             merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
       end do
    end subroutine read_torsion_spring_groups
+
+   !> The &bushing groups (module header), in input order.
+   subroutine read_bushing_groups(unit, src, bushings, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(bushing_input_t) :: defaults
+      character(len=64) :: name, body1, marker1, body2, marker2
+      real(dp) :: stiffness(6), damping(6)
+      integer :: stat, k
+      character(len=512) :: msg
+      namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
+      allocate (bushings(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         body1 = defaults%body1
+         marker1 = defaults%marker1
+         body2 = defaults%body2
+         marker2 = defaults%marker2
+         stiffness = defaults%stiffness
+         damping = defaults%damping
+         read (unit, nml=bushing, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(bushings) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'bushing', k, msg, 'name, body1, marker1, body2, ' &
+               // 'marker2, stiffness, damping')
+            return
+         end if
+         if (len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, '') // &
+               ': name is missing')
+         else if (any(bushings%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, 'name') // &
+               ': the name is used twice; bushing names must be unique')
+         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
+            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, '') // ' "' // &
+               trim(name) // '": body1, marker1, body2 and marker2 are required')
+         else if (body1 == body2) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, 'body2') // &
+               ': &bushing "' // trim(name) // '": body1 and body2 are both "' // trim(body1) &
+               // '"; a bushing connects two different bodies')
+         end if
+         if (allocated(error)) return
+         bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
+            stiffness, damping)]
+      end do
+   end subroutine read_bushing_groups
 
    subroutine read_pressure_group(unit, input, table_file, error)
       integer, intent(in) :: unit

@@ -77,6 +77,7 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
    use ffrf_mbs_torsion_spring, only: torsion_spring_t, torsion_state_t
+   use ffrf_mbs_bushing, only: bushing_t, bushing_state_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    implicit none
    private
@@ -125,6 +126,8 @@ module ffrf_mbs_mechanism
       !> Torsion spring-dampers about joints (ffrf_mbs_torsion_spring), order of
       !> add_torsion_spring
       type(torsion_spring_t), allocatable :: torsion_springs(:)
+      !> 6-dof bushings between markers (ffrf_mbs_bushing), order of add_bushing
+      type(bushing_t), allocatable :: bushings(:)
       !> Drivers of joints (ffrf_mbs_joint_driver), order of add_driver; rows after the joints'
       type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
@@ -170,6 +173,12 @@ module ffrf_mbs_mechanism
       procedure :: torsion_energy => mechanism_torsion_energy
       !> Start of the torsion springs: unwrapping references and the free angles not given
       procedure :: set_torsion_start => mechanism_set_torsion_start
+      !> Add a 6-dof bushing between two markers of two bodies
+      procedure :: add_bushing => mechanism_add_bushing
+      !> Deflections, rates and element force of bushing s at a state
+      procedure :: bushing_state => mechanism_bushing_state
+      !> Potential energy of the bushings, sum e^T K e / 2 (J)
+      procedure :: bushing_energy => mechanism_bushing_energy
       !> Choose the rotor body (rotor angle and speed for the loads)
       procedure :: set_rotor => mechanism_set_rotor
       !> Set the unwrapping reference of the rotor angle from q (near a known angle)
@@ -360,6 +369,46 @@ module ffrf_mbs_mechanism
          real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
          type(error_t), allocatable, intent(out) :: error
       end subroutine add_torsion_tangents
+
+      !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
+      !> Refused: an unknown body or marker, both ends on one body, a negative entry.
+      module subroutine mechanism_add_bushing(self, bushing, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The bushing
+         type(bushing_t), intent(in) :: bushing
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_bushing
+
+      !> Deflections e = [d; phi], rates and element force K e + C e' of bushing s at (q, v).
+      module function mechanism_bushing_state(self, s, q, v) result(state)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Bushing number (order of add_bushing)
+         integer, intent(in) :: s
+         !> Coordinates and velocities, n
+         real(dp), intent(in) :: q(:), v(:)
+         type(bushing_state_t) :: state
+      end function mechanism_bushing_state
+
+      !> Potential energy of the bushings, sum e^T K e / 2 (J).
+      module function mechanism_bushing_energy(self, q) result(energy)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         real(dp) :: energy
+      end function mechanism_bushing_energy
+
+      !> Add the bushings' generalized forces to f (present), or their tangents to K_t (-df/dq)
+      !> and C_t (-df/dq') (both present); a non-finite force is a numeric error.
+      module subroutine add_bushing_terms(self, q, v, t, error, f, K_t, C_t)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         type(error_t), allocatable, intent(out) :: error
+         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      end subroutine add_bushing_terms
 
       !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
       module subroutine update_torsion_references(self, q)

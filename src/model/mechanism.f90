@@ -20,7 +20,7 @@ module ffrf_model_mechanism
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
-   public :: model_spring_t, model_driver_t, model_torsion_spring_t
+   public :: model_spring_t, model_driver_t, model_torsion_spring_t, model_bushing_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -104,6 +104,15 @@ module ffrf_model_mechanism
       logical :: free_angle_given = .false.
    end type model_torsion_spring_t
 
+   !> A bushing (&bushing), resolved (ffrf_mbs_bushing).
+   type :: model_bushing_t
+      character(len=64) :: name = ''
+      !> Model body indices of its two ends (0: the ground) and their marker handles
+      integer :: body(2) = 0, marker(2) = 0
+      !> Stiffness (N/m, N m/rad) and damping (N s/m, N m s/rad)
+      real(dp) :: stiffness(6) = 0.0_dp, damping(6) = 0.0_dp
+   end type model_bushing_t
+
    !> A sensor (&sensor), resolved: its kind (SENSOR_* of ffrf_mbs_sensors) and what it measures.
    type :: model_sensor_t
       character(len=64) :: name = ''
@@ -115,8 +124,8 @@ module ffrf_model_mechanism
       integer :: joint = 0
       !> Mesh node (Gmsh node tag; 0: none)
       integer :: node = 0
-      !> Spring number (&spring order, or &torsion_spring order for a torsion_spring sensor;
-      !> 0: none)
+      !> Spring number (&spring order, or the &torsion_spring or &bushing order for a
+      !> torsion_spring or bushing sensor; 0: none)
       integer :: spring = 0
    end type model_sensor_t
 
@@ -129,6 +138,8 @@ module ffrf_model_mechanism
       type(model_spring_t), allocatable :: springs(:)
       !> Torsion spring-dampers (&torsion_spring), input order
       type(model_torsion_spring_t), allocatable :: torsion_springs(:)
+      !> Bushings (&bushing), input order
+      type(model_bushing_t), allocatable :: bushings(:)
       !> Drivers of joints (&driver), input order
       type(model_driver_t), allocatable :: drivers(:)
       !> Sensors (&sensor), input order

@@ -115,7 +115,7 @@ contains
       if (.not. case%is_mechanism) then
          allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
             model%mechanism%loads(0), model%mechanism%sensors(0), model%mechanism%springs(0), &
-            model%mechanism%torsion_springs(0), &
+            model%mechanism%torsion_springs(0), model%mechanism%bushings(0), &
             model%mechanism%drivers(0))
          return
       end if
@@ -168,6 +168,7 @@ contains
          end do
          call resolve_springs(error)
          if (.not. allocated(error)) call resolve_torsion_springs(error)
+         if (.not. allocated(error)) call resolve_bushings(error)
          if (.not. allocated(error)) call resolve_drivers(error)
          if (allocated(error)) return
          allocate (m%sensors(0))
@@ -190,7 +191,9 @@ contains
                      trim(given%body) // '" is not a &body')
                end if
                if (.not. allocated(error) .and. len_trim(given%spring) > 0) then
-                  if (trim(given%type) == 'torsion_spring') then
+                  if (trim(given%type) == 'bushing') then
+                     sensor%spring = findloc(m%bushings%name, given%spring, dim=1)
+                  else if (trim(given%type) == 'torsion_spring') then
                      sensor%spring = findloc(m%torsion_springs%name, given%spring, dim=1)
                   else
                      sensor%spring = findloc(m%springs%name, given%spring, dim=1)
@@ -285,6 +288,32 @@ contains
             end associate
          end do
       end subroutine resolve_springs
+
+      !> The &bushing groups: names to model body indices and marker handles.
+      subroutine resolve_bushings(error)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: s
+         allocate (model%mechanism%bushings(0))
+         if (.not. allocated(case%mechanism%bushings)) return
+         deallocate (model%mechanism%bushings)
+         allocate (model%mechanism%bushings(size(case%mechanism%bushings)))
+         do s = 1, size(case%mechanism%bushings)
+            associate (bushing => model%mechanism%bushings(s), &
+                  given => case%mechanism%bushings(s))
+               bushing%name = given%name
+               bushing%stiffness = given%stiffness
+               bushing%damping = given%damping
+               call resolve_end(given%body1, given%marker1, bushing%body(1), &
+                  bushing%marker(1), error)
+               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
+                  bushing%body(2), bushing%marker(2), error)
+               if (allocated(error)) then
+                  call add_context(error, '&bushing "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+      end subroutine resolve_bushings
 
       !> The &torsion_spring groups: joint names to joint numbers.
       subroutine resolve_torsion_springs(error)

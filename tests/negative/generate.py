@@ -516,6 +516,7 @@ for _group, _keys in {
         'spring': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping '
                   'r:free_length',
         'torsion_spring': 's:name s:joint r:stiffness r:damping r:free_angle',
+        'bushing': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping',
         'pressure': 'r:bore r:stroke r:conrod_length r:compression_ratio r:intake_pressure '
                     'r:exhaust_pressure r:polytropic_exponent r:wiebe_a r:wiebe_m '
                     'r:combustion_start_deg r:combustion_duration_deg r:heat_per_cycle '

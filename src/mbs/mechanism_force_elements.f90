@@ -1,12 +1,15 @@
-!> Torsion spring-dampers of ffrf_mbs_mechanism (a submodule): adding them about a joint, their
-!> state, potential energy, unwrapping references, generalized forces and exact tangents
-!> (ffrf_mbs_torsion_spring; docs/mechanisms.md "Torsion springs").
-submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_torsion
+!> Force elements of ffrf_mbs_mechanism beyond the spring-damper (a submodule): torsion
+!> spring-dampers (adding them about a joint, their state, potential energy, unwrapping
+!> references, generalized forces and exact tangents; ffrf_mbs_torsion_spring,
+!> docs/mechanisms.md "Torsion springs") and bushings (ffrf_mbs_bushing, docs/mechanisms.md
+!> "Bushings").
+submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_force_elements
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_torsion_spring, only: torsion_evaluate, torsion_generalized_forces, &
       torsion_tangents
+   use ffrf_mbs_bushing, only: bushing_evaluate, bushing_generalized_forces, bushing_tangents
    implicit none
 
 contains
@@ -160,6 +163,107 @@ contains
       end do
    end procedure update_torsion_references
 
+   !> Add a copy of a bushing between two markers of two bodies.
+   module procedure mechanism_add_bushing
+      character(len=:), allocatable :: where
+      integer :: nb
+      where = 'mechanism: bushing "' // trim(bushing%name) // '"'
+      nb = 0
+      if (allocated(self%bodies)) nb = size(self%bodies)
+      if (min(bushing%body_a, bushing%body_b) < 1 .or. max(bushing%body_a, bushing%body_b) &
+         > nb) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': the mechanism has no body ' // &
+            to_str(bushing%body_a) // ' or ' // to_str(bushing%body_b) // ' (' // to_str(nb) &
+            // ' bodies)')
+      else if (bushing%body_a == bushing%body_b) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': both markers are on body "' // &
+            self%bodies(bushing%body_a)%name // '"; a bushing connects two different bodies')
+      else if (bushing%marker_a < 1 .or. bushing%marker_a > &
+         self%bodies(bushing%body_a)%body%num_markers .or. bushing%marker_b < 1 .or. &
+         bushing%marker_b > self%bodies(bushing%body_b)%body%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': no marker ' // &
+            to_str(bushing%marker_a) // ' or ' // to_str(bushing%marker_b) // &
+            ' on its bodies')
+      else if (.not. (all(bushing%stiffness >= 0.0_dp) .and. &
+         all(bushing%damping >= 0.0_dp))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': a negative stiffness or ' // &
+            'damping entry; all six of each must be >= 0')
+      end if
+      if (allocated(error)) return
+      if (.not. allocated(self%bushings)) allocate (self%bushings(0))
+      self%bushings = [self%bushings, bushing]
+   end procedure mechanism_add_bushing
+
+   !> Deflections, rates and element force of bushing s at (q, v).
+   module procedure mechanism_bushing_state
+      integer :: ka, kb, na, nb
+      associate (bushing => self%bushings(s))
+         ka = self%bodies(bushing%body_a)%offset
+         kb = self%bodies(bushing%body_b)%offset
+         na = self%bodies(bushing%body_a)%body%num_coordinates
+         nb = self%bodies(bushing%body_b)%body%num_coordinates
+         state = bushing_evaluate(bushing, self%bodies(bushing%body_a)%body, &
+            q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(bushing%body_b)%body, &
+            q(kb + 1:kb + nb), v(kb + 1:kb + nb))
+      end associate
+   end procedure mechanism_bushing_state
+
+   !> Potential energy of the bushings, sum e^T K e / 2 (J).
+   module procedure mechanism_bushing_energy
+      type(bushing_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      energy = 0.0_dp
+      if (.not. allocated(self%bushings)) return
+      zero = 0.0_dp
+      do s = 1, size(self%bushings)
+         state = self%bushing_state(s, q, zero)
+         energy = energy + 0.5_dp * sum(self%bushings(s)%stiffness * state%deflection**2)
+      end do
+   end procedure mechanism_bushing_energy
+
+   !> The bushings' generalized forces (f present) or tangents (K_t, C_t present;
+   !> ffrf_mbs_bushing).
+   module procedure add_bushing_terms
+      type(bushing_state_t) :: state
+      real(dp), allocatable :: f_a(:), f_b(:), K(:, :), C(:, :)
+      integer, allocatable :: rows(:)
+      integer :: s, ka, kb, na, nb, i
+      if (.not. allocated(self%bushings)) return
+      do s = 1, size(self%bushings)
+         associate (bushing => self%bushings(s), body_a => self%bodies(self%bushings(s)%body_a), &
+               body_b => self%bodies(self%bushings(s)%body_b))
+            state = self%bushing_state(s, q, v)
+            if (.not. all(ieee_is_finite(state%force))) then
+               call fatal_error(error, FFRF_NUMERIC_ERROR, 'bushing "' // trim(bushing%name) &
+                  // '": force not finite at t = ' // to_str(t) // ' s; a bushing needs ' // &
+                  'finite marker frames')
+               return
+            end if
+            ka = body_a%offset
+            kb = body_b%offset
+            na = body_a%body%num_coordinates
+            nb = body_b%body%num_coordinates
+            rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+            if (present(K_t) .and. present(C_t)) then
+               allocate (K(na + nb, na + nb), C(na + nb, na + nb))
+               call bushing_tangents(bushing, body_a%body, q(ka + 1:ka + na), &
+                  v(ka + 1:ka + na), body_b%body, q(kb + 1:kb + nb), v(kb + 1:kb + nb), K, C)
+               K_t(rows, rows) = K_t(rows, rows) + K
+               C_t(rows, rows) = C_t(rows, rows) + C
+               deallocate (K, C)
+            else if (present(f)) then
+               allocate (f_a(na), f_b(nb))
+               call bushing_generalized_forces(bushing, body_a%body, q(ka + 1:ka + na), &
+                  v(ka + 1:ka + na), body_b%body, q(kb + 1:kb + nb), v(kb + 1:kb + nb), &
+                  f_a, f_b)
+               f(rows) = f(rows) + [f_a, f_b]
+               deallocate (f_a, f_b)
+            end if
+         end associate
+      end do
+   end procedure add_bushing_terms
+
    !> A torsion spring needs a finite torque.
    subroutine check_torsion_state(name, state, t, error)
       character(len=*), intent(in) :: name
@@ -172,4 +276,4 @@ contains
          'torsion spring needs finite joint frames')
    end subroutine check_torsion_state
 
-end submodule ffrf_mbs_mechanism_torsion
+end submodule ffrf_mbs_mechanism_force_elements
