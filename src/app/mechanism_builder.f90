@@ -51,7 +51,6 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
-   use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_bushing, only: bushing_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, timed_load_t, &
@@ -159,8 +158,7 @@ contains
       if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
          mech, error)
       if (.not. allocated(error)) call add_drivers(resolved, mech, error)
-      if (.not. allocated(error)) call add_torsion_springs(resolved, mech, error)
-      if (.not. allocated(error)) call add_bushings(resolved, bodies, ground_index, &
+      if (.not. allocated(error)) call add_force_elements(resolved, bodies, ground_index, &
          bushing_ends, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
@@ -297,10 +295,10 @@ contains
       associate (bushings => resolved%mechanism%bushings)
          allocate (bushing_ends(2, size(bushings)), source=0)
          do l = 1, size(bushings)
-            do e = 1, 2
-               call marker_of(bushings(l)%body(e), bushings(l)%marker(e), identity3(), &
-                  .false., bushing_ends(e, l), .true.)
-            end do
+            call marker_of(bushings(l)%body_a, bushings(l)%marker_a, identity3(), .false., &
+               bushing_ends(1, l), .true.)
+            call marker_of(bushings(l)%body_b, bushings(l)%marker_b, identity3(), .false., &
+               bushing_ends(2, l), .true.)
          end do
       end associate
 
@@ -640,9 +638,11 @@ contains
       end do
    end subroutine add_drivers
 
-   !> The &bushing groups as bushings of the mechanism (ffrf_mbs_bushing).
-   subroutine add_bushings(resolved, bodies, ground_index, bushing_ends, mech, error)
-      !> The case resolved (bushings: model body indices, constants)
+   !> The &bushing and &torsion_spring groups as force elements of the mechanism
+   !> (ffrf_mbs_bushing: model body indices and marker handles become mechanism bodies and the
+   !> ends' markers; ffrf_mbs_torsion_spring: the mechanism's joints are the &joint groups in
+   !> order).
+   subroutine add_force_elements(resolved, bodies, ground_index, bushing_ends, mech, error)
       type(model_t), intent(in) :: resolved
       type(built_body_t), intent(in) :: bodies(:)
       integer, intent(in) :: ground_index
@@ -652,48 +652,27 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(bushing_t) :: bushing
       integer :: s
-      associate (bushings => resolved%mechanism%bushings)
-         do s = 1, size(bushings)
-            bushing%name = bushings(s)%name
-            bushing%body_a = mechanism_index(bodies, ground_index, bushings(s)%body(1))
-            bushing%marker_a = bushing_ends(1, s)
-            bushing%body_b = mechanism_index(bodies, ground_index, bushings(s)%body(2))
-            bushing%marker_b = bushing_ends(2, s)
-            bushing%stiffness = bushings(s)%stiffness
-            bushing%damping = bushings(s)%damping
-            call mech%add_bushing(bushing, error)
-            if (allocated(error)) then
-               call add_context(error, '&bushing "' // trim(bushings(s)%name) // '"')
-               return
-            end if
-         end do
-      end associate
-   end subroutine add_bushings
-
-   !> The &torsion_spring groups as torsion spring-dampers about the mechanism's joints
-   !> (ffrf_mbs_torsion_spring; the mechanism's joints are the &joint groups in order).
-   subroutine add_torsion_springs(resolved, mech, error)
-      type(model_t), intent(in) :: resolved
-      type(mechanism_t), intent(inout) :: mech
-      type(error_t), allocatable, intent(out) :: error
-      type(torsion_spring_t) :: spring
-      integer :: s
-      do s = 1, size(resolved%mechanism%torsion_springs)
-         associate (given => resolved%mechanism%torsion_springs(s))
-            spring%name = given%name
-            spring%joint = given%joint
-            spring%stiffness = given%stiffness
-            spring%damping = given%damping
-            spring%free_angle = given%free_angle
-            spring%free_angle_given = given%free_angle_given
-            call mech%add_torsion_spring(spring, error)
-            if (allocated(error)) then
-               call add_context(error, '&torsion_spring "' // trim(given%name) // '"')
-               return
-            end if
-         end associate
+      do s = 1, size(resolved%mechanism%bushings)
+         bushing = resolved%mechanism%bushings(s)
+         bushing%body_a = mechanism_index(bodies, ground_index, bushing%body_a)
+         bushing%body_b = mechanism_index(bodies, ground_index, bushing%body_b)
+         bushing%marker_a = bushing_ends(1, s)
+         bushing%marker_b = bushing_ends(2, s)
+         call mech%add_bushing(bushing, error)
+         if (allocated(error)) then
+            call add_context(error, '&bushing "' // trim(bushing%name) // '"')
+            return
+         end if
       end do
-   end subroutine add_torsion_springs
+      do s = 1, size(resolved%mechanism%torsion_springs)
+         call mech%add_torsion_spring(resolved%mechanism%torsion_springs(s), error)
+         if (allocated(error)) then
+            call add_context(error, '&torsion_spring "' // &
+               trim(resolved%mechanism%torsion_springs(s)%name) // '"')
+            return
+         end if
+      end do
+   end subroutine add_force_elements
 
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
       !> The case resolved (loads: kinds, parameters, model body indices)

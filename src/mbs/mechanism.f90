@@ -351,24 +351,16 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:)
       end subroutine mechanism_set_torsion_start
 
-      !> Add the torsion springs' generalized forces to f; a non-finite torque is a numeric
+      !> Add the torsion springs' generalized forces to f (present), or their exact tangents
+      !> to K_t (-df/dq) and C_t (-df/dq') (both present); a non-finite torque is a numeric
       !> error.
-      module subroutine add_torsion_forces(self, q, v, t, f, error)
+      module subroutine add_torsion_terms(self, q, v, t, error, f, K_t, C_t)
          type(mechanism_t), intent(in) :: self
          real(dp), intent(in) :: q(:), v(:)
          real(dp), intent(in) :: t
-         real(dp), intent(inout) :: f(:)
          type(error_t), allocatable, intent(out) :: error
-      end subroutine add_torsion_forces
-
-      !> Add the torsion springs' exact tangents to K_t (-df/dq) and C_t (-df/dq').
-      module subroutine add_torsion_tangents(self, q, v, t, K_t, C_t, error)
-         type(mechanism_t), intent(in) :: self
-         real(dp), intent(in) :: q(:), v(:)
-         real(dp), intent(in) :: t
-         real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine add_torsion_tangents
+         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      end subroutine add_torsion_terms
 
       !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
       !> Refused: an unknown body or marker, both ends on one body, a negative entry.

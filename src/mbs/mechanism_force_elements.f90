@@ -97,58 +97,43 @@ contains
       end do
    end procedure mechanism_set_torsion_start
 
-   !> The torsion springs' generalized forces (ffrf_mbs_torsion_spring).
-   module procedure add_torsion_forces
+   !> The torsion springs' generalized forces (f present) or exact tangents (K_t, C_t present;
+   !> ffrf_mbs_torsion_spring).
+   module procedure add_torsion_terms
       type(torsion_state_t) :: state
-      real(dp), allocatable :: f_a(:), f_b(:)
-      integer :: s, ka, kb, na, nb
-      if (.not. allocated(self%torsion_springs)) return
-      do s = 1, size(self%torsion_springs)
-         associate (spring => self%torsion_springs(s))
-            state = self%torsion_state(s, q, v)
-            call check_torsion_state(spring%name, state, t, error)
-            if (allocated(error)) return
-            ka = self%bodies(spring%body_a)%offset
-            kb = self%bodies(spring%body_b)%offset
-            na = self%bodies(spring%body_a)%body%num_coordinates
-            nb = self%bodies(spring%body_b)%body%num_coordinates
-            allocate (f_a(na), f_b(nb))
-            call torsion_generalized_forces(spring, state, self%bodies(spring%body_a)%body, &
-               q(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), f_a, f_b)
-            f(ka + 1:ka + na) = f(ka + 1:ka + na) + f_a
-            f(kb + 1:kb + nb) = f(kb + 1:kb + nb) + f_b
-            deallocate (f_a, f_b)
-         end associate
-      end do
-   end procedure add_torsion_forces
-
-   !> The torsion springs' exact tangents (ffrf_mbs_torsion_spring).
-   module procedure add_torsion_tangents
-      type(torsion_state_t) :: state
-      real(dp), allocatable :: K(:, :), C(:, :)
+      real(dp), allocatable :: f_a(:), f_b(:), K(:, :), C(:, :)
       integer, allocatable :: rows(:)
-      integer :: s, ka, kb, na, nb, i
+      integer :: s, na
       if (.not. allocated(self%torsion_springs)) return
       do s = 1, size(self%torsion_springs)
-         associate (spring => self%torsion_springs(s))
+         associate (spring => self%torsion_springs(s), body_a => &
+               self%bodies(self%torsion_springs(s)%body_a)%body, &
+               body_b => self%bodies(self%torsion_springs(s)%body_b)%body)
             state = self%torsion_state(s, q, v)
-            call check_torsion_state(spring%name, state, t, error)
-            if (allocated(error)) return
-            ka = self%bodies(spring%body_a)%offset
-            kb = self%bodies(spring%body_b)%offset
-            na = self%bodies(spring%body_a)%body%num_coordinates
-            nb = self%bodies(spring%body_b)%body%num_coordinates
-            allocate (K(na + nb, na + nb), C(na + nb, na + nb))
-            call torsion_tangents(spring, state, self%bodies(spring%body_a)%body, &
-               q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(spring%body_b)%body, &
-               q(kb + 1:kb + nb), v(kb + 1:kb + nb), K, C)
-            rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
-            K_t(rows, rows) = K_t(rows, rows) + K
-            C_t(rows, rows) = C_t(rows, rows) + C
-            deallocate (K, C)
+            if (.not. ieee_is_finite(state%torque)) then
+               call fatal_error(error, FFRF_NUMERIC_ERROR, 'torsion spring "' // &
+                  trim(spring%name) // '": torque ' // to_str(state%torque) // ' N m at t = ' &
+                  // to_str(t) // ' s (angle ' // to_str(state%angle) // ' rad); a torsion ' &
+                  // 'spring needs finite joint frames')
+               return
+            end if
+            call pair_rows(self, spring%body_a, spring%body_b, rows, na)
+            if (present(K_t) .and. present(C_t)) then
+               allocate (K(size(rows), size(rows)), C(size(rows), size(rows)))
+               call torsion_tangents(spring, state, body_a, q(rows(:na)), v(rows(:na)), &
+                  body_b, q(rows(na + 1:)), v(rows(na + 1:)), K, C)
+               call add_pair_tangents(rows, K, C, K_t, C_t)
+               deallocate (K, C)
+            else if (present(f)) then
+               allocate (f_a(na), f_b(size(rows) - na))
+               call torsion_generalized_forces(spring, state, body_a, q(rows(:na)), body_b, &
+                  q(rows(na + 1:)), f_a, f_b)
+               f(rows) = f(rows) + [f_a, f_b]
+               deallocate (f_a, f_b)
+            end if
          end associate
       end do
-   end procedure add_torsion_tangents
+   end procedure add_torsion_terms
 
    !> The angle at an accepted step becomes each torsion spring's unwrapping reference.
    module procedure update_torsion_references
@@ -228,11 +213,12 @@ contains
       type(bushing_state_t) :: state
       real(dp), allocatable :: f_a(:), f_b(:), K(:, :), C(:, :)
       integer, allocatable :: rows(:)
-      integer :: s, ka, kb, na, nb, i
+      integer :: s, na
       if (.not. allocated(self%bushings)) return
       do s = 1, size(self%bushings)
-         associate (bushing => self%bushings(s), body_a => self%bodies(self%bushings(s)%body_a), &
-               body_b => self%bodies(self%bushings(s)%body_b))
+         associate (bushing => self%bushings(s), body_a => &
+               self%bodies(self%bushings(s)%body_a)%body, &
+               body_b => self%bodies(self%bushings(s)%body_b)%body)
             state = self%bushing_state(s, q, v)
             if (.not. all(ieee_is_finite(state%force))) then
                call fatal_error(error, FFRF_NUMERIC_ERROR, 'bushing "' // trim(bushing%name) &
@@ -240,23 +226,17 @@ contains
                   'finite marker frames')
                return
             end if
-            ka = body_a%offset
-            kb = body_b%offset
-            na = body_a%body%num_coordinates
-            nb = body_b%body%num_coordinates
-            rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+            call pair_rows(self, bushing%body_a, bushing%body_b, rows, na)
             if (present(K_t) .and. present(C_t)) then
-               allocate (K(na + nb, na + nb), C(na + nb, na + nb))
-               call bushing_tangents(bushing, body_a%body, q(ka + 1:ka + na), &
-                  v(ka + 1:ka + na), body_b%body, q(kb + 1:kb + nb), v(kb + 1:kb + nb), K, C)
-               K_t(rows, rows) = K_t(rows, rows) + K
-               C_t(rows, rows) = C_t(rows, rows) + C
+               allocate (K(size(rows), size(rows)), C(size(rows), size(rows)))
+               call bushing_tangents(bushing, body_a, q(rows(:na)), v(rows(:na)), body_b, &
+                  q(rows(na + 1:)), v(rows(na + 1:)), K, C)
+               call add_pair_tangents(rows, K, C, K_t, C_t)
                deallocate (K, C)
             else if (present(f)) then
-               allocate (f_a(na), f_b(nb))
-               call bushing_generalized_forces(bushing, body_a%body, q(ka + 1:ka + na), &
-                  v(ka + 1:ka + na), body_b%body, q(kb + 1:kb + nb), v(kb + 1:kb + nb), &
-                  f_a, f_b)
+               allocate (f_a(na), f_b(size(rows) - na))
+               call bushing_generalized_forces(bushing, body_a, q(rows(:na)), v(rows(:na)), &
+                  body_b, q(rows(na + 1:)), v(rows(na + 1:)), f_a, f_b)
                f(rows) = f(rows) + [f_a, f_b]
                deallocate (f_a, f_b)
             end if
@@ -264,16 +244,25 @@ contains
       end do
    end procedure add_bushing_terms
 
-   !> A torsion spring needs a finite torque.
-   subroutine check_torsion_state(name, state, t, error)
-      character(len=*), intent(in) :: name
-      type(torsion_state_t), intent(in) :: state
-      real(dp), intent(in) :: t
-      type(error_t), allocatable, intent(out) :: error
-      if (.not. ieee_is_finite(state%torque)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
-         'torsion spring "' // trim(name) // '": torque ' // to_str(state%torque) // &
-         ' N m at t = ' // to_str(t) // ' s (angle ' // to_str(state%angle) // ' rad); a ' // &
-         'torsion spring needs finite joint frames')
-   end subroutine check_torsion_state
+   !> Rows of bodies a and b in the mechanism's coordinates ([a's; b's]) and the number of a's.
+   subroutine pair_rows(self, body_a, body_b, rows, na)
+      type(mechanism_t), intent(in) :: self
+      integer, intent(in) :: body_a, body_b
+      integer, allocatable, intent(out) :: rows(:)
+      integer, intent(out) :: na
+      integer :: i
+      na = self%bodies(body_a)%body%num_coordinates
+      rows = [(self%bodies(body_a)%offset + i, i = 1, na), (self%bodies(body_b)%offset + i, &
+         i = 1, self%bodies(body_b)%body%num_coordinates)]
+   end subroutine pair_rows
+
+   !> K_t(rows, rows) += K, C_t(rows, rows) += C.
+   pure subroutine add_pair_tangents(rows, K, C, K_t, C_t)
+      integer, intent(in) :: rows(:)
+      real(dp), intent(in) :: K(:, :), C(:, :)
+      real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
+      K_t(rows, rows) = K_t(rows, rows) + K
+      C_t(rows, rows) = C_t(rows, rows) + C
+   end subroutine add_pair_tangents
 
 end submodule ffrf_mbs_mechanism_force_elements

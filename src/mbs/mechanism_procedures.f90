@@ -401,7 +401,7 @@ contains
          end do
       end if
       call add_spring_forces(self, q, v, t, f, error)
-      if (.not. allocated(error)) call add_torsion_forces(self, q, v, t, f, error)
+      if (.not. allocated(error)) call add_torsion_terms(self, q, v, t, error, f=f)
       if (.not. allocated(error)) call add_bushing_terms(self, q, v, t, error, f=f)
       if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
@@ -870,7 +870,8 @@ contains
          end do
       end if
       call add_spring_tangents(self, q, v, t, K_t, C_t, error)
-      if (.not. allocated(error)) call add_torsion_tangents(self, q, v, t, K_t, C_t, error)
+      if (.not. allocated(error)) call add_torsion_terms(self, q, v, t, error, K_t=K_t, &
+         C_t=C_t)
       if (.not. allocated(error)) call add_bushing_terms(self, q, v, t, error, K_t=K_t, &
          C_t=C_t)
       if (allocated(error)) return

@@ -26,6 +26,7 @@
 module ffrf_mbs_torsion_spring
    use ffrf_core_kinds, only: dp, pi
    use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_spring_damper, only: marker_pair_forces
    implicit none
    private
    public :: torsion_spring_t, torsion_state_t
@@ -100,12 +101,8 @@ contains
       real(dp), intent(out) :: f_a(:), f_b(:)
       real(dp) :: zero(3)
       zero = 0.0_dp
-      f_a = 0.0_dp
-      f_b = 0.0_dp
-      if (size(q_a) > 0) f_a = body_a%marker_generalized_force(q_a, spring%marker_a, zero, &
-         -state%torque * state%axis)
-      if (size(q_b) > 0) f_b = body_b%marker_generalized_force(q_b, spring%marker_b, zero, &
-         state%torque * state%axis)
+      call marker_pair_forces(body_a, q_a, spring%marker_a, body_b, q_b, spring%marker_b, &
+         zero, -state%torque * state%axis, f_a, f_b)
    end subroutine torsion_generalized_forces
 
    !> K = -dQ/dx and C = -dQ/dv over x = [q_a; q_b] (module header), exact.

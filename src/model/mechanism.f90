@@ -17,10 +17,12 @@ module ffrf_model_mechanism
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    use ffrf_mbs_time_function, only: time_function_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
-   public :: model_spring_t, model_driver_t, model_torsion_spring_t, model_bushing_t
+   public :: model_spring_t, model_driver_t
    public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
@@ -94,25 +96,6 @@ module ffrf_model_mechanism
       real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp, free_length = -1.0_dp
    end type model_spring_t
 
-   !> A torsion spring-damper (&torsion_spring), resolved (ffrf_mbs_torsion_spring).
-   type :: model_torsion_spring_t
-      character(len=64) :: name = ''
-      !> Joint number (&joint order)
-      integer :: joint = 0
-      !> Stiffness (N m/rad), damping (N m s/rad), free angle (rad; used if free_angle_given)
-      real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp, free_angle = 0.0_dp
-      logical :: free_angle_given = .false.
-   end type model_torsion_spring_t
-
-   !> A bushing (&bushing), resolved (ffrf_mbs_bushing).
-   type :: model_bushing_t
-      character(len=64) :: name = ''
-      !> Model body indices of its two ends (0: the ground) and their marker handles
-      integer :: body(2) = 0, marker(2) = 0
-      !> Stiffness (N/m, N m/rad) and damping (N s/m, N m s/rad)
-      real(dp) :: stiffness(6) = 0.0_dp, damping(6) = 0.0_dp
-   end type model_bushing_t
-
    !> A sensor (&sensor), resolved: its kind (SENSOR_* of ffrf_mbs_sensors) and what it measures.
    type :: model_sensor_t
       character(len=64) :: name = ''
@@ -136,10 +119,12 @@ module ffrf_model_mechanism
       type(model_load_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), input order
       type(model_spring_t), allocatable :: springs(:)
-      !> Torsion spring-dampers (&torsion_spring), input order
-      type(model_torsion_spring_t), allocatable :: torsion_springs(:)
-      !> Bushings (&bushing), input order
-      type(model_bushing_t), allocatable :: bushings(:)
+      !> Torsion spring-dampers (&torsion_spring), input order, as the mechanism takes them
+      !> (joint: the &joint number)
+      type(torsion_spring_t), allocatable :: torsion_springs(:)
+      !> Bushings (&bushing), input order: body_a, body_b model body indices (0: the ground),
+      !> marker_a, marker_b marker handles (module header); the builder maps both
+      type(bushing_t), allocatable :: bushings(:)
       !> Drivers of joints (&driver), input order
       type(model_driver_t), allocatable :: drivers(:)
       !> Sensors (&sensor), input order

@@ -15,8 +15,9 @@ module ffrf_model_model
    use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
    use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
-      model_torsion_spring_t, &
       load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
@@ -300,13 +301,12 @@ contains
          do s = 1, size(case%mechanism%bushings)
             associate (bushing => model%mechanism%bushings(s), &
                   given => case%mechanism%bushings(s))
-               bushing%name = given%name
-               bushing%stiffness = given%stiffness
-               bushing%damping = given%damping
-               call resolve_end(given%body1, given%marker1, bushing%body(1), &
-                  bushing%marker(1), error)
+               bushing = bushing_t(given%name, stiffness=given%stiffness, &
+                  damping=given%damping)
+               call resolve_end(given%body1, given%marker1, bushing%body_a, bushing%marker_a, &
+                  error)
                if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
-                  bushing%body(2), bushing%marker(2), error)
+                  bushing%body_b, bushing%marker_b, error)
                if (allocated(error)) then
                   call add_context(error, '&bushing "' // trim(given%name) // '"')
                   return
@@ -326,9 +326,9 @@ contains
          do s = 1, size(case%mechanism%torsion_springs)
             associate (spring => model%mechanism%torsion_springs(s), &
                   given => case%mechanism%torsion_springs(s))
-               spring = model_torsion_spring_t(given%name, &
-                  findloc(case%mechanism%joints%name, given%joint, dim=1), given%stiffness, &
-                  given%damping, given%free_angle, given%free_angle_given)
+               spring = torsion_spring_t(given%name, findloc(case%mechanism%joints%name, &
+                  given%joint, dim=1), stiffness=given%stiffness, damping=given%damping, &
+                  free_angle=given%free_angle, free_angle_given=given%free_angle_given)
                if (spring%joint == 0) then
                   call fatal_error(error, FFRF_INPUT_ERROR, '&torsion_spring "' // &
                      trim(given%name) // '": joint "' // trim(given%joint) // &

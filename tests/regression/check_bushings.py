@@ -29,6 +29,8 @@ import sys
 import h5py
 import numpy as np
 
+from oscillator_checks import crossing_period
+
 STIFFNESS = np.array([200.0, 800.0, 1800.0, 2.25, 12.5, 36.75])
 INERTIA = np.array([2.0, 2.0, 2.0, 0.01, 0.02, 0.03])
 START = 0.01
@@ -59,13 +61,11 @@ def main():
     names = ["x", "y", "z", "rx", "ry", "rz"]
     for i in range(6):
         u = sensor[:, i]
-        crossings = [t[j] - u[j] * (t[j + 1] - t[j]) / (u[j + 1] - u[j])
-                     for j in range(1, len(u) - 1) if u[j] * u[j + 1] < 0.0]
-        period = 2.0 * np.mean(np.diff(crossings))
+        period, count = crossing_period(t, u, skip_first=True)
         expected = 2.0 * math.pi / omega[i]
         amplitude = np.max(np.abs(u))
         print(f"       {names[i]}: period {period:.7f} s, closed form {expected:.7f} s "
-              f"({len(crossings)} crossings); amplitude {amplitude:.6e}, v0/w {START / omega[i]:.6e}")
+              f"({count} crossings); amplitude {amplitude:.6e}, v0/w {START / omega[i]:.6e}")
         check(abs(period / expected - 1.0) <= 1.0e-4,
               f"{names[i]}: period within 1e-4 of 2 pi / w = {expected:.6f} s "
               f"(relative difference {period / expected - 1.0:.2e})")

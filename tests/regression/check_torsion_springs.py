@@ -38,6 +38,8 @@ import sys
 import h5py
 import numpy as np
 
+from oscillator_checks import crossing_period, cumulative_trapezoid, log_decrement
+
 INERTIA, STIFFNESS, DAMPING, FREE_ANGLE = 0.02, 2.0, 0.008, -0.2
 AMPLITUDE = 0.0 - FREE_ANGLE
 SPIN = 150.0
@@ -66,10 +68,6 @@ def run(driver, case, mesh_dir, work, name, h, extra=()):
     return data
 
 
-def cumulative_trapezoid(t, y):
-    return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(t))])
-
-
 def damped(driver, case, mesh_dir, work):
     w0 = math.sqrt(STIFFNESS / INERTIA)
     zeta = DAMPING / (2.0 * INERTIA * w0)
@@ -86,16 +84,12 @@ def damped(driver, case, mesh_dir, work):
         if name != "torsion_h":
             continue
         u = phi - FREE_ANGLE
-        crossings = [t[i] - u[i] * (t[i + 1] - t[i]) / (u[i + 1] - u[i])
-                     for i in range(len(u) - 1) if u[i] * u[i + 1] < 0.0]
-        period = 2.0 * np.mean(np.diff(crossings))
-        print(f"       period from {len(crossings)} zero crossings {period:.6f} s, closed form "
+        period, count = crossing_period(t, u)
+        print(f"       period from {count} zero crossings {period:.6f} s, closed form "
               f"{2.0 * math.pi / wd:.6f} s")
         check(abs(period / (2.0 * math.pi / wd) - 1.0) <= 1.0e-4,
               f"period {period:.6f} s within 1e-4 of 2 pi / wd")
-        peaks = [abs(u[i]) for i in range(1, len(u) - 1)
-                 if abs(u[i]) >= abs(u[i - 1]) and abs(u[i]) >= abs(u[i + 1])]
-        decrement = math.log(peaks[0] / peaks[-1]) / (len(peaks) - 1)
+        decrement = log_decrement(u)
         expected = zeta * w0 * math.pi / wd
         print(f"       logarithmic decrement per half period {decrement:.6f}, closed form "
               f"{expected:.6f}")

@@ -615,26 +615,9 @@ contains
    !> (module header, system 4): K and C of the springs against central differences.
    subroutine test_springs(error)
       type(error_t), allocatable, intent(out) :: error
-      type(ground_t) :: ground
-      type(rigid_body_t) :: block
-      type(flexible_body_t) :: crank
       type(mechanism_t) :: mech
-      real(dp) :: frames(3, 3, 2)
       integer :: ig, ib, ic
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = identity3()
-      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
-         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call synthetic_crank(crank, 1.0e-3_dp, error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      call three_bodies(mech, identity3(), ig, ib, ic, error)
       if (.not. allocated(error)) call mech%add_spring(spring_of('s1', ig, 1, ib, 1, 2.0e3_dp, &
          15.0_dp, 0.2_dp), error)
       if (.not. allocated(error)) call mech%add_spring(spring_of('s2', ib, 2, ic, 2, 5.0e4_dp, &
@@ -696,27 +679,10 @@ contains
    subroutine test_torsion_springs(error)
       type(error_t), allocatable, intent(out) :: error
       type(error_t), allocatable :: refused
-      type(ground_t) :: ground
-      type(rigid_body_t) :: block
-      type(flexible_body_t) :: crank
       type(mechanism_t) :: mech
-      real(dp) :: frames(3, 3, 2)
       integer :: ig, ib, ic
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-         0.0_dp, 1.0_dp], [3, 3])
-      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
-         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call synthetic_crank(crank, 1.0e-3_dp, error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      call three_bodies(mech, reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, 0.0_dp, 1.0_dp], [3, 3]), ig, ib, ic, error)
       if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'hinge', ig, 1, ib, 1, &
          error)
       if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'pin', ib, 2, ic, 2, error)
@@ -747,28 +713,12 @@ contains
    subroutine test_bushings(error)
       type(error_t), allocatable, intent(out) :: error
       type(error_t), allocatable :: refused
-      type(ground_t) :: ground
-      type(rigid_body_t) :: block
-      type(flexible_body_t) :: crank
       type(mechanism_t) :: mech
-      real(dp) :: frames(3, 3, 2), power, rate, s, scale
+      real(dp) :: power, rate, s, scale
       real(dp), allocatable :: q(:), v(:), lambda(:), a(:), f(:), stiffness(:, :)
       integer :: ig, ib, ic, k, j
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = reshape([0.0_dp, 0.6_dp, 0.8_dp, 0.0_dp, -0.8_dp, 0.6_dp, 1.0_dp, &
-         0.0_dp, 0.0_dp], [3, 3])
-      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
-         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call synthetic_crank(crank, 1.0e-3_dp, error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      call three_bodies(mech, reshape([0.0_dp, 0.6_dp, 0.8_dp, 0.0_dp, -0.8_dp, 0.6_dp, &
+         1.0_dp, 0.0_dp, 0.0_dp], [3, 3]), ig, ib, ic, error)
       if (.not. allocated(error)) call mech%add_bushing(bushing_of('b1', ig, 2, ib, 1, &
          [2.0e3_dp, 3.0e3_dp, 5.0e3_dp, 40.0_dp, 60.0_dp, 90.0_dp], [5.0_dp, 7.0_dp, 3.0_dp, &
          0.2_dp, 0.3_dp, 0.1_dp]), error)
@@ -831,6 +781,34 @@ contains
          0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]), refused)
       call check(error, 'a negative bushing damping entry is refused', allocated(refused))
    end subroutine test_bushings
+
+   !> The ground (markers 1, 2), a rigid block (markers 1, 2) and the synthetic flexible crank
+   !> (frequencies / 1000) of the force element tests (module header, systems 4 to 6); the
+   !> second marker of the ground and of the block has the frame `frame`.
+   subroutine three_bodies(mech, frame, ig, ib, ic, error)
+      type(mechanism_t), intent(out) :: mech
+      real(dp), intent(in) :: frame(3, 3)
+      integer, intent(out) :: ig, ib, ic
+      type(error_t), allocatable, intent(out) :: error
+      type(ground_t) :: ground
+      type(rigid_body_t) :: block
+      type(flexible_body_t) :: crank
+      real(dp) :: frames(3, 3, 2)
+      frames(:, :, 1) = identity3()
+      frames(:, :, 2) = frame
+      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
+         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call synthetic_crank(crank, 1.0e-3_dp, error)
+      if (allocated(error)) return
+      call mech%add_body(ground, 'ground', ig, error)
+      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
+      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+   end subroutine three_bodies
 
    !> A bushing record.
    pure function bushing_of(name, body_a, marker_a, body_b, marker_b, stiffness, damping) &
