@@ -460,7 +460,7 @@ contains
                text = text // ' /' // nl
             end associate
          end do
-         do k = 1, size(torsion_spring_names(mech))
+         do k = 1, size(element_names(mech, 'torsion_spring'))
             associate (x => mech%torsion_springs(k))
                text = text // '&torsion_spring name = ''' // nml_string(x%name) // &
                   ''', joint = ''' // nml_string(x%joint) // ''', stiffness = ' // &
@@ -470,7 +470,7 @@ contains
                text = text // ' /' // nl
             end associate
          end do
-         do k = 1, size(bushing_names(mech))
+         do k = 1, size(element_names(mech, 'bushing'))
             associate (x => mech%bushings(k))
                text = text // '&bushing name = ''' // nml_string(x%name) // ''', body1 = ''' // &
                   nml_string(x%body1) // ''', marker1 = ''' // nml_string(x%marker1) // &
@@ -743,7 +743,7 @@ contains
                if (allocated(error)) return
             end associate
          end do
-         do k = 1, size(torsion_spring_names(mech))
+         do k = 1, size(element_names(mech, 'torsion_spring'))
             associate (x => mech%torsion_springs(k))
                j = findloc(mech%joints%name, x%joint, dim=1)
                if (j == 0) then
@@ -761,7 +761,7 @@ contains
                if (allocated(error)) return
             end associate
          end do
-         do k = 1, size(bushing_names(mech))
+         do k = 1, size(element_names(mech, 'bushing'))
             associate (x => mech%bushings(k))
                call check_marker(case, src%at('bushing', k, 'body1') // ': &bushing "' // &
                   trim(x%name) // '"', x%body1, x%marker1, error)
@@ -881,6 +881,7 @@ contains
       type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(out) :: error
       logical :: missing
+      character(len=:), allocatable :: group
       integer :: k
       associate (mech => case%mechanism)
          if (.not. allocated(mech%sensors)) return
@@ -923,17 +924,12 @@ contains
                      trim(x%joint) // ''' /')
                end if
                if (.not. allocated(error) .and. len_trim(x%spring) > 0) then
-                  if (trim(x%type) == 'bushing') then
-                     call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
-                        trim(x%name) // '"', 'bushing', x%spring, bushing_names(mech), error)
-                  else if (trim(x%type) == 'torsion_spring') then
-                     call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
-                        trim(x%name) // '"', 'torsion_spring', x%spring, &
-                        torsion_spring_names(mech), error)
-                  else
-                     call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
-                        trim(x%name) // '"', 'spring', x%spring, spring_names(mech), error)
-                  end if
+                  ! spring names a &spring, or the &torsion_spring or &bushing of those types
+                  group = 'spring'
+                  if (trim(x%type) == 'torsion_spring' .or. trim(x%type) == 'bushing') &
+                     group = trim(x%type)
+                  call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
+                     trim(x%name) // '"', group, x%spring, element_names(mech, group), error)
                end if
                if (allocated(error)) return
             end associate
@@ -956,29 +952,22 @@ contains
       end if
    end subroutine check_spring_name
 
-   !> Names of the &spring groups (none for a case built in memory without them).
-   pure function spring_names(mech) result(names)
+   !> Names of the groups `group` (spring, torsion_spring, bushing) of the case; none for a
+   !> case built in memory without them.
+   pure function element_names(mech, group) result(names)
       type(mechanism_case_input_t), intent(in) :: mech
+      character(len=*), intent(in) :: group
       character(len=64), allocatable :: names(:)
       allocate (names(0))
-      if (allocated(mech%springs)) names = mech%springs%name
-   end function spring_names
-
-   !> Names of the &torsion_spring groups (none for a case built in memory without them).
-   pure function torsion_spring_names(mech) result(names)
-      type(mechanism_case_input_t), intent(in) :: mech
-      character(len=64), allocatable :: names(:)
-      allocate (names(0))
-      if (allocated(mech%torsion_springs)) names = mech%torsion_springs%name
-   end function torsion_spring_names
-
-   !> Names of the &bushing groups (none for a case built in memory without them).
-   pure function bushing_names(mech) result(names)
-      type(mechanism_case_input_t), intent(in) :: mech
-      character(len=64), allocatable :: names(:)
-      allocate (names(0))
-      if (allocated(mech%bushings)) names = mech%bushings%name
-   end function bushing_names
+      select case (group)
+      case ('spring')
+         if (allocated(mech%springs)) names = mech%springs%name
+      case ('torsion_spring')
+         if (allocated(mech%torsion_springs)) names = mech%torsion_springs%name
+      case ('bushing')
+         if (allocated(mech%bushings)) names = mech%bushings%name
+      end select
+   end function element_names
 
    !> body is 'ground' or a &body, and marker one of its markers (module header).
    subroutine check_marker(case, where, body, marker, error)

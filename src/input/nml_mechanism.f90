@@ -672,7 +672,6 @@ contains
       real(dp) :: stiffness, damping, free_length
       integer :: stat, k
       character(len=512) :: msg
-      character(len=:), allocatable :: where
       namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
       allocate (springs(0))
       rewind (unit)
@@ -693,22 +692,8 @@ contains
                // 'marker2, stiffness, damping, free_length')
             return
          end if
-         where = src%where('spring', k, '') // ' "' // trim(name) // '"'
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, '') // &
-               ': name is missing')
-         else if (any(springs%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'name') // &
-               ': the name is used twice; spring names must be unique')
-         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
-               'marker2 are required')
-         else if (body1 == body2) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'body2') // &
-               ': &spring "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
-               '"; a spring connects two different bodies')
-         end if
+         call check_marker_pair_group(src, 'spring', k, name, springs%name, body1, marker1, &
+            body2, marker2, error)
          if (allocated(error)) return
          springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
             damping, free_length)]
@@ -760,6 +745,32 @@ contains
       end do
    end subroutine read_torsion_spring_groups
 
+   !> The rules a group between two markers of two bodies shares (&spring, &bushing; group k,
+   !> `names` those of the groups before it): a unique name, all four ends, two bodies.
+   subroutine check_marker_pair_group(src, group, k, name, names, body1, marker1, body2, &
+      marker2, error)
+      type(nml_source_t), intent(in) :: src
+      character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: names(:)
+      type(error_t), allocatable, intent(out) :: error
+      if (len_trim(name) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // &
+            ': name is missing')
+      else if (any(names == name)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'name') // &
+            ': the name is used twice; ' // group // ' names must be unique')
+      else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
+         len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // ' "' // &
+            trim(name) // '": body1, marker1, body2 and marker2 are required')
+      else if (body1 == body2) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'body2') // ': &' // &
+            group // ' "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
+            '"; a ' // group // ' connects two different bodies')
+      end if
+   end subroutine check_marker_pair_group
+
    !> The &bushing groups (module header), in input order.
    subroutine read_bushing_groups(unit, src, bushings, error)
       integer, intent(in) :: unit
@@ -790,21 +801,8 @@ contains
                // 'marker2, stiffness, damping')
             return
          end if
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, '') // &
-               ': name is missing')
-         else if (any(bushings%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, 'name') // &
-               ': the name is used twice; bushing names must be unique')
-         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, '') // ' "' // &
-               trim(name) // '": body1, marker1, body2 and marker2 are required')
-         else if (body1 == body2) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('bushing', k, 'body2') // &
-               ': &bushing "' // trim(name) // '": body1 and body2 are both "' // trim(body1) &
-               // '"; a bushing connects two different bodies')
-         end if
+         call check_marker_pair_group(src, 'bushing', k, name, bushings%name, body1, marker1, &
+            body2, marker2, error)
          if (allocated(error)) return
          bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
             stiffness, damping)]

@@ -7,8 +7,8 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_force_elements
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_mbs_torsion_spring, only: torsion_evaluate, torsion_generalized_forces, &
-      torsion_tangents
+   use ffrf_mbs_torsion_spring, only: torsion_evaluate, torsion_tangents
+   use ffrf_mbs_spring_damper, only: marker_pair_forces
    use ffrf_mbs_bushing, only: bushing_evaluate, bushing_generalized_forces, bushing_tangents
    implicit none
 
@@ -54,15 +54,12 @@ contains
 
    !> Angle, rate and torque of torsion spring s at (q, v).
    module procedure mechanism_torsion_state
-      integer :: ka, kb, na, nb
+      integer, allocatable :: rows(:)
+      integer :: na
       associate (spring => self%torsion_springs(s))
-         ka = self%bodies(spring%body_a)%offset
-         kb = self%bodies(spring%body_b)%offset
-         na = self%bodies(spring%body_a)%body%num_coordinates
-         nb = self%bodies(spring%body_b)%body%num_coordinates
-         state = torsion_evaluate(spring, self%bodies(spring%body_a)%body, &
-            q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(spring%body_b)%body, &
-            q(kb + 1:kb + nb), v(kb + 1:kb + nb))
+         call pair_rows(self, spring%body_a, spring%body_b, rows, na)
+         state = torsion_evaluate(spring, self%bodies(spring%body_a)%body, q(rows(:na)), &
+            v(rows(:na)), self%bodies(spring%body_b)%body, q(rows(na + 1:)), v(rows(na + 1:)))
       end associate
    end procedure mechanism_torsion_state
 
@@ -126,8 +123,10 @@ contains
                deallocate (K, C)
             else if (present(f)) then
                allocate (f_a(na), f_b(size(rows) - na))
-               call torsion_generalized_forces(spring, state, body_a, q(rows(:na)), body_b, &
-                  q(rows(na + 1:)), f_a, f_b)
+               ! the moment -T z_a on marker a, +T z_a on marker b (ffrf_mbs_torsion_spring)
+               call marker_pair_forces(body_a, q(rows(:na)), spring%marker_a, body_b, &
+                  q(rows(na + 1:)), spring%marker_b, [0.0_dp, 0.0_dp, 0.0_dp], &
+                  -state%torque * state%axis, f_a, f_b)
                f(rows) = f(rows) + [f_a, f_b]
                deallocate (f_a, f_b)
             end if
@@ -181,15 +180,12 @@ contains
 
    !> Deflections, rates and element force of bushing s at (q, v).
    module procedure mechanism_bushing_state
-      integer :: ka, kb, na, nb
+      integer, allocatable :: rows(:)
+      integer :: na
       associate (bushing => self%bushings(s))
-         ka = self%bodies(bushing%body_a)%offset
-         kb = self%bodies(bushing%body_b)%offset
-         na = self%bodies(bushing%body_a)%body%num_coordinates
-         nb = self%bodies(bushing%body_b)%body%num_coordinates
-         state = bushing_evaluate(bushing, self%bodies(bushing%body_a)%body, &
-            q(ka + 1:ka + na), v(ka + 1:ka + na), self%bodies(bushing%body_b)%body, &
-            q(kb + 1:kb + nb), v(kb + 1:kb + nb))
+         call pair_rows(self, bushing%body_a, bushing%body_b, rows, na)
+         state = bushing_evaluate(bushing, self%bodies(bushing%body_a)%body, q(rows(:na)), &
+            v(rows(:na)), self%bodies(bushing%body_b)%body, q(rows(na + 1:)), v(rows(na + 1:)))
       end associate
    end procedure mechanism_bushing_state
 

@@ -8,7 +8,8 @@
 !> rate is w = z_a . (L_w,b v_b - L_w,a v_a), the torque about z_a
 !>     T = -k (phi - phi0) - c w,
 !> applied as the moment +T z_a on marker b and -T z_a on marker a (action = reaction). The
-!> generalized force is Q = T g with g = S_w^T z_a, S_w = [-L_w,a, L_w,b], and its power
+!> generalized force (the mechanism applies the pair with ffrf_mbs_spring_damper's
+!> marker_pair_forces) is Q = T g with g = S_w^T z_a, S_w = [-L_w,a, L_w,b], and its power
 !> Q . v = T w: on the joint (z_b = z_a, x_b normal to z_a) w = phi', so the power is
 !> -d/dt [k (phi - phi0)^2 / 2] - c w^2 (potential energy and dissipation; the mechanism counts
 !> the torque's work as applied work, ffrf_mbs_energy_balance).
@@ -26,11 +27,10 @@
 module ffrf_mbs_torsion_spring
    use ffrf_core_kinds, only: dp, pi
    use ffrf_mbs_body, only: body_t
-   use ffrf_mbs_spring_damper, only: marker_pair_forces
    implicit none
    private
    public :: torsion_spring_t, torsion_state_t
-   public :: torsion_evaluate, torsion_generalized_forces, torsion_tangents
+   public :: torsion_evaluate, torsion_tangents
 
    !> A torsion spring-damper about joint `joint` (mechanism indices).
    type :: torsion_spring_t
@@ -84,26 +84,6 @@ contains
       state%torque = -spring%stiffness * (state%angle - spring%free_angle) - &
          spring%damping * state%rate
    end function torsion_evaluate
-
-   !> Generalized forces of the torque: -L_w,a^T T z_a on body a, L_w,b^T T z_a on body b.
-   pure subroutine torsion_generalized_forces(spring, state, body_a, q_a, body_b, q_b, f_a, f_b)
-      !> The torsion spring
-      type(torsion_spring_t), intent(in) :: spring
-      !> Its state (torsion_evaluate)
-      type(torsion_state_t), intent(in) :: state
-      !> Body a and its coordinates
-      class(body_t), intent(in) :: body_a
-      real(dp), intent(in) :: q_a(:)
-      !> Body b and its coordinates
-      class(body_t), intent(in) :: body_b
-      real(dp), intent(in) :: q_b(:)
-      !> Generalized forces (size of q_a and q_b)
-      real(dp), intent(out) :: f_a(:), f_b(:)
-      real(dp) :: zero(3)
-      zero = 0.0_dp
-      call marker_pair_forces(body_a, q_a, spring%marker_a, body_b, q_b, spring%marker_b, &
-         zero, -state%torque * state%axis, f_a, f_b)
-   end subroutine torsion_generalized_forces
 
    !> K = -dQ/dx and C = -dQ/dv over x = [q_a; q_b] (module header), exact.
    pure subroutine torsion_tangents(spring, state, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
