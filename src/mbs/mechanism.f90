@@ -12,6 +12,8 @@
 !>     M(q)  = blockdiag(M_b(q_b))                                          (theory.md 3.3)
 !>     f     = sum_b [f_v,b + Q_e,b] + sum_loads (L_r^T F + L_w^T M) + gravity (theory.md 3.4, 3.5)
 !>             + sum_springs (L_r,a^T f n - L_r,b^T f n)   (ffrf_mbs_spring_damper)
+!>             + sum_torsion_springs T S_w^T z_a           (ffrf_mbs_torsion_spring, theory.md 3.8)
+!>             + sum_bushings (-E^T (K e + C e'))          (ffrf_mbs_bushing, theory.md 3.9)
 !>     Phi_q = joint blocks dPhi/dq_a, dPhi/dq_b (ffrf_mbs_joints), the drive row, rows 2 theta^T
 !>
 !> Rotor angle and speed. The rotor is an optional chosen body (set_rotor) whose turning about the
