@@ -51,6 +51,7 @@ module ffrf_app_mechanism_builder
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
+   use ffrf_mbs_bushing, only: bushing_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    use ffrf_mbs_mechanism_loads, only: load_t, drag_torque_t, constant_load_t, timed_load_t, &
       LOAD_FORCE, &
@@ -118,7 +119,7 @@ contains
       integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
       type(ground_t) :: ground
-      integer, allocatable :: ends(:, :), spring_ends(:, :)
+      integer, allocatable :: ends(:, :), spring_ends(:, :), bushing_ends(:, :)
       integer :: nb, k, ground_index
 
       nb = size(case%bodies)
@@ -138,7 +139,7 @@ contains
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
-      call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
+      call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends, bushing_ends)
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)
       if (allocated(error)) return
@@ -157,6 +158,8 @@ contains
       if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
          mech, error)
       if (.not. allocated(error)) call add_drivers(resolved, mech, error)
+      if (.not. allocated(error)) call add_force_elements(resolved, bodies, ground_index, &
+         bushing_ends, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then
@@ -169,6 +172,7 @@ contains
       end if
       call starting_state(case, resolved, bodies, mech, log, q, v, error)
       if (.not. allocated(error)) call mech%set_spring_free_lengths(q, error)
+      if (.not. allocated(error)) call mech%set_torsion_start(q)
    end subroutine build_mechanism
 
    !> The sensors of the case resolved to mechanism indices; an engine case (a crank) gets the
@@ -240,7 +244,7 @@ contains
    !> the starting pose (global) is its marker1's &marker orientation when given, else its
    !> marker2's, else frame_from_axis(axis) (the input checked that axis is then the frame's
    !> z axis: ffrf_input_case).
-   subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends)
+   subroutine resolve_markers(resolved, lists, ends, sensor_markers, spring_ends, bushing_ends)
       !> The case resolved (bodies, joints and loads with their marker handles)
       type(model_t), intent(in) :: resolved
       type(marker_list_t), intent(inout) :: lists(0:)
@@ -251,6 +255,9 @@ contains
       !> Markers of the two ends of each &spring (a rigid body's or the ground's point with the
       !> body's axes)
       integer, allocatable, intent(out) :: spring_ends(:, :)
+      !> Markers of the two ends of each &bushing (as spring_ends; a &marker orientation gives
+      !> the frame)
+      integer, allocatable, intent(out) :: bushing_ends(:, :)
       real(dp) :: frame(3, 3)
       logical :: given
       integer :: j, l, e
@@ -283,6 +290,15 @@ contains
                call marker_of(springs(l)%body(e), springs(l)%marker(e), identity3(), .false., &
                   spring_ends(e, l), .true.)
             end do
+         end do
+      end associate
+      associate (bushings => resolved%mechanism%bushings)
+         allocate (bushing_ends(2, size(bushings)), source=0)
+         do l = 1, size(bushings)
+            call marker_of(bushings(l)%body_a, bushings(l)%marker_a, identity3(), .false., &
+               bushing_ends(1, l), .true.)
+            call marker_of(bushings(l)%body_b, bushings(l)%marker_b, identity3(), .false., &
+               bushing_ends(2, l), .true.)
          end do
       end associate
 
@@ -621,6 +637,42 @@ contains
          end associate
       end do
    end subroutine add_drivers
+
+   !> The &bushing and &torsion_spring groups as force elements of the mechanism
+   !> (ffrf_mbs_bushing: model body indices and marker handles become mechanism bodies and the
+   !> ends' markers; ffrf_mbs_torsion_spring: the mechanism's joints are the &joint groups in
+   !> order).
+   subroutine add_force_elements(resolved, bodies, ground_index, bushing_ends, mech, error)
+      type(model_t), intent(in) :: resolved
+      type(built_body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: ground_index
+      !> Markers of the bushings' ends (resolve_markers)
+      integer, intent(in) :: bushing_ends(:, :)
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      type(bushing_t) :: bushing
+      integer :: s
+      do s = 1, size(resolved%mechanism%bushings)
+         bushing = resolved%mechanism%bushings(s)
+         bushing%body_a = mechanism_index(bodies, ground_index, bushing%body_a)
+         bushing%body_b = mechanism_index(bodies, ground_index, bushing%body_b)
+         bushing%marker_a = bushing_ends(1, s)
+         bushing%marker_b = bushing_ends(2, s)
+         call mech%add_bushing(bushing, error)
+         if (allocated(error)) then
+            call add_context(error, '&bushing "' // trim(bushing%name) // '"')
+            return
+         end if
+      end do
+      do s = 1, size(resolved%mechanism%torsion_springs)
+         call mech%add_torsion_spring(resolved%mechanism%torsion_springs(s), error)
+         if (allocated(error)) then
+            call add_context(error, '&torsion_spring "' // &
+               trim(resolved%mechanism%torsion_springs(s)%name) // '"')
+            return
+         end if
+      end do
+   end subroutine add_force_elements
 
    subroutine add_loads(resolved, bodies, ends, mech, pressure, error)
       !> The case resolved (loads: kinds, parameters, model body indices)

@@ -19,7 +19,8 @@ module ffrf_input_case
    use ffrf_input_nml_interface, only: read_interface_groups, interface_keys
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
-      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys
+      joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys, &
+      torsion_spring_keys, bushing_keys
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME, &
@@ -59,7 +60,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(14))
+      allocate (groups(16))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -74,6 +75,8 @@ contains
       call set(12, 'sensor', .true., sensor_keys())
       call set(13, 'spring', .true., spring_keys())
       call set(14, 'driver', .true., driver_keys())
+      call set(15, 'torsion_spring', .true., torsion_spring_keys())
+      call set(16, 'bushing', .true., bushing_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -457,6 +460,25 @@ contains
                text = text // ' /' // nl
             end associate
          end do
+         do k = 1, size(element_names(mech, 'torsion_spring'))
+            associate (x => mech%torsion_springs(k))
+               text = text // '&torsion_spring name = ''' // nml_string(x%name) // &
+                  ''', joint = ''' // nml_string(x%joint) // ''', stiffness = ' // &
+                  to_str(x%stiffness, 17) // ', damping = ' // to_str(x%damping, 17)
+               if (x%free_angle_given) text = text // ', free_angle = ' // &
+                  to_str(x%free_angle, 17)
+               text = text // ' /' // nl
+            end associate
+         end do
+         do k = 1, size(element_names(mech, 'bushing'))
+            associate (x => mech%bushings(k))
+               text = text // '&bushing name = ''' // nml_string(x%name) // ''', body1 = ''' // &
+                  nml_string(x%body1) // ''', marker1 = ''' // nml_string(x%marker1) // &
+                  ''', body2 = ''' // nml_string(x%body2) // ''', marker2 = ''' // &
+                  nml_string(x%marker2) // ''', stiffness = ' // vector_text(x%stiffness, 17) // &
+                  ', damping = ' // vector_text(x%damping, 17) // ' /' // nl
+            end associate
+         end do
          do k = 1, driver_count(mech)
             associate (x => mech%drivers(k))
                text = text // '&driver name = ''' // nml_string(x%name) // ''', joint = ''' // &
@@ -721,6 +743,33 @@ contains
                if (allocated(error)) return
             end associate
          end do
+         do k = 1, size(element_names(mech, 'torsion_spring'))
+            associate (x => mech%torsion_springs(k))
+               j = findloc(mech%joints%name, x%joint, dim=1)
+               if (j == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('torsion_spring', k, &
+                     'joint') // ': &torsion_spring "' // trim(x%name) // '": joint "' // &
+                     trim(x%joint) // '" is not a &joint of this case (joints: ' // &
+                     join_words(mech%joints%name, ', ') // ')')
+               else if (mech%joints(j)%type /= 'revolute' .and. &
+                  mech%joints(j)%type /= 'cylindrical') then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('torsion_spring', k, &
+                     'joint') // ': &torsion_spring "' // trim(x%name) // '": joint "' // &
+                     trim(x%joint) // '" is ' // trim(mech%joints(j)%type) // &
+                     '; a torsion spring needs a revolute or cylindrical joint')
+               end if
+               if (allocated(error)) return
+            end associate
+         end do
+         do k = 1, size(element_names(mech, 'bushing'))
+            associate (x => mech%bushings(k))
+               call check_marker(case, src%at('bushing', k, 'body1') // ': &bushing "' // &
+                  trim(x%name) // '"', x%body1, x%marker1, error)
+               if (.not. allocated(error)) call check_marker(case, src%at('bushing', k, &
+                  'body2') // ': &bushing "' // trim(x%name) // '"', x%body2, x%marker2, error)
+               if (allocated(error)) return
+            end associate
+         end do
          call check_sensor_names(src, case, error)
          if (allocated(error)) return
          if (len_trim(mech%mechanism%crank) > 0) then
@@ -832,6 +881,7 @@ contains
       type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(out) :: error
       logical :: missing
+      character(len=:), allocatable :: group
       integer :: k
       associate (mech => case%mechanism)
          if (.not. allocated(mech%sensors)) return
@@ -874,22 +924,50 @@ contains
                      trim(x%joint) // ''' /')
                end if
                if (.not. allocated(error) .and. len_trim(x%spring) > 0) then
-                  if (spring_count(mech) == 0) then
-                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'spring') &
-                        // ': &sensor "' // trim(x%name) // '": spring "' // trim(x%spring) &
-                        // '" is not a &spring of this case (it has none)')
-                  else if (.not. any(mech%springs%name == x%spring)) then
-                     call fatal_error(error, FFRF_INPUT_ERROR, src%at('sensor', k, 'spring') &
-                        // ': &sensor "' // trim(x%name) // '": spring "' // trim(x%spring) &
-                        // '" is not a &spring of this case (springs: ' // &
-                        join_words(mech%springs%name, ', ') // ')')
-                  end if
+                  ! spring names a &spring, or the &torsion_spring or &bushing of those types
+                  group = 'spring'
+                  if (trim(x%type) == 'torsion_spring' .or. trim(x%type) == 'bushing') &
+                     group = trim(x%type)
+                  call check_spring_name(src%at('sensor', k, 'spring') // ': &sensor "' // &
+                     trim(x%name) // '"', group, x%spring, element_names(mech, group), error)
                end if
                if (allocated(error)) return
             end associate
          end do
       end associate
    end subroutine check_sensor_names
+
+   !> `name` (of a &sensor at `where`) is one of `names`, the &`group` names of the case.
+   subroutine check_spring_name(where, group, name, names, error)
+      character(len=*), intent(in) :: where, group, name
+      character(len=64), intent(in) :: names(:)
+      type(error_t), allocatable, intent(out) :: error
+      if (size(names) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': spring "' // trim(name) // &
+            '" is not a &' // group // ' of this case (it has none)')
+      else if (.not. any(names == name)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': spring "' // trim(name) // &
+            '" is not a &' // group // ' of this case (' // group // 's: ' // &
+            join_words(names, ', ') // ')')
+      end if
+   end subroutine check_spring_name
+
+   !> Names of the groups `group` (spring, torsion_spring, bushing) of the case; none for a
+   !> case built in memory without them.
+   pure function element_names(mech, group) result(names)
+      type(mechanism_case_input_t), intent(in) :: mech
+      character(len=*), intent(in) :: group
+      character(len=64), allocatable :: names(:)
+      allocate (names(0))
+      select case (group)
+      case ('spring')
+         if (allocated(mech%springs)) names = mech%springs%name
+      case ('torsion_spring')
+         if (allocated(mech%torsion_springs)) names = mech%torsion_springs%name
+      case ('bushing')
+         if (allocated(mech%bushings)) names = mech%bushings%name
+      end select
+   end function element_names
 
    !> body is 'ground' or a &body, and marker one of its markers (module header).
    subroutine check_marker(case, where, body, marker, error)

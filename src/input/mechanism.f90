@@ -13,7 +13,7 @@ module ffrf_input_mechanism
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
-   public :: spring_input_t, time_law_input_t, driver_input_t, law_function
+   public :: spring_input_t, torsion_spring_input_t, bushing_input_t, time_law_input_t, driver_input_t, law_function
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
    public :: load_choices, selection_choices
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
@@ -160,6 +160,30 @@ module ffrf_input_mechanism
       real(dp) :: free_length = -1.0_dp
    end type spring_input_t
 
+   !> A rotational spring-damper about a revolute or cylindrical joint (&torsion_spring;
+   !> ffrf_mbs_torsion_spring): torque -k (phi - phi0) - c phi' about the joint axis.
+   type :: torsion_spring_input_t
+      character(len=64) :: name = ''
+      !> The &joint it acts about (revolute or cylindrical)
+      character(len=64) :: joint = ''
+      !> Stiffness k (N m/rad) and damping c (N m s/rad), >= 0
+      real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp
+      !> Free angle phi0 (rad); not given (free_angle_given = .false.): the joint angle at the
+      !> start
+      real(dp) :: free_angle = 0.0_dp
+      logical :: free_angle_given = .false.
+   end type torsion_spring_input_t
+
+   !> A 6-dof linear bushing between marker1 of body1 and marker2 of body2 (&bushing;
+   !> ffrf_mbs_bushing): F = -K d - C d', M = -K_r phi - C_r phi' in marker1's frame.
+   type :: bushing_input_t
+      character(len=64) :: name = ''
+      !> Bodies ('ground' for the ground) and markers, as &spring; two different bodies
+      character(len=64) :: body1 = '', marker1 = '', body2 = '', marker2 = ''
+      !> Stiffness kx, ky, kz (N/m), krx, kry, krz (N m/rad) and damping (N s/m, N m s/rad)
+      real(dp) :: stiffness(6) = 0.0_dp, damping(6) = 0.0_dp
+   end type bushing_input_t
+
    !> A sensor: a named measurement written every recorded step under /sensors/<name> (&sensor;
    !> ffrf_mbs_sensors lists the types, docs/sensors.md the results).
    type :: sensor_input_t
@@ -176,7 +200,8 @@ module ffrf_input_mechanism
       character(len=64) :: joint = ''
       !> Mesh node of the body (node types: its Gmsh node tag; 0: none)
       integer :: node = 0
-      !> Spring name (type spring: length, rate, tension of a &spring)
+      !> Spring name (type spring: length, rate, tension of a &spring; type torsion_spring:
+      !> angle, rate, torque of a &torsion_spring; type bushing: a &bushing)
       character(len=64) :: spring = ''
    end type sensor_input_t
 
@@ -221,6 +246,10 @@ module ffrf_input_mechanism
       type(load_input_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), in input order
       type(spring_input_t), allocatable :: springs(:)
+      !> Torsion spring-dampers (&torsion_spring), in input order
+      type(torsion_spring_input_t), allocatable :: torsion_springs(:)
+      !> Bushings (&bushing), in input order
+      type(bushing_input_t), allocatable :: bushings(:)
       !> Drivers of joints (&driver), in input order
       type(driver_input_t), allocatable :: drivers(:)
       !> Sensors (&sensor), in input order

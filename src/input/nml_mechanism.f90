@@ -8,6 +8,10 @@
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
 !>   &spring      name, body1, marker1, body2, marker2, stiffness [N/m], damping [N s/m],
 !>                free_length [m]                                             (repeatable)
+!>   &torsion_spring  name, joint, stiffness [N m/rad], damping [N m s/rad], free_angle [rad]
+!>                                                                            (repeatable)
+!>   &bushing     name, body1, marker1, body2, marker2, stiffness (6: kx, ky, kz [N/m], krx,
+!>                kry, krz [N m/rad]), damping (6: [N s/m], [N m s/rad])     (repeatable)
 !>   &driver      name, joint, quantity (coordinate|rate), offset [rad or m], and the law keys
 !>                                                                            (repeatable)
 !>   law keys of &driver and of a force or torque &load (docs/mechanisms.md "Laws over time"):
@@ -60,6 +64,11 @@
 !>   &spring     stiffness in [0, 1e12] N/m; damping in [0, 1e12] N s/m; free_length in
 !>               [0, 1e6] m (absent: the distance of the markers at the start, which must not be
 !>               0); body1 /= body2; name unique
+!>   &torsion_spring  joint: a revolute or cylindrical &joint (checked by ffrf_input_case);
+!>               stiffness in [0, 1e12] N m/rad; damping in [0, 1e12] N m s/rad; free_angle in
+!>               [-1e6, 1e6] rad (absent: the joint angle at the start); name unique
+!>   &bushing    stiffness, damping: 6 reals each in [0, 1e12] (default 0); body1 /= body2;
+!>               name unique
 !>   &pressure   bore, stroke in (0, 10] m; conrod_length in (0, 100] m (> stroke/2);
 !>               compression_ratio in (1, 1000]; intake_pressure, exhaust_pressure in (0, 1e9] Pa;
 !>               polytropic_exponent in (1, 3]; wiebe_a in (0, 100]; wiebe_m in [0, 100];
@@ -89,6 +98,7 @@ module ffrf_input_nml_mechanism
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      torsion_spring_input_t, bushing_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
@@ -103,7 +113,7 @@ module ffrf_input_nml_mechanism
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
-      model_keys, spring_keys, driver_keys
+      model_keys, spring_keys, driver_keys, torsion_spring_keys, bushing_keys
 
    !> The law keys, for messages (module header)
    character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
@@ -242,6 +252,24 @@ contains
          real_key('free_length', 0.0_dp, 1.0e6_dp, 'm')]
    end function spring_keys
 
+   !> Keys of &torsion_spring (module header).
+   function torsion_spring_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('joint', 64), &
+         real_key('stiffness', 0.0_dp, 1.0e12_dp, 'N m/rad'), &
+         real_key('damping', 0.0_dp, 1.0e12_dp, 'N m s/rad'), &
+         real_key('free_angle', -1.0e6_dp, 1.0e6_dp, 'rad')]
+   end function torsion_spring_keys
+
+   !> Keys of &bushing (module header).
+   function bushing_keys() result(keys)
+      type(key_spec_t), allocatable :: keys(:)
+      keys = [string_key('name', 64), string_key('body1', 64), string_key('marker1', 64), &
+         string_key('body2', 64), string_key('marker2', 64), &
+         real_key('stiffness', 0.0_dp, 1.0e12_dp, 'N/m, N m/rad', count=6), &
+         real_key('damping', 0.0_dp, 1.0e12_dp, 'N s/m, N m s/rad', count=6)]
+   end function bushing_keys
+
    subroutine read_mechanism_groups(unit, src, input, error)
       integer, intent(in) :: unit
       !> The checked case text (FILE:LINE of the keys)
@@ -253,6 +281,9 @@ contains
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
       if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
+      if (.not. allocated(error)) call read_torsion_spring_groups(unit, src, &
+         input%torsion_springs, error)
+      if (.not. allocated(error)) call read_bushing_groups(unit, src, input%bushings, error)
       if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
       if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
          input%pressure_table, error)
@@ -641,7 +672,6 @@ contains
       real(dp) :: stiffness, damping, free_length
       integer :: stat, k
       character(len=512) :: msg
-      character(len=:), allocatable :: where
       namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
       allocate (springs(0))
       rewind (unit)
@@ -662,27 +692,122 @@ contains
                // 'marker2, stiffness, damping, free_length')
             return
          end if
-         where = src%where('spring', k, '') // ' "' // trim(name) // '"'
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, '') // &
-               ': name is missing')
-         else if (any(springs%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'name') // &
-               ': the name is used twice; spring names must be unique')
-         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
-               'marker2 are required')
-         else if (body1 == body2) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('spring', k, 'body2') // &
-               ': &spring "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
-               '"; a spring connects two different bodies')
-         end if
+         call check_marker_pair_group(src, 'spring', k, name, springs%name, body1, marker1, &
+            body2, marker2, error)
          if (allocated(error)) return
          springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
             damping, free_length)]
       end do
    end subroutine read_spring_groups
+
+   !> The &torsion_spring groups (module header), in input order.
+   subroutine read_torsion_spring_groups(unit, src, springs, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(torsion_spring_input_t) :: defaults
+      character(len=64) :: name, joint
+      real(dp) :: stiffness, damping, free_angle
+      real(dp), parameter :: unset = huge(1.0_dp)
+      integer :: stat, k
+      character(len=512) :: msg
+      namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
+      allocate (springs(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         joint = defaults%joint
+         stiffness = defaults%stiffness
+         damping = defaults%damping
+         free_angle = unset
+         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(springs) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'torsion_spring', k, msg, 'name, joint, ' // &
+               'stiffness, damping, free_angle')
+            return
+         end if
+         if (len_trim(name) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
+               ': name is missing')
+         else if (any(springs%name == name)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, 'name') &
+               // ': the name is used twice; torsion spring names must be unique')
+         else if (len_trim(joint) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
+               ' "' // trim(name) // '": joint is required (a revolute or cylindrical &joint)')
+         end if
+         if (allocated(error)) return
+         springs = [springs, torsion_spring_input_t(name, joint, stiffness, damping, &
+            merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
+      end do
+   end subroutine read_torsion_spring_groups
+
+   !> The rules a group between two markers of two bodies shares (&spring, &bushing; group k,
+   !> `names` those of the groups before it): a unique name, all four ends, two bodies.
+   subroutine check_marker_pair_group(src, group, k, name, names, body1, marker1, body2, &
+      marker2, error)
+      type(nml_source_t), intent(in) :: src
+      character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: names(:)
+      type(error_t), allocatable, intent(out) :: error
+      if (len_trim(name) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // &
+            ': name is missing')
+      else if (any(names == name)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'name') // &
+            ': the name is used twice; ' // group // ' names must be unique')
+      else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
+         len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // ' "' // &
+            trim(name) // '": body1, marker1, body2 and marker2 are required')
+      else if (body1 == body2) then
+         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'body2') // ': &' // &
+            group // ' "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
+            '"; a ' // group // ' connects two different bodies')
+      end if
+   end subroutine check_marker_pair_group
+
+   !> The &bushing groups (module header), in input order.
+   subroutine read_bushing_groups(unit, src, bushings, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(bushing_input_t) :: defaults
+      character(len=64) :: name, body1, marker1, body2, marker2
+      real(dp) :: stiffness(6), damping(6)
+      integer :: stat, k
+      character(len=512) :: msg
+      namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
+      allocate (bushings(0))
+      rewind (unit)
+      do
+         name = defaults%name
+         body1 = defaults%body1
+         marker1 = defaults%marker1
+         body2 = defaults%body2
+         marker2 = defaults%marker2
+         stiffness = defaults%stiffness
+         damping = defaults%damping
+         read (unit, nml=bushing, iostat=stat, iomsg=msg)
+         if (is_iostat_end(stat)) exit
+         k = size(bushings) + 1
+         if (stat /= 0) then
+            call namelist_read_error(error, 'bushing', k, msg, 'name, body1, marker1, body2, ' &
+               // 'marker2, stiffness, damping')
+            return
+         end if
+         call check_marker_pair_group(src, 'bushing', k, name, bushings%name, body1, marker1, &
+            body2, marker2, error)
+         if (allocated(error)) return
+         bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
+            stiffness, damping)]
+      end do
+   end subroutine read_bushing_groups
 
    subroutine read_pressure_group(unit, input, table_file, error)
       integer, intent(in) :: unit

@@ -8,7 +8,8 @@
 !>         (joint); energy [J, kinetic and strain] (body); node_displacement [m, elastic, body
 !>         frame], node_position [m, global] (body with a mesh, node: a Gmsh node tag of its mesh,
 !>         integer >= 1, checked against the mesh when the run builds the body); spring [m, m/s,
-!>         N: length, rate, tension] (spring: a &spring name)
+!>         N: length, rate, tension] (spring: a &spring name); torsion_spring [rad, rad/s, N m:
+!>         angle, rate, torque] (spring: a &torsion_spring name)
 !>   name: unique among the sensors, at most 64 characters (default: the type).
 !> The body, marker, joint and spring names are checked against the case by ffrf_input_case.
 module ffrf_input_nml_sensor
@@ -94,7 +95,7 @@ contains
                ''' needs body = ''<a &body name>''')
          else if (sensor_needs_spring(kind) .and. len_trim(spring) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs spring = ''<a &spring name>''')
+               ''' needs spring = ''<a &' // trim(type) // ' name>''')
          else if (sensor_needs_node(kind) .and. node < 1) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
                ''' needs node = <a node tag of the body''s mesh>')

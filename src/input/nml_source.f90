@@ -69,7 +69,7 @@ module ffrf_input_nml_source
       !> Integers: allowed interval (closed)
       integer(i8) :: int_lower = -huge(1_i8), int_upper = huge(1_i8)
       !> Choice keys: the allowed words, ', '-separated (compared ignoring case); '' for any
-      character(len=160) :: choices = ''
+      character(len=256) :: choices = ''
       !> Unit for messages ('s', 'Pa', ...)
       character(len=16) :: unit = ''
       !> .false.: not part of the group's namelist statement (read from the source by its

@@ -12,6 +12,8 @@
 !>     M(q)  = blockdiag(M_b(q_b))                                          (theory.md 3.3)
 !>     f     = sum_b [f_v,b + Q_e,b] + sum_loads (L_r^T F + L_w^T M) + gravity (theory.md 3.4, 3.5)
 !>             + sum_springs (L_r,a^T f n - L_r,b^T f n)   (ffrf_mbs_spring_damper)
+!>             + sum_torsion_springs T S_w^T z_a           (ffrf_mbs_torsion_spring, theory.md 3.8)
+!>             + sum_bushings (-E^T (K e + C e'))          (ffrf_mbs_bushing, theory.md 3.9)
 !>     Phi_q = joint blocks dPhi/dq_a, dPhi/dq_b (ffrf_mbs_joints), the drive row, rows 2 theta^T
 !>
 !> Rotor angle and speed. The rotor is an optional chosen body (set_rotor) whose turning about the
@@ -76,6 +78,8 @@ module ffrf_mbs_mechanism
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
    use ffrf_mbs_spring_damper, only: spring_damper_t, spring_state_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t, torsion_state_t
+   use ffrf_mbs_bushing, only: bushing_t, bushing_state_t
    use ffrf_mbs_joint_driver, only: joint_driver_t
    implicit none
    private
@@ -121,6 +125,11 @@ module ffrf_mbs_mechanism
       type(mechanism_load_t), allocatable :: loads(:)
       !> Spring-dampers between markers (ffrf_mbs_spring_damper), order of add_spring
       type(spring_damper_t), allocatable :: springs(:)
+      !> Torsion spring-dampers about joints (ffrf_mbs_torsion_spring), order of
+      !> add_torsion_spring
+      type(torsion_spring_t), allocatable :: torsion_springs(:)
+      !> 6-dof bushings between markers (ffrf_mbs_bushing), order of add_bushing
+      type(bushing_t), allocatable :: bushings(:)
       !> Drivers of joints (ffrf_mbs_joint_driver), order of add_driver; rows after the joints'
       type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
@@ -158,6 +167,20 @@ module ffrf_mbs_mechanism
       procedure :: spring_energy => mechanism_spring_energy
       !> Free lengths not given are set to the lengths at q (the starting pose)
       procedure :: set_spring_free_lengths => mechanism_set_spring_free_lengths
+      !> Add a torsion spring-damper about a revolute or cylindrical joint
+      procedure :: add_torsion_spring => mechanism_add_torsion_spring
+      !> Angle, rate and torque of torsion spring s at a state
+      procedure :: torsion_state => mechanism_torsion_state
+      !> Potential energy of the torsion springs, sum k (phi - phi0)^2 / 2 (J)
+      procedure :: torsion_energy => mechanism_torsion_energy
+      !> Start of the torsion springs: unwrapping references and the free angles not given
+      procedure :: set_torsion_start => mechanism_set_torsion_start
+      !> Add a 6-dof bushing between two markers of two bodies
+      procedure :: add_bushing => mechanism_add_bushing
+      !> Deflections, rates and element force of bushing s at a state
+      procedure :: bushing_state => mechanism_bushing_state
+      !> Potential energy of the bushings, sum e^T K e / 2 (J)
+      procedure :: bushing_energy => mechanism_bushing_energy
       !> Choose the rotor body (rotor angle and speed for the loads)
       procedure :: set_rotor => mechanism_set_rotor
       !> Set the unwrapping reference of the rotor angle from q (near a known angle)
@@ -289,6 +312,103 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:)
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_set_spring_free_lengths
+
+      !> Add a copy of a torsion spring-damper about joint spring%joint (a mechanism joint
+      !> number; ffrf_mbs_torsion_spring), its bodies and markers taken from the joint. Refused:
+      !> an unknown joint, a joint neither revolute nor cylindrical, k < 0 or c < 0.
+      module subroutine mechanism_add_torsion_spring(self, spring, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The torsion spring (free_angle_given = .false.: set by set_torsion_start)
+         type(torsion_spring_t), intent(in) :: spring
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_torsion_spring
+
+      !> Angle (unwrapped), rate and torque of torsion spring s at (q, v).
+      module function mechanism_torsion_state(self, s, q, v) result(state)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Torsion spring number (order of add_torsion_spring)
+         integer, intent(in) :: s
+         !> Coordinates and velocities, n
+         real(dp), intent(in) :: q(:), v(:)
+         type(torsion_state_t) :: state
+      end function mechanism_torsion_state
+
+      !> Potential energy of the torsion springs, sum k (phi - phi0)^2 / 2 (J).
+      module function mechanism_torsion_energy(self, q) result(energy)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         real(dp) :: energy
+      end function mechanism_torsion_energy
+
+      !> At the starting pose q: each torsion spring's unwrapping reference becomes its angle
+      !> in (-pi, pi], and a spring without a free angle gets that angle as free angle.
+      module subroutine mechanism_set_torsion_start(self, q)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates of the starting pose, n
+         real(dp), intent(in) :: q(:)
+      end subroutine mechanism_set_torsion_start
+
+      !> Add the torsion springs' generalized forces to f (present), or their exact tangents
+      !> to K_t (-df/dq) and C_t (-df/dq') (both present); a non-finite torque is a numeric
+      !> error.
+      module subroutine add_torsion_terms(self, q, v, t, error, f, K_t, C_t)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         type(error_t), allocatable, intent(out) :: error
+         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      end subroutine add_torsion_terms
+
+      !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
+      !> Refused: an unknown body or marker, both ends on one body, a negative entry.
+      module subroutine mechanism_add_bushing(self, bushing, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> The bushing
+         type(bushing_t), intent(in) :: bushing
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_add_bushing
+
+      !> Deflections e = [d; phi], rates and element force K e + C e' of bushing s at (q, v).
+      module function mechanism_bushing_state(self, s, q, v) result(state)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Bushing number (order of add_bushing)
+         integer, intent(in) :: s
+         !> Coordinates and velocities, n
+         real(dp), intent(in) :: q(:), v(:)
+         type(bushing_state_t) :: state
+      end function mechanism_bushing_state
+
+      !> Potential energy of the bushings, sum e^T K e / 2 (J).
+      module function mechanism_bushing_energy(self, q) result(energy)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         !> Coordinates, n
+         real(dp), intent(in) :: q(:)
+         real(dp) :: energy
+      end function mechanism_bushing_energy
+
+      !> Add the bushings' generalized forces to f (present), or their tangents to K_t (-df/dq)
+      !> and C_t (-df/dq') (both present); a non-finite force is a numeric error.
+      module subroutine add_bushing_terms(self, q, v, t, error, f, K_t, C_t)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         type(error_t), allocatable, intent(out) :: error
+         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      end subroutine add_bushing_terms
+
+      !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
+      module subroutine update_torsion_references(self, q)
+         type(mechanism_t), intent(inout) :: self
+         real(dp), intent(in) :: q(:)
+      end subroutine update_torsion_references
 
       !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
       module subroutine mechanism_set_rotor(self, body, error)

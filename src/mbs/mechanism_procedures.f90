@@ -401,6 +401,8 @@ contains
          end do
       end if
       call add_spring_forces(self, q, v, t, f, error)
+      if (.not. allocated(error)) call add_torsion_terms(self, q, v, t, error, f=f)
+      if (.not. allocated(error)) call add_bushing_terms(self, q, v, t, error, f=f)
       if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)
@@ -743,6 +745,7 @@ contains
          return
       end if
       self%rotor_reference = self%rotor_angle(q)
+      call update_torsion_references(self, q)
    end procedure mechanism_accepted_step
 
    ! ----------------------------------------------------------------------------------------------
@@ -867,6 +870,10 @@ contains
          end do
       end if
       call add_spring_tangents(self, q, v, t, K_t, C_t, error)
+      if (.not. allocated(error)) call add_torsion_terms(self, q, v, t, error, K_t=K_t, &
+         C_t=C_t)
+      if (.not. allocated(error)) call add_bushing_terms(self, q, v, t, error, K_t=K_t, &
+         C_t=C_t)
       if (allocated(error)) return
       if (maxval(abs(self%gravity)) <= 0.0_dp) return
       do b = 1, num_bodies(self)

@@ -21,6 +21,12 @@
 !> | driver           | of the driver of a joint (ffrf_mbs_joint_driver): angle or | rad, rad/s,|
 !> |                  | travel, its rate, driving torque or force tau = -lambda    | N m; m,  |
 !> |                  | on body b about or along the axis                          | m/s, N   |
+!> | torsion_spring   | angle phi (unwrapped), rate phi' and torque                | rad,     |
+!> |                  | -k (phi - phi0) - c phi' on body b about the joint axis of | rad/s,   |
+!> |                  | a &torsion_spring (ffrf_mbs_torsion_spring)                | N m      |
+!> | bushing          | deflections d, phi (6), then F = -K d - C d' and           | m, rad,  |
+!> |                  | M = -K_r phi - C_r phi' (6), marker 1's axes (&bushing,     | N, N m   |
+!> |                  | ffrf_mbs_bushing)                                          |          |
 !>
 !> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
 !> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
@@ -40,11 +46,14 @@ module ffrf_mbs_sensors
    use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_rotation, only: euler_rotation
    use ffrf_mbs_spring_damper, only: spring_state_t
+   use ffrf_mbs_torsion_spring, only: torsion_state_t
+   use ffrf_mbs_bushing, only: bushing_state_t
    implicit none
    private
    public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
    public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body, sensor_needs_node
-   public :: sensor_needs_spring, SENSOR_SPRING, SENSOR_DRIVER
+   public :: sensor_needs_spring, SENSOR_SPRING, SENSOR_DRIVER, SENSOR_TORSION_SPRING, &
+      SENSOR_BUSHING
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
       SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
@@ -53,21 +62,23 @@ module ffrf_mbs_sensors
       SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
       SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
       SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_DRIVER = 12, &
-      SENSOR_ROTOR_ANGLE = 13, SENSOR_ROTOR_SPEED = 14
+      SENSOR_TORSION_SPRING = 13, SENSOR_BUSHING = 14, SENSOR_ROTOR_ANGLE = 15, &
+      SENSOR_ROTOR_SPEED = 16
    !> Number of user words (the first kinds of the table)
-   integer, parameter :: NUM_WORDS = 12
+   integer, parameter :: NUM_WORDS = 14
    !> The table (module header): word, number of values, unit, in the order of the kinds
-   character(len=*), parameter :: WORDS(14) = [character(len=17) :: 'position', 'velocity', &
+   character(len=*), parameter :: WORDS(16) = [character(len=17) :: 'position', 'velocity', &
       'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
-      'energy', 'node_displacement', 'node_position', 'spring', 'driver', 'rotor_angle', &
-      'rotor_speed']
-   integer, parameter :: SIZES(14) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 3, 1, 1]
-   character(len=*), parameter :: UNITS(14) = [character(len=15) :: 'm', 'm/s', 'm/s^2', '1', &
-      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad, rad/s, N m', 'rad', 'rad/s']
+      'energy', 'node_displacement', 'node_position', 'spring', 'driver', 'torsion_spring', &
+      'bushing', 'rotor_angle', 'rotor_speed']
+   integer, parameter :: SIZES(16) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 3, 3, 12, 1, 1]
+   character(len=*), parameter :: UNITS(16) = [character(len=15) :: 'm', 'm/s', 'm/s^2', '1', &
+      'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad, rad/s, N m', &
+      'rad, rad/s, N m', 'm, rad, N, N m', 'rad', 'rad/s']
    !> The words &sensor type accepts, ', '-separated
    character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
       'orientation, angular_velocity, joint_coordinate, reaction, energy, node_displacement, ' &
-      // 'node_position, spring, driver'
+      // 'node_position, spring, driver, torsion_spring, bushing'
 
    !> A sensor, resolved to mechanism indices.
    type :: sensor_t
@@ -82,7 +93,8 @@ module ffrf_mbs_sensors
       character(len=64) :: marker_name = ''
       !> Mechanism joint number (joint kinds)
       integer :: joint = 0
-      !> Mechanism spring number (spring kind; order of add_spring)
+      !> Mechanism spring number (spring kind: order of add_spring; torsion_spring kind: order
+      !> of add_torsion_spring)
       integer :: spring = 0
       !> Node kinds: the mesh node (for the output), its position in the body frame (m) and its
       !> rows of the mode shapes (3, num_modes; 0 columns for a rigid body)
@@ -148,7 +160,8 @@ contains
    !> .true. for the kinds of a spring.
    pure logical function sensor_needs_spring(kind)
       integer, intent(in) :: kind
-      sensor_needs_spring = kind == SENSOR_SPRING
+      sensor_needs_spring = kind == SENSOR_SPRING .or. kind == SENSOR_TORSION_SPRING .or. &
+         kind == SENSOR_BUSHING
    end function sensor_needs_spring
 
    !> .true. for the kinds of a body without a marker (energy, mesh nodes).
@@ -175,6 +188,8 @@ contains
       real(dp), allocatable :: qb(:), vb(:), ab(:)
       real(dp) :: force(3, 2), moment(3, 2), frame_a(3, 3), frame_b(3, 3), s, u(3)
       type(spring_state_t) :: state
+      type(torsion_state_t) :: torsion
+      type(bushing_state_t) :: bushing
       integer :: a, b, m
       allocate (values(sensor_size(self%kind)), source=0.0_dp)
       if (sensor_needs_marker(self%kind) .or. sensor_needs_body(self%kind)) then
@@ -203,11 +218,11 @@ contains
          end if
       end if
       if (sensor_needs_spring(self%kind)) then
-         if (.not. allocated(mech%springs)) then
-            m = 0
-         else
-            m = size(mech%springs)
-         end if
+         m = 0
+         if (self%kind == SENSOR_SPRING .and. allocated(mech%springs)) m = size(mech%springs)
+         if (self%kind == SENSOR_TORSION_SPRING .and. allocated(mech%torsion_springs)) &
+            m = size(mech%torsion_springs)
+         if (self%kind == SENSOR_BUSHING .and. allocated(mech%bushings)) m = size(mech%bushings)
          if (self%spring < 1 .or. self%spring > m) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
                '": the mechanism has no spring ' // to_str(self%spring))
@@ -218,6 +233,12 @@ contains
       case (SENSOR_SPRING)
          state = mech%spring_state(self%spring, q, v)
          values = [state%length, state%rate, state%force]
+      case (SENSOR_TORSION_SPRING)
+         torsion = mech%torsion_state(self%spring, q, v)
+         values = [torsion%angle, torsion%rate, torsion%torque]
+      case (SENSOR_BUSHING)
+         bushing = mech%bushing_state(self%spring, q, v)
+         values = [bushing%deflection, -bushing%force]
       case (SENSOR_POSITION)
          values = mech%bodies(self%body)%body%marker_position(qb, self%marker)
       case (SENSOR_VELOCITY)

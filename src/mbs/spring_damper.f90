@@ -46,7 +46,7 @@ module ffrf_mbs_spring_damper
       real(dp) :: relative_velocity(3) = 0.0_dp
    end type spring_state_t
 
-   public :: spring_evaluate, spring_generalized_forces, spring_tangents
+   public :: spring_evaluate, spring_generalized_forces, spring_tangents, marker_pair_forces
 
 contains
 
@@ -90,13 +90,32 @@ contains
       real(dp), intent(out) :: f_a(:), f_b(:)
       real(dp) :: zero(3)
       zero = 0.0_dp
+      call marker_pair_forces(body_a, q_a, spring%marker_a, body_b, q_b, spring%marker_b, &
+         state%force * state%direction, zero, f_a, f_b)
+   end subroutine spring_generalized_forces
+
+   !> Generalized forces of an action-reaction pair: the global force F and moment M on
+   !> marker_a of body a (L_r,a^T F + L_w,a^T M) and -F, -M on marker_b of body b; zero for a
+   !> body without coordinates (the ground). For the force elements between two markers.
+   pure subroutine marker_pair_forces(body_a, q_a, marker_a, body_b, q_b, marker_b, force, &
+      moment, f_a, f_b)
+      !> Body a, its coordinates and marker
+      class(body_t), intent(in) :: body_a
+      real(dp), intent(in) :: q_a(:)
+      integer, intent(in) :: marker_a
+      !> Body b, its coordinates and marker
+      class(body_t), intent(in) :: body_b
+      real(dp), intent(in) :: q_b(:)
+      integer, intent(in) :: marker_b
+      !> Force (N) and moment (N m) on marker a, global
+      real(dp), intent(in) :: force(3), moment(3)
+      !> Generalized forces (size of q_a and q_b)
+      real(dp), intent(out) :: f_a(:), f_b(:)
       f_a = 0.0_dp
       f_b = 0.0_dp
-      if (size(q_a) > 0) f_a = body_a%marker_generalized_force(q_a, spring%marker_a, &
-         state%force * state%direction, zero)
-      if (size(q_b) > 0) f_b = body_b%marker_generalized_force(q_b, spring%marker_b, &
-         -state%force * state%direction, zero)
-   end subroutine spring_generalized_forces
+      if (size(q_a) > 0) f_a = body_a%marker_generalized_force(q_a, marker_a, force, moment)
+      if (size(q_b) > 0) f_b = body_b%marker_generalized_force(q_b, marker_b, -force, -moment)
+   end subroutine marker_pair_forces
 
    !> K = -dQ/dx and C = -dQ/dv over x = [q_a; q_b] (module header), exact.
    pure subroutine spring_tangents(spring, state, body_a, q_a, v_a, body_b, q_b, v_b, K, C)

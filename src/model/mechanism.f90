@@ -17,6 +17,8 @@ module ffrf_model_mechanism
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    use ffrf_mbs_time_function, only: time_function_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
@@ -105,7 +107,8 @@ module ffrf_model_mechanism
       integer :: joint = 0
       !> Mesh node (Gmsh node tag; 0: none)
       integer :: node = 0
-      !> Spring number (&spring order; 0: none)
+      !> Spring number (&spring order, or the &torsion_spring or &bushing order for a
+      !> torsion_spring or bushing sensor; 0: none)
       integer :: spring = 0
    end type model_sensor_t
 
@@ -116,6 +119,12 @@ module ffrf_model_mechanism
       type(model_load_t), allocatable :: loads(:)
       !> Spring-dampers (&spring), input order
       type(model_spring_t), allocatable :: springs(:)
+      !> Torsion spring-dampers (&torsion_spring), input order, as the mechanism takes them
+      !> (joint: the &joint number)
+      type(torsion_spring_t), allocatable :: torsion_springs(:)
+      !> Bushings (&bushing), input order: body_a, body_b model body indices (0: the ground),
+      !> marker_a, marker_b marker handles (module header); the builder maps both
+      type(bushing_t), allocatable :: bushings(:)
       !> Drivers of joints (&driver), input order
       type(model_driver_t), allocatable :: drivers(:)
       !> Sensors (&sensor), input order

@@ -15,6 +15,8 @@ module ffrf_model_model
    use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
    use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
       load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
@@ -114,6 +116,7 @@ contains
       if (.not. case%is_mechanism) then
          allocate (model%mechanism%markers(0), model%mechanism%joints(0), &
             model%mechanism%loads(0), model%mechanism%sensors(0), model%mechanism%springs(0), &
+            model%mechanism%torsion_springs(0), model%mechanism%bushings(0), &
             model%mechanism%drivers(0))
          return
       end if
@@ -165,6 +168,8 @@ contains
             end associate
          end do
          call resolve_springs(error)
+         if (.not. allocated(error)) call resolve_torsion_springs(error)
+         if (.not. allocated(error)) call resolve_bushings(error)
          if (.not. allocated(error)) call resolve_drivers(error)
          if (allocated(error)) return
          allocate (m%sensors(0))
@@ -187,9 +192,15 @@ contains
                      trim(given%body) // '" is not a &body')
                end if
                if (.not. allocated(error) .and. len_trim(given%spring) > 0) then
-                  sensor%spring = findloc(m%springs%name, given%spring, dim=1)
+                  if (trim(given%type) == 'bushing') then
+                     sensor%spring = findloc(m%bushings%name, given%spring, dim=1)
+                  else if (trim(given%type) == 'torsion_spring') then
+                     sensor%spring = findloc(m%torsion_springs%name, given%spring, dim=1)
+                  else
+                     sensor%spring = findloc(m%springs%name, given%spring, dim=1)
+                  end if
                   if (sensor%spring == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' &
-                     // trim(given%spring) // '" is not a &spring')
+                     // trim(given%spring) // '" is not a &' // trim(given%type))
                end if
                if (.not. allocated(error) .and. len_trim(given%joint) > 0) then
                   sensor%joint = findloc(input%joints%name, given%joint, dim=1)
@@ -278,6 +289,55 @@ contains
             end associate
          end do
       end subroutine resolve_springs
+
+      !> The &bushing groups: names to model body indices and marker handles.
+      subroutine resolve_bushings(error)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: s
+         allocate (model%mechanism%bushings(0))
+         if (.not. allocated(case%mechanism%bushings)) return
+         deallocate (model%mechanism%bushings)
+         allocate (model%mechanism%bushings(size(case%mechanism%bushings)))
+         do s = 1, size(case%mechanism%bushings)
+            associate (bushing => model%mechanism%bushings(s), &
+                  given => case%mechanism%bushings(s))
+               bushing = bushing_t(given%name, stiffness=given%stiffness, &
+                  damping=given%damping)
+               call resolve_end(given%body1, given%marker1, bushing%body_a, bushing%marker_a, &
+                  error)
+               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
+                  bushing%body_b, bushing%marker_b, error)
+               if (allocated(error)) then
+                  call add_context(error, '&bushing "' // trim(given%name) // '"')
+                  return
+               end if
+            end associate
+         end do
+      end subroutine resolve_bushings
+
+      !> The &torsion_spring groups: joint names to joint numbers.
+      subroutine resolve_torsion_springs(error)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: s
+         allocate (model%mechanism%torsion_springs(0))
+         if (.not. allocated(case%mechanism%torsion_springs)) return
+         deallocate (model%mechanism%torsion_springs)
+         allocate (model%mechanism%torsion_springs(size(case%mechanism%torsion_springs)))
+         do s = 1, size(case%mechanism%torsion_springs)
+            associate (spring => model%mechanism%torsion_springs(s), &
+                  given => case%mechanism%torsion_springs(s))
+               spring = torsion_spring_t(given%name, findloc(case%mechanism%joints%name, &
+                  given%joint, dim=1), stiffness=given%stiffness, damping=given%damping, &
+                  free_angle=given%free_angle, free_angle_given=given%free_angle_given)
+               if (spring%joint == 0) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, '&torsion_spring "' // &
+                     trim(given%name) // '": joint "' // trim(given%joint) // &
+                     '" is not a &joint')
+                  return
+               end if
+            end associate
+         end do
+      end subroutine resolve_torsion_springs
 
       !> Model body index (0: ground) and marker handle of the marker `marker` of body `body`.
       subroutine resolve_end(body, marker, index, handle, error)

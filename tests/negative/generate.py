@@ -515,6 +515,8 @@ for _group, _keys in {
                   'r:t_start r:duration r:table_time r:table_value s:interpolation s:beyond',
         'spring': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping '
                   'r:free_length',
+        'torsion_spring': 's:name s:joint r:stiffness r:damping r:free_angle',
+        'bushing': 's:name s:body1 s:marker1 s:body2 s:marker2 r:stiffness r:damping',
         'pressure': 'r:bore r:stroke r:conrod_length r:compression_ratio r:intake_pressure '
                     'r:exhaust_pressure r:polytropic_exponent r:wiebe_a r:wiebe_m '
                     'r:combustion_start_deg r:combustion_duration_deg r:heat_per_cycle '

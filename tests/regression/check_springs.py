@@ -41,6 +41,8 @@ import sys
 import h5py
 import numpy as np
 
+from oscillator_checks import crossing_period, cumulative_trapezoid, log_decrement
+
 MASS, STIFFNESS, DAMPING, FREE_LENGTH, STRETCH = 1.0, 100.0, 0.4, 0.5, 0.1
 PENDULUM_K, PENDULUM_L0, GRAVITY = 20.0, 1.0, 9.81
 ANCHOR = np.array([0.0, -1.5, 0.0])
@@ -87,18 +89,14 @@ def oscillator(driver, case, mesh_dir, work):
               f"{errors[-1]:.3e} m")
         if name == "oscillator_h":
             u = x - FREE_LENGTH
-            crossings = [t[i] - u[i] * (t[i + 1] - t[i]) / (u[i + 1] - u[i])
-                         for i in range(len(u) - 1) if u[i] * u[i + 1] < 0.0]
-            period = 2.0 * np.mean(np.diff(crossings))
-            print(f"       period from {len(crossings)} zero crossings {period:.6f} s, "
+            period, count = crossing_period(t, u)
+            print(f"       period from {count} zero crossings {period:.6f} s, "
                   f"closed form {2.0 * math.pi / wd:.6f} s")
             check(abs(period / (2.0 * math.pi / wd) - 1.0) <= 1.0e-4,
                   f"period {period:.6f} s within 1e-4 of 2 pi / wd")
-            peaks = [abs(u[i]) for i in range(1, len(u) - 1)
-                     if abs(u[i]) >= abs(u[i - 1]) and abs(u[i]) >= abs(u[i + 1])]
             w0 = math.sqrt(STIFFNESS / MASS)
             zeta = DAMPING / (2.0 * MASS * w0)
-            decrement = math.log(peaks[0] / peaks[-1]) / (len(peaks) - 1)
+            decrement = log_decrement(u)
             expected = zeta * w0 * math.pi / wd
             print(f"       logarithmic decrement per half period {decrement:.6f}, closed form "
                   f"{expected:.6f}")
@@ -107,8 +105,7 @@ def oscillator(driver, case, mesh_dir, work):
                   f"(relative difference {abs(decrement / expected - 1.0):.2e})")
             v = data["V"][:, 0]
             power = DAMPING * v**2
-            dissipated = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) *
-                                                          np.diff(t))])
+            dissipated = cumulative_trapezoid(t, power)
             total = data["energy"][:, 0] + 0.5 * STIFFNESS * u**2 + dissipated
             initial = 0.5 * STIFFNESS * STRETCH**2
             change = np.max(np.abs(total - total[0])) / initial

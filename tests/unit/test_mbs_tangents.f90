@@ -31,6 +31,22 @@
 !> exact K and C against the same central differences (same tolerance; measured 6.7e-10 for
 !> -df/dq, the reference's round-off next to k = 5e4 N/m, and 1.6e-10 for -df/dv). A wrong sign
 !> of the damper's geometric term c w^T N gives 1.6e-2.
+!> Torsion spring-dampers (ffrf_mbs_torsion_spring): (5) the ground, a rigid body and the
+!> synthetic flexible crank joined by two revolute joints (ground - rigid, rigid - flexible
+!> virtual node), each with a torsion spring-damper (k = 40 and 300 N m/rad, c = 0.7 and
+!> 0.2 N m s/rad; free angles 0.3 and -0.2 rad): the springs' exact K and C against the same
+!> central differences at the random state (off the joints: the rate z_a . (w_b - w_a) and the
+!> angle atan2(y_a . x_b, x_a . x_b) both vary with every coordinate), same tolerance. A spring
+!> that refuses a prismatic joint, an unknown joint, a negative k or c is checked after it.
+!> Bushings (ffrf_mbs_bushing): (6) the ground, a rigid body and the synthetic flexible crank
+!> joined by three damped bushings (ground - rigid with a rotated marker frame, rigid - flexible
+!> virtual node, flexible - ground): C = E^T C E exact and K by the bushing's own central
+!> differences against the whole mechanism's central differences, same tolerance; and the
+!> conservative part: with the damping off, at a random state on the Euler parameters' manifold
+!> (|theta| = 1, theta . theta' = 0, where L_w v is the angular velocity), the power of the
+!> bushings' force Q . v equals -dU/dt of U = sum e^T K e / 2 (central difference of U along v, s = 1e-7: truncation
+!> (s |v|)^2 ~ 1e-10 with Euler rates ~ 50 /s) to 1e-8 relative, each bushing alone (an independent check of E, the rate matrix e' = E v); then the refusals of
+!> add_bushing.
 !> Geometric stiffening (flexible_body_t%set_geometric_stiffness, random symmetric K_G^(c)
 !> of order 1 so that -K_G(omega) zeta and its omega derivatives count): the flexible body's
 !> force tangents against central differences (as the flexible-body test) and the engine with
@@ -50,6 +66,8 @@ module test_mbs_tangents
       JOINT_UNIVERSAL
    use ffrf_mbs_mechanism_loads, only: polynomial_drive_t
    use ffrf_mbs_spring_damper, only: spring_damper_t
+   use ffrf_mbs_torsion_spring, only: torsion_spring_t
+   use ffrf_mbs_bushing, only: bushing_t
    use ffrf_test_rigid_engine, only: add_engine_loads, diagonal, crank_radius, rod_length
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
       GALPHA_NEWTON_FULL
@@ -74,7 +92,9 @@ contains
          test_geometric_stiffness), &
          new_unittest('engine_run_analytic_equals_differences', test_engine_run), &
          new_unittest('spring_damper_tangents_match_differences', test_springs), &
-         new_unittest('spring_damper_refuses_bad_input', test_spring_refusals)]
+         new_unittest('spring_damper_refuses_bad_input', test_spring_refusals), &
+         new_unittest('torsion_spring_tangents_match_differences', test_torsion_springs), &
+         new_unittest('bushing_tangents_and_power', test_bushings)]
    end subroutine collect_mbs_tangents
 
    !> Deterministic pseudo-random numbers in [-1, 1].
@@ -595,26 +615,9 @@ contains
    !> (module header, system 4): K and C of the springs against central differences.
    subroutine test_springs(error)
       type(error_t), allocatable, intent(out) :: error
-      type(ground_t) :: ground
-      type(rigid_body_t) :: block
-      type(flexible_body_t) :: crank
       type(mechanism_t) :: mech
-      real(dp) :: frames(3, 3, 2)
       integer :: ig, ib, ic
-      frames(:, :, 1) = identity3()
-      frames(:, :, 2) = identity3()
-      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
-         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
-         frames, error)
-      if (allocated(error)) return
-      call synthetic_crank(crank, 1.0e-3_dp, error)
-      if (allocated(error)) return
-      call mech%add_body(ground, 'ground', ig, error)
-      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
-      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+      call three_bodies(mech, identity3(), ig, ib, ic, error)
       if (.not. allocated(error)) call mech%add_spring(spring_of('s1', ig, 1, ib, 1, 2.0e3_dp, &
          15.0_dp, 0.2_dp), error)
       if (.not. allocated(error)) call mech%add_spring(spring_of('s2', ib, 2, ic, 2, 5.0e4_dp, &
@@ -670,6 +673,172 @@ contains
          to_str(mech%springs(1)%free_length), abs(mech%springs(1)%free_length - 0.25_dp) <= &
          1.0e-15_dp)
    end subroutine test_spring_refusals
+
+   !> Two revolute joints with torsion spring-dampers (module header, system 5): K and C against
+   !> central differences; then the refusals of add_torsion_spring.
+   subroutine test_torsion_springs(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: refused
+      type(mechanism_t) :: mech
+      integer :: ig, ib, ic
+      call three_bodies(mech, reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, 0.0_dp, 1.0_dp], [3, 3]), ig, ib, ic, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'hinge', ig, 1, ib, 1, &
+         error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_REVOLUTE, 'pin', ib, 2, ic, 2, error)
+      if (.not. allocated(error)) call mech%add_joint(JOINT_PRISMATIC, 'slide', ig, 2, ic, 3, &
+         error)
+      if (.not. allocated(error)) call mech%add_torsion_spring(torsion_of('t1', 1, 40.0_dp, &
+         0.7_dp, 0.3_dp), error)
+      if (.not. allocated(error)) call mech%add_torsion_spring(torsion_of('t2', 2, 300.0_dp, &
+         0.2_dp, -0.2_dp), error)
+      if (allocated(error)) return
+      call compare_tangents(mech, 'torsion springs', 53, error)
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('slide', 3, 1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a torsion spring on a prismatic joint is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('none', 4, 1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a torsion spring on an unknown joint is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('k', 1, -1.0_dp, 0.0_dp, 0.0_dp), refused)
+      call check(error, 'a negative torsional stiffness is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_torsion_spring(torsion_of('c', 1, 1.0_dp, -1.0_dp, 0.0_dp), refused)
+      call check(error, 'a negative torsional damping is refused', allocated(refused))
+   end subroutine test_torsion_springs
+
+   !> Three damped bushings (module header, system 6): K and C against central differences,
+   !> the power of the undamped bushings against -dU/dt, and the refusals of add_bushing.
+   subroutine test_bushings(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: refused
+      type(mechanism_t) :: mech
+      real(dp) :: power, rate, s, scale
+      real(dp), allocatable :: q(:), v(:), lambda(:), a(:), f(:), stiffness(:, :)
+      integer :: ig, ib, ic, k, j
+      call three_bodies(mech, reshape([0.0_dp, 0.6_dp, 0.8_dp, 0.0_dp, -0.8_dp, 0.6_dp, &
+         1.0_dp, 0.0_dp, 0.0_dp], [3, 3]), ig, ib, ic, error)
+      if (.not. allocated(error)) call mech%add_bushing(bushing_of('b1', ig, 2, ib, 1, &
+         [2.0e3_dp, 3.0e3_dp, 5.0e3_dp, 40.0_dp, 60.0_dp, 90.0_dp], [5.0_dp, 7.0_dp, 3.0_dp, &
+         0.2_dp, 0.3_dp, 0.1_dp]), error)
+      if (.not. allocated(error)) call mech%add_bushing(bushing_of('b2', ib, 2, ic, 2, &
+         [1.0e4_dp, 2.0e4_dp, 1.5e4_dp, 300.0_dp, 200.0_dp, 100.0_dp], [2.0_dp, 1.0_dp, &
+         4.0_dp, 0.5_dp, 0.4_dp, 0.3_dp]), error)
+      if (.not. allocated(error)) call mech%add_bushing(bushing_of('b3', ic, 3, ig, 1, &
+         [8.0e3_dp, 6.0e3_dp, 4.0e3_dp, 80.0_dp, 70.0_dp, 50.0_dp], [1.0_dp, 2.0_dp, 3.0_dp, &
+         0.1_dp, 0.1_dp, 0.1_dp]), error)
+      if (allocated(error)) return
+      call compare_tangents(mech, 'bushings', 61, error)
+      if (allocated(error)) return
+      ! Conservative part: Q . v = -dU/dt with the damping off and no other applied force
+      do k = 1, size(mech%bushings)
+         mech%bushings(k)%damping = 0.0_dp
+      end do
+      call random_state(mech, 67, q, v, lambda, a)
+      do k = 1, size(mech%bodies)
+         associate (i => mech%bodies(k)%offset)
+            if (mech%bodies(k)%body%num_coordinates == 0) cycle
+            ! on the manifold of the Euler parameters: |theta| = 1, theta . theta' = 0
+            q(i + 4:i + 7) = euler_normalized(q(i + 4:i + 7))
+            v(i + 4:i + 7) = v(i + 4:i + 7) - dot_product(q(i + 4:i + 7), v(i + 4:i + 7)) * &
+               q(i + 4:i + 7)
+         end associate
+      end do
+      allocate (f(size(q)), stiffness(6, size(mech%bushings)))
+      stiffness = reshape([(mech%bushings(k)%stiffness, k = 1, size(mech%bushings))], &
+         shape(stiffness))
+      do j = 1, size(mech%bushings)
+         do k = 1, size(mech%bushings)
+            mech%bushings(k)%stiffness = 0.0_dp
+         end do
+         mech%bushings(j)%stiffness = stiffness(:, j)
+         call mech%applied_force(q, v, 0.0_dp, f, error)
+         if (allocated(error)) return
+         power = dot_product(f, v)
+         s = 1.0e-7_dp
+         rate = (mech%bushing_energy(q + s * v) - mech%bushing_energy(q - s * v)) / (2.0_dp * s)
+         scale = max(abs(power), abs(rate))
+         call report('bushing ' // to_str(j) // ': Q . v = ' // to_str(power, 12) // &
+            ' W, -dU/dt = ' // to_str(-rate, 12) // ' W')
+         call check(error, 'bushing ' // to_str(j) // ': Q . v equals -dU/dt to 1e-8, got ' &
+            // to_str(abs(power + rate) / scale, 3), abs(power + rate) <= 1.0e-8_dp * scale)
+         if (allocated(error)) return
+      end do
+      call mech%add_bushing(bushing_of('same', ib, 1, ib, 2, [(1.0_dp, k = 1, 6)], &
+         [(0.0_dp, k = 1, 6)]), refused)
+      call check(error, 'a bushing with both ends on one body is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_bushing(bushing_of('marker', ig, 3, ib, 1, [(1.0_dp, k = 1, 6)], &
+         [(0.0_dp, k = 1, 6)]), refused)
+      call check(error, 'a bushing at an unknown marker is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_bushing(bushing_of('k', ig, 1, ib, 1, [1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, &
+         -1.0_dp, 1.0_dp], [(0.0_dp, k = 1, 6)]), refused)
+      call check(error, 'a negative bushing stiffness entry is refused', allocated(refused))
+      if (allocated(error)) return
+      call mech%add_bushing(bushing_of('c', ig, 1, ib, 1, [(1.0_dp, k = 1, 6)], [0.0_dp, &
+         0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]), refused)
+      call check(error, 'a negative bushing damping entry is refused', allocated(refused))
+   end subroutine test_bushings
+
+   !> The ground (markers 1, 2), a rigid block (markers 1, 2) and the synthetic flexible crank
+   !> (frequencies / 1000) of the force element tests (module header, systems 4 to 6); the
+   !> second marker of the ground and of the block has the frame `frame`.
+   subroutine three_bodies(mech, frame, ig, ib, ic, error)
+      type(mechanism_t), intent(out) :: mech
+      real(dp), intent(in) :: frame(3, 3)
+      integer, intent(out) :: ig, ib, ic
+      type(error_t), allocatable, intent(out) :: error
+      type(ground_t) :: ground
+      type(rigid_body_t) :: block
+      type(flexible_body_t) :: crank
+      real(dp) :: frames(3, 3, 2)
+      frames(:, :, 1) = identity3()
+      frames(:, :, 2) = frame
+      call ground%init(reshape([0.3_dp, 0.0_dp, 0.1_dp, -0.2_dp, 0.1_dp, 0.0_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call block%init(1.3_dp, [0.01_dp, 0.02_dp, 0.03_dp], diagonal([2.0e-3_dp, 2.5e-3_dp, &
+         1.0e-3_dp]), reshape([0.05_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.04_dp, 0.1_dp], [3, 2]), &
+         frames, error)
+      if (allocated(error)) return
+      call synthetic_crank(crank, 1.0e-3_dp, error)
+      if (allocated(error)) return
+      call mech%add_body(ground, 'ground', ig, error)
+      if (.not. allocated(error)) call mech%add_body(block, 'block', ib, error)
+      if (.not. allocated(error)) call mech%add_body(crank, 'crank', ic, error)
+   end subroutine three_bodies
+
+   !> A bushing record.
+   pure function bushing_of(name, body_a, marker_a, body_b, marker_b, stiffness, damping) &
+      result(bushing)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: body_a, marker_a, body_b, marker_b
+      real(dp), intent(in) :: stiffness(6), damping(6)
+      type(bushing_t) :: bushing
+      bushing%name = name
+      bushing%body_a = body_a
+      bushing%marker_a = marker_a
+      bushing%body_b = body_b
+      bushing%marker_b = marker_b
+      bushing%stiffness = stiffness
+      bushing%damping = damping
+   end function bushing_of
+
+   !> A torsion spring-damper record about joint `joint` with a given free angle.
+   pure function torsion_of(name, joint, stiffness, damping, free_angle) result(spring)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: joint
+      real(dp), intent(in) :: stiffness, damping, free_angle
+      type(torsion_spring_t) :: spring
+      spring%name = name
+      spring%joint = joint
+      spring%stiffness = stiffness
+      spring%damping = damping
+      spring%free_angle = free_angle
+      spring%free_angle_given = .true.
+   end function torsion_of
 
    !> A spring-damper record.
    pure function spring_of(name, body_a, marker_a, body_b, marker_b, stiffness, damping, &
