@@ -274,6 +274,16 @@ module ffrf_app_mechanism_output
          character(len=:), allocatable :: name
       end function row_name
 
+      !> The results file of a run that failed after its modes were computed and before its
+      !> integration started (the starting pose not assembled, an inconsistent start): the input
+      !> echo, the modes of every body computed and status "error: ..." (issue 24). Nothing when
+      !> no body's modes were computed; a failure here is not reported over the run's error.
+      module subroutine record_failed_start(self, bodies, run_error)
+         class(mechanism_output_t), intent(inout) :: self
+         type(built_body_t), intent(in) :: bodies(:)
+         type(error_t), intent(in) :: run_error
+      end subroutine record_failed_start
+
       !> Create the results file with its series and the redundant-equation flags.
       module subroutine open_results(results, results_file, case, resolved, echo, mech, bodies, &
             integrator, sensors, error)

@@ -6,6 +6,8 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_file
    use ffrf_core_error, only: add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: join_path, insert_suffix
+   use ffrf_input_case, only: case_echo
+   use ffrf_io_results, only: partial_name, commit_file, abandon_file
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
    use ffrf_modes_input, only: basis_name
@@ -122,6 +124,37 @@ contains
 
    !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
    !> virtual-node rows, basis, interfaces), engine_results_write_modes.
+   module procedure record_failed_start
+      type(engine_results_t) :: results
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: temp_file, status
+      logical :: closed
+      integer :: k
+      if (.not. any(bodies%num_modes > 0)) return
+      temp_file = partial_name(self%results_file)
+      call results%create(temp_file, self%case%name, trim(self%case%run%title), &
+         trim(self%case%mechanism%mechanism%label), '', case_echo(self%case), error, &
+         has_crank=.false.)
+      if (allocated(error)) then
+         call abandon_file(temp_file)
+         return
+      end if
+      do k = 1, size(bodies)
+         if (allocated(error)) exit
+         if (bodies(k)%num_modes > 0) call write_body_modes(results, bodies(k)%modes%name, &
+            bodies(k)%modes, error)
+      end do
+      status = 'error: ' // run_error%message
+      if (allocated(error)) status = 'error: ' // error%message
+      ! no stage times yet (they start with the recording)
+      call results%finish(status, [character(len=80) ::], [real(dp) ::], error, closed=closed)
+      if (closed) then
+         call commit_file(temp_file, self%results_file, error)
+      else
+         call abandon_file(temp_file)
+      end if
+   end procedure record_failed_start
+
    subroutine write_body_modes(results, name, modes, error)
       type(engine_results_t), intent(inout) :: results
       character(len=*), intent(in) :: name

@@ -211,6 +211,10 @@ contains
       character(len=:), allocatable :: status
       logical :: closed
       if (.not. self%started) then
+         if (self%reserved .and. allocated(run_error)) then
+            if (run_error%code /= FFRF_INTERRUPTED) call record_failed_start(self, bodies, &
+               run_error)
+         end if
          call self%release()
          if (allocated(run_error)) call move_alloc(run_error, error)
          return

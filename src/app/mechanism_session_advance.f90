@@ -125,8 +125,10 @@ contains
             self%integrator, self%pressure, self%has_pressure, error)
       end if
       if (allocated(error)) then
-         ! the file of a started recording is closed with the error (status "error: ...")
+         ! the file of a started recording is closed with the error (status "error: ..."); a
+         ! failure after the modes leaves them in a file with that status (record_failed_start)
          call move_alloc(error, run_error)
+         if (.not. allocated(self%bodies)) allocate (self%bodies(0))
          call self%output%finish(self%mech, self%bodies, self%integrator, log, run_error, error)
          return
       end if

@@ -549,8 +549,18 @@ contains
                trim(name) // '"', fun, error)
          end if
          if (allocated(error)) return
-         loads = [loads, load_input_t(name, type, body, marker, direction / norm2(direction), &
-            value, stall_torque, free_speed, switch_off, coefficient, given_law)]
+         ! grown by hand: gfortran 12 leaks the allocatable components of a structure
+         ! constructor inside an array constructor (the law's table; seen by ctest
+         ! capi_bad_calls_asan)
+         block
+            type(load_input_t), allocatable :: grown(:)
+            allocate (grown(size(loads) + 1))
+            grown(:size(loads)) = loads
+            grown(size(grown)) = load_input_t(name, type, body, marker, &
+               direction / norm2(direction), value, stall_torque, free_speed, switch_off, &
+               coefficient, given_law)
+            call move_alloc(grown, loads)
+         end block
       end do
    end subroutine read_load_groups
 
@@ -610,7 +620,13 @@ contains
                trim(name) // '"', fun, error)
          end if
          if (allocated(error)) return
-         drivers = [drivers, driver_input_t(name, joint, quantity, offset, given_law)]
+         block   ! grown by hand, as the loads (read_load_groups)
+            type(driver_input_t), allocatable :: grown(:)
+            allocate (grown(size(drivers) + 1))
+            grown(:size(drivers)) = drivers
+            grown(size(grown)) = driver_input_t(name, joint, quantity, offset, given_law)
+            call move_alloc(grown, drivers)
+         end block
       end do
    end subroutine read_driver_groups
 

@@ -11,3 +11,14 @@ foreach(test concurrent disk_full signals restart)
     LABELS "regression;engine;output" TIMEOUT 600
     FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh;crank_mesh")
 endforeach()
+
+# A mechanism run that fails after its modes and before its integration (issue 24): the results
+# file with the input echo, the modes (equal to a modal run's) and status "error: ..."
+# (check_failed_start.py on tests/data/faults/failed_start.nml, a start that cannot assemble).
+add_test(NAME regression_failed_start
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_failed_start.py $<TARGET_FILE:ffrf>
+    ${CMAKE_CURRENT_SOURCE_DIR}/data/faults/failed_start.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/failed_start)
+set_tests_properties(regression_failed_start PROPERTIES LABELS "regression;output"
+  FIXTURES_REQUIRED link_mesh)
