@@ -63,9 +63,9 @@ contains
    subroutine test_sensor_echo(error)
       type(error_t), allocatable, intent(out) :: error
       type(case_input_t) :: case, again
-      character(len=:), allocatable :: echo
-      character(len=*), parameter :: file_name = 'test_io_namelist_sensor_echo.nml'
+      character(len=:), allocatable :: echo, file_name
       integer :: unit, stat
+      file_name = own_file('sensor_echo.nml')
       call read_case(data_dir() // '/sensors/slider_wheel.nml', case, error)
       if (allocated(error)) return
       call check(error, '11 sensors read', size(case%mechanism%sensors) == 11)
@@ -96,9 +96,7 @@ contains
    subroutine test_pose_echo(error)
       type(error_t), allocatable, intent(out) :: error
       type(case_input_t) :: case, again
-      character(len=:), allocatable :: echo
-      character(len=*), parameter :: file_name = 'test_io_namelist_pose.nml', &
-         again_name = 'test_io_namelist_pose_again.nml'
+      character(len=:), allocatable :: echo, file_name, again_name
       character(len=*), parameter :: nl = new_line('a'), rest = &
          '&marker body = ''arm'', name = ''hinge'', position = 0, 0, 0 /' // nl // &
          '&marker body = ''ground'', name = ''hinge'', position = 0, 0, 0 /' // nl // &
@@ -106,6 +104,8 @@ contains
          '''hinge'', body2 = ''arm'', marker2 = ''hinge'' /' // nl
       character(len=*), parameter :: arm = '&body name = ''arm'', type = ''rigid'', ' // &
          'mass = 1.0, inertia = 0.01, 0.01, 0.01, 0, 0, 0'
+      file_name = own_file('pose.nml')
+      again_name = own_file('pose_again.nml')
       call write_text(file_name, arm // ', orientation = 0, -1, 0, 1, 0, 0, 0, 0, 1, ' // &
          'velocity = 0.1, 0.2, 0.3, angular_velocity = 0, 0, 2.5 /' // nl // rest, error)
       if (.not. allocated(error)) call read_case(file_name, case, error)
@@ -138,6 +138,19 @@ contains
       call check(error, 'no pose key in the echo of a body without them', &
          index(echo, 'orientation') == 0 .and. index(echo, 'velocity') == 0)
    end subroutine test_pose_echo
+
+   !> A scratch file of this test program in the working folder: its name starts with the
+   !> program's own name, so that the plain and the _checked builds, run in parallel from the
+   !> same folder, never write the same file.
+   function own_file(suffix) result(name)
+      character(len=*), intent(in) :: suffix
+      character(len=:), allocatable :: name
+      character(len=4096) :: program
+      integer :: slash
+      call get_command_argument(0, program)
+      slash = index(program, '/', back=.true.)
+      name = trim(program(slash + 1:)) // '_' // suffix
+   end function own_file
 
    !> Write `text` to a new file.
    subroutine write_text(file_name, text, error)
