@@ -885,8 +885,53 @@ contains
       do k = 1, size(bodies)
          call log_assembly(trim(resolved%bodies(k)%name), &
             mech%bodies(bodies(k)%index)%offset, q_given, v_given, q, v, log)
+         call check_assembly_deformation(trim(resolved%bodies(k)%name), bodies(k), &
+            q(mech%bodies(bodies(k)%index)%offset + 8:), log, error)
+         if (allocated(error)) return
       end do
    end subroutine starting_state
+
+   !> The assembly may move a flexible body's modal coordinates (from zero) to close its joints
+   !> on the round-off of the mesh's virtual nodes (~1e-8 m on the reference crank); it must
+   !> not close a gap of the given geometry by deforming the body (a 0.3 m link stretched to
+   !> a ground point 5 m away, issue 24). Refused when an interface's elastic displacement
+   !> Psi_v zeta exceeds 1e-3 of the body's size (its mesh's bounding-box diagonal), a strain
+   !> no linear FFRF body should start with; the log states the largest one otherwise.
+   subroutine check_assembly_deformation(name, body, zeta, log, error)
+      character(len=*), intent(in) :: name
+      type(built_body_t), intent(in) :: body
+      !> The body's modal coordinates after the assembly (and what follows them, unused)
+      real(dp), intent(in) :: zeta(:)
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), parameter :: limit = 1.0e-3_dp
+      real(dp) :: size_m, largest, u
+      integer :: i, worst
+      if (body%num_modes == 0 .or. .not. allocated(body%modes%mesh%xyz) .or. &
+         .not. allocated(body%modes%virtual_node_shape)) return
+      associate (shape => body%modes%virtual_node_shape, xyz => body%modes%mesh%xyz)
+         if (size(shape, 2) /= body%num_modes) return
+         size_m = norm2(maxval(xyz, dim=2) - minval(xyz, dim=2))
+         largest = 0.0_dp
+         worst = 1
+         do i = 1, size(shape, 1) / 6
+            u = norm2(matmul(shape(6 * i - 5:6 * i - 3, :), zeta(:body%num_modes)))
+            if (u > largest) then
+               largest = u
+               worst = i
+            end if
+         end do
+      end associate
+      call log%info('assembly', 'body "' // name // '": largest elastic displacement of an ' &
+         // 'interface ' // to_str(largest, 3) // ' m (' // to_str(largest / size_m, 3) // &
+         ' of its size ' // to_str(size_m, 4) // ' m)')
+      if (largest > limit * size_m) call fatal_error(error, FFRF_INPUT_ERROR, &
+         'assembling the starting pose: the joints close only by deforming body "' // name // &
+         '": its interface "' // body%modes%interfaces(worst)%name // '" moves ' // &
+         to_str(largest, 3) // ' m elastically, more than ' // to_str(limit) // ' of the ' // &
+         'body''s size (' // to_str(size_m, 4) // ' m); check the &marker points and &body ' // &
+         'positions: the joints must close with the bodies undeformed')
+   end subroutine check_assembly_deformation
 
    !> The starting velocities of the &body keys at the assembled pose q: the frame origin's
    !> velocity and the Euler-parameter rates theta_dot = G(theta)^T omega / 4 of the global

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """A mechanism run that fails after its modes, before its integration (issue 24; docs/faults.md
-"Complete files only"): tests/data/faults/failed_start.nml cannot assemble its starting pose.
+"Faults: two runs on one output, a full disk, signals, restart"): the joints of
+tests/data/faults/failed_start.nml close only by deforming the link 5.6 m, which the assembly
+refuses (docs/mechanisms.md "Starting pose").
 
 Reference: what the docs promise, checked on the file itself: a non-zero exit with one
 `ffrf: error:` line naming the assembly; the results file in place (no `.part` left) with status
@@ -36,8 +38,10 @@ def main():
     print(f'exit {run.returncode}: {last}')
     if run.returncode == 0:
         fail('the run that cannot assemble its start exited 0')
-    if not last.startswith('ffrf: error:') or 'assembling the starting pose' not in last:
-        fail('the last line is not one error line about the starting pose')
+    if not last.startswith('ffrf: error:') or 'close only by deforming body "link"' not in last:
+        fail('the last line is not one error line about the deformed starting pose')
+    if run.returncode != 2:
+        fail(f'exit {run.returncode}, expected 2 (an input error: the geometry)')
     results = work / (case.stem + '.h5')
     if not results.is_file():
         fail(f'no results file {results} after a failure that followed the modes')
@@ -47,7 +51,7 @@ def main():
         status = h5.attrs['status']
         status = status.decode() if isinstance(status, bytes) else str(status)
         print(f'status: {status[:160]}')
-        if not status.startswith('error: ') or 'assembling the starting pose' not in status:
+        if not status.startswith('error: ') or 'close only by deforming' not in status:
             fail('status is not "error: ..." with the run\'s message')
         echo = h5['input/namelist'][()]
         echo = echo.decode() if isinstance(echo, bytes) else str(echo)
