@@ -276,8 +276,9 @@ module ffrf_app_mechanism_output
 
       !> The results file of a run that failed after its modes were computed and before its
       !> integration started (the starting pose not assembled, an inconsistent start): the input
-      !> echo, the modes of every body computed and status "error: ..." (issue 24). Nothing when
-      !> no body's modes were computed; a failure here is not reported over the run's error.
+      !> echo, the modes of every body and status "error: ..." (issue 24). Nothing when the
+      !> failure came before every flexible body had its modes (a refused input while the bodies
+      !> are built); a failure here is not reported over the run's error.
       module subroutine record_failed_start(self, bodies, run_error)
          class(mechanism_output_t), intent(inout) :: self
          type(built_body_t), intent(in) :: bodies(:)

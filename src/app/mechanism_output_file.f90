@@ -130,7 +130,9 @@ contains
       character(len=:), allocatable :: temp_file, status
       logical :: closed
       integer :: k
-      if (.not. any(bodies%num_modes > 0)) return
+      ! after the modes stage only: every flexible body's modes computed (a refusal while the
+      ! bodies are built, e.g. a modes_file that does not fit, leaves no file)
+      if (.not. (all(bodies%made) .and. any(bodies%num_modes > 0))) return
       temp_file = partial_name(self%results_file)
       call results%create(temp_file, self%case%name, trim(self%case%run%title), &
          trim(self%case%mechanism%mechanism%label), '', case_echo(self%case), error, &

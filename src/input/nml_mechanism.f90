@@ -123,6 +123,92 @@ module ffrf_input_nml_mechanism
       choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
       choice_t('full', GALPHA_NEWTON_FULL)]
 
+   interface
+      !> &model: automatic model selection and its error targets.
+      module subroutine read_model_group(unit, input, error)
+         integer, intent(in) :: unit
+         type(model_input_t), intent(inout) :: input
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_model_group
+
+      module subroutine read_mechanism_group(unit, input, error)
+         integer, intent(in) :: unit
+         type(mechanism_input_t), intent(inout) :: input
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_mechanism_group
+
+      module subroutine read_marker_groups(unit, src, markers, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(marker_input_t), allocatable, intent(out) :: markers(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_marker_groups
+
+      module subroutine read_joint_groups(unit, src, joints, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(joint_input_t), allocatable, intent(out) :: joints(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_joint_groups
+
+      module subroutine read_load_groups(unit, src, loads, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(load_input_t), allocatable, intent(out) :: loads(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_load_groups
+
+      !> The &driver groups (module header), in input order.
+      module subroutine read_driver_groups(unit, src, drivers, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(driver_input_t), allocatable, intent(out) :: drivers(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_driver_groups
+
+      !> The &spring groups (module header), in input order.
+      module subroutine read_spring_groups(unit, src, springs, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(spring_input_t), allocatable, intent(out) :: springs(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_spring_groups
+
+      !> The &torsion_spring groups (module header), in input order.
+      module subroutine read_torsion_spring_groups(unit, src, springs, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_torsion_spring_groups
+
+      !> The &bushing groups (module header), in input order.
+      module subroutine read_bushing_groups(unit, src, bushings, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_bushing_groups
+
+      module subroutine read_pressure_group(unit, input, table_file, error)
+         integer, intent(in) :: unit
+         type(pressure_input_t), intent(inout) :: input
+         character(len=*), intent(inout) :: table_file
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_pressure_group
+
+      module subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(galpha_settings_t), intent(inout) :: settings
+         !> .true. when the group gives h
+         logical, intent(out) :: h_given
+         type(error_t), allocatable, intent(out) :: error
+         !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
+         type(energy_watch_settings_t), intent(inout) :: watch
+      end subroutine read_integrator_group
+   end interface
+
 contains
 
    !> Keys of &mechanism (module header).
@@ -293,653 +379,5 @@ contains
       if (.not. allocated(error)) input%max_steps = src%integer_value('integrator', 1, &
          'max_steps', input%max_steps)
    end subroutine read_mechanism_groups
-
-   !> &model: automatic model selection and its error targets.
-   subroutine read_model_group(unit, input, error)
-      integer, intent(in) :: unit
-      type(model_input_t), intent(inout) :: input
-      type(error_t), allocatable, intent(out) :: error
-      character(len=16) :: selection
-      real(dp) :: speed_tolerance, force_tolerance, resonance_floor
-      integer :: candidate_modes, stat
-      character(len=512) :: msg
-      namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
-         resonance_floor
-      selection = input%selection
-      speed_tolerance = input%speed_tolerance
-      force_tolerance = input%force_tolerance
-      candidate_modes = input%candidate_modes
-      resonance_floor = input%resonance_floor
-      rewind (unit)
-      read (unit, nml=model, iostat=stat, iomsg=msg)
-      if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'model', 0, msg, 'selection, speed_tolerance, ' // &
-            'force_tolerance, candidate_modes, resonance_floor')
-         return
-      end if
-      ! selection's word and the ranges were checked by the key spec (model_keys)
-      selection = to_lower(selection)
-      input%selection = selection
-      input%speed_tolerance = speed_tolerance
-      input%force_tolerance = force_tolerance
-      input%candidate_modes = candidate_modes
-      input%resonance_floor = resonance_floor
-   end subroutine read_model_group
-
-   subroutine read_mechanism_group(unit, input, error)
-      integer, intent(in) :: unit
-      type(mechanism_input_t), intent(inout) :: input
-      type(error_t), allocatable, intent(out) :: error
-      character(len=64) :: crank, label
-      real(dp) :: crank_angle_deg, crank_speed, gravity(3), progress_interval
-      integer :: animation_frames, stat
-      character(len=512) :: msg
-      namelist /mechanism/ crank, crank_angle_deg, crank_speed, gravity, label, &
-         progress_interval, animation_frames
-      crank = input%crank
-      crank_angle_deg = input%crank_angle_deg
-      crank_speed = input%crank_speed
-      gravity = input%gravity
-      label = input%label
-      progress_interval = input%progress_interval
-      animation_frames = input%animation_frames
-      rewind (unit)
-      read (unit, nml=mechanism, iostat=stat, iomsg=msg)
-      if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'mechanism', 0, msg, 'crank, crank_angle_deg, ' // &
-            'crank_speed, gravity, label, progress_interval, animation_frames')
-         return
-      end if
-      if (.not. (progress_interval > 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: progress_interval = ' // &
-            to_str(progress_interval) // ' s, must be > 0')
-      else if (animation_frames < 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: animation_frames = ' // &
-            to_str(animation_frames) // ', must be >= 0 (0: no animation file)')
-      end if
-      input = mechanism_input_t(crank, crank_angle_deg, crank_speed, gravity, label, &
-         progress_interval, animation_frames)
-   end subroutine read_mechanism_group
-
-   subroutine read_marker_groups(unit, src, markers, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(marker_input_t), allocatable, intent(out) :: markers(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(marker_input_t) :: defaults
-      character(len=64) :: body, name
-      real(dp) :: position(3), orientation(9)
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /marker/ body, name, position, orientation
-      allocate (markers(0))
-      rewind (unit)
-      do
-         body = defaults%body
-         name = defaults%name
-         position = defaults%position
-         ! all zero: not given (a zero matrix is no rotation)
-         orientation = 0.0_dp
-         read (unit, nml=marker, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         if (stat /= 0) then
-            call namelist_read_error(error, 'marker', size(markers) + 1, msg, &
-               'body, name, position, orientation')
-            return
-         end if
-         k = size(markers) + 1
-         if (len_trim(body) == 0 .or. len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, '') // &
-               ': body and name are required')
-            return
-         end if
-         if (any(markers%body == body .and. markers%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'name') // &
-               ': marker "' // trim(name) // '" of body "' // trim(body) // '" is given twice')
-            return
-         end if
-         if (any(orientation /= 0.0_dp)) then
-            call check_rotation(transpose(reshape(orientation, [3, 3])), &
-               src%where('marker', k, 'orientation') // ': marker "' // trim(name) // &
-               '" of body "' // trim(body) // '": the orientation', error)
-            if (allocated(error)) return
-            markers = [markers, marker_input_t(body, name, position, &
-               transpose(reshape(orientation, [3, 3])), .true.)]
-         else
-            markers = [markers, marker_input_t(body, name, position)]
-         end if
-      end do
-   end subroutine read_marker_groups
-
-   subroutine read_joint_groups(unit, src, joints, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(joint_input_t), allocatable, intent(out) :: joints(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(joint_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      character(len=16) :: type
-      real(dp) :: axis(3)
-      integer :: stat, k
-      character(len=512) :: msg
-      character(len=:), allocatable :: where
-      namelist /joint/ name, type, body1, marker1, body2, marker2, axis
-      allocate (joints(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         type = defaults%type
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         axis = defaults%axis
-         read (unit, nml=joint, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(joints) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'joint', k, msg, &
-               'name, type, body1, marker1, body2, marker2, axis')
-            return
-         end if
-         where = src%where('joint', k, '') // ' "' // trim(name) // '"'
-         type = to_lower(type)
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, '') // &
-               ': name is missing')
-         else if (any(joints%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'name') // &
-               ': the name is used twice; joint names must be unique')
-         else if (len_trim(type) == 0) then
-            ! a word given was checked by the key spec (joint_keys); here only its absence
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type is missing; give one of ' &
-               // choice_words(joint_choices))
-         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
-               'marker2 are required')
-         else if (body1 == body2) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1 and body2 are both "' // &
-               trim(body1) // '"; a joint connects two different bodies')
-         else if (.not. (norm2(axis) > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'axis') // &
-               ': the axis is zero; give a direction')
-         end if
-         if (allocated(error)) return
-         joints = [joints, joint_input_t(name, type, body1, marker1, body2, marker2, &
-            axis / norm2(axis))]
-      end do
-   end subroutine read_joint_groups
-
-   subroutine read_load_groups(unit, src, loads, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(load_input_t), allocatable, intent(out) :: loads(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(load_input_t) :: defaults
-      character(len=64) :: name, body, marker
-      character(len=16) :: type
-      real(dp) :: direction(3), value, stall_torque, free_speed, switch_off, coefficient
-      integer :: stat, k
-      character(len=512) :: msg
-      character(len=:), allocatable :: where
-      type(time_law_input_t) :: given_law
-      type(time_function_t) :: fun
-      character(len=16) :: law
-      real(dp) :: initial, final, speed, t_start, duration
-      real(dp) :: table_time(max_table_points), table_value(max_table_points)
-      character(len=8) :: interpolation, beyond
-      namelist /load/ name, type, body, marker, direction, value, stall_torque, free_speed, &
-         switch_off, coefficient, law, initial, final, speed, t_start, duration, table_time, &
-         table_value, interpolation, beyond
-      allocate (loads(0))
-      rewind (unit)
-      do
-         call reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
-            table_value, interpolation, beyond)
-         name = defaults%name
-         type = defaults%type
-         body = defaults%body
-         marker = defaults%marker
-         direction = defaults%direction
-         ! unset: 1 with a law (the law gives the magnitude), else the default
-         value = huge(1.0_dp)
-         stall_torque = defaults%stall_torque
-         free_speed = defaults%free_speed
-         switch_off = defaults%switch_off
-         coefficient = defaults%coefficient
-         read (unit, nml=load, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(loads) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'load', k, msg, 'name, type, body, marker, ' // &
-               'direction, value, stall_torque, free_speed, switch_off, coefficient, ' // &
-               law_key_names)
-            return
-         end if
-         given_law = law_as_given(law, initial, final, speed, t_start, duration, &
-            table_time, table_value, interpolation, beyond)
-         if (value == huge(1.0_dp)) value = merge(1.0_dp, defaults%value, len_trim(law) > 0)
-         type = to_lower(type)
-         if (len_trim(name) == 0) name = type
-         where = src%where('load', k, '') // ' "' // trim(name) // '"'
-         if (len_trim(type) == 0) then
-            ! a word given was checked by the key spec (load_keys); here only its absence
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type is missing; give one of ' &
-               // choice_words(load_choices))
-         else if (len_trim(body) == 0 .or. len_trim(marker) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': body and marker are required')
-         else if (.not. (norm2(direction) > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('load', k, 'direction') // &
-               ': the direction is zero; give a direction')
-         else if (type == 'starter' .and. .not. (free_speed > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': free_speed = ' // &
-               to_str(free_speed) // ' rad/s, must be > 0')
-         else if (type == 'drag' .and. .not. (coefficient >= 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': coefficient = ' // &
-               to_str(coefficient) // ' N m s^2, must be >= 0')
-         else if (len_trim(law) > 0 .and. type /= 'force' .and. type /= 'torque') then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('load', k, 'law') // ': ' // &
-               '&load "' // trim(name) // '" of type ' // trim(type) // ' takes no law; a ' // &
-               'law scales a force or torque load')
-         else if (len_trim(law) > 0) then
-            call law_function(given_law, src%where('load', k, 'law') // ': &load "' // &
-               trim(name) // '"', fun, error)
-         end if
-         if (allocated(error)) return
-         ! grown by hand: gfortran 12 leaks the allocatable components of a structure
-         ! constructor inside an array constructor (the law's table; seen by ctest
-         ! capi_bad_calls_asan)
-         block
-            type(load_input_t), allocatable :: grown(:)
-            allocate (grown(size(loads) + 1))
-            grown(:size(loads)) = loads
-            grown(size(grown)) = load_input_t(name, type, body, marker, &
-               direction / norm2(direction), value, stall_torque, free_speed, switch_off, &
-               coefficient, given_law)
-            call move_alloc(grown, loads)
-         end block
-      end do
-   end subroutine read_load_groups
-
-   !> The &driver groups (module header), in input order.
-   subroutine read_driver_groups(unit, src, drivers, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(driver_input_t), allocatable, intent(out) :: drivers(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(driver_input_t) :: defaults
-      character(len=64) :: name, joint
-      character(len=16) :: quantity
-      real(dp) :: offset
-      integer :: stat, k
-      character(len=512) :: msg
-      type(time_law_input_t) :: given_law
-      type(time_function_t) :: fun
-      character(len=16) :: law
-      real(dp) :: initial, final, speed, t_start, duration
-      real(dp) :: table_time(max_table_points), table_value(max_table_points)
-      character(len=8) :: interpolation, beyond
-      namelist /driver/ name, joint, quantity, offset, law, initial, final, speed, t_start, &
-         duration, table_time, table_value, interpolation, beyond
-      allocate (drivers(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         joint = defaults%joint
-         quantity = defaults%quantity
-         offset = defaults%offset
-         call reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
-            table_value, interpolation, beyond)
-         law = 'constant_speed'
-         read (unit, nml=driver, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(drivers) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'driver', k, msg, 'name, joint, quantity, ' // &
-               'offset, ' // law_key_names)
-            return
-         end if
-         given_law = law_as_given(law, initial, final, speed, t_start, duration, &
-            table_time, table_value, interpolation, beyond)
-         quantity = to_lower(quantity)
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, '') // &
-               ': name is missing')
-         else if (any(drivers%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, 'name') // &
-               ': the name is used twice; driver names must be unique')
-         else if (len_trim(joint) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('driver', k, '') // &
-               ': &driver "' // trim(name) // '": joint is required (a revolute or ' // &
-               'prismatic &joint)')
-         else
-            call law_function(given_law, src%where('driver', k, 'law') // ': &driver "' // &
-               trim(name) // '"', fun, error)
-         end if
-         if (allocated(error)) return
-         block   ! grown by hand, as the loads (read_load_groups)
-            type(driver_input_t), allocatable :: grown(:)
-            allocate (grown(size(drivers) + 1))
-            grown(:size(drivers)) = drivers
-            grown(size(grown)) = driver_input_t(name, joint, quantity, offset, given_law)
-            call move_alloc(grown, drivers)
-         end block
-      end do
-   end subroutine read_driver_groups
-
-   !> The law keys' defaults before a read (time_law_input_t; table entries unset: huge).
-   pure subroutine reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
-         table_value, interpolation, beyond)
-      character(len=*), intent(out) :: law, interpolation, beyond
-      real(dp), intent(out) :: initial, final, speed, t_start, duration
-      real(dp), intent(out) :: table_time(:), table_value(:)
-      type(time_law_input_t) :: defaults
-      law = defaults%law
-      initial = defaults%initial
-      final = defaults%final
-      speed = defaults%speed
-      t_start = defaults%t_start
-      duration = defaults%duration
-      table_time = huge(1.0_dp)
-      table_value = huge(1.0_dp)
-      interpolation = defaults%interpolation
-      beyond = defaults%beyond
-   end subroutine reset_law_keys
-
-   !> The law keys as read (the table entries given: those before the first unset one).
-   pure function law_as_given(law, initial, final, speed, t_start, duration, table_time, &
-         table_value, interpolation, beyond) result(given)
-      character(len=*), intent(in) :: law, interpolation, beyond
-      real(dp), intent(in) :: initial, final, speed, t_start, duration
-      real(dp), intent(in) :: table_time(:), table_value(:)
-      type(time_law_input_t) :: given
-      given%law = to_lower(law)
-      given%initial = initial
-      given%final = final
-      given%speed = speed
-      given%t_start = t_start
-      given%duration = duration
-      given%table_time = table_time(:count_set(table_time))
-      given%table_value = table_value(:count_set(table_value))
-      given%interpolation = to_lower(interpolation)
-      given%beyond = to_lower(beyond)
-   end function law_as_given
-
-   !> Number of leading entries not unset (huge).
-   pure integer function count_set(values) result(n)
-      real(dp), intent(in) :: values(:)
-      do n = 0, size(values) - 1
-         if (values(n + 1) == huge(1.0_dp)) return
-      end do
-      n = size(values)
-   end function count_set
-
-   !> The &spring groups (module header), in input order.
-   subroutine read_spring_groups(unit, src, springs, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(spring_input_t), allocatable, intent(out) :: springs(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(spring_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness, damping, free_length
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
-      allocate (springs(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_length = defaults%free_length
-         read (unit, nml=spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'spring', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping, free_length')
-            return
-         end if
-         call check_marker_pair_group(src, 'spring', k, name, springs%name, body1, marker1, &
-            body2, marker2, error)
-         if (allocated(error)) return
-         springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
-            damping, free_length)]
-      end do
-   end subroutine read_spring_groups
-
-   !> The &torsion_spring groups (module header), in input order.
-   subroutine read_torsion_spring_groups(unit, src, springs, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(torsion_spring_input_t) :: defaults
-      character(len=64) :: name, joint
-      real(dp) :: stiffness, damping, free_angle
-      real(dp), parameter :: unset = huge(1.0_dp)
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
-      allocate (springs(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         joint = defaults%joint
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_angle = unset
-         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'torsion_spring', k, msg, 'name, joint, ' // &
-               'stiffness, damping, free_angle')
-            return
-         end if
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ': name is missing')
-         else if (any(springs%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, 'name') &
-               // ': the name is used twice; torsion spring names must be unique')
-         else if (len_trim(joint) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ' "' // trim(name) // '": joint is required (a revolute or cylindrical &joint)')
-         end if
-         if (allocated(error)) return
-         springs = [springs, torsion_spring_input_t(name, joint, stiffness, damping, &
-            merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
-      end do
-   end subroutine read_torsion_spring_groups
-
-   !> The rules a group between two markers of two bodies shares (&spring, &bushing; group k,
-   !> `names` those of the groups before it): a unique name, all four ends, two bodies.
-   subroutine check_marker_pair_group(src, group, k, name, names, body1, marker1, body2, &
-      marker2, error)
-      type(nml_source_t), intent(in) :: src
-      character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
-      integer, intent(in) :: k
-      character(len=*), intent(in) :: names(:)
-      type(error_t), allocatable, intent(out) :: error
-      if (len_trim(name) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // &
-            ': name is missing')
-      else if (any(names == name)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'name') // &
-            ': the name is used twice; ' // group // ' names must be unique')
-      else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-         len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // ' "' // &
-            trim(name) // '": body1, marker1, body2 and marker2 are required')
-      else if (body1 == body2) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'body2') // ': &' // &
-            group // ' "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
-            '"; a ' // group // ' connects two different bodies')
-      end if
-   end subroutine check_marker_pair_group
-
-   !> The &bushing groups (module header), in input order.
-   subroutine read_bushing_groups(unit, src, bushings, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(bushing_input_t), allocatable, intent(out) :: bushings(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(bushing_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness(6), damping(6)
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
-      allocate (bushings(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         read (unit, nml=bushing, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(bushings) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'bushing', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping')
-            return
-         end if
-         call check_marker_pair_group(src, 'bushing', k, name, bushings%name, body1, marker1, &
-            body2, marker2, error)
-         if (allocated(error)) return
-         bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
-            stiffness, damping)]
-      end do
-   end subroutine read_bushing_groups
-
-   subroutine read_pressure_group(unit, input, table_file, error)
-      integer, intent(in) :: unit
-      type(pressure_input_t), intent(inout) :: input
-      character(len=*), intent(inout) :: table_file
-      type(error_t), allocatable, intent(out) :: error
-      real(dp) :: bore, stroke, conrod_length, compression_ratio, intake_pressure, &
-         exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, combustion_start_deg, &
-         combustion_duration_deg, heat_per_cycle, target_peak_pressure, reference_pressure
-      integer :: stat
-      character(len=512) :: msg
-      namelist /pressure/ bore, stroke, conrod_length, compression_ratio, intake_pressure, &
-         exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, combustion_start_deg, &
-         combustion_duration_deg, heat_per_cycle, target_peak_pressure, reference_pressure, &
-         table_file
-      bore = input%bore
-      stroke = input%stroke
-      conrod_length = input%conrod_length
-      compression_ratio = input%compression_ratio
-      intake_pressure = input%intake_pressure
-      exhaust_pressure = input%exhaust_pressure
-      polytropic_exponent = input%polytropic_exponent
-      wiebe_a = input%wiebe_a
-      wiebe_m = input%wiebe_m
-      combustion_start_deg = input%combustion_start_deg
-      combustion_duration_deg = input%combustion_duration_deg
-      heat_per_cycle = input%heat_per_cycle
-      target_peak_pressure = input%target_peak_pressure
-      reference_pressure = input%reference_pressure
-      rewind (unit)
-      read (unit, nml=pressure, iostat=stat, iomsg=msg)
-      if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'pressure', 0, msg, 'bore, stroke, conrod_length, ' // &
-            'compression_ratio, intake_pressure, exhaust_pressure, polytropic_exponent, ' // &
-            'wiebe_a, wiebe_m, combustion_start_deg, combustion_duration_deg, ' // &
-            'heat_per_cycle, target_peak_pressure, reference_pressure, table_file')
-         return
-      end if
-      ! Ranges are checked by pressure_model_t%init with the key names.
-      input = pressure_input_t(bore, stroke, conrod_length, compression_ratio, &
-         intake_pressure, exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, &
-         combustion_start_deg, combustion_duration_deg, heat_per_cycle, target_peak_pressure, &
-         reference_pressure, input%step_deg)
-   end subroutine read_pressure_group
-
-   subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(galpha_settings_t), intent(inout) :: settings
-      !> .true. when the group gives h
-      logical, intent(out) :: h_given
-      type(error_t), allocatable, intent(out) :: error
-      !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
-      type(energy_watch_settings_t), intent(inout) :: watch
-      real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
-      real(dp) :: checkpoint_seconds, energy_watch_tolerance, energy_watch_window
-      integer :: max_iterations, tangent_reuse, checkpoint_steps, stat, sparse_threshold
-      character(len=16) :: jacobian, energy_watch
-      character(len=512) :: msg
-      namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
-         min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps, &
-         energy_watch, energy_watch_tolerance, energy_watch_window, sparse_threshold
-      energy_watch = energy_watch_word(watch%mode)
-      energy_watch_tolerance = watch%tolerance
-      energy_watch_window = watch%window
-      h = -1.0_dp
-      checkpoint_seconds = settings%checkpoint_seconds
-      checkpoint_steps = settings%checkpoint_steps
-      t_end = settings%t_end
-      rho_inf = settings%rho_inf
-      newton_atol = settings%newton_atol
-      newton_rtol = settings%newton_rtol
-      max_iterations = settings%max_iterations
-      min_step = settings%min_step
-      rank_rtol = settings%rank_rtol
-      tangent_reuse = settings%tangent_reuse
-      sparse_threshold = settings%sparse_threshold
-      jacobian = choice_name(jacobian_choices, settings%jacobian, 'step')
-      rewind (unit)
-      read (unit, nml=integrator, iostat=stat, iomsg=msg)
-      if (.not. is_iostat_end(stat)) then
-         if (stat /= 0) then
-            call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
-               'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
-               'tangent_reuse, checkpoint_seconds, checkpoint_steps, energy_watch, ' // &
-               'energy_watch_tolerance, energy_watch_window, sparse_threshold')
-            return
-         end if
-      end if
-      h_given = src%has_key('integrator', 1, 'h')
-      if (h_given) settings%h = h
-      settings%t_end = t_end
-      settings%rho_inf = rho_inf
-      settings%newton_atol = newton_atol
-      settings%newton_rtol = newton_rtol
-      settings%max_iterations = max_iterations
-      settings%min_step = min_step
-      settings%rank_rtol = rank_rtol
-      settings%tangent_reuse = tangent_reuse
-      settings%sparse_threshold = sparse_threshold
-      settings%checkpoint_seconds = checkpoint_seconds
-      settings%checkpoint_steps = checkpoint_steps
-      ! the words of energy_watch and jacobian were checked by the key spec (integrator_keys)
-      watch%mode = energy_watch_kind(to_lower(energy_watch))
-      watch%tolerance = energy_watch_tolerance
-      watch%window = energy_watch_window
-      settings%jacobian = jacobian_choices(choice_position(jacobian_choices, jacobian))%kind
-      if (.not. (settings%min_step <= settings%h)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'min_step') // &
-            ': must not exceed h = ' // to_str(settings%h) // ' s')
-         return
-      end if
-      call check_galpha_settings(settings, error)
-      if (allocated(error)) error%message = src%where('integrator', 1, '') // ': ' // &
-         error%message
-   end subroutine read_integrator_group
 
 end module ffrf_input_nml_mechanism

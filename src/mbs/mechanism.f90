@@ -134,7 +134,8 @@ module ffrf_mbs_mechanism
       type(joint_driver_t), allocatable :: drivers(:)
       !> Number of coordinates and of constraint rows
       integer :: n = 0, nc = 0
-      !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies (theory.md 3.6)
+      !> Gravity acceleration, global (m/s^2); zero (off) by default; rigid and flexible bodies
+      !> (theory.md 3.6)
       real(dp) :: gravity(3) = 0.0_dp
       !> Mechanism index of the rotor body (0: none; rotor angle and speed are then zero)
       integer :: rotor = 0
@@ -274,7 +275,8 @@ module ffrf_mbs_mechanism
       end subroutine mechanism_add_load
 
       !> Add a copy of a spring-damper (bodies and markers as mechanism indices;
-      !> ffrf_mbs_spring_damper). Refused: an unknown body or marker, both ends on one body, k < 0 or c < 0.
+      !> ffrf_mbs_spring_damper). Refused: an unknown body or marker, both ends on one body, k < 0
+      !> or c < 0.
       module subroutine mechanism_add_spring(self, spring, error)
          !> The mechanism
          class(mechanism_t), intent(inout) :: self
@@ -794,6 +796,32 @@ module ffrf_mbs_mechanism
          !> Velocities to start from, n (e.g. the &body velocity keys)
          real(dp), intent(in), optional :: guess(:)
       end subroutine mechanism_initial_velocities
+
+      ! shared by the submodules (their bodies in mechanism_build.f90, mechanism_equations.f90)
+      !> b is a body of the mechanism (1..number of bodies).
+      pure logical module function valid_body(self, b)
+         type(mechanism_t), intent(in) :: self
+         integer, intent(in) :: b
+      end function valid_body
+
+      !> Number of bodies added (0 before the first).
+      pure integer module function num_bodies(self)
+         type(mechanism_t), intent(in) :: self
+      end function num_bodies
+
+      !> A spring needs a non-zero length (its direction) and a finite tension.
+      module subroutine check_spring_state(name, state, t, error)
+         character(len=*), intent(in) :: name
+         type(spring_state_t), intent(in) :: state
+         real(dp), intent(in) :: t
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine check_spring_state
+
+      !> n(f) = (-sin f, cos f, 0): normal of the driven x axis at angle f.
+      pure module function drive_normal(angle) result(normal)
+         real(dp), intent(in) :: angle
+         real(dp) :: normal(3)
+      end function drive_normal
    end interface
 
 end module ffrf_mbs_mechanism

@@ -1,0 +1,118 @@
+!> The bodies of a mechanism being built (ffrf_app_mechanism_builder): a flexible body's modes
+!> computed (or reused) and its geometric stiffness, or a rigid body, added to the mechanism.
+submodule (ffrf_app_mechanism_builder) ffrf_app_mechanism_builder_bodies
+   implicit none
+
+contains
+
+   module procedure add_body
+      type(csr_t) :: mass_matrix, stiffness_matrix
+      type(flexible_body_t) :: flexible
+      type(rigid_body_t) :: rigid
+      type(stage_timer_t) :: timer
+      real(dp) :: mass, com(3), inertia(3, 3)
+      character(len=:), allocatable :: name
+
+      name = trim(resolved%name)
+      associate (motion => resolved%motion)
+         if (built%meshed) then
+            if (len_trim(resolved%body%modes_file) > 0) then
+               ! modes from an earlier run's results file, checked (K only for the geometric
+               ! stiffness)
+               if (resolved%body%geometric_stiffness) then
+                  call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
+                     resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
+                     mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
+               else
+                  call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
+                     resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
+                     mass_matrix=mass_matrix)
+               end if
+            else if (selects_body(case_model, model, k)) then
+               if (resolved%body%geometric_stiffness) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, 'geometric_stiffness needs ' // &
+                     'num_modes on the &body (the automatic model does not estimate stress ' // &
+                     'stiffening)')
+                  return
+               end if
+               call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                  built%modes, mass_matrix, error)
+            else if (resolved%body%geometric_stiffness) then
+               ! K too, for the static solutions of the geometric stiffness (no reassembly)
+               call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
+                  resolved%modes, mesh_dir, log, times, built%modes, error, &
+                  mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
+            else
+               call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
+                  resolved%modes, mesh_dir, log, times, built%modes, error, &
+                  mass_matrix=mass_matrix)
+            end if
+            if (allocated(error)) return
+            built%num_modes = size(built%modes%frequency_hz)
+         end if
+         if (resolved%rigid) then
+            if (built%meshed) then
+               mass = built%modes%mass
+               com = built%modes%center_of_mass
+               inertia = built%modes%inertia
+            else
+               mass = motion%mass
+               com = motion%center_of_mass
+               inertia = inertia_tensor(motion%inertia)
+            end if
+            built%num_modes = 0
+            call rigid%init(mass, com, inertia, list%xyz, list%frames, error)
+            if (.not. allocated(error)) call mech%add_body(rigid, name, built%index, error)
+            if (.not. allocated(error)) call log%info('mechanism', name // ': rigid, mass ' // &
+               to_str(mass, 6) // ' kg, ' // to_str(size(list%names)) // ' marker(s)')
+            return
+         end if
+         call timer%begin()
+         call flexible%init(mass_matrix, built%modes%mesh%xyz, built%modes%shape, &
+            (2.0_dp * pi * built%modes%frequency_hz)**2, built%modes%virtual_node_shape, &
+            virtual_positions(built%modes), error)
+         call times%add(name // ': inertia invariants', timer%seconds())
+         if (.not. allocated(error)) call add_framed_markers(list, size(resolved%interfaces), &
+            flexible, error)
+         if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
+            built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
+         if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
+            if (built%num_modes > 0) then
+               call add_geometric_stiffness(resolved%spec, built%modes, stiffness_matrix, &
+                  mass_matrix, log, times, flexible, error)
+            else
+               call log%note('mechanism', name // ': geometric_stiffness ignored: no modes ' // &
+                  '(the body moves rigidly)')
+            end if
+         end if
+         if (.not. allocated(error)) call mech%add_body(flexible, name, built%index, error)
+         if (allocated(error)) return
+         call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
+            ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
+            to_str(flexible%num_markers) // ' interface marker(s)' // &
+            trim(merge(', geometric stiffness', '                     ', &
+            allocated(flexible%geometric_stiffness))))
+      end associate
+   end procedure add_body
+
+   !> The modal geometric stiffness of the centrifugal load cases for a flexible body.
+   subroutine add_geometric_stiffness(input, modes, K, M, log, times, flexible, error)
+      !> The body (material)
+      type(body_spec_t), intent(in) :: input
+      !> Its mesh, interfaces, RC set and modes
+      type(body_modes_t), intent(in) :: modes
+      !> Its FE stiffness and consistent mass matrices (compute_body_modes)
+      type(csr_t), intent(in) :: K, M
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      !> The flexible body, initialised with the same modes
+      type(flexible_body_t), intent(inout) :: flexible
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: geometric_stiffness(:, :, :)
+      call compute_modal_geometric_stiffness(input, modes, log, times, geometric_stiffness, &
+         error, stiffness_matrix=K, mass_matrix=M)
+      if (.not. allocated(error)) call flexible%set_geometric_stiffness(geometric_stiffness, &
+         error)
+   end subroutine add_geometric_stiffness
+
+end submodule ffrf_app_mechanism_builder_bodies

@@ -1,0 +1,220 @@
+!> The markers of a mechanism being built (ffrf_app_mechanism_builder, header "Markers and joint
+!> frames"): joint, load, sensor and force-element ends resolved to body markers and frames.
+submodule (ffrf_app_mechanism_builder) ffrf_app_mechanism_builder_markers
+   implicit none
+
+contains
+
+   module procedure resolve_markers
+      real(dp) :: frame(3, 3)
+      logical :: given
+      integer :: j, l, e
+      associate (joints => resolved%mechanism%joints, loads => resolved%mechanism%loads)
+         allocate (ends(3, max(size(joints), size(loads))), source=0)
+         do j = 1, size(joints)
+            call joint_frame(joints(j), frame, given)
+            do e = 1, 2
+               call marker_of(joints(j)%body(e), joints(j)%marker(e), frame, .true., &
+                  ends(e, j), joints(j)%kind == JOINT_SPHERICAL .or. (.not. given .and. &
+                  along_body_z(joints(j)%body(e), joints(j)%axis)))
+            end do
+         end do
+         do l = 1, size(loads)
+            call marker_of(loads(l)%body, loads(l)%marker, identity3(), .false., ends(3, l), &
+               .true.)
+         end do
+      end associate
+      associate (sensors => resolved%mechanism%sensors)
+         allocate (sensor_markers(size(sensors)), source=0)
+         do l = 1, size(sensors)
+            if (sensors(l)%marker > 0) call marker_of(sensors(l)%body, sensors(l)%marker, &
+               identity3(), .false., sensor_markers(l), .true.)
+         end do
+      end associate
+      associate (springs => resolved%mechanism%springs)
+         allocate (spring_ends(2, size(springs)), source=0)
+         do l = 1, size(springs)
+            do e = 1, 2
+               call marker_of(springs(l)%body(e), springs(l)%marker(e), identity3(), .false., &
+                  spring_ends(e, l), .true.)
+            end do
+         end do
+      end associate
+      associate (bushings => resolved%mechanism%bushings)
+         allocate (bushing_ends(2, size(bushings)), source=0)
+         do l = 1, size(bushings)
+            call marker_of(bushings(l)%body_a, bushings(l)%marker_a, identity3(), .false., &
+               bushing_ends(1, l), .true.)
+            call marker_of(bushings(l)%body_b, bushings(l)%marker_b, identity3(), .false., &
+               bushing_ends(2, l), .true.)
+         end do
+      end associate
+
+   contains
+
+      !> The joint's frame in the starting pose (global) and whether a &marker orientation gave
+      !> it.
+      subroutine joint_frame(joint, frame, given)
+         type(model_joint_t), intent(in) :: joint
+         real(dp), intent(out) :: frame(3, 3)
+         logical, intent(out) :: given
+         integer :: e
+         given = .false.
+         frame = frame_from_axis(joint%axis)
+         do e = 1, 2
+            if (.not. is_oriented(joint%body(e), joint%marker(e))) cycle
+            given = .true.
+            frame = resolved%mechanism%markers(joint%marker(e))%orientation
+            if (joint%body(e) > 0) frame = matmul(resolved%bodies(joint%body(e))%motion% &
+               orientation, frame)
+            return
+         end do
+      end subroutine joint_frame
+
+      !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation.
+      logical function is_oriented(b, handle)
+         integer, intent(in) :: b, handle
+         is_oriented = .false.
+         if (b > 0) then
+            if (.not. resolved%bodies(b)%rigid) return
+         end if
+         is_oriented = resolved%mechanism%markers(handle)%oriented
+      end function is_oriented
+
+      !> The (unit) joint axis is along model body b's z axis in the starting pose (b > 0).
+      logical function along_body_z(b, axis)
+         integer, intent(in) :: b
+         real(dp), intent(in) :: axis(3)
+         along_body_z = .false.
+         if (b > 0) along_body_z = abs(dot_product(axis, &
+            resolved%bodies(b)%motion%orientation(:, 3))) >= 1.0_dp - 1.0e-12_dp
+      end function along_body_z
+
+      !> Marker on model body b (0: ground) of the marker handle `handle` (module
+      !> ffrf_model_mechanism). A joint end's `frame` is global in the starting pose (stored in
+      !> the body axes of a rotated body); a load's, sensor's or spring's is the body axes; a
+      !> &marker orientation replaces either. A flexible body's interface marker (the node
+      !> frame) serves when `node_frame`, else a framed marker at its virtual node.
+      subroutine marker_of(b, handle, frame, joint_end, marker, node_frame)
+         integer, intent(in) :: b, handle
+         real(dp), intent(in) :: frame(3, 3)
+         logical, intent(in) :: joint_end, node_frame
+         integer, intent(out) :: marker
+         integer :: k
+         real(dp) :: local(3, 3)
+         local = frame
+         if (joint_end .and. b > 0) then
+            if (rotated(resolved%bodies(b)%motion%orientation)) local = &
+               matmul(transpose(resolved%bodies(b)%motion%orientation), frame)
+         end if
+         if (b > 0) then
+            if (.not. resolved%bodies(b)%rigid) then
+               marker = handle
+               if (node_frame) return
+               do k = 1, size(lists(b)%nodes)
+                  if (lists(b)%nodes(k) == handle .and. maxval(abs(lists(b)%frames(:, :, k) - &
+                     local)) < 1.0e-12_dp) then
+                     marker = size(resolved%bodies(b)%interfaces) + k
+                     return
+                  end if
+               end do
+               lists(b)%nodes = [lists(b)%nodes, handle]
+               lists(b)%frames = reshape([lists(b)%frames, local], [3, 3, size(lists(b)%nodes)])
+               marker = size(resolved%bodies(b)%interfaces) + size(lists(b)%nodes)
+               return
+            end if
+         end if
+         associate (point => resolved%mechanism%markers(handle))
+            if (point%oriented) local = point%orientation
+            do k = 1, size(lists(b)%names)
+               if (lists(b)%names(k) == point%name .and. maxval(abs(lists(b)%frames(:, :, k) - &
+                  local)) < 1.0e-12_dp) then
+                  marker = k
+                  return
+               end if
+            end do
+            lists(b)%names = [character(len=64) :: lists(b)%names, point%name]
+            lists(b)%xyz = reshape([lists(b)%xyz, point%position], [3, size(lists(b)%names)])
+         end associate
+         lists(b)%frames = reshape([lists(b)%frames, local], [3, 3, size(lists(b)%names)])
+         marker = size(lists(b)%names)
+      end subroutine marker_of
+
+   end procedure resolve_markers
+
+   module procedure add_framed_markers
+      integer :: i, marker
+      do i = 1, size(list%nodes)
+         call flexible%add_marker(list%nodes(i), list%frames(:, :, i), marker, error)
+         if (allocated(error)) return
+         if (marker /= num_interfaces + i) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'joint frame marker ' // to_str(i) // &
+               ' became marker ' // to_str(marker) // ', expected ' // &
+               to_str(num_interfaces + i) // ' (the modes have ' // &
+               to_str(flexible%num_markers - i) // ' interfaces, the case ' // &
+               to_str(num_interfaces) // ')')
+            return
+         end if
+      end do
+   end procedure add_framed_markers
+
+   module procedure virtual_positions
+      integer :: i
+      do i = 1, size(modes%interfaces)
+         xyz(:, i) = modes%interfaces(i)%virtual_xyz
+      end do
+   end procedure virtual_positions
+
+   module procedure make_sensors
+      integer :: k
+      associate (given => resolved%mechanism%sensors)
+         allocate (sensors(size(given)))
+         do k = 1, size(given)
+            sensors(k)%name = given(k)%name
+            sensors(k)%kind = given(k)%kind
+            sensors(k)%marker = sensor_markers(k)
+            if (sensors(k)%marker > 0) sensors(k)%marker_name = case%mechanism%sensors(k)%marker
+            sensors(k)%joint = given(k)%joint
+            sensors(k)%spring = given(k)%spring
+            sensors(k)%body = mechanism_index(bodies, ground_index, given(k)%body)
+            if (given(k)%node > 0) then
+               call node_rows(bodies(given(k)%body), given(k)%node, sensors(k), error)
+               if (allocated(error)) then
+                  call add_context(error, '&sensor "' // trim(given(k)%name) // '"')
+                  return
+               end if
+            end if
+         end do
+      end associate
+      if (resolved%mechanism%crank > 0) call add_crank_sensors(sensors, error)
+   end procedure make_sensors
+
+   !> A node sensor's node (a Gmsh node tag of the body's mesh): its position in the body frame
+   !> and its rows of the kept mode shapes (none for a rigid body).
+   subroutine node_rows(body, node, sensor, error)
+      type(built_body_t), intent(in) :: body
+      integer, intent(in) :: node
+      type(sensor_t), intent(inout) :: sensor
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i
+      if (.not. body%meshed .or. .not. allocated(body%modes%mesh%xyz)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ': the body ' // &
+            'has no mesh; measure a body with a mesh_file')
+         return
+      end if
+      i = node
+      if (allocated(body%modes%mesh%node_tags)) i = findloc(body%modes%mesh%node_tags, &
+         int(node, i8), dim=1)
+      if (i < 1 .or. i > size(body%modes%mesh%xyz, 2)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ' is not a ' // &
+            'node of the body''s mesh (' // to_str(size(body%modes%mesh%xyz, 2)) // ' nodes)')
+         return
+      end if
+      sensor%node = node
+      sensor%node_xyz = body%modes%mesh%xyz(:, i)
+      allocate (sensor%node_shape(3, 0))
+      if (body%num_modes > 0 .and. allocated(body%modes%shape)) &
+         sensor%node_shape = body%modes%shape(3 * i - 2:3 * i, 1:body%num_modes)
+   end subroutine node_rows
+
+end submodule ffrf_app_mechanism_builder_markers
