@@ -361,6 +361,20 @@ module ffrf_modes_shift_invert
          real(dp), intent(inout) :: y(:, :)
       end subroutine project_deflation
 
+      !> ARPACK's ncv for nev wanted pairs: options%ncv when it exceeds nev (or is given for
+      !> nev = num_modes), else max(2 nev + 1, 20), capped by the constrained dimension.
+      pure integer(ip) module function arpack_basis_size(options, nev, dimension) result(ncv)
+         type(eigen_options_t), intent(in) :: options
+         integer(ip), intent(in) :: nev, dimension
+      end function arpack_basis_size
+
+      !> The permutation that sorts `values` ascending, equal values in their given order
+      !> (Rayleigh quotients; the known pairs by their distance from the shift).
+      pure module function ascending_order(values) result(order)
+         real(dp), intent(in) :: values(:)
+         integer(ip), allocatable :: order(:)
+      end function ascending_order
+
       !> 'block' or 'arpack' for this problem (options%eigensolver, 'auto' by size).
       pure module function eigensolver_of(options, n, nc) result(name)
          type(eigen_options_t), intent(in) :: options

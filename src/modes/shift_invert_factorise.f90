@@ -9,7 +9,11 @@ contains
    !> Sizes and settings. Without max_eigenvalue num_modes must leave room in the constrained
    !> dimension n - nc - num_rigid; with it num_modes is a cap (the smaller set wins).
    module procedure check_input
-      integer(ip) :: dimension, ncv
+      !> The settings that count something and must be positive
+      character(len=*), parameter :: COUNT_SETTINGS(2) = [character(len=14) :: &
+         'max_iterations', 'window_size']
+      integer(ip) :: dimension, ncv, counts(2)
+      integer :: setting
 
       n = K%num_rows
       nc = C%num_rows
@@ -54,11 +58,15 @@ contains
          end if
          return
       end if
-      if (options%max_iterations < 1) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: max_iterations = ' // &
-            to_str(options%max_iterations) // ', must be positive')
-         return
-      end if
+      counts = [options%max_iterations, options%window_size]
+      do setting = 1, size(counts)
+         if (counts(setting) < 1) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: ' // &
+               trim(COUNT_SETTINGS(setting)) // ' = ' // to_str(counts(setting)) // &
+               ', must be positive')
+            return
+         end if
+      end do
       if (.not. ieee_is_finite(options%sigma) .or. .not. ieee_is_finite(options%max_eigenvalue)) &
          then
          call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma or max_eigenvalue is ' // &
@@ -69,11 +77,6 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: sigma = ' // &
             to_str(options%sigma) // ' is not below max_eigenvalue = ' // &
             to_str(options%max_eigenvalue) // '; the windows run from sigma up')
-         return
-      end if
-      if (options%window_size < 1) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'shift-invert: window_size = ' // &
-            to_str(options%window_size) // ', must be positive')
          return
       end if
       ! A given basis size must exceed the modes of a single window (with slicing, windows

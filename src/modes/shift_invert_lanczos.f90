@@ -24,11 +24,8 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
 
 contains
 
-   !> The permutation that sorts `values` ascending, equal values in their given order (stable
-   !> insertion sort: a few dozen Rayleigh quotients).
-   pure function ascending_order(values) result(order)
-      real(dp), intent(in) :: values(:)
-      integer(ip), allocatable :: order(:)
+   !> Stable insertion sort (a few dozen values; module header of ffrf_modes_shift_invert).
+   module procedure ascending_order
       integer :: i, j
       order = [(int(j, ip), j=1, size(values))]
       do j = 2, size(values)
@@ -39,7 +36,7 @@ contains
             i = i - 1
          end do
       end do
-   end function ascending_order
+   end procedure ascending_order
 
    !> MB of the eigensolver's vectors while the factors live: ARPACK's basis (ncv), workd (3),
    !> resid, the Ritz vectors and the right-hand side; the block method's V and M V (basis +
@@ -68,18 +65,15 @@ contains
       mb = (8_i8 * int(n + nc, i8) * columns + 1048575_i8) / 1048576_i8
    end function eigen_workspace_mb
 
-   !> ARPACK's ncv for nev wanted pairs: options%ncv when it exceeds nev, else max(2 nev + 1,
-   !> 20), capped by the constrained dimension.
-   pure integer(ip) function arpack_basis_size(options, nev, dimension) result(ncv)
-      type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: nev, dimension
+   !> ARPACK's ncv for nev wanted pairs (module header of ffrf_modes_shift_invert).
+   module procedure arpack_basis_size
       if (options%ncv > nev .or. (options%ncv > 0 .and. nev == options%num_modes)) then
          ncv = options%ncv
       else
          ncv = max(2 * nev + 1, 20_ip)
       end if
       ncv = min(ncv, dimension)
-   end function arpack_basis_size
+   end procedure arpack_basis_size
 
    !> Guard eigenpairs computed above a window so that its upper boundary can sit in a gap of
    !> the spectrum: a tenth of the window, at least 2.
@@ -109,6 +103,8 @@ contains
       integer(i8) :: solves_before
       real(dp) :: time_before
       integer(ip) :: n, j, dimension, ncv
+      type(block_krylov_settings_t) :: settings
+      type(block_krylov_stats_t) :: stats
       n = M%num_rows
       solves_before = solver%num_solves
       time_before = solver%time_solve
@@ -118,8 +114,21 @@ contains
       ! 'block' as asked refuses a problem too small for it (block_krylov_eigen's message)
       if (eigensolver == 'block' .or. (eigensolver == 'block if possible' .and. &
           block_fits(nev, options%ncv, dimension))) then
-         call block_lanczos(M, options, nev, nc, solver, interrupt, deflation, z, result, log, &
-            error)
+         ! block shift-invert Lanczos (ffrf_modes_block_krylov) on the KKT factors
+         settings = default_block_settings(nev, options%ncv, dimension)
+         result%eigensolver = 'block'
+         result%block_size = settings%block_size
+         result%ncv = settings%max_basis
+         if (allocated(deflation%X)) then
+            call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
+               options%max_iterations, solver, z, stats, log, error, interrupt, deflation%X, &
+               deflation%MX)
+         else
+            call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
+               options%max_iterations, solver, z, stats, log, error, interrupt)
+         end if
+         result%num_iterations = result%num_iterations + stats%num_restarts
+         result%num_block_solves = result%num_block_solves + stats%num_block_solves
       else
          ncv = arpack_basis_size(options, nev, dimension)
          if (ncv <= nev) then
@@ -129,8 +138,12 @@ contains
             return
          end if
          result%ncv = ncv
+         ! ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at
+         ! a time in the process (a serial section), so that distinct handles may run in threads
+         call enter_serial_section(SECTION_ARPACK)
          call lanczos(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, result, &
             log, error)
+         call leave_serial_section(SECTION_ARPACK)
       end if
       result%num_solves = result%num_solves + (solver%num_solves - solves_before)
       result%time_solves = result%time_solves + (solver%time_solve - time_before)
@@ -199,44 +212,8 @@ contains
       end do
    end subroutine project_vector
 
-   !> Block shift-invert Lanczos (ffrf_modes_block_krylov) on the KKT factors; Ritz vectors z.
-   subroutine block_lanczos(M, options, nev, nc, solver, interrupt, deflation, z, result, log, &
-         error)
-      type(csr_t), intent(in) :: M
-      type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: nev, nc
-      type(mumps_solver_t), intent(inout) :: solver
-      !> Checked before every block solve
-      type(interrupt_t), intent(in) :: interrupt
-      type(deflation_t), intent(in) :: deflation
-      real(dp), allocatable, intent(out) :: z(:, :)
-      type(eigen_result_t), intent(inout) :: result
-      type(logger_t), intent(in) :: log
-      type(error_t), allocatable, intent(out) :: error
-      type(block_krylov_settings_t) :: settings
-      type(block_krylov_stats_t) :: stats
-      integer(ip) :: dimension
-      dimension = M%num_rows - nc
-      if (allocated(deflation%X)) dimension = dimension - int(size(deflation%X, 2), ip)
-      settings = default_block_settings(nev, options%ncv, dimension)
-      result%eigensolver = 'block'
-      result%block_size = settings%block_size
-      result%ncv = settings%max_basis
-      if (allocated(deflation%X)) then
-         call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
-            options%max_iterations, solver, z, stats, log, error, interrupt, deflation%X, &
-            deflation%MX)
-      else
-         call block_krylov_eigen(M, nc, nev, settings, options%tolerance, &
-            options%max_iterations, solver, z, stats, log, error, interrupt)
-      end if
-      result%num_iterations = result%num_iterations + stats%num_restarts
-      result%num_block_solves = result%num_block_solves + stats%num_block_solves
-   end subroutine block_lanczos
-
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
-   !> ARPACK keeps its reverse-communication state in SAVEd variables: one eigenproblem at a
-   !> time in the process (a serial section), so that distinct handles may run in threads.
+   !> Called inside the ARPACK serial section (eigen_window).
    subroutine lanczos(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, result, &
          log, error)
       type(csr_t), intent(in) :: M
@@ -247,26 +224,6 @@ contains
       !> Checked before every solve
       type(interrupt_t), intent(in) :: interrupt
       !> Deflated subspace (rigid modes, modes of earlier windows); none when X is unallocated
-      type(deflation_t), intent(in) :: deflation
-      real(dp), allocatable, intent(out) :: z(:, :)
-      type(eigen_result_t), intent(inout) :: result
-      type(logger_t), intent(in) :: log
-      type(error_t), allocatable, intent(out) :: error
-      call enter_serial_section(SECTION_ARPACK)
-      call lanczos_in_section(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, &
-         result, log, error)
-      call leave_serial_section(SECTION_ARPACK)
-   end subroutine lanczos
-
-   !> lanczos inside the ARPACK serial section.
-   subroutine lanczos_in_section(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, &
-         z, result, log, error)
-      type(csr_t), intent(in) :: M
-      type(eigen_options_t), intent(in) :: options
-      integer(ip), intent(in) :: nev, ncv, nc
-      real(dp), intent(in) :: sigma
-      type(mumps_solver_t), intent(inout) :: solver
-      type(interrupt_t), intent(in) :: interrupt
       type(deflation_t), intent(in) :: deflation
       real(dp), allocatable, intent(out) :: z(:, :)
       type(eigen_result_t), intent(inout) :: result
@@ -361,7 +318,7 @@ contains
             to_str(solver%num_solves) // ' solves', error)
       end subroutine check_interrupt
 
-   end subroutine lanczos_in_section
+   end subroutine lanczos
 
    !> rhs(1:n) = M x on entry -> y on exit: solve (5.2b) with zero constraint right-hand side.
    subroutine kkt_solve(solver, rhs, n, error)
@@ -434,25 +391,24 @@ contains
       end select
    end function dsaupd_message
 
-   !> Text for a dseupd failure.
+   !> Text for a dseupd failure: a table of the codes ARPACK-NG SRC/dseupd.f returns after a
+   !> successful dsaupd.
    function dseupd_message(info) result(text)
       integer(ip), intent(in) :: info
       character(len=:), allocatable :: text
-      select case (info)
-      case (-8)
-         text = 'the Ritz values of the tridiagonal matrix could not be computed (LAPACK ' // &
-            'dsteqr); raise ncv or change sigma'
-      case (-9)
-         text = 'the tridiagonal eigenvector computation (LAPACK dsteqr) failed; raise ncv'
-      case (-14)
-         text = 'dsaupd found no eigenvalue to sufficient accuracy; raise max_iterations ' // &
-            'or ncv'
-      case (-17)
-         text = 'dseupd counted a different number of converged Ritz values than dsaupd; ' // &
-            'raise ncv or loosen tolerance'
-      case default
-         text = 'invalid argument (ARPACK-NG SRC/dseupd.f lists the codes)'
-      end select
+      integer(ip), parameter :: CODES(4) = [-8_ip, -9_ip, -14_ip, -17_ip]
+      character(len=*), parameter :: TEXTS(4) = [character(len=112) :: &
+         'the Ritz values of the tridiagonal matrix could not be computed (LAPACK dsteqr); ' // &
+         'raise ncv or change sigma', &
+         'the tridiagonal eigenvector computation (LAPACK dsteqr) failed; raise ncv', &
+         'dsaupd found no eigenvalue to sufficient accuracy; raise max_iterations or ncv', &
+         'dseupd counted a different number of converged Ritz values than dsaupd; raise ncv ' &
+         // 'or loosen tolerance']
+      integer :: k
+      text = 'invalid argument (ARPACK-NG SRC/dseupd.f lists the codes)'
+      do k = 1, size(CODES)
+         if (CODES(k) == info) text = trim(TEXTS(k))
+      end do
    end function dseupd_message
 
 end submodule ffrf_modes_shift_invert_lanczos

@@ -46,7 +46,8 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_spectrum
 
 contains
 
-   !> ARPACK's basis for a single window of num_modes (the log line), capped by the dimension.
+   !> ARPACK's basis for a single window of num_modes (the log line), capped by the dimension,
+   !> by the rule of the eigen solves (arpack_basis_size).
    pure integer(ip) function single_window_ncv(options, dimension) result(ncv)
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: dimension
@@ -54,12 +55,7 @@ contains
       nev = options%num_modes
       if (options%max_eigenvalue > 0.0_dp .or. nev > options%window_size) &
          nev = min(nev, options%window_size)
-      if (options%ncv > 0) then
-         ncv = options%ncv
-      else
-         ncv = max(2 * nev + 1, 20_ip)
-      end if
-      ncv = min(ncv, dimension)
+      ncv = arpack_basis_size(options, nev, dimension)
    end function single_window_ncv
 
    !> Boundary between pairs jb and jb + 1 of the ascending lambda: the widest relative gap from

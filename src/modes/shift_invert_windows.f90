@@ -339,21 +339,10 @@ contains
          type(error_t), allocatable, intent(out) :: error
          integer(ip), allocatable :: order(:)
          real(dp), allocatable :: distance(:)
-         integer(ip) :: i, j, keep, count_s
+         integer(ip) :: keep, count_s
          real(dp) :: low, high
-         allocate (order(known%count), distance(known%count))
-         do i = 1, known%count
-            order(i) = i
-            distance(i) = abs(known%lambda(i) - sigma)
-         end do
-         do j = 2, known%count
-            i = j
-            do while (i > 1)
-               if (distance(order(i - 1)) <= distance(order(i))) exit
-               order([i - 1, i]) = order([i, i - 1])
-               i = i - 1
-            end do
-         end do
+         distance = abs(known%lambda(1:known%count) - sigma)
+         order = ascending_order(distance)
          keep = min(target, known%count)
          do while (keep < known%count)
             ! the next one belongs to the multiplet of a kept one?
