@@ -178,9 +178,9 @@ contains
       integer(ip), allocatable :: rows(:), cols(:)
       real(dp), allocatable :: vals(:), gram(:, :), row_norm(:), full_norm(:), values(:), &
          vectors(:, :)
-      logical, allocatable :: keep(:), rc_all(:)
+      logical, allocatable :: keep(:), kept_entry(:), rc_all(:)
       character(len=80), allocatable :: labels(:)
-      integer(ip) :: num_rows, nnz, r, p, kept
+      integer(ip) :: num_rows, nnz, r, kept
       integer :: k, d, i, c
 
       num_rows = 6 * int(size(interfaces), ip)
@@ -231,33 +231,27 @@ contains
          if (allocated(error)) return
       end if
 
-      ! Drop the rows T has eliminated, keep the others.
-      allocate (keep(num_rows))
+      ! Drop the rows T has eliminated, keep the others: C_v is the kept rows of c_reduced as
+      ! they are (csr_matmul and csr_from_coo sort the columns of a row)
+      allocate (keep(num_rows), kept_entry(size(c_reduced%val)))
       do r = 1, num_rows
          keep(r) = norm2(c_reduced%val(c_reduced%row_ptr(r):c_reduced%row_ptr(r + 1) - 1)) > &
             1.0e-10_dp * full_norm(r)
+         kept_entry(c_reduced%row_ptr(r):c_reduced%row_ptr(r + 1) - 1) = keep(r)
       end do
-      kept = int(count(keep), ip)
-      nnz = 0
-      do r = 1, num_rows
-         if (keep(r)) nnz = nnz + c_reduced%row_ptr(r + 1) - c_reduced%row_ptr(r)
-      end do
-      deallocate (rows, cols, vals)
-      allocate (rows(nnz), cols(nnz), vals(nnz))
-      nnz = 0
+      C_v%num_rows = int(count(keep), ip)
+      C_v%num_cols = red%num_reduced
+      allocate (C_v%row_ptr(C_v%num_rows + 1))
+      C_v%row_ptr(1) = 1
       kept = 0
       do r = 1, num_rows
          if (.not. keep(r)) cycle
          kept = kept + 1
-         do p = c_reduced%row_ptr(r), c_reduced%row_ptr(r + 1) - 1
-            nnz = nnz + 1
-            rows(nnz) = kept
-            cols(nnz) = c_reduced%col(p)
-            vals(nnz) = c_reduced%val(p)
-         end do
+         C_v%row_ptr(kept + 1) = C_v%row_ptr(kept) + c_reduced%row_ptr(r + 1) - &
+            c_reduced%row_ptr(r)
       end do
-      call csr_from_coo(kept, red%num_reduced, rows, cols, vals, C_v, error)
-      if (allocated(error)) return
+      C_v%col = pack(c_reduced%col, kept_entry)
+      C_v%val = pack(c_reduced%val, kept_entry)
       is_rc = pack(rc_all, keep)
       labels = pack(labels, keep)
 
