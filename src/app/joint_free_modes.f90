@@ -277,37 +277,42 @@ contains
       function joint_point(jj) result(r)
          integer, intent(in) :: jj
          real(dp) :: r(3)
-         integer :: s, bb, handle
+         integer :: rule, s
          associate (joint => model%mechanism%joints(jj))
-            do s = 1, 2
-               if (joint%body(s) == k) then
-                  r = placed(k, modes%interfaces(joint%marker(s))%virtual_xyz)
-                  return
-               end if
-            end do
-            do s = 1, 2
-               bb = joint%body(s)
-               handle = joint%marker(s)
-               if (bb == 0) then
-                  r = model%mechanism%markers(handle)%position
-                  return
-               else if (model%bodies(bb)%rigid) then
-                  r = placed(bb, model%mechanism%markers(handle)%position)
-                  return
-               end if
-            end do
-            do s = 1, 2
-               bb = joint%body(s)
-               handle = joint%marker(s)
-               if (model%bodies(bb)%interfaces(handle)%virtual_node == VIRTUAL_NODE_POSITION) &
-                  then
-                  r = placed(bb, model%bodies(bb)%interfaces(handle)%position)
-                  return
-               end if
+            ! each rule tried on both ends before the next one
+            do rule = 1, 3
+               do s = 1, 2
+                  if (end_point(rule, joint%body(s), joint%marker(s), r)) return
+               end do
             end do
             r = model%bodies(joint%body(1))%motion%position
          end associate
       end function joint_point
+
+      !> The point of a joint end (model body bb, 0: the ground; marker handle) by joint_point's
+      !> rule 1 (the end on body k), 2 (a ground or rigid body's &marker) or 3 (an interface
+      !> placed by position); .false. and r unchanged when the rule does not apply to the end.
+      logical function end_point(rule, bb, handle, r) result(found)
+         integer, intent(in) :: rule, bb, handle
+         real(dp), intent(inout) :: r(3)
+         found = .false.
+         select case (rule)
+         case (1)
+            found = bb == k
+            if (found) r = placed(k, modes%interfaces(handle)%virtual_xyz)
+         case (2)
+            if (bb == 0) then
+               found = .true.
+               r = model%mechanism%markers(handle)%position
+            else if (model%bodies(bb)%rigid) then
+               found = .true.
+               r = placed(bb, model%mechanism%markers(handle)%position)
+            end if
+         case (3)
+            found = model%bodies(bb)%interfaces(handle)%virtual_node == VIRTUAL_NODE_POSITION
+            if (found) r = placed(bb, model%bodies(bb)%interfaces(handle)%position)
+         end select
+      end function end_point
 
    end subroutine lock_equations
 
