@@ -173,24 +173,20 @@ module ffrf_app_mechanism_builder
          type(error_t), allocatable, intent(out) :: error
       end subroutine add_joints
 
+      !> An error of a mechanism element named by its group and name: '&joint "crank_pin"'
+      !> (nothing when error is not allocated).
+      module subroutine group_context(error, group, name)
+         type(error_t), allocatable, intent(inout) :: error
+         !> The namelist group without its '&'
+         character(len=*), intent(in) :: group
+         character(len=*), intent(in) :: name
+      end subroutine group_context
+
       !> Mechanism index of model body k (0: the ground, at ground_index).
       pure integer module function mechanism_index(bodies, ground_index, k)
          type(built_body_t), intent(in) :: bodies(:)
          integer, intent(in) :: ground_index, k
       end function mechanism_index
-
-      !> The &spring groups as spring-dampers of the mechanism (ffrf_mbs_spring_damper); a free
-      !> length not given is set from the starting pose by build_mechanism.
-      module subroutine add_springs(resolved, bodies, ground_index, spring_ends, mech, error)
-         !> The case resolved (springs: model body indices, constants)
-         type(model_t), intent(in) :: resolved
-         type(built_body_t), intent(in) :: bodies(:)
-         integer, intent(in) :: ground_index
-         !> Markers of the springs' ends (resolve_markers)
-         integer, intent(in) :: spring_ends(:, :)
-         type(mechanism_t), intent(inout) :: mech
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine add_springs
 
       !> The &driver groups as drivers of the mechanism's joints (ffrf_mbs_joint_driver; the
       !> mechanism's joints are the &joint groups in order).
@@ -200,17 +196,19 @@ module ffrf_app_mechanism_builder
          type(error_t), allocatable, intent(out) :: error
       end subroutine add_drivers
 
-      !> The &bushing and &torsion_spring groups as force elements of the mechanism
-      !> (ffrf_mbs_bushing: model body indices and marker handles become mechanism bodies and the
-      !> ends' markers; ffrf_mbs_torsion_spring: the mechanism's joints are the &joint groups in
-      !> order).
-      module subroutine add_force_elements(resolved, bodies, ground_index, bushing_ends, mech, &
-            error)
+      !> The &spring, &bushing and &torsion_spring groups as force elements of the mechanism:
+      !> spring-dampers (ffrf_mbs_spring_damper; a free length not given is set from the starting
+      !> pose by build_mechanism) and bushings (ffrf_mbs_bushing), their model body indices and
+      !> marker handles made mechanism bodies and the ends' markers; torsion springs
+      !> (ffrf_mbs_torsion_spring: the mechanism's joints are the &joint groups in order).
+      module subroutine add_force_elements(resolved, bodies, ground_index, spring_ends, &
+            bushing_ends, mech, error)
+         !> The case resolved (model body indices, constants)
          type(model_t), intent(in) :: resolved
          type(built_body_t), intent(in) :: bodies(:)
          integer, intent(in) :: ground_index
-         !> Markers of the bushings' ends (resolve_markers)
-         integer, intent(in) :: bushing_ends(:, :)
+         !> Markers of the springs' and the bushings' ends (resolve_markers)
+         integer, intent(in) :: spring_ends(:, :), bushing_ends(:, :)
          type(mechanism_t), intent(inout) :: mech
          type(error_t), allocatable, intent(out) :: error
       end subroutine add_force_elements
@@ -317,20 +315,16 @@ contains
          call add_body(case, resolved, k, resolved%bodies(k), mesh_dir, log, times, lists(k), &
             model, mech, bodies(k), error)
          bodies(k)%made = .not. allocated(error)
-         if (allocated(error)) then
-            call add_context(error, '&body "' // trim(case%bodies(k)%name) // '"')
-            return
-         end if
+         call group_context(error, 'body', case%bodies(k)%name)
+         if (allocated(error)) return
       end do
       call select_step(resolved, log, model)
       if (present(choice)) choice = model
       call add_joints(resolved, bodies, ground_index, ends, mech, error)
       if (.not. allocated(error)) call add_loads(resolved, bodies, ends, mech, pressure, error)
-      if (.not. allocated(error)) call add_springs(resolved, bodies, ground_index, spring_ends, &
-         mech, error)
-      if (.not. allocated(error)) call add_drivers(resolved, mech, error)
       if (.not. allocated(error)) call add_force_elements(resolved, bodies, ground_index, &
-         bushing_ends, mech, error)
+         spring_ends, bushing_ends, mech, error)
+      if (.not. allocated(error)) call add_drivers(resolved, mech, error)
       if (allocated(error)) return
       mech%gravity = case%mechanism%mechanism%gravity
       if (resolved%mechanism%crank > 0) then

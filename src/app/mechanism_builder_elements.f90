@@ -12,40 +12,20 @@ contains
             call mech%add_joint(joints(j)%kind, trim(joints(j)%name), &
                mechanism_index(bodies, ground_index, joints(j)%body(1)), ends(1, j), &
                mechanism_index(bodies, ground_index, joints(j)%body(2)), ends(2, j), error)
-            if (allocated(error)) then
-               call add_context(error, '&joint "' // trim(joints(j)%name) // '"')
-               return
-            end if
+            call group_context(error, 'joint', joints(j)%name)
+            if (allocated(error)) return
          end do
       end associate
    end procedure add_joints
+
+   module procedure group_context
+      if (allocated(error)) call add_context(error, '&' // group // ' "' // trim(name) // '"')
+   end procedure group_context
 
    module procedure mechanism_index
       mechanism_index = ground_index
       if (k > 0) mechanism_index = bodies(k)%index
    end procedure mechanism_index
-
-   module procedure add_springs
-      type(spring_damper_t) :: spring
-      integer :: s
-      associate (springs => resolved%mechanism%springs)
-         do s = 1, size(springs)
-            spring%name = springs(s)%name
-            spring%body_a = mechanism_index(bodies, ground_index, springs(s)%body(1))
-            spring%marker_a = spring_ends(1, s)
-            spring%body_b = mechanism_index(bodies, ground_index, springs(s)%body(2))
-            spring%marker_b = spring_ends(2, s)
-            spring%stiffness = springs(s)%stiffness
-            spring%damping = springs(s)%damping
-            spring%free_length = springs(s)%free_length
-            call mech%add_spring(spring, error)
-            if (allocated(error)) then
-               call add_context(error, '&spring "' // trim(springs(s)%name) // '"')
-               return
-            end if
-         end do
-      end associate
-   end procedure add_springs
 
    module procedure add_drivers
       type(joint_driver_t) :: driver
@@ -58,17 +38,31 @@ contains
             driver%offset = given%offset
             driver%law = given%law
             call mech%add_driver(driver, error)
-            if (allocated(error)) then
-               call add_context(error, '&driver "' // trim(given%name) // '"')
-               return
-            end if
+            call group_context(error, 'driver', given%name)
+            if (allocated(error)) return
          end associate
       end do
    end procedure add_drivers
 
    module procedure add_force_elements
+      type(spring_damper_t) :: spring
       type(bushing_t) :: bushing
       integer :: s
+      associate (springs => resolved%mechanism%springs)
+         do s = 1, size(springs)
+            spring%name = springs(s)%name
+            spring%body_a = mechanism_index(bodies, ground_index, springs(s)%body(1))
+            spring%marker_a = spring_ends(1, s)
+            spring%body_b = mechanism_index(bodies, ground_index, springs(s)%body(2))
+            spring%marker_b = spring_ends(2, s)
+            spring%stiffness = springs(s)%stiffness
+            spring%damping = springs(s)%damping
+            spring%free_length = springs(s)%free_length
+            call mech%add_spring(spring, error)
+            call group_context(error, 'spring', springs(s)%name)
+            if (allocated(error)) return
+         end do
+      end associate
       do s = 1, size(resolved%mechanism%bushings)
          bushing = resolved%mechanism%bushings(s)
          bushing%body_a = mechanism_index(bodies, ground_index, bushing%body_a)
@@ -76,18 +70,13 @@ contains
          bushing%marker_a = bushing_ends(1, s)
          bushing%marker_b = bushing_ends(2, s)
          call mech%add_bushing(bushing, error)
-         if (allocated(error)) then
-            call add_context(error, '&bushing "' // trim(bushing%name) // '"')
-            return
-         end if
+         call group_context(error, 'bushing', bushing%name)
+         if (allocated(error)) return
       end do
       do s = 1, size(resolved%mechanism%torsion_springs)
          call mech%add_torsion_spring(resolved%mechanism%torsion_springs(s), error)
-         if (allocated(error)) then
-            call add_context(error, '&torsion_spring "' // &
-               trim(resolved%mechanism%torsion_springs(s)%name) // '"')
-            return
-         end if
+         call group_context(error, 'torsion_spring', resolved%mechanism%torsion_springs(s)%name)
+         if (allocated(error)) return
       end do
    end procedure add_force_elements
 
@@ -129,10 +118,8 @@ contains
                   call mech%add_load(constant, error)
                end if
             end select
-            if (allocated(error)) then
-               call add_context(error, '&load "' // trim(input%name) // '"')
-               return
-            end if
+            call group_context(error, 'load', input%name)
+            if (allocated(error)) return
          end associate
       end do
 
