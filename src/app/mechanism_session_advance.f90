@@ -19,23 +19,15 @@ contains
    !> Build the mechanism of `case` (modes of its meshed bodies, joints, loads, starting pose)
    !> and start its integration: the integrator settings of the case (h of the automatic model
    !> when it chose one), the max_steps check, galpha_init (prepare's first part).
-   subroutine start_integration(case, resolved, mesh_dir, log, times, mech, bodies, &
-         pressure, has_pressure, model, integrator, sensors, error, timer)
+   subroutine start_integration(self, case, mesh_dir, log, times, error, timer)
+      !> The session whose resolved case, mechanism, bodies, pressure model, automatic model,
+      !> integrator and sensors are made here
+      class(mechanism_session_t), intent(inout) :: self
       type(case_input_t), intent(in) :: case
-      !> The case resolved (build_model), built here
-      type(model_t), intent(out) :: resolved
       !> Folder of relative mesh files
       character(len=*), intent(in) :: mesh_dir
       type(logger_t), intent(in) :: log
       type(stage_times_t), intent(inout) :: times
-      type(mechanism_t), intent(out) :: mech
-      type(built_body_t), allocatable, intent(out) :: bodies(:)
-      type(pressure_model_t), intent(out) :: pressure
-      logical, intent(out) :: has_pressure
-      type(model_choice_t), intent(out) :: model
-      type(galpha_integrator_t), intent(out) :: integrator
-      !> The sensors (build_mechanism)
-      type(sensor_t), allocatable, intent(out) :: sensors(:)
       type(error_t), allocatable, intent(out) :: error
       !> Started after the bodies are built (the caller's timer of the integration start)
       type(stage_timer_t), intent(inout), optional :: timer
@@ -44,29 +36,32 @@ contains
       character(len=:), allocatable :: case_file
       case_file = case%file_name
       call log_threads(log, case%mechanism%integrator%sparse_threshold)
-      call build_model(case, resolved, error)
-      if (.not. allocated(error)) call build_mechanism(case, resolved, mesh_dir, log, times, &
-         mech, bodies, q, v, pressure, has_pressure, error, model, sensors)
+      call build_model(case, self%resolved, error)
+      if (.not. allocated(error)) call build_mechanism(case, self%resolved, mesh_dir, log, &
+         times, self%mech, self%bodies, q, v, self%pressure, self%has_pressure, error, &
+         self%model, self%sensors)
       if (allocated(error)) then
          call add_context(error, case_file)
          return
       end if
       if (present(timer)) call timer%begin()
-      settings = resolved%mechanism%integrator
-      if (model%h > 0.0_dp) settings%h = model%h
-      if (.not. model%active .and. .not. resolved%mechanism%h_given) call log%info( &
-         'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
-      ! The step count of the h chosen here (read_case checked the given or default h)
-      if ((settings%t_end - settings%t_start) / settings%h > &
-            real(resolved%mechanism%max_steps, dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
-            'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
-            to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
-            'more than max_steps = ' // to_str(resolved%mechanism%max_steps) // &
-            '; shorten the run, give h, or raise &integrator max_steps on purpose')
-         return
-      end if
-      call integrator%init(mech, settings, q, v, error)
+      associate (resolved => self%resolved, model => self%model)
+         settings = resolved%mechanism%integrator
+         if (model%h > 0.0_dp) settings%h = model%h
+         if (.not. model%active .and. .not. resolved%mechanism%h_given) call log%info( &
+            'model', 'time step h = ' // to_str(settings%h, 3) // ' s (default)')
+         ! The step count of the h chosen here (read_case checked the given or default h)
+         if ((settings%t_end - settings%t_start) / settings%h > &
+               real(resolved%mechanism%max_steps, dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, case_file // ': &integrator: ' // &
+               'the automatic model''s h = ' // to_str(settings%h) // ' s makes ' // &
+               to_str((settings%t_end - settings%t_start) / settings%h, 4) // ' steps, ' // &
+               'more than max_steps = ' // to_str(resolved%mechanism%max_steps) // &
+               '; shorten the run, give h, or raise &integrator max_steps on purpose')
+            return
+         end if
+      end associate
+      call self%integrator%init(self%mech, settings, q, v, error)
       if (allocated(error)) call add_context(error, case_file // ': starting the integration')
    end subroutine start_integration
 
@@ -115,9 +110,7 @@ contains
       ranks = current_ranks()
       call ranks%agree(error)
       if (allocated(error)) return
-      call start_integration(case, self%resolved, mesh_dir, log, times, self%mech, self%bodies, &
-         self%pressure, self%has_pressure, self%model, self%integrator, self%sensors, error, &
-         timer)
+      call start_integration(self, case, mesh_dir, log, times, error, timer)
       if (.not. allocated(error) .and. present(options)) then
          call self%output%start_recording(self%resolved, self%mech, self%bodies, &
             self%integrator, self%model, log, times, timer, error, self%sensors)
