@@ -21,6 +21,10 @@ module ffrf_core_posix
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
       FILE_DEVICE = 4, FILE_OTHER = 5
+   !> What each file kind is called in messages, by kind
+   character(len=*), parameter :: FILE_KIND_NAMES(FILE_MISSING:FILE_OTHER) = &
+      [character(len=54) :: 'missing', 'a regular file', 'a folder', 'a FIFO (named pipe)', &
+      'a device', 'not a regular file (a socket or another special file)']
    !> EWOULDBLOCK (= EAGAIN) on Linux: a lock another process holds
    integer, parameter :: ERRNO_WOULD_BLOCK = 11
 
@@ -141,24 +145,13 @@ contains
          '": ' // errno_text(int(status)))
    end subroutine file_kind
 
-   !> "a regular file", "a folder", "a FIFO (named pipe)", ...
+   !> "a regular file", "a folder", "a FIFO (named pipe)", ... (FILE_KIND_NAMES; an unknown kind
+   !> reads as FILE_OTHER).
    pure function file_kind_name(kind) result(name)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (FILE_MISSING)
-         name = 'missing'
-      case (FILE_REGULAR)
-         name = 'a regular file'
-      case (FILE_DIRECTORY)
-         name = 'a folder'
-      case (FILE_FIFO)
-         name = 'a FIFO (named pipe)'
-      case (FILE_DEVICE)
-         name = 'a device'
-      case default
-         name = 'not a regular file (a socket or another special file)'
-      end select
+      name = trim(FILE_KIND_NAMES(FILE_OTHER))
+      if (kind >= FILE_MISSING .and. kind <= FILE_OTHER) name = trim(FILE_KIND_NAMES(kind))
    end function file_kind_name
 
    !> An input file (`what`: "case file", "mesh file", ...) must exist, be a regular file and
