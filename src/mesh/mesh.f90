@@ -374,18 +374,13 @@ contains
       !> Entity dimension
       integer(ip), intent(in) :: dim
       character(len=:), allocatable :: word
-      select case (dim)
-      case (0)
-         word = 'point'
-      case (1)
-         word = 'curve'
-      case (2)
-         word = 'surface'
-      case (3)
-         word = 'volume'
-      case default
+      character(len=*), parameter :: words(0:3) = [character(len=7) :: 'point', 'curve', &
+         'surface', 'volume']
+      if (dim >= 0 .and. dim <= 3) then
+         word = trim(words(dim))
+      else
          word = 'dimension-' // to_str(dim)
-      end select
+      end if
    end function dimension_word
 
 end module ffrf_mesh_mesh

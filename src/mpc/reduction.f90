@@ -21,7 +21,6 @@ module ffrf_mpc_reduction
    private
    public :: reduction_t, build_reduction, reduce_matrix, expand_vectors, reduced_coordinates
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
-   public :: formulation_choices
 
    !> No reduction built (a body without modes)
    integer, parameter :: FORMULATION_NONE = 0
