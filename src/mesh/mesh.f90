@@ -8,7 +8,7 @@
 module ffrf_mesh_mesh
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str
+   use ffrf_core_strings, only: to_str, join_ints
    implicit none
    private
    public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
