@@ -107,10 +107,7 @@ contains
       character(len=*), intent(in) :: stage
       !> Message
       character(len=*), intent(in) :: text
-      if (self%level >= LOG_INFO) then
-         write (self%unit, '(a)') '[' // stage // '] note: ' // text
-         flush (self%unit)
-      end if
+      call self%info(stage, 'note: ' // text)
    end subroutine logger_note
 
    !> Wall-clock seconds since an arbitrary origin.

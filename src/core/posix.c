@@ -420,13 +420,29 @@ int ffrf_create_new_file(const char *path)
     return close(fd) == 0 ? 0 : errno;
 }
 
+/* The name of the folder entry `path`: the folder resolved by realpath, then "/" and the last
+ * component, a link there not followed (what unlink and rename act on); `path` up to
+ * 2 PATH_MAX + 1 bytes (resolved_name's). */
+static void entry_name(const char *path, char *out, size_t size)
+{
+    char folder[2 * PATH_MAX + 2], real[PATH_MAX];
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    if (slash == NULL) snprintf(folder, sizeof folder, ".");
+    else if (slash == path) snprintf(folder, sizeof folder, "/");
+    else snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
+    if (realpath(folder, real) != NULL)
+        snprintf(out, size, "%s/%s", strcmp(real, "/") == 0 ? "" : real, base);
+    else
+        snprintf(out, size, "%s", path);
+}
+
 /* The name `path` resolves to, for a file that need not exist: symbolic links at the last
  * component followed (up to 40), the folder resolved by realpath, then "/" and the last
  * component. A folder that does not exist leaves the path as it is. */
 static void resolved_name(const char *path, char *out, size_t size)
 {
-    char current[2 * PATH_MAX + 2], target[PATH_MAX], folder[2 * PATH_MAX + 2], real[PATH_MAX];
-    const char *slash, *base;
+    char current[2 * PATH_MAX + 2], target[PATH_MAX], folder[2 * PATH_MAX + 2];
+    const char *slash;
     snprintf(current, sizeof current, "%s", path);
     for (int depth = 0; depth < 40; ++depth) {
         struct stat st;
@@ -442,30 +458,7 @@ static void resolved_name(const char *path, char *out, size_t size)
             snprintf(current, sizeof current, "%s/%s", folder, target);
         }
     }
-    slash = strrchr(current, '/');
-    base = slash ? slash + 1 : current;
-    if (slash == NULL) snprintf(folder, sizeof folder, ".");
-    else if (slash == current) snprintf(folder, sizeof folder, "/");
-    else snprintf(folder, sizeof folder, "%.*s", (int)(slash - current), current);
-    if (realpath(folder, real) != NULL)
-        snprintf(out, size, "%s/%s", strcmp(real, "/") == 0 ? "" : real, base);
-    else
-        snprintf(out, size, "%s", current);
-}
-
-/* The name of the folder entry `path`: the folder resolved by realpath, then "/" and the last
- * component, a link there not followed (what unlink and rename act on). */
-static void entry_name(const char *path, char *out, size_t size)
-{
-    char folder[PATH_MAX + 1], real[PATH_MAX];
-    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
-    if (slash == NULL) snprintf(folder, sizeof folder, ".");
-    else if (slash == path) snprintf(folder, sizeof folder, "/");
-    else snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
-    if (realpath(folder, real) != NULL)
-        snprintf(out, size, "%s/%s", strcmp(real, "/") == 0 ? "" : real, base);
-    else
-        snprintf(out, size, "%s", path);
+    entry_name(current, out, size);
 }
 
 /* *same = 1 when `a` and `b` name one file. A path whose `*_entry` flag is set stands for its

@@ -21,6 +21,10 @@ module ffrf_core_posix
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
       FILE_DEVICE = 4, FILE_OTHER = 5
+   !> What each file kind is called in messages, by kind
+   character(len=*), parameter :: FILE_KIND_NAMES(FILE_MISSING:FILE_OTHER) = &
+      [character(len=54) :: 'missing', 'a regular file', 'a folder', 'a FIFO (named pipe)', &
+      'a device', 'not a regular file (a socket or another special file)']
    !> EWOULDBLOCK (= EAGAIN) on Linux: a lock another process holds
    integer, parameter :: ERRNO_WOULD_BLOCK = 11
 
@@ -137,28 +141,16 @@ contains
       status = c_file_kind(c_string(path), c_kind, c_size)
       kind = int(c_kind)
       size_bytes = int(c_size, i8)
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot inspect "' // path // &
-         '": ' // errno_text(int(status)))
+      call status_error(status, 'inspect "' // path // '"', error)
    end subroutine file_kind
 
-   !> "a regular file", "a folder", "a FIFO (named pipe)", ...
+   !> "a regular file", "a folder", "a FIFO (named pipe)", ... (FILE_KIND_NAMES; an unknown kind
+   !> reads as FILE_OTHER).
    pure function file_kind_name(kind) result(name)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (FILE_MISSING)
-         name = 'missing'
-      case (FILE_REGULAR)
-         name = 'a regular file'
-      case (FILE_DIRECTORY)
-         name = 'a folder'
-      case (FILE_FIFO)
-         name = 'a FIFO (named pipe)'
-      case (FILE_DEVICE)
-         name = 'a device'
-      case default
-         name = 'not a regular file (a socket or another special file)'
-      end select
+      name = trim(FILE_KIND_NAMES(FILE_OTHER))
+      if (kind >= FILE_MISSING .and. kind <= FILE_OTHER) name = trim(FILE_KIND_NAMES(kind))
    end function file_kind_name
 
    !> An input file (`what`: "case file", "mesh file", ...) must exist, be a regular file and
@@ -188,30 +180,22 @@ contains
    subroutine rename_file(from, to, error)
       character(len=*), intent(in) :: from, to
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_rename(c_string(from), c_string(to))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot rename "' // from // &
-         '" to "' // to // '": ' // errno_text(int(status)))
+      call status_error(c_rename(c_string(from), c_string(to)), &
+         'rename "' // from // '" to "' // to // '"', error)
    end subroutine rename_file
 
    !> Remove a file; a missing one is not an error.
    subroutine remove_file(path, error)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_unlink(c_string(path))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot remove "' // path // &
-         '": ' // errno_text(int(status)))
+      call status_error(c_unlink(c_string(path)), 'remove "' // path // '"', error)
    end subroutine remove_file
 
    !> Force a closed file's data to the device; reports a full disk the page cache hid.
    subroutine sync_file(path, error)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_fsync_path(c_string(path))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write "' // path // &
-         '" to disk: ' // errno_text(int(status)))
+      call status_error(c_fsync_path(c_string(path)), 'write "' // path // '" to disk', error)
    end subroutine sync_file
 
    !> Take the exclusive lock `path` (created if missing); fd holds it. status 0: taken;
@@ -219,10 +203,22 @@ contains
    subroutine lock_file(path, fd, status)
       character(len=*), intent(in) :: path
       integer, intent(out) :: fd, status
-      integer(c_int) :: c_fd
-      status = int(c_lock_file(c_string(path), c_fd))
-      fd = int(c_fd)
+      call take_lock(path, .false., fd, status)
    end subroutine lock_file
+
+   !> lock_file (safe = .false.) or lock_output (safe = .true.).
+   subroutine take_lock(path, safe, fd, status)
+      character(len=*), intent(in) :: path
+      logical, intent(in) :: safe
+      integer, intent(out) :: fd, status
+      integer(c_int) :: c_fd
+      if (safe) then
+         status = int(c_lock_output(c_string(path), c_fd))
+      else
+         status = int(c_lock_file(c_string(path), c_fd))
+      end if
+      fd = int(c_fd)
+   end subroutine take_lock
 
    !> Remove the lock file `path` and release the lock fd holds (fd < 0: nothing held).
    subroutine unlock_file(path, fd)
@@ -233,23 +229,28 @@ contains
       fd = -1
    end subroutine unlock_file
 
+   !> FFRF_IO_ERROR "cannot <action>: <the errno's words>" when a posix.c call returned
+   !> status /= 0 (its errno); nothing when it returned 0.
+   subroutine status_error(status, action, error)
+      integer(c_int), intent(in) :: status
+      character(len=*), intent(in) :: action
+      type(error_t), allocatable, intent(out) :: error
+      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot ' // action // ': ' // &
+         errno_text(int(status)))
+   end subroutine status_error
+
    !> The system's words for an errno value ("No space left on device").
    function errno_text(code) result(text)
       integer, intent(in) :: code
       character(len=:), allocatable :: text
-      character(kind=c_char) :: buffer(200)
-      call c_errno_text(int(code, c_int), buffer, int(size(buffer), c_int))
-      text = from_c_buffer(buffer)
+      text = c_text(c_errno_text, code, 200)
    end function errno_text
 
    !> Record SIGTERM, SIGINT, SIGHUP, SIGUSR1 and SIGXCPU instead of dying on them; a run polls
    !> pending_signal() between steps and ends cleanly.
    subroutine install_signal_handlers(error)
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_signals_install()
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot install the signal ' // &
-         'handlers: ' // errno_text(int(status)))
+      call status_error(c_signals_install(), 'install the signal handlers', error)
    end subroutine install_signal_handlers
 
    !> The first signal received since install_signal_handlers (0: none).
@@ -266,10 +267,19 @@ contains
    function signal_name(number) result(name)
       integer, intent(in) :: number
       character(len=:), allocatable :: name
-      character(kind=c_char) :: buffer(32)
-      call c_signal_name(int(number, c_int), buffer, int(size(buffer), c_int))
-      name = from_c_buffer(buffer)
+      name = c_text(c_signal_name, number, 32)
    end function signal_name
+
+   !> The text a posix.c function (c_errno_text, c_signal_name) writes for `code` into a
+   !> buffer of `length` bytes, up to its NUL.
+   function c_text(write_text, code, length) result(text)
+      procedure(c_errno_text) :: write_text
+      integer, intent(in) :: code, length
+      character(len=:), allocatable :: text
+      character(kind=c_char) :: buffer(length)
+      call write_text(int(code, c_int), buffer, int(length, c_int))
+      text = from_c_buffer(buffer)
+   end function c_text
 
    pure function c_string(text) result(c_text)
       character(len=*), intent(in) :: text
@@ -299,9 +309,7 @@ contains
    subroutine lock_output(path, fd, status)
       character(len=*), intent(in) :: path
       integer, intent(out) :: fd, status
-      integer(c_int) :: c_fd
-      status = int(c_lock_output(c_string(path), c_fd))
-      fd = int(c_fd)
+      call take_lock(path, .true., fd, status)
    end subroutine lock_output
 
    !> Make writes past RLIMIT_FSIZE fail with EFBIG instead of killing the run with SIGXFSZ.
@@ -315,10 +323,8 @@ contains
    subroutine copy_file(from, to, error)
       character(len=*), intent(in) :: from, to
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_copy_file(c_string(from), c_string(to))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot copy "' // from // &
-         '" to "' // to // '": ' // errno_text(int(status)))
+      call status_error(c_copy_file(c_string(from), c_string(to)), &
+         'copy "' // from // '" to "' // to // '"', error)
    end subroutine copy_file
 
    !> The last steps of every safe write (results, checkpoints' sources, Gmsh views): force the
@@ -343,20 +349,16 @@ contains
    subroutine sync_folder_of(path, error)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_fsync_folder_of(c_string(path))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write the folder of "' &
-         // path // '" to disk: ' // errno_text(int(status)))
+      call status_error(c_fsync_folder_of(c_string(path)), &
+         'write the folder of "' // path // '" to disk', error)
    end subroutine sync_folder_of
 
    !> After install_signal_handlers: system calls a signal interrupts are restarted (a file
    !> being read when SIGTERM arrives is read on; the run stops at its next check).
    subroutine signals_restart_calls(error)
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_signals_restart_calls()
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot set the signal ' // &
-         'handlers to restart system calls: ' // errno_text(int(status)))
+      call status_error(c_signals_restart_calls(), &
+         'set the signal handlers to restart system calls', error)
    end subroutine signals_restart_calls
 
    !> Around a call into a library that installs signal handlers of its own (METIS_NodeND):
@@ -392,10 +394,9 @@ contains
    subroutine create_new_file(path, error)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: error
-      integer(c_int) :: status
-      status = c_create_new_file(c_string(path))
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot create "' // path // &
-         '": ' // errno_text(int(status)) // '; check that its folder exists and is writable')
+      call status_error(c_create_new_file(c_string(path)), 'create "' // path // '"', error)
+      if (allocated(error)) error%message = error%message // &
+         '; check that its folder exists and is writable'
    end subroutine create_new_file
 
    !> Whether the paths `a` and `b` name one file: the same device and inode when both exist
@@ -414,8 +415,7 @@ contains
       if (present(b_entry)) entry_b = merge(1, 0, b_entry)
       status = c_same_file(c_string(a), c_string(b), entry_a, entry_b, c_same)
       same = c_same /= 0
-      if (status /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot compare "' // a // &
-         '" with "' // b // '": ' // errno_text(int(status)))
+      call status_error(status, 'compare "' // a // '" with "' // b // '"', error)
    end subroutine same_file
 
    !> A program's guard (the driver's): while on, an exit the program did not ask for (the

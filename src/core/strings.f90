@@ -3,7 +3,7 @@ module ffrf_core_strings
    use ffrf_core_kinds, only: dp, ip, i8
    implicit none
    private
-   public :: to_str, to_lower, join_words
+   public :: to_str, to_lower, join_words, join_ints
 
    !> Compact text of a number, for messages ("12", "2.1E+11", "0.25").
    interface to_str
@@ -122,5 +122,19 @@ contains
          text = text // trim(words(i))
       end do
    end function join_words
+
+   !> Integers joined by `separator` ("3, 7, 9"), for messages.
+   pure function join_ints(values, separator) result(text)
+      integer(i8), intent(in) :: values(:)
+      character(len=*), intent(in) :: separator
+      character(len=:), allocatable :: text
+      !> Each integer's text (an i8 has at most 20 characters)
+      character(len=20) :: words(size(values))
+      integer :: i
+      do i = 1, size(values)
+         words(i) = to_str(values(i))
+      end do
+      text = join_words(words, separator)
+   end function join_ints
 
 end module ffrf_core_strings

@@ -13,7 +13,7 @@ module ffrf_fe_assembly
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_la_sparse, only: csr_t, csr_transpose, csr_matmul
+   use ffrf_la_sparse, only: csr_t, csr_transpose, csr_matmul, csr_find
    use ffrf_fe_material, only: material_t, check_material
    use ffrf_fe_tet, only: tet_stiffness_mass, tet_mass
    use ffrf_core_parallel, only: parallel_t
@@ -171,11 +171,12 @@ contains
             call tet_mass(xe, material%density, tet_tags(e), me, error)
          end if
          if (allocated(error)) exit
-         ! offset(a, b): position (0-based) of node b in the sorted node row of node a
+         ! offset(a, b): position (0-based) of node b in the sorted node row of node a (G holds
+         ! every pair of nodes of an element)
          do a = 1, nen
             i = tets(a, e)
             do b = 1, nen
-               offset(a, b) = position_in_row(G, i, tets(b, e))
+               offset(a, b) = csr_find(G, i, tets(b, e)) - G%row_ptr(i)
             end do
          end do
          do a = 1, nen
@@ -231,27 +232,6 @@ contains
       call csr_transpose(E, Et)
       call csr_matmul(Et, E, G, error)
    end subroutine node_graph
-
-   !> Position (0-based) of column j in row i of the sorted pattern G, -1 if absent.
-   pure function position_in_row(G, i, j) result(pos)
-      type(csr_t), intent(in) :: G
-      integer(ip), intent(in) :: i, j
-      integer(ip) :: pos, lo, hi, mid
-      pos = -1
-      lo = G%row_ptr(i)
-      hi = G%row_ptr(i + 1) - 1
-      do while (lo <= hi)
-         mid = lo + (hi - lo)/2
-         if (G%col(mid) == j) then
-            pos = mid - G%row_ptr(i)
-            return
-         else if (G%col(mid) < j) then
-            lo = mid + 1
-         else
-            hi = mid - 1
-         end if
-      end do
-   end function position_in_row
 
    !> Rigid-body mass properties from the consistent mass (Zwoelfer & Gerstmayr 2020; theory.md
    !> section 3.2). With the scalar mass Ms (the x-dof entries of M = Ms (x) I3):

@@ -49,13 +49,7 @@ contains
       integer(ip), parameter :: EDGES(2, 3) = reshape([1, 2, 2, 3, 3, 1], [2, 3])
       L = [1.0_dp - xi(1) - xi(2), xi(1), xi(2)]
       dL = reshape([-1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 3])
-      select case (nen)
-      case (3, 6)
-         call simplex_shape(L, dL, EDGES, nen == 6, N, dN)
-      case default
-         N = 0.0_dp
-         dN = 0.0_dp
-      end select
+      call simplex_shape(L, dL, EDGES, N, dN)
    end subroutine tri_shape
 
    !> Area element |x_u x x_v| and position x of triangle xe at reference point xi.

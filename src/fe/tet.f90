@@ -78,38 +78,35 @@ contains
       L = [1.0_dp - xi(1) - xi(2) - xi(3), xi(1), xi(2), xi(3)]
       dL = reshape([-1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
          0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 4])
-      select case (nen)
-      case (4, 10)
-         call simplex_shape(L, dL, TET10_EDGES, nen == 10, N, dN)
-      case default
-         N = 0.0_dp
-         dN = 0.0_dp
-      end select
+      call simplex_shape(L, dL, TET10_EDGES, N, dN)
    end subroutine tet_shape
 
    !> Shape functions of a simplex (tetrahedron, triangle) from its barycentric coordinates L(m)
-   !> and their reference derivatives dL(:, m): linear N = L, or quadratic (m corners
-   !> L (2 L - 1), then one mid-side node 4 L_i L_j per edge (i, j) = edges(:, e)).
-   pure subroutine simplex_shape(L, dL, edges, quadratic, N, dN)
+   !> and their reference derivatives dL(:, m), by the number of nodes size(N): linear N = L
+   !> (m nodes), or quadratic (m + size(edges, 2) nodes: m corners L (2 L - 1), then one
+   !> mid-side node 4 L_i L_j per edge (i, j) = edges(:, e)); zeros for any other count.
+   pure subroutine simplex_shape(L, dL, edges, N, dN)
       !> Barycentric coordinates
       real(dp), intent(in) :: L(:)
       !> Their reference derivatives
       real(dp), intent(in) :: dL(:, :)
       !> Corners of each edge, in mid-side node order
       integer(ip), intent(in) :: edges(:, :)
-      !> Quadratic (mid-side nodes) or linear
-      logical, intent(in) :: quadratic
-      !> Shape functions: m, or m + size(edges, 2) if quadratic
+      !> Shape functions: m (linear), or m + size(edges, 2) (quadratic)
       real(dp), intent(out) :: N(:)
       !> Their reference derivatives
       real(dp), intent(out) :: dN(:, :)
       integer :: c, e, i, j, m
-      if (.not. quadratic) then
+      m = size(L)
+      if (size(N) == m) then
          N = L
          dN = dL
          return
+      else if (size(N) /= m + size(edges, 2)) then
+         N = 0.0_dp
+         dN = 0.0_dp
+         return
       end if
-      m = size(L)
       do c = 1, m
          N(c) = L(c)*(2.0_dp*L(c) - 1.0_dp)
          dN(:, c) = (4.0_dp*L(c) - 1.0_dp)*dL(:, c)

@@ -395,26 +395,10 @@ contains
       !> Ordering code
       integer(ip), intent(in) :: code
       character(len=:), allocatable :: name
-      select case (code)
-      case (0)
-         name = 'AMD'
-      case (1)
-         name = 'given (PERM_IN)'
-      case (2)
-         name = 'AMF'
-      case (3)
-         name = 'SCOTCH'
-      case (4)
-         name = 'PORD'
-      case (5)
-         name = 'METIS'
-      case (6)
-         name = 'QAMD'
-      case (7)
-         name = 'automatic'
-      case default
-         name = 'unknown'
-      end select
+      character(len=*), parameter :: names(0:7) = [character(len=15) :: 'AMD', &
+         'given (PERM_IN)', 'AMF', 'SCOTCH', 'PORD', 'METIS', 'QAMD', 'automatic']
+      name = 'unknown'
+      if (code >= 0 .and. code <= 7) name = trim(names(code))
    end function mumps_ordering_name
 
    ! ---------------------------------------------------------------------------------------------

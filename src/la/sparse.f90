@@ -13,7 +13,8 @@ module ffrf_la_sparse
    private
    public :: csr_t
    public :: csr_matvec, csr_matmat, csr_transpose, csr_matmul, csr_from_coo, csr_upper_coo, csr_adjacency
-   public :: csr_identity, csr_get, csr_nnz, csr_add, csr_to_dense, sort_indices, csr_row_gram
+   public :: csr_identity, csr_get, csr_find, csr_nnz, csr_add, csr_to_dense, sort_indices
+   public :: csr_row_gram
 
    !> A sparse matrix in CSR form. Columns within a row are sorted ascending and unique.
    type :: csr_t
@@ -129,12 +130,13 @@ contains
       integer(ip) :: k
       value = 0.0_dp
       if (i < 1 .or. i > A%num_rows) return
-      k = find_in_row(A, i, j)
+      k = csr_find(A, i, j)
       if (k > 0) value = A%val(k)
    end function csr_get
 
-   !> Position of column j in row i of A (0 if not stored).
-   pure function find_in_row(A, i, j) result(pos)
+   !> Position in A%col and A%val of column j in row i of A (0 if not stored); the columns of
+   !> each row ascending (binary search).
+   pure function csr_find(A, i, j) result(pos)
       type(csr_t), intent(in) :: A
       integer(ip), intent(in) :: i, j
       integer(ip) :: pos, lo, hi, mid
@@ -152,7 +154,7 @@ contains
             hi = mid - 1
          end if
       end do
-   end function find_in_row
+   end function csr_find
 
    !> The n x n identity.
    subroutine csr_identity(n, A)

@@ -14,19 +14,14 @@ contains
       integer(i8) :: num_blocks, num_elements, block, dim, entity, element_type, n, k, e, j
       integer(i8), allocatable :: values(:)
       integer(i8) :: node_tag, min_tag, max_tag, total, tag, first_tag, data_start
-      integer(ip) :: nodes_per_element, index
+      integer(ip) :: nodes_per_element, type_dim, index
       logical :: binary, ok
 
       binary = r%binary_file
       if (binary) call start_binary(r%c, error)
       if (allocated(error)) return
-      call read_size(r%c, binary, 'number of element blocks', num_blocks, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'number of elements', &
-         num_elements, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest element tag', min_tag, &
-         error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'largest element tag', max_tag, &
-         error)
+      call read_section_header(r%c, binary, 'element', num_blocks, num_elements, min_tag, &
+         max_tag, error)
       if (allocated(error)) return
       call check_count_fits(r%c, 'number of elements', num_elements, merge(16_i8, 4_i8, binary), &
          error)
@@ -38,29 +33,25 @@ contains
       r%min_element_tag = huge(0_i8)
       r%max_element_tag = -huge(0_i8)
       do block = 1, num_blocks
-         call read_tag(r%c, binary, 'entity dimension of an element block', dim, error)
-         if (.not. allocated(error)) call read_tag(r%c, binary, 'entity tag', entity, error)
-         if (.not. allocated(error)) call read_tag(r%c, binary, 'element type', element_type, &
-            error)
-         if (.not. allocated(error)) call read_size(r%c, binary, 'elements in block', n, error)
+         call read_block_header(r%c, binary, 'an element block', 'element', 'element type', dim, &
+            entity, element_type, n, error)
          if (allocated(error)) return
          if (n > huge(0_ip)) then
             call location_error(r%c, to_str(n) // ' elements in one block: more than ffrf''s ' // &
                '32-bit indices hold', error)
             return
          end if
-         nodes_per_element = nodes_of_type(element_type)
+         call type_size(element_type, nodes_per_element, type_dim)
          if (nodes_per_element < 0) then
             call unknown_type_error(r%c, element_type, 'the element block of ' // &
                dimension_word(int(max(0_i8, min(3_i8, dim)), ip)) // ' entity ' // &
                to_str(entity), error)
             return
          end if
-         if (dim_of_type(element_type) /= dim) then
+         if (type_dim /= dim) then
             call location_error(r%c, 'an element block of entity dimension ' // to_str(dim) // &
                ' (entity ' // to_str(entity) // ') holds ' // type_name(element_type) // &
-               ' elements, which have dimension ' // &
-               to_str(dim_of_type(element_type)), error)
+               ' elements, which have dimension ' // to_str(type_dim), error)
             return
          end if
          call check_count_fits(r%c, 'elements in block', n, &
@@ -153,11 +144,8 @@ contains
             if (dim == 3 .and. n > 0) call add_other_volume(r, entity, element_type, n, first_tag)
          end select
       end do
-      if (total /= num_elements) then
-         call location_error(r%c, 'element blocks hold ' // to_str(total) // ' elements, the ' // &
-            'header announced ' // to_str(num_elements), error)
-         return
-      end if
+      call check_blocks_total(r%c, 'element', total, num_elements, error)
+      if (allocated(error)) return
       if (total > 0 .and. (r%min_element_tag /= min_tag .or. r%max_element_tag /= max_tag)) then
          call location_error(r%c, 'the header gives element tags ' // to_str(min_tag) // '..' // &
             to_str(max_tag) // ', the elements have tags ' // to_str(r%min_element_tag) // &
@@ -208,12 +196,11 @@ contains
             if (j == 1) physical = value
             if (j == 2) elementary = value
          end do
-         nodes_per_element = nodes_of_type(element_type)
+         call type_size(element_type, nodes_per_element, dim)
          if (nodes_per_element < 0) then
             call unknown_type_error(r%c, element_type, 'element ' // to_str(tag), error)
             return
          end if
-         dim = dim_of_type(element_type)
          if (physical /= 0) call add_link(r, dim, int(physical, ip), int(elementary, ip))
          select case (element_type)
          case (4, 11, 2, 9)

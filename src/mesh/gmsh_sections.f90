@@ -203,10 +203,7 @@ contains
       binary = r%binary_file
       if (binary) call start_binary(r%c, error)
       if (allocated(error)) return
-      call read_size(r%c, binary, 'number of node blocks', num_blocks, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'number of nodes', num_nodes, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'smallest node tag', min_tag, error)
-      if (.not. allocated(error)) call read_size(r%c, binary, 'largest node tag', max_tag, error)
+      call read_section_header(r%c, binary, 'node', num_blocks, num_nodes, min_tag, max_tag, error)
       if (allocated(error)) return
       ! A node takes a tag and three coordinates: 4 tokens of 2 bytes at least (ASCII), 8 + 3 * 8
       ! bytes (binary); a block header 4 tokens (ASCII), 3 ints and a size_t (binary).
@@ -219,11 +216,8 @@ contains
       if (allocated(error)) return
       first = 0
       do block = 1, num_blocks
-         call read_tag(r%c, binary, 'entity dimension of a node block', dim, error)
-         if (.not. allocated(error)) call read_tag(r%c, binary, 'entity tag', entity, error)
-         if (.not. allocated(error)) call read_tag(r%c, binary, 'parametric flag', parametric, &
-            error)
-         if (.not. allocated(error)) call read_size(r%c, binary, 'nodes in block', n, error)
+         call read_block_header(r%c, binary, 'a node block', 'node', 'parametric flag', dim, &
+            entity, parametric, n, error)
          if (allocated(error)) return
          if (first + n > num_nodes) then
             call location_error(r%c, 'node blocks hold more nodes than the ' // &
@@ -260,11 +254,8 @@ contains
          end if
          first = first + n
       end do
-      if (first /= num_nodes) then
-         call location_error(r%c, 'node blocks hold ' // to_str(first) // ' nodes, the ' // &
-            'header announced ' // to_str(num_nodes), error)
-         return
-      end if
+      call check_blocks_total(r%c, 'node', first, num_nodes, error)
+      if (allocated(error)) return
       r%c%binary = .false.
       call check_coordinates(r, error)
       if (allocated(error)) return
@@ -287,37 +278,14 @@ contains
       type(reader_t), intent(inout) :: r
       integer(i8), intent(in) :: first, n, values_per_node
       type(error_t), allocatable, intent(out) :: error
-      integer(i8) :: i, j, line
-      real(dp) :: value
-      logical :: ok
+      integer(i8) :: i
       do i = first + 1, first + n
          call scan_node_tag(r, i, 'a node block', n, i - first - 1, error)
          if (allocated(error)) return
       end do
       do i = first + 1, first + n
-         line = -1
-         do j = 1, values_per_node
-            call scan_real(r%c%text, r%c%pos, r%c%line, value, ok)
-            if (j == 1) then
-               line = r%c%line
-            else if (r%c%line /= line) then
-               call line_error(r%c, line, 'node ' // to_str(r%node_tags(i)) // ': the line ' // &
-                  'holds ' // to_str(j - 1) // ' of the node''s ' // to_str(values_per_node) // &
-                  ' coordinates; one is missing', error)
-               return
-            end if
-            if (.not. ok) then
-               call coordinate_error(r%c, r%node_tags(i), error)
-               return
-            end if
-            if (j <= 3) r%xyz(j, i) = value
-         end do
-         call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
-         if (.not. ok) then
-            call syntax_error(r%c, 'expected the end of the line after the ' // &
-               to_str(values_per_node) // ' coordinates of node ' // to_str(r%node_tags(i)), error)
-            return
-         end if
+         call scan_node_coordinates(r, i, values_per_node, -1_i8, error)
+         if (allocated(error)) return
       end do
    end subroutine read_node_block_ascii
 
@@ -325,9 +293,8 @@ contains
    subroutine read_nodes_22(r, error)
       type(reader_t), intent(inout) :: r
       type(error_t), allocatable, intent(out) :: error
-      integer(ip) :: num_nodes, i, j
-      integer(i8) :: line
-      logical :: ok
+      integer(ip) :: num_nodes, i
+      integer(i8) :: tag_line
 
       call read_count(r%c, 'number of nodes', num_nodes, error)
       if (allocated(error)) return
@@ -338,26 +305,9 @@ contains
       do i = 1, num_nodes
          call scan_node_tag(r, int(i, i8), '$Nodes', int(num_nodes, i8), int(i - 1, i8), error)
          if (allocated(error)) return
-         line = r%c%line
-         do j = 1, 3
-            call scan_real(r%c%text, r%c%pos, r%c%line, r%xyz(j, i), ok)
-            if (r%c%line /= line) then
-               call line_error(r%c, line, 'node ' // to_str(r%node_tags(i)) // ': the line ' // &
-                  'holds ' // to_str(j - 1) // ' of the node''s 3 coordinates; one is missing', &
-                  error)
-               return
-            end if
-            if (.not. ok) then
-               call coordinate_error(r%c, r%node_tags(i), error)
-               return
-            end if
-         end do
-         call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
-         if (.not. ok) then
-            call syntax_error(r%c, 'expected the end of the line after the coordinates of ' // &
-               'node ' // to_str(r%node_tags(i)), error)
-            return
-         end if
+         tag_line = r%c%line
+         call scan_node_coordinates(r, int(i, i8), 3_i8, tag_line, error)
+         if (allocated(error)) return
       end do
       call check_coordinates(r, error)
       if (allocated(error)) return
@@ -366,6 +316,39 @@ contains
       r%have_nodes = .true.
       call expect_end(r%c, error)
    end subroutine read_nodes_22
+
+   !> The values_per_node coordinates of node i (x y z kept, parametric ones skipped), then the
+   !> line end: all on line `line` (< 0: the line of the first value), a value missing from it
+   !> reported on that line, not where the shifted values run out.
+   subroutine scan_node_coordinates(r, i, values_per_node, line, error)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: i, values_per_node, line
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: j, node_line
+      real(dp) :: value
+      logical :: ok
+      node_line = line
+      do j = 1, values_per_node
+         call scan_real(r%c%text, r%c%pos, r%c%line, value, ok)
+         if (node_line < 0) node_line = r%c%line
+         if (r%c%line /= node_line) then
+            call line_error(r%c, node_line, 'node ' // to_str(r%node_tags(i)) // ': the line ' // &
+               'holds ' // to_str(j - 1) // ' of the node''s ' // to_str(values_per_node) // &
+               ' coordinates; one is missing', error)
+            return
+         end if
+         if (.not. ok) then
+            call coordinate_error(r%c, r%node_tags(i), error)
+            return
+         end if
+         if (j <= 3) r%xyz(j, i) = value
+      end do
+      call skip_line_end(r%c%text, r%c%pos, r%c%line, ok)
+      if (.not. ok) then
+         call syntax_error(r%c, 'expected the end of the line after the ' // &
+            to_str(values_per_node) // ' coordinates of node ' // to_str(r%node_tags(i)), error)
+      end if
+   end subroutine scan_node_coordinates
 
    !> Skip an unknown section up to its $End line.
    subroutine skip_section(c, error)

@@ -244,31 +244,16 @@ contains
       integer(i8), intent(out) :: value
       logical, intent(out) :: ok
       integer(i8) :: n, p
-      integer :: digit, digits
-      logical :: negative
+      logical :: negative, digits_ok
       call skip_space(text, pos, line)
       n = len(text, kind=i8)
       p = pos
-      negative = .false.
       value = 0
       ok = .false.
       if (p > n) return
-      if (text(p:p) == '-') then
-         negative = .true.
-         p = p + 1
-      else if (text(p:p) == '+') then
-         p = p + 1
-      end if
-      digits = 0
-      do while (p <= n)
-         digit = iachar(text(p:p)) - 48
-         if (digit < 0 .or. digit > 9) exit
-         if (digits == 18) return
-         value = 10 * value + digit
-         digits = digits + 1
-         p = p + 1
-      end do
-      if (digits == 0) return
+      call scan_sign(text, p, negative)
+      call scan_digits(text, p, 18, value, digits_ok)
+      if (.not. digits_ok) return
       if (p <= n) then
          if (.not. is_separator(text(p:p))) return
       end if
@@ -276,6 +261,42 @@ contains
       ok = .true.
       pos = p
    end subroutine scan_int
+
+   !> An optional '+' or '-' at text(p:), p moved past it; `negative` for '-'.
+   pure subroutine scan_sign(text, p, negative)
+      character(len=*), intent(in) :: text
+      integer(i8), intent(inout) :: p
+      logical, intent(out) :: negative
+      negative = .false.
+      if (p > len(text, kind=i8)) return
+      if (text(p:p) == '-' .or. text(p:p) == '+') then
+         negative = text(p:p) == '-'
+         p = p + 1
+      end if
+   end subroutine scan_sign
+
+   !> The decimal digits at text(p:), p moved past them, as `value`; `ok` when there are 1 to
+   !> max_digits of them (a longer run stops at digit max_digits + 1 with `ok` false).
+   pure subroutine scan_digits(text, p, max_digits, value, ok)
+      character(len=*), intent(in) :: text
+      integer(i8), intent(inout) :: p
+      integer, intent(in) :: max_digits
+      integer(i8), intent(out) :: value
+      logical, intent(out) :: ok
+      integer :: digit, digits
+      value = 0
+      ok = .false.
+      digits = 0
+      do while (p <= len(text, kind=i8))
+         digit = iachar(text(p:p)) - 48
+         if (digit < 0 .or. digit > 9) exit
+         if (digits == max_digits) return
+         value = 10 * value + digit
+         digits = digits + 1
+         p = p + 1
+      end do
+      ok = digits > 0
+   end subroutine scan_digits
 
    !> Real token after white space, correctly rounded: exact fast path (mantissa <= 2**53,
    !> |decimal exponent| <= 22: one IEEE multiply or divide of exact operands), else C strtod
@@ -285,22 +306,16 @@ contains
       integer(i8), intent(inout) :: pos, line
       real(dp), intent(out) :: value
       logical, intent(out) :: ok
-      integer(i8) :: n, p, mantissa
-      integer :: digit, significant, exponent, exponent_part, exponent_digits, stat
-      logical :: negative, exact, any_digit, negative_exponent, converted
+      integer(i8) :: n, p, mantissa, exponent_part
+      integer :: digit, significant, exponent, stat
+      logical :: negative, exact, any_digit, negative_exponent, converted, digits_ok
       call skip_space(text, pos, line)
       n = len(text, kind=i8)
       p = pos
       value = 0.0_dp
       ok = .false.
       if (p > n) return
-      negative = .false.
-      if (text(p:p) == '-') then
-         negative = .true.
-         p = p + 1
-      else if (text(p:p) == '+') then
-         p = p + 1
-      end if
+      call scan_sign(text, p, negative)
       mantissa = 0
       significant = 0
       exponent = 0
@@ -349,26 +364,11 @@ contains
          if (text(p:p) == 'e' .or. text(p:p) == 'E' .or. text(p:p) == 'd' .or. &
              text(p:p) == 'D') then
             p = p + 1
-            negative_exponent = .false.
-            if (p <= n) then
-               if (text(p:p) == '-' .or. text(p:p) == '+') then
-                  negative_exponent = text(p:p) == '-'
-                  p = p + 1
-               end if
-            end if
-            exponent_part = 0
-            exponent_digits = 0
-            do while (p <= n)
-               digit = iachar(text(p:p)) - 48
-               if (digit < 0 .or. digit > 9) exit
-               if (exponent_digits == 5) return
-               exponent_part = 10 * exponent_part + digit
-               exponent_digits = exponent_digits + 1
-               p = p + 1
-            end do
-            if (exponent_digits == 0) return
+            call scan_sign(text, p, negative_exponent)
+            call scan_digits(text, p, 5, exponent_part, digits_ok)
+            if (.not. digits_ok) return
             if (negative_exponent) exponent_part = -exponent_part
-            exponent = exponent + exponent_part
+            exponent = exponent + int(exponent_part)
          end if
       end if
       if (p <= n) then
@@ -476,39 +476,30 @@ contains
       end do
    end subroutine skip_line_end
 
-   !> Nodes per element of Gmsh element `element_type`, -1 if unknown to ffrf.
-   pure function nodes_of_type(element_type) result(n)
+   !> Nodes per element and dimension of Gmsh element `element_type`, both -1 if unknown to ffrf.
+   pure subroutine type_size(element_type, nodes, dim)
       integer(i8), intent(in) :: element_type
-      integer(ip) :: n
-      integer(ip), parameter :: table(31) = [2, 3, 4, 4, 8, 6, 5, 3, 6, 9, 10, 27, 18, 14, 1, &
-         8, 20, 15, 13, 9, 10, 12, 15, 15, 21, 4, 5, 6, 20, 35, 56]
-      select case (element_type)
-      case (1:31)
-         n = table(element_type)
-      case (92)
-         n = 64
-      case (93)
-         n = 125
-      case default
-         n = -1
-      end select
-   end function nodes_of_type
-
-   !> Dimension of Gmsh element `element_type`, -1 if unknown to ffrf.
-   pure function dim_of_type(element_type) result(dim)
-      integer(i8), intent(in) :: element_type
-      integer(ip) :: dim
-      integer(ip), parameter :: table(31) = [1, 2, 2, 3, 3, 3, 3, 1, 2, 2, 3, 3, 3, 3, 0, &
+      integer(ip), intent(out) :: nodes, dim
+      !> Nodes and dimension of types 1..31
+      integer(ip), parameter :: nodes_table(31) = [2, 3, 4, 4, 8, 6, 5, 3, 6, 9, 10, 27, 18, 14, &
+         1, 8, 20, 15, 13, 9, 10, 12, 15, 15, 21, 4, 5, 6, 20, 35, 56]
+      integer(ip), parameter :: dim_table(31) = [1, 2, 2, 3, 3, 3, 3, 1, 2, 2, 3, 3, 3, 3, 0, &
          2, 3, 3, 3, 2, 2, 2, 2, 2, 2, 1, 1, 1, 3, 3, 3]
       select case (element_type)
       case (1:31)
-         dim = table(element_type)
-      case (92, 93)
+         nodes = nodes_table(element_type)
+         dim = dim_table(element_type)
+      case (92)
+         nodes = 64
+         dim = 3
+      case (93)
+         nodes = 125
          dim = 3
       case default
+         nodes = -1
          dim = -1
       end select
-   end function dim_of_type
+   end subroutine type_size
 
    !> "Tet10", "Tri3" ... for messages.
    function type_name(element_type) result(name)

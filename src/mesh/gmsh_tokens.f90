@@ -85,6 +85,53 @@ contains
       end if
    end subroutine read_tag
 
+   !> The header of a $Nodes or $Elements section (4.1) of `item`s ("node", "element"): number
+   !> of blocks, number of items, smallest and largest tag.
+   subroutine read_section_header(c, binary, item, num_blocks, num_items, min_tag, max_tag, &
+      error)
+      type(cursor_t), intent(inout) :: c
+      logical, intent(in) :: binary
+      character(len=*), intent(in) :: item
+      integer(i8), intent(out) :: num_blocks, num_items, min_tag, max_tag
+      type(error_t), allocatable, intent(out) :: error
+      call read_size(c, binary, 'number of ' // item // ' blocks', num_blocks, error)
+      if (.not. allocated(error)) call read_size(c, binary, 'number of ' // item // 's', &
+         num_items, error)
+      if (.not. allocated(error)) call read_size(c, binary, 'smallest ' // item // ' tag', &
+         min_tag, error)
+      if (.not. allocated(error)) call read_size(c, binary, 'largest ' // item // ' tag', &
+         max_tag, error)
+   end subroutine read_section_header
+
+   !> The blocks of a $Nodes or $Elements section (4.1) hold as many `item`s as its header
+   !> announced.
+   subroutine check_blocks_total(c, item, total, announced, error)
+      type(cursor_t), intent(in) :: c
+      character(len=*), intent(in) :: item
+      integer(i8), intent(in) :: total, announced
+      type(error_t), allocatable, intent(out) :: error
+      if (total /= announced) then
+         call location_error(c, item // ' blocks hold ' // to_str(total) // ' ' // item // &
+            's, the header announced ' // to_str(announced), error)
+      end if
+   end subroutine check_blocks_total
+
+   !> The header of one block of a $Nodes or $Elements section (4.1): entity dimension, entity
+   !> tag, the block's `third` value (`third_what`: "parametric flag", "element type") and its
+   !> count of `item`s; `block_name` ("a node block") for messages.
+   subroutine read_block_header(c, binary, block_name, item, third_what, dim, entity, third, n, &
+      error)
+      type(cursor_t), intent(inout) :: c
+      logical, intent(in) :: binary
+      character(len=*), intent(in) :: block_name, item, third_what
+      integer(i8), intent(out) :: dim, entity, third, n
+      type(error_t), allocatable, intent(out) :: error
+      call read_tag(c, binary, 'entity dimension of ' // block_name, dim, error)
+      if (.not. allocated(error)) call read_tag(c, binary, 'entity tag', entity, error)
+      if (.not. allocated(error)) call read_tag(c, binary, third_what, third, error)
+      if (.not. allocated(error)) call read_size(c, binary, item // 's in block', n, error)
+   end subroutine read_block_header
+
    !> A double (binary) or a real (ASCII).
    subroutine read_real(c, binary, what, value, error)
       type(cursor_t), intent(inout) :: c

@@ -8,7 +8,7 @@
 module ffrf_mesh_mesh
    use ffrf_core_kinds, only: dp, ip, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str
+   use ffrf_core_strings, only: to_str, join_ints
    implicit none
    private
    public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
@@ -161,17 +161,23 @@ contains
    pure function mesh_num_tets(self) result(count)
       class(mesh_t), intent(in) :: self
       integer(ip) :: count
-      count = 0
-      if (allocated(self%tets)) count = size(self%tets, 2, kind=ip)
+      count = num_columns(self%tets)
    end function mesh_num_tets
 
    !> Number of triangles.
    pure function mesh_num_tris(self) result(count)
       class(mesh_t), intent(in) :: self
       integer(ip) :: count
-      count = 0
-      if (allocated(self%tris)) count = size(self%tris, 2, kind=ip)
+      count = num_columns(self%tris)
    end function mesh_num_tris
+
+   !> Number of elements of an element array (nodes, elements); 0 while it is not allocated.
+   pure function num_columns(elements) result(count)
+      integer(ip), allocatable, intent(in) :: elements(:, :)
+      integer(ip) :: count
+      count = 0
+      if (allocated(elements)) count = size(elements, 2, kind=ip)
+   end function num_columns
 
    !> Index into `groups` of the physical group of dimension `dim` called `name` (exact,
    !> case-sensitive compare of the whole group name with `name` without its trailing blanks,
@@ -206,13 +212,27 @@ contains
       integer(ip), allocatable, intent(out) :: indices(:)
       type(error_t), allocatable, intent(out) :: error
       integer(ip) :: k
-      k = self%find_group(3_ip, name)
+      call group_elements(self, 3_ip, name, self%tet_entity, k, indices, error)
+   end subroutine mesh_group_tets
+
+   !> Indices of the elements (entity tag of each: element_entity) in the physical group of
+   !> dimension `dim` called `name`, ascending, and the group's index k; an unknown name is an
+   !> error listing the groups of that dimension.
+   subroutine group_elements(self, dim, name, element_entity, k, indices, error)
+      class(mesh_t), intent(in) :: self
+      integer(ip), intent(in) :: dim
+      character(len=*), intent(in) :: name
+      integer(ip), allocatable, intent(in) :: element_entity(:)
+      integer(ip), intent(out) :: k
+      integer(ip), allocatable, intent(out) :: indices(:)
+      type(error_t), allocatable, intent(out) :: error
+      k = self%find_group(dim, name)
       if (k == 0) then
-         call unknown_group_error(self, 3_ip, name, error)
+         call unknown_group_error(self, dim, name, error)
          return
       end if
-      indices = pack_indices(in_entities(self%tet_entity, self%groups(k)%entities))
-   end subroutine mesh_group_tets
+      indices = pack_indices(in_entities(element_entity, self%groups(k)%entities))
+   end subroutine group_elements
 
    !> Indices of the triangles in the physical surface `name`, ascending; none is an error
    !> naming the file (an interface needs triangles).
@@ -224,12 +244,8 @@ contains
       integer(ip), allocatable, intent(out) :: indices(:)
       type(error_t), allocatable, intent(out) :: error
       integer(ip) :: k, off_body
-      k = self%find_group(2_ip, name)
-      if (k == 0) then
-         call unknown_group_error(self, 2_ip, name, error)
-         return
-      end if
-      indices = pack_indices(in_entities(self%tri_entity, self%groups(k)%entities))
+      call group_elements(self, 2_ip, name, self%tri_entity, k, indices, error)
+      if (allocated(error)) return
       if (size(indices) > 0 .and. allocated(self%off_body_tri_entity)) then
          ! a surface that spans two bodies would silently be cut to the part on this one
          off_body = count(in_entities(self%off_body_tri_entity, self%groups(k)%entities), &
@@ -358,18 +374,13 @@ contains
       !> Entity dimension
       integer(ip), intent(in) :: dim
       character(len=:), allocatable :: word
-      select case (dim)
-      case (0)
-         word = 'point'
-      case (1)
-         word = 'curve'
-      case (2)
-         word = 'surface'
-      case (3)
-         word = 'volume'
-      case default
+      character(len=*), parameter :: words(0:3) = [character(len=7) :: 'point', 'curve', &
+         'surface', 'volume']
+      if (dim >= 0 .and. dim <= 3) then
+         word = trim(words(dim))
+      else
          word = 'dimension-' // to_str(dim)
-      end select
+      end if
    end function dimension_word
 
 end module ffrf_mesh_mesh

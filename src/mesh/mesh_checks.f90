@@ -287,13 +287,7 @@ contains
       type(mesh_t), intent(in) :: mesh
       integer(ip), intent(in) :: nodes(:)
       character(len=:), allocatable :: text
-      integer :: k
-      text = '('
-      do k = 1, size(nodes)
-         if (k > 1) text = text // ', '
-         text = text // to_str(mesh%node_tags(nodes(k)))
-      end do
-      text = text // ')'
+      text = '(' // join_ints(mesh%node_tags(nodes), ', ') // ')'
    end function tag_list
 
    !> "physical surface 'B2'" (or "physical surfaces 'a', 'b'", or "no physical surface") of the

@@ -12,6 +12,7 @@ module ffrf_mpc_reduction
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_choices, only: choice_t, choice_name
    use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_transpose, csr_row_gram
    use ffrf_la_dense, only: null_space, symmetric_eigen
    use ffrf_la_lapack, only: dposv
@@ -27,6 +28,10 @@ module ffrf_mpc_reduction
    integer, parameter :: FORMULATION_MULTIPLIERS = 1
    !> Explicit null spaces B2 = null(D) or null(D G) (LAPACK SVD)
    integer, parameter :: FORMULATION_NULL_SPACE = 2
+   !> The formulations' words (the &modes key's; docs/developer.md "One table per choice")
+   type(choice_t), parameter :: formulation_choices(*) = [ &
+      choice_t('multipliers', FORMULATION_MULTIPLIERS), &
+      choice_t('null_space', FORMULATION_NULL_SPACE)]
 
    !> q = T p with C p = 0.
    type :: reduction_t
@@ -415,14 +420,7 @@ contains
       !> FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE or FORMULATION_NONE
       integer, intent(in) :: formulation
       character(len=:), allocatable :: name
-      select case (formulation)
-      case (FORMULATION_MULTIPLIERS)
-         name = 'multipliers'
-      case (FORMULATION_NULL_SPACE)
-         name = 'null_space'
-      case default
-         name = 'none'
-      end select
+      name = choice_name(formulation_choices, formulation, 'none')
    end function formulation_name
 
 end module ffrf_mpc_reduction
