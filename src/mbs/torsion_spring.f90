@@ -110,11 +110,8 @@ contains
       n = na + size(q_b)
       v = [v_a, v_b]
       zero = 0.0_dp
-      S = 0.0_dp
-      Z = 0.0_dp
+      ! S, Z, ds and dc are set column by column below (a's columns, then b's); B block by block
       B = 0.0_dp
-      ds = 0.0_dp
-      dc = 0.0_dp
       frame_a = body_a%marker_orientation(q_a, spring%marker_a)
       frame_b = body_b%marker_orientation(q_b, spring%marker_b)
       x_b = frame_b(:, 1)
