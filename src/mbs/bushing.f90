@@ -27,7 +27,7 @@ module ffrf_mbs_bushing
    implicit none
    private
    public :: bushing_t, bushing_state_t
-   public :: bushing_evaluate, bushing_generalized_forces, bushing_tangents
+   public :: bushing_evaluate, bushing_generalized_force, bushing_tangents
 
    !> A bushing between marker_a of body_a and marker_b of body_b (mechanism indices).
    type :: bushing_t
@@ -64,25 +64,6 @@ contains
       state%force = bushing%stiffness * state%deflection + bushing%damping * state%rate
    end function bushing_evaluate
 
-   !> Generalized forces -E^T f on body a (first na rows) and body b.
-   pure subroutine bushing_generalized_forces(bushing, body_a, q_a, v_a, body_b, q_b, v_b, &
-      f_a, f_b)
-      !> The bushing
-      type(bushing_t), intent(in) :: bushing
-      !> Body a and its coordinates and velocities
-      class(body_t), intent(in) :: body_a
-      real(dp), intent(in) :: q_a(:), v_a(:)
-      !> Body b and its coordinates and velocities
-      class(body_t), intent(in) :: body_b
-      real(dp), intent(in) :: q_b(:), v_b(:)
-      !> Generalized forces (size of q_a and q_b)
-      real(dp), intent(out) :: f_a(:), f_b(:)
-      real(dp) :: Q(size(q_a) + size(q_b))
-      Q = generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b)
-      f_a = Q(1:size(q_a))
-      f_b = Q(size(q_a) + 1:)
-   end subroutine bushing_generalized_forces
-
    !> K = -dQ/dx (central differences) and C = -dQ/dv = E^T C E (exact), x = [q_a; q_b].
    pure subroutine bushing_tangents(bushing, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
       !> The bushing
@@ -107,16 +88,18 @@ contains
       do j = 1, size(x)
          step = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(abs(x(j)), 1.0_dp)
          x(j) = x(j) + step
-         plus = generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), v_b)
+         plus = bushing_generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), &
+            v_b)
          x(j) = x(j) - 2.0_dp * step
-         minus = generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), v_b)
+         minus = bushing_generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), &
+            v_b)
          x(j) = x(j) + step
          K(:, j) = -(plus - minus) / (2.0_dp * step)
       end do
    end subroutine bushing_tangents
 
-   !> Q = -E^T (K e + C E v) over [q_a; q_b].
-   pure function generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b) result(Q)
+   !> Generalized forces Q = -E^T (K e + C E v) on body a (first size(q_a) rows) and body b.
+   pure function bushing_generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b) result(Q)
       type(bushing_t), intent(in) :: bushing
       class(body_t), intent(in) :: body_a, body_b
       real(dp), intent(in) :: q_a(:), v_a(:), q_b(:), v_b(:)
@@ -125,7 +108,7 @@ contains
       call deflection_and_jacobian(bushing, body_a, q_a, body_b, q_b, e_value, E)
       f = bushing%stiffness * e_value + bushing%damping * matmul(E, [v_a, v_b])
       Q = -matmul(f, E)
-   end function generalized_force
+   end function bushing_generalized_force
 
    !> e = [d; phi] and E with e' = E [v_a; v_b] (module header).
    pure subroutine deflection_and_jacobian(bushing, body_a, q_a, body_b, q_b, e_value, E)

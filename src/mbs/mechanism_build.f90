@@ -1,5 +1,5 @@
-!> Building a mechanism (ffrf_mbs_mechanism): bodies, joints, loads, springs, drivers, the rotor
-!> and the driving constraint, and the coordinate layout they share.
+!> Building a mechanism (ffrf_mbs_mechanism): bodies, joints, loads, springs, torsion springs,
+!> bushings, drivers, the rotor and the driving constraint, and the coordinate layout they share.
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_build
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: pi
@@ -9,7 +9,6 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_build
    use ffrf_mbs_joints, only: new_joint, JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_joint_driver, only: driver_coordinate
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
-   use ffrf_mbs_spring_damper, only: spring_evaluate
    implicit none
 
 contains
@@ -61,8 +60,7 @@ contains
          call add_context(error, 'mechanism: joint "' // name // '"')
          return
       end if
-      nj = 0
-      if (allocated(self%joints)) nj = size(self%joints)
+      nj = num_joints(self)
       allocate (grown(nj + 1))
       do i = 1, nj
          call move_alloc(self%joints(i)%joint, grown(i)%joint)
@@ -120,77 +118,71 @@ contains
    module procedure mechanism_add_spring
       character(len=:), allocatable :: where
       where = 'mechanism: spring "' // trim(spring%name) // '"'
-      if (.not. (valid_body(self, spring%body_a) .and. valid_body(self, spring%body_b))) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
-            to_str(spring%body_a) // ' and ' // to_str(spring%body_b) // &
-            ', not both indices returned by add_body (1..' // to_str(num_bodies(self)) // ')')
-      else if (spring%body_a == spring%body_b) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' has both ends on body "' // &
-            self%bodies(spring%body_a)%name // '"; a spring connects two different bodies')
-      else if (spring%marker_a < 1 .or. spring%marker_a > &
-         self%bodies(spring%body_a)%body%num_markers .or. spring%marker_b < 1 .or. &
-         spring%marker_b > self%bodies(spring%body_b)%body%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // &
-            to_str(spring%marker_a) // ' or ' // to_str(spring%marker_b) // &
-            ' is not a marker of its body')
-      else if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
+      call check_pair_ends(self, where, 'spring', spring%body_a, spring%marker_a, &
+         spring%body_b, spring%marker_b, error)
+      if (allocated(error)) return
+      if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
             to_str(spring%stiffness) // ' N/m and damping = ' // to_str(spring%damping) // &
             ' N s/m must both be >= 0')
+         return
       end if
-      if (allocated(error)) return
       if (.not. allocated(self%springs)) allocate (self%springs(0))
       self%springs = [self%springs, spring]
    end procedure mechanism_add_spring
 
-   !> Length, direction, rate and tension of spring s at (q, v).
-   module procedure mechanism_spring_state
-      integer :: ka, kb, na, nb
-      associate (spring => self%springs(s))
-         ka = self%bodies(spring%body_a)%offset
-         kb = self%bodies(spring%body_b)%offset
-         na = self%bodies(spring%body_a)%body%num_coordinates
-         nb = self%bodies(spring%body_b)%body%num_coordinates
-         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(ka + 1:ka + na), &
-            v(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), &
-            v(kb + 1:kb + nb))
-      end associate
-   end procedure mechanism_spring_state
-
-   !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J).
-   module procedure mechanism_spring_energy
-      type(spring_state_t) :: state
-      real(dp) :: zero(size(q))
-      integer :: s
-      energy = 0.0_dp
-      if (.not. allocated(self%springs)) return
-      zero = 0.0_dp
-      do s = 1, size(self%springs)
-         state = self%spring_state(s, q, zero)
-         energy = energy + 0.5_dp * self%springs(s)%stiffness * &
-            (state%length - self%springs(s)%free_length)**2
-      end do
-   end procedure mechanism_spring_energy
-
-   !> Free lengths not given become the lengths at q (mechanism.f90's interface).
-   module procedure mechanism_set_spring_free_lengths
-      type(spring_state_t) :: state
-      real(dp) :: zero(size(q))
-      integer :: s
-      if (.not. allocated(self%springs)) return
-      zero = 0.0_dp
-      do s = 1, size(self%springs)
-         if (self%springs(s)%free_length >= 0.0_dp) cycle
-         state = self%spring_state(s, q, zero)
-         if (.not. (state%length > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' // &
-               trim(self%springs(s)%name) // '": its markers coincide at the start (length 0);' &
-               // ' give free_length')
+   !> Add a copy of a torsion spring about a revolute or cylindrical joint.
+   module procedure mechanism_add_torsion_spring
+      type(torsion_spring_t) :: added
+      integer :: nj
+      character(len=:), allocatable :: where
+      where = 'mechanism: torsion spring "' // trim(spring%name) // '"'
+      nj = num_joints(self)
+      if (spring%joint < 1 .or. spring%joint > nj) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': the mechanism has no joint ' // &
+            to_str(spring%joint) // ' (' // to_str(nj) // ' joints)')
+         return
+      end if
+      associate (jt => self%joints(spring%joint))
+         select case (jt%joint%kind_name())
+         case ('revolute', 'cylindrical')
+         case default
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': joint "' // jt%name // &
+               '" is ' // jt%joint%kind_name() // '; a torsion spring needs a revolute or ' // &
+               'cylindrical joint')
+            return
+         end select
+         if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
+               to_str(spring%stiffness) // ' N m/rad and damping = ' // &
+               to_str(spring%damping) // ' N m s/rad; both must be >= 0')
             return
          end if
-         self%springs(s)%free_length = state%length
-      end do
-   end procedure mechanism_set_spring_free_lengths
+         added = spring
+         added%body_a = jt%body_a
+         added%body_b = jt%body_b
+         added%marker_a = jt%joint%marker_a
+         added%marker_b = jt%joint%marker_b
+      end associate
+      if (.not. allocated(self%torsion_springs)) allocate (self%torsion_springs(0))
+      self%torsion_springs = [self%torsion_springs, added]
+   end procedure mechanism_add_torsion_spring
+
+   !> Add a copy of a bushing between two markers of two bodies.
+   module procedure mechanism_add_bushing
+      character(len=:), allocatable :: where
+      where = 'mechanism: bushing "' // trim(bushing%name) // '"'
+      call check_pair_ends(self, where, 'bushing', bushing%body_a, bushing%marker_a, &
+         bushing%body_b, bushing%marker_b, error)
+      if (allocated(error)) return
+      if (.not. (all(bushing%stiffness >= 0.0_dp) .and. all(bushing%damping >= 0.0_dp))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': a negative stiffness or ' // &
+            'damping entry; all six of each must be >= 0')
+         return
+      end if
+      if (.not. allocated(self%bushings)) allocate (self%bushings(0))
+      self%bushings = [self%bushings, bushing]
+   end procedure mechanism_add_bushing
 
    !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
    module procedure mechanism_set_rotor
@@ -226,8 +218,7 @@ contains
    module procedure mechanism_add_driver
       type(joint_driver_t) :: added
       integer :: nj
-      nj = 0
-      if (allocated(self%joints)) nj = size(self%joints)
+      nj = num_joints(self)
       if (driver%joint < 1 .or. driver%joint > nj) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'driver "' // trim(driver%name) // &
             '": the mechanism has no joint ' // to_str(driver%joint) // ' (' // to_str(nj) // &
@@ -273,12 +264,10 @@ contains
          self%n = self%n + self%bodies(b)%body%num_coordinates
       end do
       row = 0
-      if (allocated(self%joints)) then
-         do j = 1, size(self%joints)
-            self%joints(j)%offset = row
-            row = row + self%joints(j)%joint%num_equations
-         end do
-      end if
+      do j = 1, num_joints(self)
+         self%joints(j)%offset = row
+         row = row + self%joints(j)%joint%num_equations
+      end do
       if (allocated(self%drivers)) then
          do j = 1, size(self%drivers)
             row = row + 1
@@ -299,6 +288,31 @@ contains
       end do
       self%nc = row
    end subroutine update_layout
+
+   module procedure check_pair_ends
+      if (.not. (valid_body(self, body_a) .and. valid_body(self, body_b))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
+            to_str(body_a) // ' and ' // to_str(body_b) // &
+            ', not both indices returned by add_body (1..' // to_str(num_bodies(self)) // ')')
+      else if (body_a == body_b) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' has both ends on body "' // &
+            self%bodies(body_a)%name // '"; a ' // what // ' connects two different bodies')
+      else if (marker_a < 1 .or. marker_a > self%bodies(body_a)%body%num_markers .or. &
+         marker_b < 1 .or. marker_b > self%bodies(body_b)%body%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // to_str(marker_a) // &
+            ' or ' // to_str(marker_b) // ' is not a marker of its body')
+      end if
+   end procedure check_pair_ends
+
+   module procedure body_layout
+      k = self%bodies(b)%offset
+      nb = self%bodies(b)%body%num_coordinates
+   end procedure body_layout
+
+   module procedure pair_layout
+      call body_layout(self, body_a, ka, na)
+      call body_layout(self, body_b, kb, nb)
+   end procedure pair_layout
 
    module procedure valid_body
       valid_body = b >= 1 .and. b <= num_bodies(self)
