@@ -365,18 +365,6 @@ module ffrf_mbs_mechanism
          real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
       end subroutine add_applied_terms
 
-      !> Add the force elements' generalized forces to f (present), or their exact tangents to
-      !> K_t (-df/dq) and C_t (-df/dq') (both present): springs, torsion springs, bushings, in
-      !> this order. A spring of zero length, or a non-finite tension, torque or bushing force, is
-      !> a numeric error.
-      module subroutine add_force_element_terms(self, q, v, t, error, f, K_t, C_t)
-         type(mechanism_t), intent(in) :: self
-         real(dp), intent(in) :: q(:), v(:)
-         real(dp), intent(in) :: t
-         type(error_t), allocatable, intent(out) :: error
-         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
-      end subroutine add_force_element_terms
-
       !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
       !> Refused: an unknown body or marker, both ends on one body, a negative entry.
       module subroutine mechanism_add_bushing(self, bushing, error)
@@ -406,6 +394,17 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:)
          real(dp) :: energy
       end function mechanism_bushing_energy
+
+      !> Add the force elements' generalized forces to f (present), or their tangents to K_t
+      !> (-df/dq) and C_t (-df/dq') (both present): springs, torsion springs, bushings, in this
+      !> order (force_element_t%terms; its numeric errors).
+      module subroutine add_force_element_terms(self, q, v, t, error, f, K_t, C_t)
+         type(mechanism_t), intent(in) :: self
+         real(dp), intent(in) :: q(:), v(:)
+         real(dp), intent(in) :: t
+         type(error_t), allocatable, intent(out) :: error
+         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      end subroutine add_force_element_terms
 
       !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
       module subroutine update_torsion_references(self, q)
@@ -819,13 +818,24 @@ module ffrf_mbs_mechanism
          integer, intent(out) :: ka, na, kb, nb
       end subroutine pair_layout
 
-      !> The ends of a two-body force element (`what`: spring, bushing) named in `where`: both
-      !> bodies added by add_body, two different ones, each marker one of its body's.
-      module subroutine check_pair_ends(self, where, what, body_a, marker_a, body_b, marker_b, &
-         error)
+      !> Rows of bodies a and b in q ([a's; b's]) and the number of a's.
+      pure module subroutine pair_rows(self, body_a, body_b, rows, na)
          type(mechanism_t), intent(in) :: self
-         character(len=*), intent(in) :: where, what
+         integer, intent(in) :: body_a, body_b
+         integer, allocatable, intent(out) :: rows(:)
+         integer, intent(out) :: na
+      end subroutine pair_rows
+
+      !> The checks of a two-body force element `what` (spring, bushing) named `name`: both
+      !> bodies added by add_body, two different ones, each marker one of its body's, and its
+      !> coefficients (coefficients_ok, else the error says `refusal`).
+      module subroutine check_pair_ends(self, what, name, body_a, marker_a, body_b, marker_b, &
+         coefficients_ok, refusal, error)
+         type(mechanism_t), intent(in) :: self
+         character(len=*), intent(in) :: what, name
          integer, intent(in) :: body_a, marker_a, body_b, marker_b
+         logical, intent(in) :: coefficients_ok
+         character(len=*), intent(in) :: refusal
          type(error_t), allocatable, intent(out) :: error
       end subroutine check_pair_ends
 

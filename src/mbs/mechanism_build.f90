@@ -9,6 +9,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_build
    use ffrf_mbs_joints, only: new_joint, JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_joint_driver, only: driver_coordinate
    use ffrf_mbs_mechanism_loads, only: LOAD_FORCE, LOAD_TORQUE
+   use ffrf_mbs_spring_damper, only: spring_evaluate
    implicit none
 
 contains
@@ -116,20 +117,60 @@ contains
 
    !> Add a copy of a spring-damper (refusals: mechanism.f90's interface).
    module procedure mechanism_add_spring
-      character(len=:), allocatable :: where
-      where = 'mechanism: spring "' // trim(spring%name) // '"'
-      call check_pair_ends(self, where, 'spring', spring%body_a, spring%marker_a, &
-         spring%body_b, spring%marker_b, error)
+      call check_pair_ends(self, 'spring', spring%name, spring%body_a, spring%marker_a, &
+         spring%body_b, spring%marker_b, spring%stiffness >= 0.0_dp .and. &
+         spring%damping >= 0.0_dp, 'stiffness = ' // to_str(spring%stiffness) // &
+         ' N/m and damping = ' // to_str(spring%damping) // ' N s/m must both be >= 0', error)
       if (allocated(error)) return
-      if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
-            to_str(spring%stiffness) // ' N/m and damping = ' // to_str(spring%damping) // &
-            ' N s/m must both be >= 0')
-         return
-      end if
       if (.not. allocated(self%springs)) allocate (self%springs(0))
       self%springs = [self%springs, spring]
    end procedure mechanism_add_spring
+
+   !> Length, direction, rate and tension of spring s at (q, v).
+   module procedure mechanism_spring_state
+      integer, allocatable :: rows(:)
+      integer :: na
+      associate (spring => self%springs(s))
+         call pair_rows(self, spring%body_a, spring%body_b, rows, na)
+         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(rows(:na)), &
+            v(rows(:na)), self%bodies(spring%body_b)%body, q(rows(na + 1:)), v(rows(na + 1:)))
+      end associate
+   end procedure mechanism_spring_state
+
+   !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J).
+   module procedure mechanism_spring_energy
+      type(spring_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      energy = 0.0_dp
+      if (.not. allocated(self%springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%springs)
+         state = self%spring_state(s, q, zero)
+         energy = energy + 0.5_dp * self%springs(s)%stiffness * &
+            (state%length - self%springs(s)%free_length)**2
+      end do
+   end procedure mechanism_spring_energy
+
+   !> Free lengths not given become the lengths at q (mechanism.f90's interface).
+   module procedure mechanism_set_spring_free_lengths
+      type(spring_state_t) :: state
+      real(dp) :: zero(size(q))
+      integer :: s
+      if (.not. allocated(self%springs)) return
+      zero = 0.0_dp
+      do s = 1, size(self%springs)
+         if (self%springs(s)%free_length >= 0.0_dp) cycle
+         state = self%spring_state(s, q, zero)
+         if (.not. (state%length > 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' // &
+               trim(self%springs(s)%name) // '": its markers coincide at the start (length 0);' &
+               // ' give free_length')
+            return
+         end if
+         self%springs(s)%free_length = state%length
+      end do
+   end procedure mechanism_set_spring_free_lengths
 
    !> Add a copy of a torsion spring about a revolute or cylindrical joint.
    module procedure mechanism_add_torsion_spring
@@ -170,16 +211,11 @@ contains
 
    !> Add a copy of a bushing between two markers of two bodies.
    module procedure mechanism_add_bushing
-      character(len=:), allocatable :: where
-      where = 'mechanism: bushing "' // trim(bushing%name) // '"'
-      call check_pair_ends(self, where, 'bushing', bushing%body_a, bushing%marker_a, &
-         bushing%body_b, bushing%marker_b, error)
+      call check_pair_ends(self, 'bushing', bushing%name, bushing%body_a, bushing%marker_a, &
+         bushing%body_b, bushing%marker_b, all(bushing%stiffness >= 0.0_dp) .and. &
+         all(bushing%damping >= 0.0_dp), 'a negative stiffness or damping entry; all six ' // &
+         'of each must be >= 0', error)
       if (allocated(error)) return
-      if (.not. (all(bushing%stiffness >= 0.0_dp) .and. all(bushing%damping >= 0.0_dp))) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': a negative stiffness or ' // &
-            'damping entry; all six of each must be >= 0')
-         return
-      end if
       if (.not. allocated(self%bushings)) allocate (self%bushings(0))
       self%bushings = [self%bushings, bushing]
    end procedure mechanism_add_bushing
@@ -290,6 +326,8 @@ contains
    end subroutine update_layout
 
    module procedure check_pair_ends
+      character(len=:), allocatable :: where
+      where = 'mechanism: ' // what // ' "' // trim(name) // '"'
       if (.not. (valid_body(self, body_a) .and. valid_body(self, body_b))) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
             to_str(body_a) // ' and ' // to_str(body_b) // &
@@ -301,8 +339,16 @@ contains
          marker_b < 1 .or. marker_b > self%bodies(body_b)%body%num_markers) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // to_str(marker_a) // &
             ' or ' // to_str(marker_b) // ' is not a marker of its body')
+      else if (.not. coefficients_ok) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ' // refusal)
       end if
    end procedure check_pair_ends
+
+   module procedure pair_rows
+      integer :: i, ka, kb, nb
+      call pair_layout(self, body_a, body_b, ka, na, kb, nb)
+      rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+   end procedure pair_rows
 
    module procedure body_layout
       k = self%bodies(b)%offset

@@ -1,65 +1,16 @@
-!> Force elements of ffrf_mbs_mechanism (a submodule): the spring-dampers' state, potential
-!> energy and free lengths (ffrf_mbs_spring_damper), the torsion spring-dampers' state, potential
-!> energy and unwrapping references (ffrf_mbs_torsion_spring, docs/mechanisms.md "Torsion
-!> springs"), the bushings' state and potential energy (ffrf_mbs_bushing, docs/mechanisms.md
-!> "Bushings"); and the generalized forces and tangents of all of them in one loop over
-!> force_element_t (ffrf_mbs_force_element). They are added in mechanism_build.f90.
+!> Force elements of ffrf_mbs_mechanism beyond the spring-damper (a submodule): torsion
+!> spring-dampers (their state, potential energy, unwrapping references;
+!> ffrf_mbs_torsion_spring, docs/mechanisms.md "Torsion springs") and bushings (state, potential
+!> energy; ffrf_mbs_bushing, docs/mechanisms.md "Bushings"); and the generalized forces and
+!> tangents of all force elements, springs included, in one loop over force_element_t
+!> (ffrf_mbs_force_element). Adding them is in mechanism_build.f90.
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_force_elements
-   use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR
    use ffrf_mbs_force_element, only: force_element_t
    use ffrf_mbs_torsion_spring, only: torsion_evaluate
-   use ffrf_mbs_spring_damper, only: spring_evaluate
    use ffrf_mbs_bushing, only: bushing_evaluate
    implicit none
 
 contains
-
-   !> Length, direction, rate and tension of spring s at (q, v).
-   module procedure mechanism_spring_state
-      integer, allocatable :: rows(:)
-      integer :: na
-      associate (spring => self%springs(s))
-         call pair_rows(self, spring%body_a, spring%body_b, rows, na)
-         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(rows(:na)), &
-            v(rows(:na)), self%bodies(spring%body_b)%body, q(rows(na + 1:)), v(rows(na + 1:)))
-      end associate
-   end procedure mechanism_spring_state
-
-   !> Potential energy of the springs, sum k (l - L0)^2 / 2 (J).
-   module procedure mechanism_spring_energy
-      type(spring_state_t) :: state
-      real(dp) :: zero(size(q))
-      integer :: s
-      energy = 0.0_dp
-      if (.not. allocated(self%springs)) return
-      zero = 0.0_dp
-      do s = 1, size(self%springs)
-         state = self%spring_state(s, q, zero)
-         energy = energy + 0.5_dp * self%springs(s)%stiffness * &
-            (state%length - self%springs(s)%free_length)**2
-      end do
-   end procedure mechanism_spring_energy
-
-   !> Free lengths not given become the lengths at q (mechanism.f90's interface).
-   module procedure mechanism_set_spring_free_lengths
-      type(spring_state_t) :: state
-      real(dp) :: zero(size(q))
-      integer :: s
-      if (.not. allocated(self%springs)) return
-      zero = 0.0_dp
-      do s = 1, size(self%springs)
-         if (self%springs(s)%free_length >= 0.0_dp) cycle
-         state = self%spring_state(s, q, zero)
-         if (.not. (state%length > 0.0_dp)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'spring "' // &
-               trim(self%springs(s)%name) // '": its markers coincide at the start (length 0);' &
-               // ' give free_length')
-            return
-         end if
-         self%springs(s)%free_length = state%length
-      end do
-   end procedure mechanism_set_spring_free_lengths
-
 
    !> Angle, rate and torque of torsion spring s at (q, v).
    module procedure mechanism_torsion_state
@@ -187,17 +138,6 @@ contains
          end associate
       end do
    end subroutine add_elements
-
-   !> Rows of bodies a and b in the mechanism's coordinates ([a's; b's]) and the number of a's.
-   subroutine pair_rows(self, body_a, body_b, rows, na)
-      type(mechanism_t), intent(in) :: self
-      integer, intent(in) :: body_a, body_b
-      integer, allocatable, intent(out) :: rows(:)
-      integer, intent(out) :: na
-      integer :: i, ka, kb, nb
-      call pair_layout(self, body_a, body_b, ka, na, kb, nb)
-      rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
-   end subroutine pair_rows
 
    !> K_t(rows, rows) += K, C_t(rows, rows) += C.
    pure subroutine add_pair_tangents(rows, K, C, K_t, C_t)
