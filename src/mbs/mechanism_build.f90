@@ -364,6 +364,11 @@ contains
       valid_body = b >= 1 .and. b <= num_bodies(self)
    end procedure valid_body
 
+   module procedure num_joints
+      num_joints = 0
+      if (allocated(self%joints)) num_joints = size(self%joints)
+   end procedure num_joints
+
    pure logical function rotating_body(self, b)
       type(mechanism_t), intent(in) :: self
       integer, intent(in) :: b

@@ -1,6 +1,6 @@
 !> The equations of a mechanism (ffrf_mbs_mechanism, dae_system_t): mass, forces, energies,
 !> constraints and their Jacobian, time terms and the acceleration right-hand side, and the
-!> helpers the other submodules share (body and joint counts, drive normal).
+!> helpers the other submodules share (body count, drive normal).
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_equations
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: fatal_error, FFRF_NUMERIC_ERROR
@@ -20,11 +20,6 @@ contains
       num_bodies = 0
       if (allocated(self%bodies)) num_bodies = size(self%bodies)
    end procedure num_bodies
-
-   module procedure num_joints
-      num_joints = 0
-      if (allocated(self%joints)) num_joints = size(self%joints)
-   end procedure num_joints
 
    !> Kinetic energy sum_b v_b^T M_b(q_b) v_b / 2 (J).
    module procedure mechanism_kinetic_energy
