@@ -256,28 +256,38 @@ contains
       real(dp), intent(out) :: K(:, :)
       !> -df/dv (n_b x n_b)
       real(dp), intent(out) :: C(:, :)
-      real(dp) :: x(size(q)), f_plus(size(q)), f_minus(size(q)), delta
       integer :: j
-      x = q
       do j = 1, size(q)
-         delta = fd_step(q(j))
-         x(j) = q(j) + delta
-         f_plus = self%quadratic_velocity(x, v) + self%elastic_force(x, v)
-         x(j) = q(j) - delta
-         f_minus = self%quadratic_velocity(x, v) + self%elastic_force(x, v)
-         x(j) = q(j)
-         K(:, j) = -(f_plus - f_minus) / (2.0_dp * delta)
+         K(:, j) = -force_difference(j)
       end do
-      x = v
       do j = 1, size(v)
-         delta = fd_step(v(j))
-         x(j) = v(j) + delta
-         f_plus = self%quadratic_velocity(q, x) + self%elastic_force(q, x)
-         x(j) = v(j) - delta
-         f_minus = self%quadratic_velocity(q, x) + self%elastic_force(q, x)
-         x(j) = v(j)
-         C(:, j) = -(f_plus - f_minus) / (2.0_dp * delta)
+         C(:, j) = -force_difference(size(q) + j)
       end do
+
+   contains
+
+      !> (f(x + delta e_i) - f(x - delta e_i)) / (2 delta) over x = [q; v], f the quadratic
+      !> velocity vector plus the elastic force.
+      pure function force_difference(i) result(df)
+         integer, intent(in) :: i
+         real(dp) :: df(size(q))
+         real(dp) :: x_plus(size(q) + size(v)), x_minus(size(q) + size(v)), delta
+         x_plus = [q, v]
+         x_minus = x_plus
+         delta = fd_step(x_plus(i))
+         x_plus(i) = x_plus(i) + delta
+         x_minus(i) = x_minus(i) - delta
+         df = (force(x_plus) - force(x_minus)) / (2.0_dp * delta)
+      end function force_difference
+
+      !> f at x = [q; v].
+      pure function force(x) result(f)
+         real(dp), intent(in) :: x(:)
+         real(dp) :: f(size(q))
+         f = self%quadratic_velocity(x(:size(q)), x(size(q) + 1:)) + &
+            self%elastic_force(x(:size(q)), x(size(q) + 1:))
+      end function force
+
    end subroutine body_force_tangents_fd
 
    !> d(M(q) a)/dq by central differences over the body's coordinates.

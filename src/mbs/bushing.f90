@@ -21,22 +21,29 @@
 !> two bodies' coordinates at fixed v (2 (n_a + n_b) evaluations per call, step
 !> eps^(1/3) max(|q_j|, 1): relative error ~1e-11, as body_t's default tangents).
 module ffrf_mbs_bushing
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
    use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_force_element, only: force_element_t
    use ffrf_mbs_rotation, only: skew3
    implicit none
    private
    public :: bushing_t, bushing_state_t
-   public :: bushing_evaluate, bushing_generalized_forces, bushing_tangents
+   public :: bushing_evaluate, bushing_generalized_force, bushing_tangents
 
    !> A bushing between marker_a of body_a and marker_b of body_b (mechanism indices).
-   type :: bushing_t
+   type, extends(force_element_t) :: bushing_t
       !> Name for messages and sensors
       character(len=64) :: name = 'bushing'
       !> Mechanism indices of the two bodies and their markers
       integer :: body_a = 0, marker_a = 0, body_b = 0, marker_b = 0
       !> Stiffness kx, ky, kz (N/m), krx, kry, krz (N m/rad) and damping (N s/m, N m s/rad), >= 0
       real(dp) :: stiffness(6) = 0.0_dp, damping(6) = 0.0_dp
+   contains
+      procedure :: bodies => bushing_bodies
+      procedure :: terms => bushing_terms
    end type bushing_t
 
    !> Deflections, rates and element force of a bushing at a state.
@@ -46,6 +53,34 @@ module ffrf_mbs_bushing
    end type bushing_state_t
 
 contains
+
+   !> [body_a, body_b].
+   pure function bushing_bodies(self) result(bodies)
+      class(bushing_t), intent(in) :: self
+      integer :: bodies(2)
+      bodies = [self%body_a, self%body_b]
+   end function bushing_bodies
+
+   !> Generalized forces or tangents (force_element_t%terms); a non-finite force is a numeric
+   !> error.
+   subroutine bushing_terms(self, body_a, q_a, v_a, body_b, q_b, v_b, t, error, Q, K, C)
+      class(bushing_t), intent(in) :: self
+      class(body_t), intent(in) :: body_a, body_b
+      real(dp), intent(in) :: q_a(:), v_a(:), q_b(:), v_b(:), t
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(out), optional :: Q(:), K(:, :), C(:, :)
+      type(bushing_state_t) :: state
+      state = bushing_evaluate(self, body_a, q_a, v_a, body_b, q_b, v_b)
+      if (.not. all(ieee_is_finite(state%force))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'bushing "' // trim(self%name) // &
+            '": force not finite at t = ' // to_str(t) // ' s; a bushing needs finite marker ' &
+            // 'frames')
+      else if (present(K) .and. present(C)) then
+         call bushing_tangents(self, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
+      else if (present(Q)) then
+         Q = bushing_generalized_force(self, body_a, q_a, v_a, body_b, q_b, v_b)
+      end if
+   end subroutine bushing_terms
 
    !> Deflections, rates and force of `bushing` at the bodies' states (module header).
    pure function bushing_evaluate(bushing, body_a, q_a, v_a, body_b, q_b, v_b) result(state)
@@ -63,25 +98,6 @@ contains
       state%rate = matmul(E, [v_a, v_b])
       state%force = bushing%stiffness * state%deflection + bushing%damping * state%rate
    end function bushing_evaluate
-
-   !> Generalized forces -E^T f on body a (first na rows) and body b.
-   pure subroutine bushing_generalized_forces(bushing, body_a, q_a, v_a, body_b, q_b, v_b, &
-      f_a, f_b)
-      !> The bushing
-      type(bushing_t), intent(in) :: bushing
-      !> Body a and its coordinates and velocities
-      class(body_t), intent(in) :: body_a
-      real(dp), intent(in) :: q_a(:), v_a(:)
-      !> Body b and its coordinates and velocities
-      class(body_t), intent(in) :: body_b
-      real(dp), intent(in) :: q_b(:), v_b(:)
-      !> Generalized forces (size of q_a and q_b)
-      real(dp), intent(out) :: f_a(:), f_b(:)
-      real(dp) :: Q(size(q_a) + size(q_b))
-      Q = generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b)
-      f_a = Q(1:size(q_a))
-      f_b = Q(size(q_a) + 1:)
-   end subroutine bushing_generalized_forces
 
    !> K = -dQ/dx (central differences) and C = -dQ/dv = E^T C E (exact), x = [q_a; q_b].
    pure subroutine bushing_tangents(bushing, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
@@ -107,16 +123,18 @@ contains
       do j = 1, size(x)
          step = epsilon(1.0_dp)**(1.0_dp / 3.0_dp) * max(abs(x(j)), 1.0_dp)
          x(j) = x(j) + step
-         plus = generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), v_b)
+         plus = bushing_generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), &
+            v_b)
          x(j) = x(j) - 2.0_dp * step
-         minus = generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), v_b)
+         minus = bushing_generalized_force(bushing, body_a, x(1:na), v_a, body_b, x(na + 1:), &
+            v_b)
          x(j) = x(j) + step
          K(:, j) = -(plus - minus) / (2.0_dp * step)
       end do
    end subroutine bushing_tangents
 
-   !> Q = -E^T (K e + C E v) over [q_a; q_b].
-   pure function generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b) result(Q)
+   !> Generalized forces Q = -E^T (K e + C E v) on body a (first size(q_a) rows) and body b.
+   pure function bushing_generalized_force(bushing, body_a, q_a, v_a, body_b, q_b, v_b) result(Q)
       type(bushing_t), intent(in) :: bushing
       class(body_t), intent(in) :: body_a, body_b
       real(dp), intent(in) :: q_a(:), v_a(:), q_b(:), v_b(:)
@@ -125,7 +143,7 @@ contains
       call deflection_and_jacobian(bushing, body_a, q_a, body_b, q_b, e_value, E)
       f = bushing%stiffness * e_value + bushing%damping * matmul(E, [v_a, v_b])
       Q = -matmul(f, E)
-   end function generalized_force
+   end function bushing_generalized_force
 
    !> e = [d; phi] and E with e' = E [v_a; v_b] (module header).
    pure subroutine deflection_and_jacobian(bushing, body_a, q_a, body_b, q_b, e_value, E)

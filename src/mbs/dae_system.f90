@@ -163,19 +163,10 @@ contains
       !> -df/dq, n x n
       real(dp), intent(out) :: K_t(:, :)
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: qp(size(q)), f_plus(size(q)), f_minus(size(q)), delta
       integer :: j
-      qp = q
       do j = 1, size(q)
-         delta = fd_step(q(j))
-         qp(j) = q(j) + delta
-         call self%force(qp, v, t, f_plus, error)
+         call force_difference(self, q, v, t, j, K_t(:, j), error)
          if (allocated(error)) return
-         qp(j) = q(j) - delta
-         call self%force(qp, v, t, f_minus, error)
-         if (allocated(error)) return
-         qp(j) = q(j)
-         K_t(:, j) = -(f_plus - f_minus) / (2.0_dp * delta)
       end do
    end subroutine dae_stiffness_fd
 
@@ -192,21 +183,36 @@ contains
       !> -df/dq', n x n
       real(dp), intent(out) :: C_t(:, :)
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: vp(size(v)), f_plus(size(q)), f_minus(size(q)), delta
       integer :: j
-      vp = v
       do j = 1, size(v)
-         delta = fd_step(v(j))
-         vp(j) = v(j) + delta
-         call self%force(q, vp, t, f_plus, error)
+         call force_difference(self, q, v, t, size(q) + j, C_t(:, j), error)
          if (allocated(error)) return
-         vp(j) = v(j) - delta
-         call self%force(q, vp, t, f_minus, error)
-         if (allocated(error)) return
-         vp(j) = v(j)
-         C_t(:, j) = -(f_plus - f_minus) / (2.0_dp * delta)
       end do
    end subroutine dae_damping_fd
+
+   !> Column i of -df/dx over x = [q; q'] (i <= n: a coordinate, else a velocity) by a central
+   !> difference of `force`: -(f(x + delta e_i) - f(x - delta e_i)) / (2 delta).
+   subroutine force_difference(self, q, v, t, i, column, error)
+      class(dae_system_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:), v(:), t
+      integer, intent(in) :: i
+      real(dp), intent(out) :: column(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: x_plus(size(q) + size(v)), x_minus(size(q) + size(v)), f_plus(size(q))
+      real(dp) :: f_minus(size(q)), delta
+      integer :: n
+      n = size(q)
+      x_plus = [q, v]
+      x_minus = x_plus
+      delta = fd_step(x_plus(i))
+      x_plus(i) = x_plus(i) + delta
+      x_minus(i) = x_minus(i) - delta
+      call self%force(x_plus(:n), x_plus(n + 1:), t, f_plus, error)
+      if (allocated(error)) return
+      call self%force(x_minus(:n), x_minus(n + 1:), t, f_minus, error)
+      if (allocated(error)) return
+      column = -(f_plus - f_minus) / (2.0_dp * delta)
+   end subroutine force_difference
 
    !> Phi(q, t) and Phi_q(q, t): `constraints`, then `constraint_jacobian`.
    subroutine dae_constraints_and_jacobian(self, q, t, phi, Phi_q, error)

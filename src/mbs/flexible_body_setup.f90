@@ -195,13 +195,11 @@ contains
             to_str(size(geometric_stiffness, 1)) // ' x ' // to_str(size(geometric_stiffness, &
             2)) // ' x ' // to_str(size(geometric_stiffness, 3)) // ' for ' // to_str(m) // &
             ' modes; pass one m x m matrix per centrifugal load case (m x m x 6)')
-         return
-      end if
-      if (.not. all(ieee_is_finite(geometric_stiffness))) then
+      else if (.not. all(ieee_is_finite(geometric_stiffness))) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body: NaN or Inf in the ' // &
             'geometric stiffness')
-         return
       end if
+      if (allocated(error)) return
       self%geometric_stiffness = geometric_stiffness
    end procedure flexible_body_set_geometric_stiffness
 

@@ -224,12 +224,8 @@ contains
       end associate
       if (.not. allocated(trial%M)) allocate (trial%M(n, n), trial%Phi_q(self%nc, n), &
          trial%r_q(n), trial%phi(self%nc))
-      call evaluate(self, system, t_new, trial, error)
-      if (allocated(error)) return
-      if (.not. finite_trial(trial)) then
-         reason = 'NaN or Inf in the residual at the predictor'
-         return
-      end if
+      call evaluate(self, system, t_new, trial, 'at the predictor', reason, error)
+      if (allocated(error) .or. len(reason) > 0) return
       need_factor = fresh_start .or. self%h_factored < 0.0_dp .or. &
          abs(h - self%h_factored) > 1.0e-10_dp * h .or. &
          self%settings%jacobian /= GALPHA_NEWTON_ADAPTIVE .or. .not. self%reuse_factors
@@ -298,12 +294,8 @@ contains
                end if
             end if
          end if
-         call evaluate(self, system, t_new, trial, error)
-         if (allocated(error)) return
-         if (.not. finite_trial(trial)) then
-            reason = 'NaN or Inf in the residual (force, mass or constraints)'
-            return
-         end if
+         call evaluate(self, system, t_new, trial, '(force, mass or constraints)', reason, error)
+         if (allocated(error) .or. len(reason) > 0) return
          self%last_increment = increment
          self%last_residual = residual_norm(self, trial)
          if (estimate <= 1.0_dp .and. self%last_residual <= 1.0_dp) then
@@ -342,11 +334,15 @@ contains
    end subroutine attempt
 
    !> Residual of the step at the trial state: r_q = M q'' + Phi_q^T lambda - f, Phi (all rows).
-   subroutine evaluate(self, system, t, trial, error)
+   subroutine evaluate(self, system, t, trial, where, reason, error)
       type(galpha_integrator_t), intent(inout) :: self
       class(dae_system_t), intent(inout) :: system
       real(dp), intent(in) :: t
       type(trial_t), intent(inout) :: trial
+      !> Where in the step, for the reason
+      character(len=*), intent(in) :: where
+      !> Set to 'NaN or Inf in the residual ' // where if the residual is not finite
+      character(len=:), allocatable, intent(inout) :: reason
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: f(self%n), inertia(self%n), reaction(self%n), clock
       clock = wall_time()
@@ -362,6 +358,7 @@ contains
       trial%force_scale = max(max_abs(inertia), max_abs(reaction), max_abs(f))
       self%stats%residual_evaluations = self%stats%residual_evaluations + 1
       self%stats%residual_seconds = self%stats%residual_seconds + wall_time() - clock
+      if (.not. finite_trial(trial)) reason = 'NaN or Inf in the residual ' // where
    end subroutine evaluate
 
    !> Tangent at the trial state and LU factors of the scaled iteration matrix (theory.md 4.1,

@@ -57,6 +57,7 @@ module ffrf_mbs_joints
    use ffrf_core_choices, only: choice_t, choice_words, choice_name
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_dae_system, only: fd_step
+   use ffrf_mbs_rotation, only: cross3
    implicit none
    private
    public :: joint_t, table_joint_t, kind_joint_t
@@ -677,9 +678,9 @@ contains
             u = frame_a(:, table(2, i))
             force(:, 1) = force(:, 1) + lambda(i) * u
             force(:, 2) = force(:, 2) - lambda(i) * u
-            moment(:, 1) = moment(:, 1) - lambda(i) * cross(u, d)
+            moment(:, 1) = moment(:, 1) - lambda(i) * cross3(u, d)
          case default
-            uxw = cross(frame_a(:, table(2, i)), frame_b(:, table(3, i)))
+            uxw = cross3(frame_a(:, table(2, i)), frame_b(:, table(3, i)))
             moment(:, 1) = moment(:, 1) - lambda(i) * uxw
             moment(:, 2) = moment(:, 2) + lambda(i) * uxw
          end select
@@ -695,12 +696,6 @@ contains
       end do
       n = size(table, 2)
    end function table_size
-
-   pure function cross(a, b) result(c)
-      real(dp), intent(in) :: a(3), b(3)
-      real(dp) :: c(3)
-      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-   end function cross
 
    !> The equations of the joint's kind (kind_equations).
    pure function kind_joint_table(self) result(table)

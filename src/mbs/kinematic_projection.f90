@@ -36,27 +36,30 @@ contains
       !> Accelerations q'', corrected in place
       real(dp), intent(inout) :: a(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: Phi_q(:, :), phi_t(:), g(:), dx(:)
-      integer :: rank
+      real(dp), allocatable :: Phi_q(:, :), phi_t(:), g(:)
       allocate (Phi_q(mech%num_constraints(), size(q)), phi_t(mech%num_constraints()))
-      allocate (g(mech%num_constraints()), dx(size(q)))
+      allocate (g(mech%num_constraints()))
       call mech%constraint_jacobian(q, t, Phi_q, error)
       if (.not. allocated(error)) call mech%constraint_rate(q, t, phi_t, error)
-      if (.not. allocated(error)) call min_norm_solve(Phi_q, matmul(Phi_q, v) + phi_t, dx, &
-         rank_rcond, rank, error)
+      if (.not. allocated(error)) call correct(Phi_q, phi_t, v, error)
       if (allocated(error)) then
          call add_context(error, 'velocity projection')
          return
       end if
-      v = v - dx
       call mech%acceleration_rhs(q, v, t, g, error)
-      if (.not. allocated(error)) call min_norm_solve(Phi_q, matmul(Phi_q, a) - g, dx, &
-         rank_rcond, rank, error)
-      if (allocated(error)) then
-         call add_context(error, 'acceleration projection')
-         return
-      end if
-      a = a - dx
+      if (.not. allocated(error)) call correct(Phi_q, -g, a, error)
+      if (allocated(error)) call add_context(error, 'acceleration projection')
    end subroutine consistent_motion
+
+   !> x <- x - dx with the minimum-norm dx of Phi_q dx = Phi_q x + offset (module header).
+   subroutine correct(Phi_q, offset, x, error)
+      real(dp), intent(in) :: Phi_q(:, :), offset(:)
+      real(dp), intent(inout) :: x(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: dx(size(x))
+      integer :: rank
+      call min_norm_solve(Phi_q, matmul(Phi_q, x) + offset, dx, rank_rcond, rank, error)
+      if (.not. allocated(error)) x = x - dx
+   end subroutine correct
 
 end module ffrf_mbs_kinematic_projection

@@ -355,16 +355,15 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:)
       end subroutine mechanism_set_torsion_start
 
-      !> Add the torsion springs' generalized forces to f (present), or their exact tangents
-      !> to K_t (-df/dq) and C_t (-df/dq') (both present); a non-finite torque is a numeric
-      !> error.
-      module subroutine add_torsion_terms(self, q, v, t, error, f, K_t, C_t)
+      !> Add the applied generalized forces to f (present), or their tangents to K_t (-df/dq)
+      !> and C_t (-df/dq') (both present): loads, force elements, gravity (mechanism_applied.f90).
+      module subroutine add_applied_terms(self, q, v, t, error, f, K_t, C_t)
          type(mechanism_t), intent(in) :: self
          real(dp), intent(in) :: q(:), v(:)
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
          real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
-      end subroutine add_torsion_terms
+      end subroutine add_applied_terms
 
       !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
       !> Refused: an unknown body or marker, both ends on one body, a negative entry.
@@ -396,15 +395,16 @@ module ffrf_mbs_mechanism
          real(dp) :: energy
       end function mechanism_bushing_energy
 
-      !> Add the bushings' generalized forces to f (present), or their tangents to K_t (-df/dq)
-      !> and C_t (-df/dq') (both present); a non-finite force is a numeric error.
-      module subroutine add_bushing_terms(self, q, v, t, error, f, K_t, C_t)
+      !> Add the force elements' generalized forces to f (present), or their tangents to K_t
+      !> (-df/dq) and C_t (-df/dq') (both present): springs, torsion springs, bushings, in this
+      !> order (force_element_t%terms; its numeric errors).
+      module subroutine add_force_element_terms(self, q, v, t, error, f, K_t, C_t)
          type(mechanism_t), intent(in) :: self
          real(dp), intent(in) :: q(:), v(:)
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
          real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
-      end subroutine add_bushing_terms
+      end subroutine add_force_element_terms
 
       !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
       module subroutine update_torsion_references(self, q)
@@ -804,18 +804,50 @@ module ffrf_mbs_mechanism
          integer, intent(in) :: b
       end function valid_body
 
+      !> Where body b sits in q: coordinates k + 1 : k + nb.
+      pure module subroutine body_layout(self, b, k, nb)
+         type(mechanism_t), intent(in) :: self
+         integer, intent(in) :: b
+         integer, intent(out) :: k, nb
+      end subroutine body_layout
+
+      !> Where bodies a and b sit in q: coordinates ka + 1 : ka + na of a, kb + 1 : kb + nb of b.
+      pure module subroutine pair_layout(self, body_a, body_b, ka, na, kb, nb)
+         type(mechanism_t), intent(in) :: self
+         integer, intent(in) :: body_a, body_b
+         integer, intent(out) :: ka, na, kb, nb
+      end subroutine pair_layout
+
+      !> Rows of bodies a and b in q ([a's; b's]) and the number of a's.
+      pure module subroutine pair_rows(self, body_a, body_b, rows, na)
+         type(mechanism_t), intent(in) :: self
+         integer, intent(in) :: body_a, body_b
+         integer, allocatable, intent(out) :: rows(:)
+         integer, intent(out) :: na
+      end subroutine pair_rows
+
+      !> The checks of a two-body force element `what` (spring, bushing) named `name`: both
+      !> bodies added by add_body, two different ones, each marker one of its body's, and its
+      !> coefficients (coefficients_ok, else the error says `refusal`).
+      module subroutine check_pair_ends(self, what, name, body_a, marker_a, body_b, marker_b, &
+         coefficients_ok, refusal, error)
+         type(mechanism_t), intent(in) :: self
+         character(len=*), intent(in) :: what, name
+         integer, intent(in) :: body_a, marker_a, body_b, marker_b
+         logical, intent(in) :: coefficients_ok
+         character(len=*), intent(in) :: refusal
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine check_pair_ends
+
       !> Number of bodies added (0 before the first).
       pure integer module function num_bodies(self)
          type(mechanism_t), intent(in) :: self
       end function num_bodies
 
-      !> A spring needs a non-zero length (its direction) and a finite tension.
-      module subroutine check_spring_state(name, state, t, error)
-         character(len=*), intent(in) :: name
-         type(spring_state_t), intent(in) :: state
-         real(dp), intent(in) :: t
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine check_spring_state
+      !> Number of joints added (0 before the first).
+      pure integer module function num_joints(self)
+         type(mechanism_t), intent(in) :: self
+      end function num_joints
 
       !> n(f) = (-sin f, cos f, 0): normal of the driven x axis at angle f.
       pure module function drive_normal(angle) result(normal)

@@ -1,5 +1,5 @@
-!> Building a mechanism (ffrf_mbs_mechanism): bodies, joints, loads, springs, drivers, the rotor
-!> and the driving constraint, and the coordinate layout they share.
+!> Building a mechanism (ffrf_mbs_mechanism): bodies, joints, loads, springs, torsion springs,
+!> bushings, drivers, the rotor and the driving constraint, and the coordinate layout they share.
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_build
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: pi
@@ -61,8 +61,7 @@ contains
          call add_context(error, 'mechanism: joint "' // name // '"')
          return
       end if
-      nj = 0
-      if (allocated(self%joints)) nj = size(self%joints)
+      nj = num_joints(self)
       allocate (grown(nj + 1))
       do i = 1, nj
          call move_alloc(self%joints(i)%joint, grown(i)%joint)
@@ -118,26 +117,10 @@ contains
 
    !> Add a copy of a spring-damper (refusals: mechanism.f90's interface).
    module procedure mechanism_add_spring
-      character(len=:), allocatable :: where
-      where = 'mechanism: spring "' // trim(spring%name) // '"'
-      if (.not. (valid_body(self, spring%body_a) .and. valid_body(self, spring%body_b))) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
-            to_str(spring%body_a) // ' and ' // to_str(spring%body_b) // &
-            ', not both indices returned by add_body (1..' // to_str(num_bodies(self)) // ')')
-      else if (spring%body_a == spring%body_b) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' has both ends on body "' // &
-            self%bodies(spring%body_a)%name // '"; a spring connects two different bodies')
-      else if (spring%marker_a < 1 .or. spring%marker_a > &
-         self%bodies(spring%body_a)%body%num_markers .or. spring%marker_b < 1 .or. &
-         spring%marker_b > self%bodies(spring%body_b)%body%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // &
-            to_str(spring%marker_a) // ' or ' // to_str(spring%marker_b) // &
-            ' is not a marker of its body')
-      else if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
-            to_str(spring%stiffness) // ' N/m and damping = ' // to_str(spring%damping) // &
-            ' N s/m must both be >= 0')
-      end if
+      call check_pair_ends(self, 'spring', spring%name, spring%body_a, spring%marker_a, &
+         spring%body_b, spring%marker_b, spring%stiffness >= 0.0_dp .and. &
+         spring%damping >= 0.0_dp, 'stiffness = ' // to_str(spring%stiffness) // &
+         ' N/m and damping = ' // to_str(spring%damping) // ' N s/m must both be >= 0', error)
       if (allocated(error)) return
       if (.not. allocated(self%springs)) allocate (self%springs(0))
       self%springs = [self%springs, spring]
@@ -145,15 +128,12 @@ contains
 
    !> Length, direction, rate and tension of spring s at (q, v).
    module procedure mechanism_spring_state
-      integer :: ka, kb, na, nb
+      integer, allocatable :: rows(:)
+      integer :: na
       associate (spring => self%springs(s))
-         ka = self%bodies(spring%body_a)%offset
-         kb = self%bodies(spring%body_b)%offset
-         na = self%bodies(spring%body_a)%body%num_coordinates
-         nb = self%bodies(spring%body_b)%body%num_coordinates
-         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(ka + 1:ka + na), &
-            v(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), &
-            v(kb + 1:kb + nb))
+         call pair_rows(self, spring%body_a, spring%body_b, rows, na)
+         state = spring_evaluate(spring, self%bodies(spring%body_a)%body, q(rows(:na)), &
+            v(rows(:na)), self%bodies(spring%body_b)%body, q(rows(na + 1:)), v(rows(na + 1:)))
       end associate
    end procedure mechanism_spring_state
 
@@ -192,6 +172,54 @@ contains
       end do
    end procedure mechanism_set_spring_free_lengths
 
+   !> Add a copy of a torsion spring about a revolute or cylindrical joint.
+   module procedure mechanism_add_torsion_spring
+      type(torsion_spring_t) :: added
+      integer :: nj
+      character(len=:), allocatable :: where
+      where = 'mechanism: torsion spring "' // trim(spring%name) // '"'
+      nj = num_joints(self)
+      if (spring%joint < 1 .or. spring%joint > nj) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': the mechanism has no joint ' // &
+            to_str(spring%joint) // ' (' // to_str(nj) // ' joints)')
+         return
+      end if
+      associate (jt => self%joints(spring%joint))
+         select case (jt%joint%kind_name())
+         case ('revolute', 'cylindrical')
+         case default
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': joint "' // jt%name // &
+               '" is ' // jt%joint%kind_name() // '; a torsion spring needs a revolute or ' // &
+               'cylindrical joint')
+            return
+         end select
+         if (.not. (spring%stiffness >= 0.0_dp .and. spring%damping >= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // ': stiffness = ' // &
+               to_str(spring%stiffness) // ' N m/rad and damping = ' // &
+               to_str(spring%damping) // ' N m s/rad; both must be >= 0')
+            return
+         end if
+         added = spring
+         added%body_a = jt%body_a
+         added%body_b = jt%body_b
+         added%marker_a = jt%joint%marker_a
+         added%marker_b = jt%joint%marker_b
+      end associate
+      if (.not. allocated(self%torsion_springs)) allocate (self%torsion_springs(0))
+      self%torsion_springs = [self%torsion_springs, added]
+   end procedure mechanism_add_torsion_spring
+
+   !> Add a copy of a bushing between two markers of two bodies.
+   module procedure mechanism_add_bushing
+      call check_pair_ends(self, 'bushing', bushing%name, bushing%body_a, bushing%marker_a, &
+         bushing%body_b, bushing%marker_b, all(bushing%stiffness >= 0.0_dp) .and. &
+         all(bushing%damping >= 0.0_dp), 'a negative stiffness or damping entry; all six ' // &
+         'of each must be >= 0', error)
+      if (allocated(error)) return
+      if (.not. allocated(self%bushings)) allocate (self%bushings(0))
+      self%bushings = [self%bushings, bushing]
+   end procedure mechanism_add_bushing
+
    !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
    module procedure mechanism_set_rotor
       if (.not. rotating_body(self, body)) then
@@ -226,8 +254,7 @@ contains
    module procedure mechanism_add_driver
       type(joint_driver_t) :: added
       integer :: nj
-      nj = 0
-      if (allocated(self%joints)) nj = size(self%joints)
+      nj = num_joints(self)
       if (driver%joint < 1 .or. driver%joint > nj) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'driver "' // trim(driver%name) // &
             '": the mechanism has no joint ' // to_str(driver%joint) // ' (' // to_str(nj) // &
@@ -273,12 +300,10 @@ contains
          self%n = self%n + self%bodies(b)%body%num_coordinates
       end do
       row = 0
-      if (allocated(self%joints)) then
-         do j = 1, size(self%joints)
-            self%joints(j)%offset = row
-            row = row + self%joints(j)%joint%num_equations
-         end do
-      end if
+      do j = 1, num_joints(self)
+         self%joints(j)%offset = row
+         row = row + self%joints(j)%joint%num_equations
+      end do
       if (allocated(self%drivers)) then
          do j = 1, size(self%drivers)
             row = row + 1
@@ -300,9 +325,49 @@ contains
       self%nc = row
    end subroutine update_layout
 
+   module procedure check_pair_ends
+      character(len=:), allocatable :: where
+      where = 'mechanism: ' // what // ' "' // trim(name) // '"'
+      if (.not. (valid_body(self, body_a) .and. valid_body(self, body_b))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' connects bodies ' // &
+            to_str(body_a) // ' and ' // to_str(body_b) // &
+            ', not both indices returned by add_body (1..' // to_str(num_bodies(self)) // ')')
+      else if (body_a == body_b) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ' has both ends on body "' // &
+            self%bodies(body_a)%name // '"; a ' // what // ' connects two different bodies')
+      else if (marker_a < 1 .or. marker_a > self%bodies(body_a)%body%num_markers .or. &
+         marker_b < 1 .or. marker_b > self%bodies(body_b)%body%num_markers) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker ' // to_str(marker_a) // &
+            ' or ' // to_str(marker_b) // ' is not a marker of its body')
+      else if (.not. coefficients_ok) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ' // refusal)
+      end if
+   end procedure check_pair_ends
+
+   module procedure pair_rows
+      integer :: i, ka, kb, nb
+      call pair_layout(self, body_a, body_b, ka, na, kb, nb)
+      rows = [(ka + i, i = 1, na), (kb + i, i = 1, nb)]
+   end procedure pair_rows
+
+   module procedure body_layout
+      k = self%bodies(b)%offset
+      nb = self%bodies(b)%body%num_coordinates
+   end procedure body_layout
+
+   module procedure pair_layout
+      call body_layout(self, body_a, ka, na)
+      call body_layout(self, body_b, kb, nb)
+   end procedure pair_layout
+
    module procedure valid_body
       valid_body = b >= 1 .and. b <= num_bodies(self)
    end procedure valid_body
+
+   module procedure num_joints
+      num_joints = 0
+      if (allocated(self%joints)) num_joints = size(self%joints)
+   end procedure num_joints
 
    pure logical function rotating_body(self, b)
       type(mechanism_t), intent(in) :: self

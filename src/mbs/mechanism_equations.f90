@@ -1,18 +1,14 @@
 !> The equations of a mechanism (ffrf_mbs_mechanism, dae_system_t): mass, forces, energies,
 !> constraints and their Jacobian, time terms and the acceleration right-hand side, and the
-!> helpers the other submodules share (body count, drive normal, spring state check).
+!> helpers the other submodules share (body count, drive normal).
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_equations
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
+   use ffrf_core_error, only: fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_finite, only: all_finite
-   use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, rotated_vector_jacobian
-   use ffrf_mbs_rigid_body, only: rigid_body_t
-   use ffrf_mbs_flexible_body, only: flexible_body_t
+   use ffrf_mbs_rotation, only: euler_rotation, rotated_vector_jacobian
    use ffrf_mbs_joints, only: joint_reaction
    use ffrf_mbs_joint_driver, only: driver_terms, driver_hessian
-   use ffrf_mbs_mechanism_loads, only: LOAD_FORCE
-   use ffrf_mbs_spring_damper, only: spring_generalized_forces
    implicit none
 
    !> Unit x axis
@@ -25,78 +21,12 @@ contains
       if (allocated(self%bodies)) num_bodies = size(self%bodies)
    end procedure num_bodies
 
-   !> Generalized force of the loads (L_r^T F + L_w^T M at their markers, theory.md 3.5) and of
-   !> gravity (m g at the centre of mass of rigid bodies; -dV/dq with the first moment
-   !> m chi + M_PhitPsi zeta of flexible bodies, theory.md 3.6).
-   module procedure mechanism_applied_force
-      real(dp) :: angle, speed, value, vector(3), zero(3), A(3, 3)
-      integer :: i, b, k, nb
-      f = 0.0_dp
-      zero = 0.0_dp
-      angle = self%rotor_angle(q)
-      speed = self%rotor_speed(q, v)
-      if (allocated(self%loads)) then
-         do i = 1, size(self%loads)
-            associate (load => self%loads(i)%load)
-               b = load%body
-               k = self%bodies(b)%offset
-               nb = self%bodies(b)%body%num_coordinates
-               if (nb == 0) cycle
-               value = load%magnitude(t, angle, speed)
-               if (.not. ieee_is_finite(value)) then
-                  call fatal_error(error, FFRF_NUMERIC_ERROR, 'load "' // trim(load%name) // &
-                     '" is not finite at t = ' // to_str(t) // ' s, rotor angle ' // &
-                     to_str(angle) // ' rad, speed ' // to_str(speed) // ' rad/s')
-                  return
-               end if
-               vector = value * load%direction
-               if (load%kind == LOAD_FORCE) then
-                  f(k + 1:k + nb) = f(k + 1:k + nb) + self%bodies(b)%body% &
-                     marker_generalized_force(q(k + 1:k + nb), load%marker, vector, zero)
-               else
-                  f(k + 1:k + nb) = f(k + 1:k + nb) + self%bodies(b)%body% &
-                     marker_generalized_force(q(k + 1:k + nb), load%marker, zero, vector)
-               end if
-            end associate
-         end do
-      end if
-      call add_spring_forces(self, q, v, t, f, error)
-      if (.not. allocated(error)) call add_torsion_terms(self, q, v, t, error, f=f)
-      if (.not. allocated(error)) call add_bushing_terms(self, q, v, t, error, f=f)
-      if (allocated(error)) return
-      if (maxval(abs(self%gravity)) <= 0.0_dp) return
-      do b = 1, num_bodies(self)
-         k = self%bodies(b)%offset
-         select type (body => self%bodies(b)%body)
-         class is (rigid_body_t)
-            ! m g at the centre of mass chi: [m g; G_bar^T chi~ A^T m g]
-            A = euler_rotation(q(k + 4:k + 7))
-            vector = body%mass * self%gravity
-            f(k + 1:k + 3) = f(k + 1:k + 3) + vector
-            f(k + 4:k + 7) = f(k + 4:k + 7) + matmul(transpose(euler_g_bar(q(k + 4:k + 7))), &
-               matmul(skew3(body%center_of_mass), matmul(transpose(A), vector)))
-         class is (flexible_body_t)
-            ! -dV/dq of V = -g . (m R + A (m chi + M_PhitPsi zeta)), theory.md 3.6
-            nb = body%num_coordinates
-            f(k + 1:k + nb) = f(k + 1:k + nb) + body%gravity_force(q(k + 1:k + nb), self%gravity)
-         class default
-            if (body%num_coordinates > 0) then
-               call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: gravity is implemented ' &
-                  // 'for rigid and flexible bodies; body "' // self%bodies(b)%name // &
-                  '" is neither; set gravity = 0 (scene.md: gravity off)')
-               return
-            end if
-         end select
-      end do
-   end procedure mechanism_applied_force
-
    !> Kinetic energy sum_b v_b^T M_b(q_b) v_b / 2 (J).
    module procedure mechanism_kinetic_energy
       integer :: b, k, nb
       energy = 0.0_dp
       do b = 1, num_bodies(self)
-         k = self%bodies(b)%offset
-         nb = self%bodies(b)%body%num_coordinates
+         call body_layout(self, b, k, nb)
          if (nb > 0) energy = energy + self%bodies(b)%body%kinetic_energy(q(k + 1:k + nb), &
             v(k + 1:k + nb))
       end do
@@ -107,8 +37,7 @@ contains
       integer :: b, k, nb
       energy = 0.0_dp
       do b = 1, num_bodies(self)
-         k = self%bodies(b)%offset
-         nb = self%bodies(b)%body%num_coordinates
+         call body_layout(self, b, k, nb)
          energy = energy + self%bodies(b)%body%strain_energy(q(k + 1:k + nb))
       end do
    end procedure mechanism_strain_energy
@@ -158,8 +87,7 @@ contains
       integer :: b, k, nb
       M = 0.0_dp
       do b = 1, num_bodies(self)
-         k = self%bodies(b)%offset
-         nb = self%bodies(b)%body%num_coordinates
+         call body_layout(self, b, k, nb)
          if (nb == 0) cycle
          M(k + 1:k + nb, k + 1:k + nb) = self%bodies(b)%body%mass_matrix(q(k + 1:k + nb))
          ! Only the bodies' blocks can hold a NaN
@@ -177,8 +105,7 @@ contains
       call self%applied_force(q, v, t, f, error)
       if (allocated(error)) return
       do b = 1, num_bodies(self)
-         k = self%bodies(b)%offset
-         nb = self%bodies(b)%body%num_coordinates
+         call body_layout(self, b, k, nb)
          if (nb == 0) cycle
          associate (body => self%bodies(b)%body)
             f(k + 1:k + nb) = f(k + 1:k + nb) + body%quadratic_velocity(q(k + 1:k + nb), &
@@ -190,16 +117,14 @@ contains
    !> Phi: joint equations, drive row, Euler normalisations.
    module procedure mechanism_constraints
       integer :: j
-      if (allocated(self%joints)) then
-         do j = 1, size(self%joints)
-            associate (jt => self%joints(j))
-               call jt%joint%residual(self%bodies(jt%body_a)%body, &
-                  self%body_coordinates(q, jt%body_a), self%bodies(jt%body_b)%body, &
-                  self%body_coordinates(q, jt%body_b), &
-                  phi(jt%offset + 1:jt%offset + jt%joint%num_equations))
-            end associate
-         end do
-      end if
+      do j = 1, num_joints(self)
+         associate (jt => self%joints(j))
+            call jt%joint%residual(self%bodies(jt%body_a)%body, &
+               self%body_coordinates(q, jt%body_a), self%bodies(jt%body_b)%body, &
+               self%body_coordinates(q, jt%body_b), &
+               phi(jt%offset + 1:jt%offset + jt%joint%num_equations))
+         end associate
+      end do
       call driver_rows(self, q, t, phi)
       call drive_and_euler_rows(self, q, t, phi)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
@@ -220,24 +145,19 @@ contains
    module procedure mechanism_constraints_and_jacobian
       integer :: j, ka, kb, na, nb, ne
       Phi_q = 0.0_dp
-      if (allocated(self%joints)) then
-         do j = 1, size(self%joints)
-            associate (jt => self%joints(j))
-               ne = jt%joint%num_equations
-               ka = self%bodies(jt%body_a)%offset
-               kb = self%bodies(jt%body_b)%offset
-               na = self%bodies(jt%body_a)%body%num_coordinates
-               nb = self%bodies(jt%body_b)%body%num_coordinates
-               ! The two bodies differ (add_joint), so their column blocks do not overlap: the
-               ! joint writes its blocks in place
-               call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
-                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
-                  phi(jt%offset + 1:jt%offset + ne), &
-                  Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
-                  Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
-            end associate
-         end do
-      end if
+      do j = 1, num_joints(self)
+         associate (jt => self%joints(j))
+            ne = jt%joint%num_equations
+            call pair_layout(self, jt%body_a, jt%body_b, ka, na, kb, nb)
+            ! The two bodies differ (add_joint), so their column blocks do not overlap: the
+            ! joint writes its blocks in place
+            call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+               self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+               phi(jt%offset + 1:jt%offset + ne), &
+               Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
+               Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
+         end associate
+      end do
       call driver_rows(self, q, t, phi, Phi_q)
       call drive_and_euler_rows(self, q, t, phi, Phi_q)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
@@ -260,10 +180,7 @@ contains
       if (.not. allocated(self%drivers)) return
       do d = 1, size(self%drivers)
          associate (dr => self%drivers(d), jt => self%joints(self%drivers(d)%joint))
-            ka = self%bodies(jt%body_a)%offset
-            kb = self%bodies(jt%body_b)%offset
-            na = self%bodies(jt%body_a)%body%num_coordinates
-            nb = self%bodies(jt%body_b)%body%num_coordinates
+            call pair_layout(self, jt%body_a, jt%body_b, ka, na, kb, nb)
             allocate (ja(na), jb(nb), jaf(na), jbf(nb))
             f = dr%prescribed(t)
             call driver_terms(dr%kind, self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
@@ -346,9 +263,7 @@ contains
       integer :: b, k, joint_rows
       g = 0.0_dp
       if (self%nc == 0) return
-      joint_rows = 0
-      if (allocated(self%joints)) joint_rows = sum([(self%joints(k)%joint%num_equations, &
-         k = 1, size(self%joints))])
+      joint_rows = sum([(self%joints(k)%joint%num_equations, k = 1, num_joints(self))])
       vmax = 0.0_dp
       if (self%n > 0) vmax = maxval(abs(v))
       if (joint_rows > 0 .and. vmax > 0.0_dp) then
@@ -404,44 +319,6 @@ contains
       self%rotor_reference = self%rotor_angle(q)
       call update_torsion_references(self, q)
    end procedure mechanism_accepted_step
-
-   !> Add the springs' generalized forces to f (ffrf_mbs_spring_damper); a spring of zero length
-   !> or a non-finite tension is a numeric error.
-   subroutine add_spring_forces(self, q, v, t, f, error)
-      type(mechanism_t), intent(in) :: self
-      real(dp), intent(in) :: q(:), v(:)
-      real(dp), intent(in) :: t
-      real(dp), intent(inout) :: f(:)
-      type(error_t), allocatable, intent(out) :: error
-      type(spring_state_t) :: state
-      real(dp), allocatable :: f_a(:), f_b(:)
-      integer :: s, ka, kb, na, nb
-      if (.not. allocated(self%springs)) return
-      do s = 1, size(self%springs)
-         associate (spring => self%springs(s))
-            state = self%spring_state(s, q, v)
-            call check_spring_state(spring%name, state, t, error)
-            if (allocated(error)) return
-            ka = self%bodies(spring%body_a)%offset
-            kb = self%bodies(spring%body_b)%offset
-            na = self%bodies(spring%body_a)%body%num_coordinates
-            nb = self%bodies(spring%body_b)%body%num_coordinates
-            allocate (f_a(na), f_b(nb))
-            call spring_generalized_forces(spring, state, self%bodies(spring%body_a)%body, &
-               q(ka + 1:ka + na), self%bodies(spring%body_b)%body, q(kb + 1:kb + nb), f_a, f_b)
-            f(ka + 1:ka + na) = f(ka + 1:ka + na) + f_a
-            f(kb + 1:kb + nb) = f(kb + 1:kb + nb) + f_b
-            deallocate (f_a, f_b)
-         end associate
-      end do
-   end subroutine add_spring_forces
-
-   module procedure check_spring_state
-      if (.not. (state%length > 0.0_dp .and. ieee_is_finite(state%force))) &
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'spring "' // trim(name) // &
-         '": length ' // to_str(state%length) // ' m, tension ' // to_str(state%force) // &
-         ' N at t = ' // to_str(t) // ' s; a spring needs distinct, finite marker positions')
-   end procedure check_spring_state
 
    module procedure drive_normal
       normal = [-sin(angle), cos(angle), 0.0_dp]

@@ -58,6 +58,8 @@ module ffrf_mbs_mechanism_loads
       !> d(magnitude)/d(rotor angle) and d(magnitude)/d(rotor speed), for the Newton tangent;
       !> the default is a central difference of magnitude, a load may give exact ones
       procedure :: magnitude_rates => load_magnitude_rates
+      !> value * direction as the force (LOAD_FORCE) or the moment (LOAD_TORQUE); the other 0
+      procedure :: vectors => load_vectors
    end type load_t
 
    abstract interface
@@ -158,6 +160,22 @@ contains
       d_speed = (self%magnitude(t, rotor_angle, rotor_speed + ds) - &
          self%magnitude(t, rotor_angle, rotor_speed - ds)) / (2.0_dp * ds)
    end subroutine load_magnitude_rates
+
+   !> value * direction as the force (LOAD_FORCE) or as the moment (LOAD_TORQUE); the other is 0.
+   pure subroutine load_vectors(self, value, force, moment)
+      class(load_t), intent(in) :: self
+      !> Magnitude (N or N m)
+      real(dp), intent(in) :: value
+      !> Force (N) and moment (N m), global
+      real(dp), intent(out) :: force(3), moment(3)
+      force = 0.0_dp
+      moment = 0.0_dp
+      if (self%kind == LOAD_FORCE) then
+         force = value * self%direction
+      else
+         moment = value * self%direction
+      end if
+   end subroutine load_vectors
 
    !> value.
    pure function constant_magnitude(self, t, rotor_angle, rotor_speed) result(value)

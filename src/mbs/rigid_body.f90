@@ -29,7 +29,7 @@ module ffrf_mbs_rigid_body
    use ffrf_core_strings, only: to_str
    use ffrf_la_dense, only: symmetric_eigen
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
-      rotated_vector_jacobian
+      rotated_vector_jacobian, cross3
    use ffrf_mbs_body, only: body_t
    implicit none
    private
@@ -552,12 +552,6 @@ contains
       jac = rotated_vector_jacobian([theta(1), -theta(2:4)], x)
       jac(:, 2:4) = -jac(:, 2:4)
    end function transposed_rotation_jacobian
-
-   pure function cross3(a, b) result(c)
-      real(dp), intent(in) :: a(3), b(3)
-      real(dp) :: c(3)
-      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-   end function cross3
 
    ! ----------------------------------------------------------------------------------------------
    ! Ground

@@ -24,7 +24,7 @@ module ffrf_mbs_rotation
    public :: euler_from_rotation, euler_from_axis_angle, euler_normalized
    public :: rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
    public :: frame_from_axis, rotation_defect, determinant3, check_rotation, ROTATION_TOLERANCE
-   public :: skew3, axial3, identity3
+   public :: skew3, axial3, identity3, cross3
 
    !> Largest |A A^T - I| of a rotation matrix given as input (&body and &marker orientation,
    !> marker frames)
@@ -48,6 +48,14 @@ contains
       s(2, 3) = -a(1)
       s(3, 3) = 0.0_dp
    end function skew3
+
+   !> Cross product a x b (= skew3(a) b).
+   pure function cross3(a, b) result(c)
+      !> Vectors a and b
+      real(dp), intent(in) :: a(3), b(3)
+      real(dp) :: c(3)
+      c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
+   end function cross3
 
    !> Axial vector of the skew-symmetric part of a 3 x 3 matrix: axial3(skew3(a)) = a.
    pure function axial3(s) result(a)

@@ -18,14 +18,18 @@
 !>     C = -dQ/dv = c S^T n n^T S
 !> The ground has no coordinates: its blocks are empty.
 module ffrf_mbs_spring_damper
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
    use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_force_element, only: force_element_t, marker_pair_forces
    implicit none
    private
    public :: spring_damper_t, spring_state_t
 
    !> A spring-damper between marker_a of body_a and marker_b of body_b (mechanism indices).
-   type :: spring_damper_t
+   type, extends(force_element_t) :: spring_damper_t
       !> Name for messages and sensors
       character(len=64) :: name = 'spring'
       !> Mechanism indices of the two bodies and their markers
@@ -34,6 +38,9 @@ module ffrf_mbs_spring_damper
       real(dp) :: stiffness = 0.0_dp, damping = 0.0_dp
       !> Free length L0 (m); negative: not given, set from the starting pose (set_free_length)
       real(dp) :: free_length = -1.0_dp
+   contains
+      procedure :: bodies => spring_bodies
+      procedure :: terms => spring_terms
    end type spring_damper_t
 
    !> Length, rate and tension of a spring at a state, with what the tangents reuse.
@@ -46,9 +53,38 @@ module ffrf_mbs_spring_damper
       real(dp) :: relative_velocity(3) = 0.0_dp
    end type spring_state_t
 
-   public :: spring_evaluate, spring_generalized_forces, spring_tangents, marker_pair_forces
+   public :: spring_evaluate, spring_generalized_forces, spring_tangents
 
 contains
+
+   !> [body_a, body_b].
+   pure function spring_bodies(self) result(bodies)
+      class(spring_damper_t), intent(in) :: self
+      integer :: bodies(2)
+      bodies = [self%body_a, self%body_b]
+   end function spring_bodies
+
+   !> Generalized forces or tangents (force_element_t%terms); a zero length or a non-finite
+   !> tension is a numeric error.
+   subroutine spring_terms(self, body_a, q_a, v_a, body_b, q_b, v_b, t, error, Q, K, C)
+      class(spring_damper_t), intent(in) :: self
+      class(body_t), intent(in) :: body_a, body_b
+      real(dp), intent(in) :: q_a(:), v_a(:), q_b(:), v_b(:), t
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(out), optional :: Q(:), K(:, :), C(:, :)
+      type(spring_state_t) :: state
+      state = spring_evaluate(self, body_a, q_a, v_a, body_b, q_b, v_b)
+      if (.not. (state%length > 0.0_dp .and. ieee_is_finite(state%force))) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'spring "' // trim(self%name) // &
+            '": length ' // to_str(state%length) // ' m, tension ' // to_str(state%force) // &
+            ' N at t = ' // to_str(t) // ' s; a spring needs distinct, finite marker positions')
+      else if (present(K) .and. present(C)) then
+         call spring_tangents(self, state, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
+      else if (present(Q)) then
+         call spring_generalized_forces(self, state, body_a, q_a, body_b, q_b, Q(:size(q_a)), &
+            Q(size(q_a) + 1:))
+      end if
+   end subroutine spring_terms
 
    !> Length, direction, rate and tension of `spring` at the bodies' states (q_a, v_a; q_b, v_b:
    !> the bodies' own coordinates, empty for the ground). A zero length leaves direction 0.
@@ -93,29 +129,6 @@ contains
       call marker_pair_forces(body_a, q_a, spring%marker_a, body_b, q_b, spring%marker_b, &
          state%force * state%direction, zero, f_a, f_b)
    end subroutine spring_generalized_forces
-
-   !> Generalized forces of an action-reaction pair: the global force F and moment M on
-   !> marker_a of body a (L_r,a^T F + L_w,a^T M) and -F, -M on marker_b of body b; zero for a
-   !> body without coordinates (the ground). For the force elements between two markers.
-   pure subroutine marker_pair_forces(body_a, q_a, marker_a, body_b, q_b, marker_b, force, &
-      moment, f_a, f_b)
-      !> Body a, its coordinates and marker
-      class(body_t), intent(in) :: body_a
-      real(dp), intent(in) :: q_a(:)
-      integer, intent(in) :: marker_a
-      !> Body b, its coordinates and marker
-      class(body_t), intent(in) :: body_b
-      real(dp), intent(in) :: q_b(:)
-      integer, intent(in) :: marker_b
-      !> Force (N) and moment (N m) on marker a, global
-      real(dp), intent(in) :: force(3), moment(3)
-      !> Generalized forces (size of q_a and q_b)
-      real(dp), intent(out) :: f_a(:), f_b(:)
-      f_a = 0.0_dp
-      f_b = 0.0_dp
-      if (size(q_a) > 0) f_a = body_a%marker_generalized_force(q_a, marker_a, force, moment)
-      if (size(q_b) > 0) f_b = body_b%marker_generalized_force(q_b, marker_b, -force, -moment)
-   end subroutine marker_pair_forces
 
    !> K = -dQ/dx and C = -dQ/dv over x = [q_a; q_b] (module header), exact.
    pure subroutine spring_tangents(spring, state, body_a, q_a, v_a, body_b, q_b, v_b, K, C)

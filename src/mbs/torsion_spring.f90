@@ -25,15 +25,19 @@
 !>     C = -dQ/dv = c g g^T
 !> The ground has no coordinates: its blocks are empty.
 module ffrf_mbs_torsion_spring
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, pi
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
+   use ffrf_core_strings, only: to_str
    use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_force_element, only: force_element_t, marker_pair_forces
    implicit none
    private
    public :: torsion_spring_t, torsion_state_t
    public :: torsion_evaluate, torsion_tangents
 
    !> A torsion spring-damper about joint `joint` (mechanism indices).
-   type :: torsion_spring_t
+   type, extends(force_element_t) :: torsion_spring_t
       !> Name for messages and sensors
       character(len=64) :: name = 'torsion_spring'
       !> Mechanism joint number; its bodies and markers (set by mechanism%add_torsion_spring)
@@ -45,6 +49,9 @@ module ffrf_mbs_torsion_spring
       logical :: free_angle_given = .false.
       !> Unwrapping reference phi_ref: the angle at the last accepted step (rad)
       real(dp) :: reference = 0.0_dp
+   contains
+      procedure :: bodies => torsion_bodies
+      procedure :: terms => torsion_terms
    end type torsion_spring_t
 
    !> Angle, rate and torque of a torsion spring at a state, with what the tangents reuse.
@@ -56,6 +63,37 @@ module ffrf_mbs_torsion_spring
    end type torsion_state_t
 
 contains
+
+   !> [body_a, body_b] (the joint's).
+   pure function torsion_bodies(self) result(bodies)
+      class(torsion_spring_t), intent(in) :: self
+      integer :: bodies(2)
+      bodies = [self%body_a, self%body_b]
+   end function torsion_bodies
+
+   !> Generalized forces (the moment -T z_a on marker a, +T z_a on marker b) or exact tangents
+   !> (force_element_t%terms); a non-finite torque is a numeric error.
+   subroutine torsion_terms(self, body_a, q_a, v_a, body_b, q_b, v_b, t, error, Q, K, C)
+      class(torsion_spring_t), intent(in) :: self
+      class(body_t), intent(in) :: body_a, body_b
+      real(dp), intent(in) :: q_a(:), v_a(:), q_b(:), v_b(:), t
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(out), optional :: Q(:), K(:, :), C(:, :)
+      type(torsion_state_t) :: state
+      state = torsion_evaluate(self, body_a, q_a, v_a, body_b, q_b, v_b)
+      if (.not. ieee_is_finite(state%torque)) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'torsion spring "' // trim(self%name) // &
+            '": torque ' // to_str(state%torque) // ' N m at t = ' // to_str(t) // &
+            ' s (angle ' // to_str(state%angle) // ' rad); a torsion spring needs finite ' // &
+            'joint frames')
+      else if (present(K) .and. present(C)) then
+         call torsion_tangents(self, state, body_a, q_a, v_a, body_b, q_b, v_b, K, C)
+      else if (present(Q)) then
+         call marker_pair_forces(body_a, q_a, self%marker_a, body_b, q_b, self%marker_b, &
+            [0.0_dp, 0.0_dp, 0.0_dp], -state%torque * state%axis, Q(:size(q_a)), &
+            Q(size(q_a) + 1:))
+      end if
+   end subroutine torsion_terms
 
    !> Angle, rate and torque of `spring` at the bodies' states (q_a, v_a; q_b, v_b: the bodies'
    !> own coordinates, empty for the ground).
@@ -110,11 +148,8 @@ contains
       n = na + size(q_b)
       v = [v_a, v_b]
       zero = 0.0_dp
-      S = 0.0_dp
-      Z = 0.0_dp
+      ! S, Z, ds and dc are set column by column below (a's columns, then b's); B block by block
       B = 0.0_dp
-      ds = 0.0_dp
-      dc = 0.0_dp
       frame_a = body_a%marker_orientation(q_a, spring%marker_a)
       frame_b = body_b%marker_orientation(q_b, spring%marker_b)
       x_b = frame_b(:, 1)
