@@ -73,7 +73,7 @@ contains
             virtual_positions(built%modes), error)
          call times%add(name // ': inertia invariants', timer%seconds())
          if (.not. allocated(error)) call add_framed_markers(list, size(resolved%interfaces), &
-            flexible, error)
+            flexible, error, case_model%mechanism%markers, built%modes)
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
