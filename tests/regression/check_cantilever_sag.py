@@ -125,9 +125,10 @@ def write_static_deck(msh, mat, path, point_loads=None):
     return np.array([nodes[n] for n in tip]), tip
 
 
-def ccx_tip_sag(msh, mat, x_v, ccx, work, point_loads=None):
+def ccx_tip_sag(msh, mat, x_v, ccx, work, point_loads=None, rotation=False):
     """The RBE3 (uniform weights) mean y displacement of CalculiX's tip face, downwards (under
-    gravity, or the point loads of write_static_deck)."""
+    gravity, or the point loads of write_static_deck); with rotation, also the RBE3 rotation
+    (3,) of the face."""
     os.makedirs(work, exist_ok=True)
     deck = os.path.join(work, "cantilever_static")
     xyz, tip = write_static_deck(msh, mat, deck + ".inp", point_loads)
@@ -144,7 +145,8 @@ def ccx_tip_sag(msh, mat, x_v, ccx, work, point_loads=None):
     if missing:
         sys.exit(f"check_cantilever_sag: ccx printed no displacement for tip nodes {missing[:5]}")
     g = rbe3_matrix(xyz, np.ones(len(tip)), x_v)
-    return -(g @ np.concatenate([u[n] for n in tip]))[1]
+    q_v = g @ np.concatenate([u[n] for n in tip])
+    return (-q_v[1], q_v[3:]) if rotation else -q_v[1]
 
 
 def main():

@@ -16,6 +16,10 @@ usage: check_mesh_markers.py DRIVER MESH_DIR WORK_DIR [--ccx CCX]
    as modes are added: |w_n / w_K - 1| must fall strictly from run to run and be <= FE_TOL with
    16 modes. The basis holds no static correction for the tip (the tip is no interface), so the
    truncation error falls with the modes as the clamped bar's modal series does (see FE_TOL).
+   Likewise the face's rotation about z from the marker's orientation sensor against CalculiX's
+   RBE3 rotation (G u)_Rz: falling, <= SLOPE_TOL with 16 modes.
+   A node has no rotation dofs: the orientation sensor of a node marker with an orientation C
+   equals the body frame (clamped: the identity) times C, to FRAME_TOL, every step.
 2. Position (second method): the node marker's position sensor equals the node_position sensor
    of the same node, every recorded step, to POSITION_TOL (two computations of R + A (x + Psi
    zeta): the marker's virtual-node rows and the sensor's mode rows).
@@ -50,6 +54,14 @@ MODES = (4, 8, 16)
 # static correction in the basis; the bound is twice the last
 FE_TOL = 4.0e-4
 POSITION_TOL = 1.0e-13   # m; measured 1.7e-16
+# the face's RBE3 rotation about z (the marker frame's, exp(phi~) with phi = Psi_Pr zeta) against
+# CalculiX's G u: measured 3.06e-2, 8.0e-3, 3.5e-3 at 4, 8, 16 modes (a rotation converges more
+# slowly than the deflection); the bound is twice the last
+SLOPE_TOL = 7.0e-3
+FRAME_TOL = 1.0e-9
+# the node marker's orientation C (by rows 0 -1 0, 1 0 0, 0 0 1), as the 9 sensor values (axis
+# by axis)
+TURNED = np.array([0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0])
 # D / gross work measured 6.2e-5 at h = 1e-4 s, D(h/2) / D(h) = 0.250: the O(h^2) quadrature
 # error of the trapezoidal W (docs/results.md "Energy balance")
 ENERGY_TOL = 1.0e-4
@@ -64,6 +76,7 @@ SCENE = """&run title = 'cantilever: markers at mesh points' /
 &marker body = 'ground', name = 'clamp', position = 0, 0, 0 /
 &marker body = 'bar', name = 'tip_face', group = 'tip' /
 &marker body = 'bar', name = 'axis_tip', node = {node} /
+&marker body = 'bar', name = 'axis_tip_turned', node = {node}, orientation = 0, -1, 0, 1, 0, 0, 0, 0, 1 /
 &joint name = 'clamp', type = 'fixed', body1 = 'ground', marker1 = 'clamp',
        body2 = 'bar', marker2 = 'root' /
 &integrator h = {h}, t_end = {t_end}, rho_inf = 0.9 /
@@ -72,6 +85,8 @@ SCENE = """&run title = 'cantilever: markers at mesh points' /
 &sensor name = 'axis_tip', type = 'position', body = 'bar', marker = 'axis_tip' /
 &sensor name = 'axis_tip_velocity', type = 'velocity', body = 'bar', marker = 'axis_tip' /
 &sensor name = 'axis_tip_node', type = 'node_position', body = 'bar', node = {node} /
+&sensor name = 'tip_face_frame', type = 'orientation', body = 'bar', marker = 'tip_face' /
+&sensor name = 'axis_tip_turned', type = 'orientation', body = 'bar', marker = 'axis_tip_turned' /
 """
 STATIC_LOAD = ("&load name = 'tip', type = 'force', body = 'bar', marker = 'tip_face', "
                f"direction = 0, -1, 0, value = {FORCE} /")
@@ -123,7 +138,7 @@ def main():
     node = axis_tip_tag(msh)
     print(f"node marker at tag {node} (x = L on the axis)")
     ok = True
-    sags, position_err = [], 0.0
+    sags, slopes, position_err, frame_err = [], [], 0.0, 0.0
     for modes in MODES:
         path = run(args.driver, args.mesh_dir, args.work, f"static_modes{modes}", modes=modes,
                    damping=0.95, node=node, h=1.0e-3, t_end=0.1, load=STATIC_LOAD)
@@ -133,6 +148,12 @@ def main():
             position_err = max(position_err, float(np.abs(h5["sensors/axis_tip"][()] -
                                                           h5["sensors/axis_tip_node"][()]).max()))
             mat = material(h5)
+            x_axis = h5["sensors/tip_face_frame"][-1, 0:3]
+            # a node has no rotation dofs: the turned frame is the body frame's (clamped: the
+            # identity but for the joint's tolerance) times its orientation C, at every step
+            turned = h5["sensors/axis_tip_turned"][()]
+            frame_err = max(frame_err, float(np.abs(turned - TURNED).max()))
+        slopes.append(np.arctan2(x_axis[1], x_axis[0]))
         status = status.decode() if isinstance(status, bytes) else str(status)
         sag = -(y[-1] - y[0])
         tail = np.abs(y[int(0.9 * len(y)):] - y[-1]).max()
@@ -141,6 +162,7 @@ def main():
         ok &= status == "complete" and check(f"{modes} modes at rest", tail / sag, REST_TOL)
         sags.append(sag)
     ok &= check("node marker position - node_position sensor (m)", position_err, POSITION_TOL)
+    ok &= check("node marker frame - body frame x orientation C", frame_err, FRAME_TOL)
     reused = run(args.driver, args.mesh_dir, args.work, "static_reused", modes=MODES[-1],
                  damping=0.95, node=node, h=1.0e-3, t_end=0.1, load=STATIC_LOAD,
                  extra=f", modes_file = '{path}'")
@@ -158,8 +180,18 @@ def main():
             f = (g.T @ np.array([0.0, -FORCE, 0.0, 0.0, 0.0, 0.0])).reshape(-1, 3)
             return dict(enumerate(f))
 
-        w_k = ccx_tip_sag(msh, mat, x_v, args.ccx, os.path.join(args.work, "ccx"), rbe3_loads)
-        print(f"CalculiX K u = G^T f on the same mesh: w_K = {w_k:.9e} m")
+        w_k, rotation = ccx_tip_sag(msh, mat, x_v, args.ccx, os.path.join(args.work, "ccx"),
+                                    rbe3_loads, rotation=True)
+        print(f"CalculiX K u = G^T f on the same mesh: w_K = {w_k:.9e} m, face rotation about "
+              f"z {rotation[2]:.9e} rad")
+        slope_errors = [abs(s / rotation[2] - 1) for s in slopes]
+        for modes, err in zip(MODES, slope_errors):
+            print(f"  face rotation at {modes} modes: |theta_n/theta_K - 1| = {err:.3e}")
+        if not all(b < a for a, b in zip(slope_errors, slope_errors[1:])):
+            print(f"FAIL the rotation's error does not fall with the modes: {slope_errors}")
+            ok = False
+        ok &= check(f"face rotation |theta/theta_K - 1| at {MODES[-1]} modes", slope_errors[-1],
+                    SLOPE_TOL)
         errors = [abs(s / w_k - 1) for s in sags]
         for modes, err in zip(MODES, errors):
             print(f"  modal truncation at {modes} modes: |w_n/w_K - 1| = {err:.3e}")
