@@ -117,3 +117,5 @@ ffrf_error_case(marker_flexible_unplaced 2 "&marker \"P\": body \"crank\" has a 
   "${_held}\n&marker body = 'crank', name = 'P', position = 0, 0, 0 /")
 ffrf_error_case(marker_joint_at_point 2 "&joint \"hold\": marker \"P\" of the flexible body \"crank\" is a node or group marker .*declare the group as an &interface and join there"
   "${_held}\n&marker body = 'crank', name = 'P', group = 'B1' /\n&marker body = 'ground', name = 'q', position = 0, 0, 0 /\n&joint name = 'hold', type = 'spherical', body1 = 'ground', marker1 = 'q', body2 = 'crank', marker2 = 'P' /" --check)
+ffrf_error_case(marker_weighting_word 2 "marker_weighting_word\\.nml:5: &marker weighting = 'areas': not allowed. weighting is one of uniform, area, area_consistent"
+  "${_held}\n&marker body = 'crank', name = 'P', group = 'B1', weighting = 'areas' /\n${_push}" --check)
