@@ -60,9 +60,10 @@ set_tests_properties(regression_spatial_pendulum_values PROPERTIES
 # Markers at mesh points of a flexible body (&marker node, group; docs/mechanisms.md "Markers at
 # mesh points"), on the clamped cantilever (mesh cantilever): a static tip load at the tip face's
 # RBE3 marker with 4, 8 and 16 modes against CalculiX's K u = G^T f of the same mesh (where ccx is
-# installed), the node marker's position against the node_position sensor, and the energy
-# balance of a load over time at the node marker; check_mesh_markers.py writes and runs the
-# cases. About 3 x 0.5 s + 1 s of CPU, and 0.4 s for CalculiX.
+# installed), the node marker's position and frame against the node_position sensor and the body
+# frame, mode reuse, and the energy balance of a load over time at the node marker, alone and
+# with a spring and a bushing at the markers; check_mesh_markers.py writes and runs the cases.
+# About 10 s of wall time (8 short runs and CalculiX).
 set(_markers_args "")
 if(CCX_EXECUTABLE)
   set(_markers_args --ccx ${CCX_EXECUTABLE})
