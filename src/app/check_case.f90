@@ -154,8 +154,8 @@ contains
       type(model_t), intent(in) :: model
       type(mesh_t), intent(in) :: body_mesh
       type(error_t), allocatable, intent(out) :: error
-      type(mesh_point_t) :: point
       integer :: m
+      type(mesh_point_t) :: point
       do m = 1, size(model%mechanism%markers)
          associate (marker => model%mechanism%markers(m))
             if (marker%body /= k) cycle
