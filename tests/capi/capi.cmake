@@ -201,13 +201,13 @@ set_tests_properties(capi_node_sets PROPERTIES LABELS "capi;rbe3"
   ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
 
 # Markers at mesh points through the C API (test_capi_mesh_markers.c): the cantilever of
-# tests/data/mesh_markers/cantilever_tip_load.nml, and the same without its &load (the force set
+# input/cantilever_tip_load.nml, and the same without its &load (the force set
 # by ffrf_marker_set_load)
-file(READ "${PROJECT_SOURCE_DIR}/tests/data/mesh_markers/cantilever_tip_load.nml" _text)
+file(READ "${PROJECT_SOURCE_DIR}/input/cantilever_tip_load.nml" _text)
 ffrf_replace(_text "&load name = 'tip', type = 'force', body = 'bar', marker = 'tip_face', direction = 0, -1, 0, value = 10.0 /\n" "")
 file(WRITE "${_capi_out}/cantilever_tip_free.nml" "${_text}")
 add_test(NAME capi_mesh_markers COMMAND test_capi_mesh_markers
-  "${PROJECT_SOURCE_DIR}/tests/data/mesh_markers/cantilever_tip_load.nml"
+  "${PROJECT_SOURCE_DIR}/input/cantilever_tip_load.nml"
   "${_capi_out}/cantilever_tip_free.nml" "${PROJECT_BINARY_DIR}/meshes")
 set_tests_properties(capi_mesh_markers PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
   FIXTURES_REQUIRED cantilever_mesh)
