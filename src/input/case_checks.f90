@@ -257,6 +257,13 @@ contains
             call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'name') // &
                ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has an ' // &
                '&interface of that name; name the marker apart')
+         else if (m%node > 0 .and. any(len_trim(case%motions(body_index(case, m%body))% &
+            coarse_meshes) > 0)) then
+            ! the automatic model may take a coarse mesh, whose node tags are other points
+            call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'node') // &
+               ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has ' // &
+               'coarse_meshes, whose node tags are other points; place the marker by ' // &
+               'group = ''<a physical surface>'' or drop coarse_meshes')
          end if
       end subroutine check_point_marker
    end procedure check_mechanism_names
