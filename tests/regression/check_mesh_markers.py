@@ -79,7 +79,8 @@ SCENE = """&run title = 'cantilever: markers at mesh points' /
 &marker body = 'ground', name = 'clamp', position = 0, 0, 0 /
 &marker body = 'bar', name = 'tip_face', group = 'tip' /
 &marker body = 'bar', name = 'axis_tip', node = {node} /
-&marker body = 'bar', name = 'axis_tip_turned', node = {node}, orientation = 0, -1, 0, 1, 0, 0, 0, 0, 1 /
+&marker body = 'bar', name = 'axis_tip_turned', node = {node},
+        orientation = 0, -1, 0, 1, 0, 0, 0, 0, 1 /
 &joint name = 'clamp', type = 'fixed', body1 = 'ground', marker1 = 'clamp',
        body2 = 'bar', marker2 = 'root' /
 &integrator h = {h}, t_end = {t_end}, rho_inf = 0.9 /
