@@ -129,8 +129,9 @@ int ffrf_body_state(const ffrf_case *c, int body, double *q, double *v, int capa
                     int *count);
 
 /* Number of markers of a body (flexible: its interfaces in input order, then one per joint end
- * whose frame is not the interface's node frame; rigid: one per joint end and load that uses
- * its &marker points). */
+ * whose frame is not the interface's node frame and one per node or group marker (&marker
+ * node, group) that a load, spring, bushing or sensor uses; rigid: one per joint end and load
+ * that uses its &marker points). */
 int ffrf_marker_count(const ffrf_case *c, int body, int *n);
 
 /* Global position (m), velocity (m/s) and angular velocity (rad/s) of a marker. Any of the

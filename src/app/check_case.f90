@@ -1,14 +1,15 @@
 !> `ffrf --check`: everything of a case that can be checked without computing modes or
 !> integrating: the case text (ffrf_input_case), every flexible body's mesh and coarse meshes (read,
 !> the body's volumes extracted, its interfaces built: nodes, weights, virtual node, reference
-!> conditions parsed), the meshes of rigid bodies that take their mass from a mesh, and the
-!> pressure model or table of an engine, and the stored modes of a body with &body modes_file
-!> (read and checked against the body's fingerprint by the run's own check, check_stored_modes).
-!> Meant for quick validation, e.g. by a fuzzer: no results file is written and no matrix is
-!> assembled. What a mechanism run would refuse only after the modes is refused here too:
-!> rho_inf = 1 (generalized-alpha refuses it with constraints, and every mechanism has its joints
-!> and Euler rows: ffrf_mbs_generalized_alpha). Gravity is accepted on every body kind (rigid and
-!> flexible, docs/theory.md 3.6), so there is nothing about it to refuse.
+!> conditions parsed; its node and group markers placed on it), the meshes of rigid bodies that
+!> take their mass from a mesh, and the pressure model or table of an engine, and the stored
+!> modes of a body with &body modes_file (read and checked against the body's fingerprint by the
+!> run's own check, check_stored_modes). Meant for quick validation, e.g. by a fuzzer: no results
+!> file is written and no matrix is assembled. What a mechanism run would refuse only after the
+!> modes is refused here too: rho_inf = 1 (generalized-alpha refuses it with constraints, and
+!> every mechanism has its joints and Euler rows: ffrf_mbs_generalized_alpha). Gravity is
+!> accepted on every body kind (rigid and flexible, docs/theory.md 3.6), so there is nothing
+!> about it to refuse.
 module ffrf_app_check_case
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, add_context, fatal_error, FFRF_INPUT_ERROR
@@ -19,6 +20,7 @@ module ffrf_app_check_case
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_gmsh, only: read_gmsh
    use ffrf_mpc_interface, only: interface_t, build_interface
+   use ffrf_mpc_mesh_point, only: mesh_point_t, build_mesh_point
    use ffrf_model_model, only: model_t, model_body_t, build_model
    use ffrf_app_run_options, only: run_options_t, set_log_level
    use ffrf_app_output_paths, only: check_output_paths
@@ -82,6 +84,8 @@ contains
             do f = 1, size(files)
                call check_body_mesh(model%bodies(k), join_path(mesh_dir, trim(files(f))), &
                   flexible, log, body_mesh, interfaces, error)
+               if (.not. allocated(error) .and. flexible) call check_mesh_points(k, model, &
+                  body_mesh, error)
                if (allocated(error)) exit
             end do
             ! the body's own mesh (the last file) for the modes taken from a file
@@ -142,6 +146,28 @@ contains
             ' tetrahedra')
       end associate
    end subroutine check_body_mesh
+
+   !> The node and group markers of model body k (&marker node, group) on its mesh, as the run
+   !> builds them (ffrf_mpc_mesh_point): an unknown node tag or physical surface fails here.
+   subroutine check_mesh_points(k, model, body_mesh, error)
+      integer, intent(in) :: k
+      type(model_t), intent(in) :: model
+      type(mesh_t), intent(in) :: body_mesh
+      type(error_t), allocatable, intent(out) :: error
+      integer :: m
+      type(mesh_point_t) :: point
+      do m = 1, size(model%mechanism%markers)
+         associate (marker => model%mechanism%markers(m))
+            if (marker%body /= k) cycle
+            call build_mesh_point(body_mesh, marker%node, marker%group, marker%weighting, &
+               point, error)
+            if (allocated(error)) then
+               call add_context(error, '&marker "' // trim(marker%name) // '"')
+               return
+            end if
+         end associate
+      end do
+   end subroutine check_mesh_points
 
    !> &body modes_file: read the body's stored modes and check them as the run does
    !> (check_stored_modes): a missing or unreadable file, no modes of the body, or modes computed

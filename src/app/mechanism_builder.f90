@@ -26,7 +26,10 @@
 !> add_marker: frame A(theta) exp(phi~) C), so a joint at a flexible interface takes any axis;
 !> with the axis along A e_z (or a spherical joint) the interface's marker, the node frame,
 !> serves as before. A &marker orientation (rigid bodies and the ground) gives a joint its frame
-!> instead of the axis (resolve_markers).
+!> instead of the axis (resolve_markers). A flexible body's &marker with node or group (a mesh
+!> point that is no interface) is a further virtual node (flexible_body_t add_point, rows G Psi_B
+!> of ffrf_mpc_mesh_point) with a marker of the body's axes, or of its orientation: loads,
+!> springs, bushings and sensors take it, joints do not (ffrf_model_model refuses them).
 module ffrf_app_mechanism_builder
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
@@ -43,8 +46,8 @@ module ffrf_app_mechanism_builder
    use ffrf_app_body_modes, only: compute_body_modes_from_file, reuse_body_modes
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME
-   use ffrf_model_mechanism, only: model_joint_t, model_load_t, LOAD_PRESSURE, LOAD_STARTER, &
-      LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
+   use ffrf_model_mechanism, only: model_joint_t, model_load_t, model_marker_t, LOAD_PRESSURE, &
+      LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    use ffrf_mbs_joints, only: JOINT_SPHERICAL
    use ffrf_mbs_rotation, only: identity3, frame_from_axis, euler_from_rotation, euler_g
    use ffrf_mbs_flexible_body, only: flexible_body_t
@@ -82,12 +85,15 @@ module ffrf_app_mechanism_builder
    end type built_body_t
 
    !> Marker requests of one rigid body or the ground: position (body frame) and frame; of one
-   !> flexible body: the markers after its interfaces', each an interface (nodes) and a frame C.
+   !> flexible body: the markers after its interfaces', each a virtual node (nodes) and a frame
+   !> C, and its node and group markers (points: model marker indices), virtual nodes after the
+   !> interfaces' in this order.
    type :: marker_list_t
       character(len=64), allocatable :: names(:)
       real(dp), allocatable :: xyz(:, :)
       real(dp), allocatable :: frames(:, :, :)
       integer, allocatable :: nodes(:)
+      integer, allocatable :: points(:)
    end type marker_list_t
 
    interface
@@ -154,13 +160,18 @@ module ffrf_app_mechanism_builder
          real(dp) :: xyz(3, size(modes%interfaces))
       end function virtual_positions
 
-      !> The framed markers of a flexible body (resolve_markers), after its interfaces' markers.
-      module subroutine add_framed_markers(list, num_interfaces, flexible, error)
+      !> The framed markers of a flexible body (resolve_markers), after its interfaces' markers;
+      !> first the virtual nodes of its node and group markers (list%points).
+      module subroutine add_framed_markers(list, num_interfaces, flexible, error, markers, modes)
          type(marker_list_t), intent(in) :: list
          !> Number of the body's interfaces (markers 1..num_interfaces)
          integer, intent(in) :: num_interfaces
          type(flexible_body_t), intent(inout) :: flexible
          type(error_t), allocatable, intent(out) :: error
+         !> The case's &marker groups, resolved (node, group, weighting of list%points)
+         type(model_marker_t), intent(in) :: markers(:)
+         !> The body's modal results: mesh and mode shapes
+         type(body_modes_t), intent(in) :: modes
       end subroutine add_framed_markers
 
       module subroutine add_joints(resolved, bodies, ground_index, ends, mech, error)
@@ -294,7 +305,7 @@ contains
       allocate (bodies(nb), lists(0:nb))
       do k = 0, nb
          allocate (lists(k)%names(0), lists(k)%xyz(3, 0), lists(k)%frames(3, 3, 0), &
-            lists(k)%nodes(0))
+            lists(k)%nodes(0), lists(k)%points(0))
       end do
       has_pressure = resolved%mechanism%has_pressure
       if (has_pressure) then

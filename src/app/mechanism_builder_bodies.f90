@@ -73,7 +73,7 @@ contains
             virtual_positions(built%modes), error)
          call times%add(name // ': inertia invariants', timer%seconds())
          if (.not. allocated(error)) call add_framed_markers(list, size(resolved%interfaces), &
-            flexible, error)
+            flexible, error, case_model%mechanism%markers, built%modes)
          if (.not. allocated(error) .and. motion%modal_damping > 0.0_dp .and. &
             built%num_modes > 0) call flexible%set_modal_damping([motion%modal_damping], error)
          if (.not. allocated(error) .and. resolved%body%geometric_stiffness) then
@@ -91,9 +91,17 @@ contains
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
             to_str(flexible%num_markers) // ' interface marker(s)' // &
             trim(merge(', geometric stiffness', '                     ', &
-            allocated(flexible%geometric_stiffness))))
+            allocated(flexible%geometric_stiffness))) // mesh_point_count(size(list%points)))
       end associate
    end procedure add_body
+
+   !> ', n at mesh points' for the log when a flexible body has n > 0 node or group markers.
+   pure function mesh_point_count(n) result(text)
+      integer, intent(in) :: n
+      character(len=:), allocatable :: text
+      text = ''
+      if (n > 0) text = ', ' // to_str(n) // ' at mesh points'
+   end function mesh_point_count
 
    !> The modal geometric stiffness of the centrifugal load cases for a flexible body.
    subroutine add_geometric_stiffness(input, modes, K, M, log, times, flexible, error)

@@ -1,6 +1,7 @@
 !> The markers of a mechanism being built (ffrf_app_mechanism_builder, header "Markers and joint
 !> frames"): joint, load, sensor and force-element ends resolved to body markers and frames.
 submodule (ffrf_app_mechanism_builder) ffrf_app_mechanism_builder_markers
+   use ffrf_mpc_mesh_point, only: mesh_point_t, build_mesh_point
    implicit none
 
 contains
@@ -100,7 +101,7 @@ contains
          real(dp), intent(in) :: frame(3, 3)
          logical, intent(in) :: joint_end, node_frame
          integer, intent(out) :: marker
-         integer :: k
+         integer :: k, node, n_if
          real(dp) :: local(3, 3)
          local = frame
          if (joint_end .and. b > 0) then
@@ -109,16 +110,32 @@ contains
          end if
          if (b > 0) then
             if (.not. resolved%bodies(b)%rigid) then
-               marker = handle
-               if (node_frame) return
+               n_if = size(resolved%bodies(b)%interfaces)
+               node = handle
+               if (handle > n_if) then
+                  ! a node or group marker (&marker handle - n_if): the virtual node after the
+                  ! interfaces' of its point, the body axes or its &marker orientation
+                  node = findloc(lists(b)%points, handle - n_if, dim=1)
+                  if (node == 0) then
+                     lists(b)%points = [lists(b)%points, handle - n_if]
+                     node = size(lists(b)%points)
+                  end if
+                  node = n_if + node
+                  associate (point => resolved%mechanism%markers(handle - n_if))
+                     if (point%oriented) local = point%orientation
+                  end associate
+               else
+                  marker = handle
+                  if (node_frame) return
+               end if
                do k = 1, size(lists(b)%nodes)
-                  if (lists(b)%nodes(k) == handle .and. maxval(abs(lists(b)%frames(:, :, k) - &
+                  if (lists(b)%nodes(k) == node .and. maxval(abs(lists(b)%frames(:, :, k) - &
                      local)) < 1.0e-12_dp) then
-                     marker = size(resolved%bodies(b)%interfaces) + k
+                     marker = n_if + k
                      return
                   end if
                end do
-               lists(b)%nodes = [lists(b)%nodes, handle]
+               lists(b)%nodes = [lists(b)%nodes, node]
                lists(b)%frames = reshape([lists(b)%frames, local], [3, 3, size(lists(b)%nodes)])
                marker = size(resolved%bodies(b)%interfaces) + size(lists(b)%nodes)
                return
@@ -143,7 +160,36 @@ contains
    end procedure resolve_markers
 
    module procedure add_framed_markers
-      integer :: i, marker
+      type(mesh_point_t) :: point
+      real(dp), allocatable :: rows(:, :)
+      integer :: i, marker, node, c, m
+      m = flexible%num_modes
+      do i = 1, size(list%points)
+         associate (given => markers(list%points(i)))
+            call build_mesh_point(modes%mesh, given%node, given%group, given%weighting, point, &
+               error)
+            if (allocated(error)) then
+               call add_context(error, '&marker "' // trim(given%name) // '"')
+               return
+            end if
+         end associate
+         ! [Psi_Pt; Psi_Pr] = G Psi_B
+         allocate (rows(6, m), source=0.0_dp)
+         do c = 1, size(point%nodes)
+            rows = rows + matmul(point%G(:, 3 * c - 2:3 * c), &
+               modes%shape(3 * point%nodes(c) - 2:3 * point%nodes(c), 1:m))
+         end do
+         call flexible%add_point(rows, point%xyz, node, error)
+         deallocate (rows)
+         if (allocated(error)) return
+         if (node /= num_interfaces + i) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&marker "' // &
+               trim(markers(list%points(i))%name) // '" became virtual node ' // to_str(node) // &
+               ', expected ' // to_str(num_interfaces + i) // ' (the modes have ' // &
+               to_str(node - i) // ' interfaces, the case ' // to_str(num_interfaces) // ')')
+            return
+         end if
+      end do
       do i = 1, size(list%nodes)
          call flexible%add_marker(list%nodes(i), list%frames(:, :, i), marker, error)
          if (allocated(error)) return
@@ -196,20 +242,16 @@ contains
       integer, intent(in) :: node
       type(sensor_t), intent(inout) :: sensor
       type(error_t), allocatable, intent(out) :: error
+      type(mesh_point_t) :: point
       integer :: i
       if (.not. body%meshed .or. .not. allocated(body%modes%mesh%xyz)) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ': the body ' // &
             'has no mesh; measure a body with a mesh_file')
          return
       end if
-      i = node
-      if (allocated(body%modes%mesh%node_tags)) i = findloc(body%modes%mesh%node_tags, &
-         int(node, i8), dim=1)
-      if (i < 1 .or. i > size(body%modes%mesh%xyz, 2)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'node = ' // to_str(node) // ' is not a ' // &
-            'node of the body''s mesh (' // to_str(size(body%modes%mesh%xyz, 2)) // ' nodes)')
-         return
-      end if
+      call build_mesh_point(body%modes%mesh, node, '', 0, point, error)
+      if (allocated(error)) return
+      i = point%nodes(1)
       sensor%node = node
       sensor%node_xyz = body%modes%mesh%xyz(:, i)
       allocate (sensor%node_shape(3, 0))

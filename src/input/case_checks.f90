@@ -107,16 +107,25 @@ contains
          end do
          do k = 1, size(mech%markers)
             associate (m => mech%markers(k))
-               if (m%body == GROUND_NAME) cycle
+               if (m%body == GROUND_NAME .and. m%node == 0 .and. len_trim(m%group) == 0) cycle
+               if (m%body == GROUND_NAME) then
+                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
+                     ': &marker "' // trim(m%name) // '": the ground has no mesh; node and ' // &
+                     'group place a marker on a flexible body''s mesh: give a position instead')
+                  return
+               end if
                if (body_index(case, m%body) == 0) then
                   call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
                      ': &marker "' // trim(m%name) // &
                      '": body "' // trim(m%body) // '" is not a &body of this case (nor ' // &
                      '"ground")')
                else if (case%motions(body_index(case, m%body))%type /= 'rigid') then
+                  call check_point_marker(k, m, error)
+               else if (m%node > 0 .or. len_trim(m%group) > 0) then
                   call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
                      ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // &
-                     '" has a mesh; its markers are its &interface groups (virtual nodes)')
+                     '" is rigid; node and group place a marker on a flexible body''s ' // &
+                     'mesh: give a position instead')
                end if
                if (allocated(error)) return
             end associate
@@ -124,9 +133,10 @@ contains
          do k = 1, size(mech%joints)
             associate (j => mech%joints(k))
                call check_marker(case, src%at('joint', k, 'body1') // ': &joint "' // &
-                  trim(j%name) // '"', j%body1, j%marker1, error)
+                  trim(j%name) // '"', j%body1, j%marker1, error, joint_end=.true.)
                if (.not. allocated(error)) call check_marker(case, src%at('joint', k, 'body2') &
-                  // ': &joint "' // trim(j%name) // '"', j%body2, j%marker2, error)
+                  // ': &joint "' // trim(j%name) // '"', j%body2, j%marker2, error, &
+                  joint_end=.true.)
                if (.not. allocated(error)) call check_joint_axis(src%at('joint', k, 'axis') // &
                   ': &joint "' // trim(j%name) // '"', case, j, error)
                if (allocated(error)) return
@@ -228,6 +238,34 @@ contains
             end if
          end if
       end associate
+
+   contains
+
+      !> A &marker on a flexible body places itself on its mesh: node or group (not both: the
+      !> reader), named apart from the body's interfaces.
+      subroutine check_point_marker(k, m, error)
+         integer, intent(in) :: k
+         type(marker_input_t), intent(in) :: m
+         type(error_t), allocatable, intent(out) :: error
+         if (m%node == 0 .and. len_trim(m%group) == 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
+               ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has a ' // &
+               'mesh; place the marker by node = <a node tag> or group = ''<a physical ' // &
+               'surface>'' (its joint points are its &interface groups)')
+         else if (any(case%interfaces%body == m%body .and. case%interfaces%name == m%name)) &
+            then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'name') // &
+               ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has an ' // &
+               '&interface of that name; name the marker apart')
+         else if (m%node > 0 .and. any(len_trim(case%motions(body_index(case, m%body))% &
+            coarse_meshes) > 0)) then
+            ! the automatic model may take a coarse mesh, whose node tags are other points
+            call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'node') // &
+               ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has ' // &
+               'coarse_meshes, whose node tags are other points; place the marker by ' // &
+               'group = ''<a physical surface>'' or drop coarse_meshes')
+         end if
+      end subroutine check_point_marker
    end procedure check_mechanism_names
 
    !> Distance at the start between two markers of rigid bodies or the ground (&body position +
@@ -374,12 +412,27 @@ contains
    end procedure element_names
 
    !> body is 'ground' or a &body, and marker one of its markers (module header).
-   subroutine check_marker(case, where, body, marker, error)
+   subroutine check_marker(case, where, body, marker, error, joint_end)
       type(case_input_t), intent(in) :: case
       character(len=*), intent(in) :: where, body, marker
       type(error_t), allocatable, intent(out) :: error
+      !> A joint's end: a flexible body's node or group marker is refused (no interface)
+      logical, intent(in), optional :: joint_end
       integer :: b
+      logical :: point
       b = body_index(case, body)
+      point = .false.
+      if (b > 0) point = case%motions(b)%type /= 'rigid' .and. &
+         any(case%mechanism%markers%body == body .and. case%mechanism%markers%name == marker)
+      if (point) then
+         if (present(joint_end)) then
+            if (joint_end) call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker "' // &
+               trim(marker) // '" of the flexible body "' // trim(body) // '" is a node or ' // &
+               'group marker (a load and output point, no interface); a joint needs an ' // &
+               'interface: declare the group as an &interface and join there')
+         end if
+         return
+      end if
       if (body /= GROUND_NAME .and. b == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': body "' // trim(body) // &
             '" is not a &body of this case (bodies: ' // join_words(case%bodies%name, ', ') // &
@@ -394,7 +447,8 @@ contains
          then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': body "' // trim(body) // &
             '" has no interface "' // trim(marker) // '" (the markers of a meshed body are ' // &
-            'its &interface groups: ' // interface_list(case, body) // ')')
+            'its &interface groups: ' // interface_list(case, body) // ', and its &marker ' // &
+            'groups with node or group)')
       end if
    end subroutine check_marker
 

@@ -132,6 +132,11 @@ contains
             ! only when given (old echoes unchanged); 17 digits read back to the same rotation
             if (mech%markers(k)%oriented) text = text // ', orientation = ' // &
                vector_text(reshape(transpose(mech%markers(k)%orientation), [9]), 17)
+            if (mech%markers(k)%node > 0) text = text // ', node = ' // &
+               to_str(mech%markers(k)%node)
+            if (len_trim(mech%markers(k)%group) > 0) text = text // ', group = ''' // &
+               nml_string(mech%markers(k)%group) // ''', weighting = ''' // &
+               nml_string(mech%markers(k)%weighting) // ''''
             text = text // ' /' // nl
          end do
          do k = 1, size(mech%joints)

@@ -85,6 +85,13 @@ module ffrf_input_mechanism
       !> orientation was given: the joints at this marker act between this frame and the
       !> other end's (ffrf_app_mechanism_builder)
       logical :: oriented = .false.
+      !> Flexible body only: a Gmsh node tag of its mesh (the marker moves with the node), 0: none
+      integer :: node = 0
+      !> Flexible body only: a physical group (surface, curve or point) of its mesh, the marker
+      !> at its RBE3 reference point (docs/mechanisms.md "Markers at mesh points"); '': none
+      character(len=64) :: group = ''
+      !> A group marker's RBE3 node weights: a word of weighting_choices (as &interface)
+      character(len=16) :: weighting = 'uniform'
    end type marker_input_t
 
    !> A joint between a marker of body1 and a marker of body2 (&joint).

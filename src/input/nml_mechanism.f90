@@ -2,7 +2,9 @@
 !>   &mechanism   crank, crank_angle_deg, crank_speed [rad/s], gravity [m/s^2], label,
 !>                progress_interval [s], animation_frames                     (optional, single)
 !>   &marker      body, name, position [m, body frame; ground: global], orientation
-!>                [rotation matrix by rows: the marker axes in the body frame]  (repeatable)
+!>                [rotation matrix by rows: the marker axes in the body frame], node, group
+!>                [flexible body: a mesh node, or a physical surface's RBE3 point], weighting
+!>                (repeatable)
 !>   &joint       name, type, body1, marker1, body2, marker2, axis            (repeatable)
 !>   &load        name, type (a word of load_choices), body, marker, direction,
 !>                value, stall_torque, free_speed, switch_off, coefficient    (repeatable)
@@ -46,7 +48,10 @@
 !>               animation_frames integer in 0..1000 (each frame holds a displacement field)
 !>   &marker     position: 3 reals in [-1e4, 1e4] m; orientation: 9 reals in [-1e6, 1e6], a
 !>               rotation (|A A^T - I| <= 1e-9, det A > 0; absent: the joint's axis sets the
-!>               marker frame, docs/mechanisms.md "Joint frames")
+!>               marker frame, docs/mechanisms.md "Joint frames"); node: a Gmsh node tag >= 1
+!>               and group: a physical surface name (flexible body only, one of the two, no
+!>               position: docs/mechanisms.md "Markers at mesh points"); weighting: a group's
+!>               RBE3 weights, a word of weighting_choices (as &interface)
 !>   &joint      type: a word of joint_choices (ffrf_mbs_joints); axis: 3 reals in [-1e6, 1e6],
 !>               not all zero
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or
@@ -93,6 +98,7 @@ module ffrf_input_nml_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
+   use ffrf_input_interface, only: weighting_choices
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
@@ -226,7 +232,9 @@ contains
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('body', 64), string_key('name', 64), &
          real_key('position', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
-         real_key('orientation', -1.0e6_dp, 1.0e6_dp, '', count=9)]
+         real_key('orientation', -1.0e6_dp, 1.0e6_dp, '', count=9), &
+         integer_key('node', 1_i8, int(huge(1), i8)), string_key('group', 64), &
+         choice_key('weighting', 16, choice_words(weighting_choices))]
    end function marker_keys
 
    !> Keys of &joint (module header).

@@ -70,23 +70,28 @@ contains
    module procedure read_marker_groups
       type(marker_input_t) :: defaults
       character(len=64) :: body, name
+      character(len=64) :: group
+      character(len=16) :: weighting
       real(dp) :: position(3), orientation(9)
-      integer :: stat, k
+      integer :: stat, k, node
       character(len=512) :: msg
-      namelist /marker/ body, name, position, orientation
+      namelist /marker/ body, name, position, orientation, node, group, weighting
       allocate (markers(0))
       rewind (unit)
       do
          body = defaults%body
          name = defaults%name
          position = defaults%position
+         node = defaults%node
+         group = defaults%group
+         weighting = defaults%weighting
          ! all zero: not given (a zero matrix is no rotation)
          orientation = 0.0_dp
          read (unit, nml=marker, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          if (stat /= 0) then
             call namelist_read_error(error, 'marker', size(markers) + 1, msg, &
-               'body, name, position, orientation')
+               'body, name, position, orientation, node, group, weighting')
             return
          end if
          k = size(markers) + 1
@@ -100,15 +105,28 @@ contains
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" is given twice')
             return
          end if
+         if (node > 0 .and. len_trim(group) > 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'group') // &
+               ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives node ' // &
+               'and group; give one (a mesh node, or the centre of a physical group)')
+            return
+         end if
+         if ((node > 0 .or. len_trim(group) > 0) .and. any(position /= 0.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'position') // &
+               ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives a ' // &
+               'position and a node or group, which places it; drop the position')
+            return
+         end if
          if (any(orientation /= 0.0_dp)) then
             call check_rotation(transpose(reshape(orientation, [3, 3])), &
                src%where('marker', k, 'orientation') // ': marker "' // trim(name) // &
                '" of body "' // trim(body) // '": the orientation', error)
             if (allocated(error)) return
             markers = [markers, marker_input_t(body, name, position, &
-               transpose(reshape(orientation, [3, 3])), .true.)]
+               transpose(reshape(orientation, [3, 3])), .true., node, group, to_lower(weighting))]
          else
-            markers = [markers, marker_input_t(body, name, position)]
+            markers = [markers, marker_input_t(body, name, position, node=node, group=group, &
+               weighting=to_lower(weighting))]
          end if
       end do
    end procedure read_marker_groups

@@ -31,7 +31,10 @@
 !> constant, so the position, the angular velocity (L_w) and the generalized force are the
 !> node's; the axes b_j = exp(phi~) C e_j enter the axis Jacobians exactly (d b / d phi =
 !> -b~ T(phi)) and the Hessian through the weights w_axes C^T. C = I takes no product (the
-!> interface markers' numbers are unchanged by it, bit for bit).
+!> interface markers' numbers are unchanged by it, bit for bit). add_point adds a virtual node at
+!> a mesh point that is no interface (a node or a physical surface's RBE3 point, no stiffness
+!> and no constraint: docs/mechanisms.md "Markers at mesh points") whose rows G Psi_B follow the
+!> interfaces'; its markers (add_marker) then move and carry loads as the interfaces' do.
 !>
 !> Geometric (centrifugal) stiffening, optional (set_geometric_stiffness; linear modal FFRF
 !> without it). The modal stiffness of the spinning body becomes K_ff + K_G(omega_bar),
@@ -111,6 +114,8 @@ module ffrf_mbs_flexible_body
       procedure :: set_modal_damping => flexible_body_set_modal_damping
       !> A further marker at a virtual node with a constant orientation C (joint frames)
       procedure :: add_marker => flexible_body_add_marker
+      !> A further virtual node at a mesh point that is no interface (its mode rows given)
+      procedure :: add_point => flexible_body_add_point
       !> Turn on the geometric stiffening with the K_G^(c) of the six centrifugal load cases
       procedure :: set_geometric_stiffness => flexible_body_set_geometric_stiffness
       procedure :: mass_matrix => flexible_body_mass_matrix
@@ -183,6 +188,21 @@ module ffrf_mbs_flexible_body
          integer, intent(out) :: marker
          type(error_t), allocatable, intent(out) :: error
       end subroutine flexible_body_add_marker
+
+      !> Add virtual node size(virtual_xyz, 2) + 1 at a mesh point that is no interface (a node,
+      !> or a physical surface's RBE3 point: ffrf_mpc_mesh_point), its rows [Psi_Pt; Psi_Pr] =
+      !> G Psi_B of the modes; add_marker then places markers there. No marker is added: the
+      !> interfaces' marker numbers are unchanged.
+      module subroutine flexible_body_add_point(self, rows, xyz, node, error)
+         class(flexible_body_t), intent(inout) :: self
+         !> Mode rows of the point (6, m): translation, then the small rotation vector
+         real(dp), intent(in) :: rows(:, :)
+         !> The point in the body frame (m)
+         real(dp), intent(in) :: xyz(3)
+         !> Number of the new virtual node
+         integer, intent(out) :: node
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine flexible_body_add_point
 
       !> Modal damping D_ff = diag(2 xi_j omega_j).
       module subroutine flexible_body_set_modal_damping(self, damping_ratio, error)

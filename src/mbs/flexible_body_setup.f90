@@ -132,6 +132,28 @@ contains
       self%framed = [self%framed, any(frame /= identity3())]
    end procedure flexible_body_add_marker
 
+   module procedure flexible_body_add_point
+      real(dp), allocatable :: grown(:, :)
+      node = 0
+      if (size(rows, 1) /= 6 .or. size(rows, 2) /= self%num_modes) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body point: mode rows ' // &
+            to_str(size(rows, 1)) // ' x ' // to_str(size(rows, 2)) // ' for ' // &
+            to_str(self%num_modes) // ' modes; pass 6 rows (Tx..Rz) per mode')
+         return
+      end if
+      if (.not. (all(ieee_is_finite(rows)) .and. all(ieee_is_finite(xyz)))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'flexible body point: NaN or Inf in its ' // &
+            'mode rows or position')
+         return
+      end if
+      node = size(self%virtual_xyz, 2) + 1
+      allocate (grown(6 * node, self%num_modes))
+      grown(:6 * node - 6, :) = self%virtual_shapes
+      grown(6 * node - 5:, :) = rows
+      call move_alloc(grown, self%virtual_shapes)
+      self%virtual_xyz = reshape([self%virtual_xyz, xyz], [3, node])
+   end procedure flexible_body_add_point
+
    !> M = Ms (x) I3: M applied to p (x) e_c (p a fixed node field) has only c-components, the
    !> same for c = 1, 2, 3, to 1e-12 relative. Else the invariants would not be exact under A.
    subroutine check_scalar_mass(M, n, error)

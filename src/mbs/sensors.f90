@@ -29,8 +29,9 @@
 !> |                  | ffrf_mbs_bushing)                                          |          |
 !>
 !> A marker is any marker of a body: a rigid body's or the ground's &marker point, a flexible
-!> body's interface virtual node (its elastic motion included: r_k, L_r and L_w are the
-!> body's own marker functions). (d L_r / dt) v is the central difference of L_r(q + s v) v in
+!> body's interface virtual node or mesh point (a node, or a physical surface's RBE3 point:
+!> flexible_body_t add_point) (its elastic motion included: r_k, L_r and L_w are the body's
+!> own marker functions). (d L_r / dt) v is the central difference of L_r(q + s v) v in
 !> s (s = eps**(1/3) relative): exact but for round-off on rigid bodies (L_r is quadratic in
 !> the Euler parameters), O(s^2) on flexible ones. A mesh node's rows Psi_n of the mode shapes
 !> (3 x num_modes) and its position x_n in the body frame are given by the application that

@@ -4,6 +4,8 @@
 !> &model selection word SELECTION_*; body names become model body indices (0: the ground) and
 !> marker names marker handles: a flexible body's interface index (model_body_t%interfaces), or
 !> for a rigid body and the ground the index of its &marker group (mechanism_model_t%markers).
+!> A flexible body's node or group marker (&marker node, group) has the handle n_I + k, n_I
+!> the body's number of interfaces and k its &marker index (no joint takes it).
 !> The words were checked by the readers (src/input/, with FILE:LINE); an unknown one here comes
 !> from a case built in memory and is an input error listing the valid words.
 module ffrf_model_mechanism
@@ -19,6 +21,7 @@ module ffrf_model_mechanism
    use ffrf_mbs_time_function, only: time_function_t
    use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_bushing, only: bushing_t
+   use ffrf_mpc_interface, only: WEIGHTING_UNIFORM
    implicit none
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
@@ -40,6 +43,12 @@ module ffrf_model_mechanism
       !> &marker orientation (marker axes in the body frame; ground: global), when oriented
       real(dp) :: orientation(3, 3) = 0.0_dp
       logical :: oriented = .false.
+      !> Flexible body: the mesh node (Gmsh tag; 0: none) or physical group ('': none) that
+      !> places the marker (docs/mechanisms.md "Markers at mesh points")
+      integer :: node = 0
+      character(len=64) :: group = ''
+      !> A group marker's RBE3 node weights (WEIGHTING_* of ffrf_mpc_interface)
+      integer :: weighting = WEIGHTING_UNIFORM
    end type model_marker_t
 
    !> A joint (&joint), resolved.

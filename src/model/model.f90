@@ -21,6 +21,8 @@ module ffrf_model_model
       load_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
+   use ffrf_core_choices, only: choice_kind
+   use ffrf_input_interface, only: weighting_choices
    implicit none
    private
    public :: model_body_t, model_t, build_model, body_spec_of
@@ -126,7 +128,11 @@ contains
          do k = 1, size(input%markers)
             m%markers(k) = model_marker_t(model%body_index(input%markers(k)%body), &
                input%markers(k)%name, input%markers(k)%position, input%markers(k)%orientation, &
-               input%markers(k)%oriented)
+               input%markers(k)%oriented, input%markers(k)%node, input%markers(k)%group)
+            call choice_kind(weighting_choices, '&marker "' // trim(input%markers(k)%name) // &
+               '": weighting', 'known', input%markers(k)%weighting, m%markers(k)%weighting, &
+               error)
+            if (allocated(error)) return
          end do
          do k = 1, size(input%joints)
             associate (joint => m%joints(k), given => input%joints(k))
@@ -137,6 +143,7 @@ contains
                   joint%body(1), joint%marker(1), error)
                if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
                   joint%body(2), joint%marker(2), error)
+               if (.not. allocated(error)) call refuse_point_end(joint%body, joint%marker, error)
                if (allocated(error)) then
                   call add_context(error, '&joint "' // trim(given%name) // '"')
                   return
@@ -355,8 +362,16 @@ contains
          if (index > 0) then
             if (.not. model%bodies(index)%rigid) then
                handle = model%bodies(index)%marker_index(marker)
-               if (handle == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // &
-                  trim(marker) // '" is not an &interface of the flexible body "' // &
+               if (handle > 0) return
+               do k = 1, size(model%mechanism%markers)
+                  if (model%mechanism%markers(k)%body == index .and. &
+                     model%mechanism%markers(k)%name == marker) then
+                     handle = size(model%bodies(index)%interfaces) + k
+                     return
+                  end if
+               end do
+               call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // trim(marker) // &
+                  '" is neither an &interface nor a &marker of the flexible body "' // &
                   trim(body) // '"')
                return
             end if
@@ -371,6 +386,25 @@ contains
          call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // trim(marker) // '" of body "' &
             // trim(body) // '" is not a &marker group')
       end subroutine resolve_end
+
+      !> A joint end at a flexible body's node or group marker (module ffrf_model_mechanism):
+      !> refused, a joint needs an interface.
+      subroutine refuse_point_end(bodies, handles, error)
+         integer, intent(in) :: bodies(2), handles(2)
+         type(error_t), allocatable, intent(out) :: error
+         integer :: e
+         do e = 1, 2
+            if (bodies(e) == 0) cycle
+            if (model%bodies(bodies(e))%rigid) cycle
+            if (handles(e) <= size(model%bodies(bodies(e))%interfaces)) cycle
+            call fatal_error(error, FFRF_INPUT_ERROR, 'marker "' // trim(model%mechanism% &
+               markers(handles(e) - size(model%bodies(bodies(e))%interfaces))%name) // &
+               '" of the flexible body "' // trim(model%bodies(bodies(e))%name) // '" is a ' // &
+               'node or group marker (no interface); declare the group as an &interface ' // &
+               'and join there')
+            return
+         end do
+      end subroutine refuse_point_end
 
    end subroutine build_mechanism_model
 

@@ -11,6 +11,9 @@
 #    forms) and the engine (crank sensors = ffrf_crank_state), failure paths included.
 #  - capi_frames: marker frames (a ground &marker orientation, framed markers at flexible
 #    interfaces) and a bad orientation refused through ffrf_case_open.
+#  - capi_mesh_markers: a flexible body's marker at a mesh point that is no interface (the
+#    cantilever's tip-face RBE3 point): counted, its state equal to its sensor, a load set on it
+#    by ffrf_marker_set_load equal to the &load at it (test_capi_mesh_markers.c).
 #  - capi_compare_driver: the C API's frequencies (crank lc 8 mm, RC set 2) equal the driver's
 #    bitwise, and the lc 8 mm engine (flexible crank and conrod, 10 modes, h = 1e-4 s, 20 ms)
 #    advanced in 1 ms chunks reaches the driver's crank angle and speed at every chunk to
@@ -56,7 +59,7 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
 foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
-    test_capi_values test_capi_sensors test_capi_drivers test_capi_frames)
+    test_capi_values test_capi_sensors test_capi_drivers test_capi_frames test_capi_mesh_markers)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -196,3 +199,15 @@ set_tests_properties(capi_example_c_body_arrays PROPERTIES LABELS "capi;example"
 add_test(NAME capi_node_sets COMMAND test_capi_node_sets)
 set_tests_properties(capi_node_sets PROPERTIES LABELS "capi;rbe3"
   ENVIRONMENT "OPENBLAS_NUM_THREADS=1")
+
+# Markers at mesh points through the C API (test_capi_mesh_markers.c): the cantilever of
+# input/cantilever_tip_load.nml, and the same without its &load (the force set
+# by ffrf_marker_set_load)
+file(READ "${PROJECT_SOURCE_DIR}/input/cantilever_tip_load.nml" _text)
+ffrf_replace(_text "&load name = 'tip', type = 'force', body = 'bar', marker = 'tip_face', direction = 0, -1, 0, value = 10.0 /\n" "")
+file(WRITE "${_capi_out}/cantilever_tip_free.nml" "${_text}")
+add_test(NAME capi_mesh_markers COMMAND test_capi_mesh_markers
+  "${PROJECT_SOURCE_DIR}/input/cantilever_tip_load.nml"
+  "${_capi_out}/cantilever_tip_free.nml" "${PROJECT_BINARY_DIR}/meshes")
+set_tests_properties(capi_mesh_markers PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
+  FIXTURES_REQUIRED cantilever_mesh)

@@ -95,8 +95,9 @@ def read_msh(path):
     return nodes, np.array(tets)
 
 
-def write_static_deck(msh, mat, path):
-    """CalculiX deck: the mesh's C3D10 elements, the root face (x = 0) held, gravity along -y."""
+def write_static_deck(msh, mat, path, point_loads=None):
+    """CalculiX deck: the mesh's C3D10 elements, the root face (x = 0) held, gravity along -y,
+    or point_loads(tip_xyz) -> {tip node index: force (3,)} at the tip face's nodes instead."""
     nodes, tets = read_msh(msh)
     used = sorted(set(tets.ravel()))
     root = [n for n in used if abs(nodes[n][0]) < 1e-9]
@@ -111,19 +112,26 @@ def write_static_deck(msh, mat, path):
         lines += [", ".join(str(v) for v in group[i:i + 8]) for i in range(0, len(group), 8)]
     lines += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{num(mat['young'])}, {num(mat['poisson'])}",
               "*DENSITY", f"{num(mat['density'])}", "*SOLID SECTION, ELSET=BODY, MATERIAL=STEEL",
-              "*BOUNDARY", "ROOT, 1, 3", "*STEP", "*STATIC",
-              "*DLOAD", f"BODY, GRAV, {num(G)}, 0., -1., 0.",
-              "*NODE PRINT, NSET=TIP", "U", "*END STEP"]
+              "*BOUNDARY", "ROOT, 1, 3", "*STEP", "*STATIC"]
+    if point_loads is None:
+        lines += ["*DLOAD", f"BODY, GRAV, {num(G)}, 0., -1., 0."]
+    else:
+        lines.append("*CLOAD")
+        for i, force in point_loads(np.array([nodes[n] for n in tip])).items():
+            lines += [f"{tip[i]}, {c + 1}, {num(force[c])}" for c in range(3) if force[c] != 0.0]
+    lines += ["*NODE PRINT, NSET=TIP", "U", "*END STEP"]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     return np.array([nodes[n] for n in tip]), tip
 
 
-def ccx_tip_sag(msh, mat, x_v, ccx, work):
-    """The RBE3 (uniform weights) mean y displacement of CalculiX's tip face, downwards."""
+def ccx_tip_sag(msh, mat, x_v, ccx, work, point_loads=None, rotation=False):
+    """The RBE3 (uniform weights) mean y displacement of CalculiX's tip face, downwards (under
+    gravity, or the point loads of write_static_deck); with rotation, also the RBE3 rotation
+    (3,) of the face."""
     os.makedirs(work, exist_ok=True)
     deck = os.path.join(work, "cantilever_static")
-    xyz, tip = write_static_deck(msh, mat, deck + ".inp")
+    xyz, tip = write_static_deck(msh, mat, deck + ".inp", point_loads)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     subprocess.run([ccx, "-i", os.path.basename(deck)], cwd=work, env=env, check=True,
                    stdout=subprocess.DEVNULL)
@@ -137,7 +145,8 @@ def ccx_tip_sag(msh, mat, x_v, ccx, work):
     if missing:
         sys.exit(f"check_cantilever_sag: ccx printed no displacement for tip nodes {missing[:5]}")
     g = rbe3_matrix(xyz, np.ones(len(tip)), x_v)
-    return -(g @ np.concatenate([u[n] for n in tip]))[1]
+    q_v = g @ np.concatenate([u[n] for n in tip])
+    return (-q_v[1], q_v[3:]) if rotation else -q_v[1]
 
 
 def main():

@@ -93,3 +93,31 @@ ffrf_error_case(model_selection 2 "model_selection\\.nml:5: &model selection = '
   "${_arm}\n${_pivot}\n&model selection = 'automatic' /")
 ffrf_error_case(model_tolerance 2 "model_tolerance\\.nml:5: &model force_tolerance = 0.0: out of range. give a finite real in \\(0, 1\\)"
   "${_arm}\n${_pivot}\n&model force_tolerance = 0.0 /")
+
+# Markers at mesh points (&marker node, group; docs/mechanisms.md "Markers at mesh points"): a
+# crank held at B2 by a fixed joint, a marker at a node or at a physical surface's RBE3 point
+set(_held "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', num_modes = 2 /
+${_iface}
+&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /
+&joint name = 'pin', type = 'fixed', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /")
+set(_push "&load name = 'push', type = 'force', body = 'crank', marker = 'P', direction = 0, 1, 0, value = 1 /")
+ffrf_error_case(marker_node_unknown 2 "&body \"crank\": &marker \"P\": node = 99999999 is not a node of the body's mesh"
+  "${_held}\n&marker body = 'crank', name = 'P', node = 99999999 /\n${_push}")
+ffrf_error_case(marker_node_unknown_check 2 "&body \"crank\": &marker \"P\": node = 99999999 is not a node of the body's mesh"
+  "${_held}\n&marker body = 'crank', name = 'P', node = 99999999 /\n${_push}" --check)
+ffrf_error_case(marker_group_unknown_check 2 "&marker \"P\": group = 'B9' is not a physical surface of the body's mesh"
+  "${_held}\n&marker body = 'crank', name = 'P', group = 'B9' /\n${_push}" --check)
+ffrf_error_case(marker_node_rigid 2 "marker_node_rigid\\.nml:4: &marker \"tip\": body \"arm\" is rigid; node and group place a marker on a flexible body's mesh"
+  "${_arm}\n&marker body = 'arm', name = 'tip', node = 5 /\n${_pivot}")
+ffrf_error_case(marker_group_ground 2 "&marker \"floor\": the ground has no mesh"
+  "${_arm}\n&marker body = 'ground', name = 'floor', group = 'B1' /\n${_pivot}")
+ffrf_error_case(marker_node_and_group 2 "marker_node_and_group\\.nml.*marker \"P\" of body \"crank\" gives node and group; give one"
+  "${_held}\n&marker body = 'crank', name = 'P', node = 5, group = 'B1' /")
+ffrf_error_case(marker_flexible_unplaced 2 "&marker \"P\": body \"crank\" has a mesh; place the marker by node = <a node tag> or group"
+  "${_held}\n&marker body = 'crank', name = 'P', position = 0, 0, 0 /")
+ffrf_error_case(marker_joint_at_point 2 "&joint \"hold\": marker \"P\" of the flexible body \"crank\" is a node or group marker .*declare the group as an &interface and join there"
+  "${_held}\n&marker body = 'crank', name = 'P', group = 'B1' /\n&marker body = 'ground', name = 'q', position = 0, 0, 0 /\n&joint name = 'hold', type = 'spherical', body1 = 'ground', marker1 = 'q', body2 = 'crank', marker2 = 'P' /" --check)
+ffrf_error_case(marker_weighting_word 2 "marker_weighting_word\\.nml:5: &marker weighting = 'areas': not allowed. weighting is one of uniform, area, area_consistent"
+  "${_held}\n&marker body = 'crank', name = 'P', group = 'B1', weighting = 'areas' /\n${_push}" --check)
+ffrf_error_case(marker_node_coarse_meshes 2 "marker_node_coarse_meshes\\.nml:5: &marker \"P\": body \"crank\" has coarse_meshes, whose node tags are other points"
+  "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', coarse_meshes = 'crank_lc10.msh' /\n${_iface}\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&joint name = 'pin', type = 'fixed', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /\n&marker body = 'crank', name = 'P', node = 5 /\n${_push}" --check)

@@ -56,3 +56,20 @@ add_test(NAME regression_spatial_pendulum_values
     --rigid ${_flex}/spatial_rigid/spatial_pendulum_rigid.h5)
 set_tests_properties(regression_spatial_pendulum_values PROPERTIES
   LABELS "regression;mbs" FIXTURES_REQUIRED spatial_pendulum_results)
+
+# Markers at mesh points of a flexible body (&marker node, group; docs/mechanisms.md "Markers at
+# mesh points"), on the clamped cantilever (mesh cantilever): a static tip load at the tip face's
+# RBE3 marker with 4, 8 and 16 modes against CalculiX's K u = G^T f of the same mesh (where ccx is
+# installed), the node marker's position and frame against the node_position sensor and the body
+# frame, mode reuse, and the energy balance of a load over time at the node marker, alone and
+# with a spring and a bushing at the markers; check_mesh_markers.py writes and runs the cases.
+# About 10 s of wall time (8 short runs and CalculiX).
+set(_markers_args "")
+if(CCX_EXECUTABLE)
+  set(_markers_args --ccx ${CCX_EXECUTABLE})
+endif()
+add_test(NAME regression_mesh_markers
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_mesh_markers.py
+    $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${_flex}/mesh_markers ${_markers_args})
+set_tests_properties(regression_mesh_markers PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED cantilever_mesh)

@@ -35,6 +35,7 @@ contains
          new_unittest('loads_crank_selection_resolved', test_loads), &
          new_unittest('unknown_words_refused', test_unknown_words), &
          new_unittest('unknown_marker_refused', test_unknown_marker), &
+         new_unittest('mesh_point_markers', test_mesh_point_markers), &
          new_unittest('joint_word_map', test_joint_word_map)]
    end subroutine collect_model_mechanism
 
@@ -160,7 +161,7 @@ contains
       case = slider_crank()
       case%mechanism%joints(1)%marker2 = 'mian'
       call expect(case, [character(len=64) :: '&joint "B1"', &
-         'marker "mian" is not an &interface of the flexib'], error)
+         'marker "mian" is neither an &interface nor a &marker of the'], error)
       if (allocated(error)) return
       case = slider_crank()
       case%mechanism%joints(2)%marker2 = 'pinn'
@@ -172,6 +173,28 @@ contains
       call expect(case, [character(len=64) :: '&load "gas"', &
          'body "pistn" is neither a &body nor the ground'], error)
    end subroutine test_unknown_marker
+
+   !> A flexible body's node or group marker (&marker node, group): a load takes it, with the
+   !> handle n_I + k (ffrf_model_mechanism: n_I = 2 interfaces of the crank, k its &marker
+   !> index 5); a joint there is refused naming the marker and the fix.
+   subroutine test_mesh_point_markers(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(case_input_t) :: case
+      type(model_t) :: model
+      case = slider_crank()
+      case%mechanism%markers = [case%mechanism%markers, marker_input_t('crank', 'web', &
+         [0.0_dp, 0.0_dp, 0.0_dp], group='B3')]
+      case%mechanism%loads(3)%marker = 'web'
+      call build_model(case, model, error)
+      if (allocated(error)) return
+      call check(error, 'load at the group marker: body 1, handle 2 + 5', &
+         model%mechanism%loads(3)%body == 1 .and. model%mechanism%loads(3)%marker == 7)
+      if (allocated(error)) return
+      case%mechanism%joints(1)%marker2 = 'web'
+      call expect(case, [character(len=64) :: '&joint "B1"', &
+         'marker "web" of the flexible body "crank" is a node or group', &
+         'declare the group as an &interface and join there'], error)
+   end subroutine test_mesh_point_markers
 
    !> The &joint type word map (joint_kind_of) against the JOINT_* constants written out here,
    !> each word in another case, and back through joint_kind_name; a partial word ('cyl', the
