@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Benchmark of the results output (issue 29; docs/results.md "Output rate, peaks, compression,
+size"): results size per simulated second and output overhead, for the engine and a mechanism
+of two flexible bodies, at full rate and every 1 ms, compressed and not, against a run that
+writes no history (&output histories = 'none': /time/t only).
+
+Per run: the results file's size, its growth per simulated second over the 'none' run (the
+histories' bytes), the wall time of the integration (/timings 'integration', which includes
+the output written during it) and its overhead over the 'none' run. Animations are off in all
+runs. Each configuration runs --repeat times; the smallest integration time counts.
+
+Usage (the target `benchmark_output` runs it):
+    benchmark_output.py --ffrf FFRF --mesh-dir MESHES --work DIR --csv OUT.csv \\
+        --engine ENGINE.nml --engine-t-end 0.05 --mechanism MECH.nml --mechanism-t-end 0.2
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+
+import h5py
+
+CONFIGS = [  # (name, --set items)
+    ("none", ["output.histories='none'"]),
+    ("full", []),
+    ("full, deflate 4", ["output.compression=4"]),
+    ("1 ms", ["output.every_seconds=1.0e-3"]),
+    ("1 ms, deflate 4", ["output.every_seconds=1.0e-3", "output.compression=4"]),
+]
+
+
+def run(args, case, t_end, name, sets, work):
+    out = os.path.join(work, name.replace(" ", "").replace(",", "_"))
+    os.makedirs(out, exist_ok=True)
+    command = [args.ffrf, case, "--mesh-dir", args.mesh_dir, "--output-dir", out, "--quiet",
+               "--set", f"integrator.t_end={t_end}", "--set", "mechanism.animation_frames=0"]
+    for item in sets:
+        command += ["--set", item]
+    best = None
+    for _ in range(args.repeat):
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL,
+                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+        path = os.path.join(out, os.path.splitext(os.path.basename(case))[0] + ".h5")
+        with h5py.File(path) as f:
+            stages = [s.decode().strip() if isinstance(s, bytes) else str(s).strip()
+                      for s in f["timings/stage"][()]]
+            seconds = f["timings/seconds"][()]
+            integration = float(seconds[stages.index("integration")])
+            steps = int(f["integrator/counters"][()][0])
+            samples = len(f["time/t"])
+        if best is None or integration < best[0]:
+            best = (integration, os.path.getsize(path), steps, samples)
+    return best
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--ffrf", required=True)
+    parser.add_argument("--mesh-dir", required=True)
+    parser.add_argument("--work", required=True)
+    parser.add_argument("--csv", required=True)
+    parser.add_argument("--engine", required=True)
+    parser.add_argument("--engine-t-end", type=float, default=0.05)
+    parser.add_argument("--mechanism", required=True)
+    parser.add_argument("--mechanism-t-end", type=float, default=0.2)
+    parser.add_argument("--repeat", type=int, default=1)
+    args = parser.parse_args()
+    rows = []
+    for label, case, t_end in (("engine", args.engine, args.engine_t_end),
+                               ("two flexible links", args.mechanism, args.mechanism_t_end)):
+        work = os.path.join(args.work, label.replace(" ", "_"))
+        base = None
+        for name, sets in CONFIGS:
+            integration, size, steps, samples = run(args, case, t_end, name, sets, work)
+            if base is None:
+                base = (integration, size)
+            rows.append({
+                "mechanism": label, "output": name, "t_end_s": t_end, "steps": steps,
+                "samples": samples, "file_bytes": size,
+                "history_bytes_per_simulated_s": round((size - base[1]) / t_end),
+                "integration_s": round(integration, 3),
+                "overhead_percent": round(100 * (integration - base[0]) / base[0], 1)})
+            print(", ".join(f"{k} = {v}" for k, v in rows[-1].items()), flush=True)
+    os.makedirs(os.path.dirname(os.path.abspath(args.csv)), exist_ok=True)
+    with open(args.csv, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    print(f"benchmark_output.py: {len(rows)} rows in {args.csv}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
