@@ -407,6 +407,7 @@ contains
       type(built_body_t), intent(in) :: bodies(:)
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
+      ! sizes in bytes; `created`: the results file so far
       integer(i8) :: created, samples, steps, results_bytes, animation_bytes, free
       integer :: kind
       character(len=:), allocatable :: note

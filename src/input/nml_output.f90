@@ -14,6 +14,7 @@
 !>   ignore_free_space  start even when the predicted size exceeds the output folder's free space
 !>                      (default .false.: the run refuses to start, exit 3)
 module ffrf_input_nml_output
+   use, intrinsic :: iso_fortran_env, only: iostat_end
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
@@ -62,20 +63,24 @@ contains
       character(len=512) :: msg
       namelist /output/ every_steps, every_seconds, histories, peaks, compression, &
          ignore_free_space
+      ! the defaults are input's values: a namelist read leaves absent keys untouched
       every_steps = input%every_steps
       every_seconds = input%every_seconds
-      histories = input%histories
-      peaks = input%peaks
       compression = input%compression
-      ignore_free_space = input%ignore_free_space
+      histories = input%histories
       rewind (unit)
+      peaks = input%peaks
+      ignore_free_space = input%ignore_free_space
       read (unit, nml=output, iostat=stat, iomsg=msg)
-      if (is_iostat_end(stat)) return
-      if (stat /= 0) then
+      select case (stat)
+      case (0)
+      case (iostat_end)
+         return   ! the group is optional
+      case default
          call namelist_read_error(error, 'output', 0, msg, 'every_steps, every_seconds, ' // &
             'histories, peaks, compression, ignore_free_space')
          return
-      end if
+      end select
       if (every_steps > 1 .and. every_seconds > 0.0_dp) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&output: every_steps and every_seconds ' // &
             'both given; give one rate (every_seconds = 0 or every_steps = 1)')

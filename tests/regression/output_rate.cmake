@@ -9,24 +9,20 @@
 #    components from 1 ms output equal the full-rate ones exactly; prediction within 10 %.
 #  - regression_output_rate_free_space: refused on a 2 MB tmpfs (exit 3, no file).
 set(_rate_out "${PROJECT_BINARY_DIR}/tests/output_rate")
-add_test(NAME regression_output_rate_crankless
-  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
-    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_output_rate.py crankless $<TARGET_FILE:ffrf>
-    ${PROJECT_SOURCE_DIR}/input/spatial_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
-    ${_rate_out}/crankless)
-set_tests_properties(regression_output_rate_crankless PROPERTIES
-  LABELS "regression;results" FIXTURES_REQUIRED link_mesh)
-add_test(NAME regression_output_rate_engine
-  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
-    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_output_rate.py engine $<TARGET_FILE:ffrf>
-    ${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.nml ${PROJECT_BINARY_DIR}/meshes
-    ${_rate_out}/engine --sample 0.001)
-set_tests_properties(regression_output_rate_engine PROPERTIES
-  LABELS "regression;results;engine" FIXTURES_REQUIRED "crank_lc8_mesh;conrod_lc8_mesh")
-add_test(NAME regression_output_rate_free_space
-  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
-    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_output_rate.py free_space $<TARGET_FILE:ffrf>
-    ${PROJECT_SOURCE_DIR}/input/spatial_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
-    ${_rate_out}/free_space)
-set_tests_properties(regression_output_rate_free_space PROPERTIES
-  LABELS "regression;results" FIXTURES_REQUIRED link_mesh)
+set(_rate_spatial "${PROJECT_SOURCE_DIR}/input/spatial_pendulum.nml")
+foreach(_rate crankless engine free_space)
+  set(_rate_case "${_rate_spatial}")
+  set(_rate_extra "")
+  set(_rate_fixtures link_mesh)
+  if(_rate STREQUAL "engine")
+    set(_rate_case "${PROJECT_BINARY_DIR}/tests/engine/engine_lc8_rc1.nml")
+    set(_rate_extra --sample 0.001)
+    set(_rate_fixtures "crank_lc8_mesh;conrod_lc8_mesh")
+  endif()
+  add_test(NAME regression_output_rate_${_rate}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+      ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_output_rate.py ${_rate} $<TARGET_FILE:ffrf>
+      ${_rate_case} ${PROJECT_BINARY_DIR}/meshes ${_rate_out}/${_rate} ${_rate_extra})
+  set_tests_properties(regression_output_rate_${_rate} PROPERTIES
+    LABELS "regression;results" FIXTURES_REQUIRED "${_rate_fixtures}")
+endforeach()

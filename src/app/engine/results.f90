@@ -3,9 +3,12 @@
 !> last flush (issue 3, part 5). Schema (read by postprocess/ffrf_results.py, `read_engine`):
 !> root attributes status, case_name, title, ffrf_version; /input/namelist; /build/versions;
 !> /engine with attributes rc_set and mpc (also as the string datasets /engine/rc_set and
-!> /engine/mpc: a group needs a dataset to exist); growing series (one entry per step)
+!> /engine/mpc: a group needs a dataset to exist; an engine only: create's engine); growing
+!> series (one entry per sample: every step, or as &output asks)
 !> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]} (the crank
-!> series only when the run has a crank: create's has_crank),
+!> series only when the run has a crank: create's has_crank; pressure only for an engine),
+!> /peaks/<series>/{min, max, t_min, t_max} (create's peaks: the extremes over each output
+!> interval; docs/results.md "Output rate, peaks, compression, size"),
 !> /sensors/<name> (one per sensor, sum of their values per step; attributes units, type, body,
 !> marker, joint; docs/sensors.md),
 !> /energy/{kinetic, strain, external_work, numerical_dissipation, scheme_dissipation,
@@ -22,8 +25,8 @@
 !> body frame is virtual_node_shape zeta(t).
 !> `write_real`/`write_int` store run information (redundant joint equations, integrator
 !> counters) anywhere in the file.
-!> Steps are buffered in memory and appended + flushed every `steps_per_flush` steps (100 by
-!> default) and by `finish`: HDF5 is touched once per chunk, not once per step.
+!> Samples are buffered in memory and appended + flushed every `steps_per_flush` samples (100
+!> by default) and by `finish`: HDF5 is touched once per chunk, not once per step.
 !>
 !> This module holds the type and the interfaces; the bodies are in the submodules
 !> results_series.f90 (the time series) and results_data.f90 (datasets written once).
