@@ -7,15 +7,16 @@ writes no history (&output histories = 'none': /time/t only).
 Per run: the results file's size, its growth per simulated second over the 'none' run (the
 histories' bytes), the wall time of the integration (/timings 'integration', which includes
 the output written during it), and the CPU time of the integration: the run's CPU time (user +
-system, getrusage of the child) less that of the same case stopped after 0.1 % of its run, a step or two (the modes
-and the start, the same work in every run). The overhead is that CPU time over the 'none'
+system, getrusage of the child) less that of the same case stopped after 0.1 % of its run, a
+step or two (the modes and the start, the same work in every run). The overhead is that CPU time over the 'none'
 run's (the wall time of a machine shared with other jobs varies by several times; the CPU time
 much less). Animations are off in all runs. Each configuration runs --repeat times; the
 smallest CPU time counts.
 
 Usage (the target `benchmark_output` runs it):
     benchmark_output.py --ffrf FFRF --mesh-dir MESHES --work DIR --csv OUT.csv \\
-        --engine ENGINE.nml --engine-t-end 0.05 --mechanism MECH.nml --mechanism-t-end 0.2
+        --engine ENGINE.nml --engine-t-end 0.2 --mechanism MECH.nml --mechanism-t-end 0.5 \\
+        --mechanism-h 1e-4
 """
 import argparse
 import csv
@@ -40,11 +41,13 @@ def child_cpu():
     return usage.ru_utime + usage.ru_stime
 
 
-def run(args, case, t_end, name, sets, work):
+def run(args, case, t_end, name, sets, work, step=None):
     out = os.path.join(work, name.replace(" ", "").replace(",", "_"))
     os.makedirs(out, exist_ok=True)
     command = [args.ffrf, case, "--mesh-dir", args.mesh_dir, "--output-dir", out, "--quiet",
                "--set", f"integrator.t_end={t_end}", "--set", "mechanism.animation_frames=0"]
+    if step:
+        command += ["--set", f"integrator.h={step}"]
     for item in sets:
         command += ["--set", item]
     best = None
@@ -76,17 +79,22 @@ def main():
     parser.add_argument("--engine-t-end", type=float, default=0.05)
     parser.add_argument("--mechanism", required=True)
     parser.add_argument("--mechanism-t-end", type=float, default=0.2)
+    parser.add_argument("--mechanism-h", type=float, default=None,
+                        help="the mechanism's step (default: the case's)")
     parser.add_argument("--repeat", type=int, default=1)
     args = parser.parse_args()
     rows = []
-    for label, case, t_end in (("engine", args.engine, args.engine_t_end),
-                               ("two flexible links", args.mechanism, args.mechanism_t_end)):
+    for label, case, t_end, step in (
+            ("engine", args.engine, args.engine_t_end, None),
+            ("two flexible links", args.mechanism, args.mechanism_t_end, args.mechanism_h)):
         work = os.path.join(args.work, label.replace(" ", "_"))
         # the modes and the start: the case stopped after 0.1 % of the run (a step or two)
-        start_cpu = run(args, case, 1.0e-3 * t_end, "start", ["output.histories='none'"], work)
+        start_cpu = run(args, case, 1.0e-3 * t_end, "start", ["output.histories='none'"], work,
+                        step)
         base = None
         for name, sets in CONFIGS:
-            integration, size, steps, samples, cpu = run(args, case, t_end, name, sets, work)
+            integration, size, steps, samples, cpu = run(args, case, t_end, name, sets, work,
+                                                         step)
             cpu -= start_cpu[4]
             if base is None:
                 base = (cpu, size)

@@ -59,6 +59,8 @@ contains
    end procedure row_name
 
    module procedure open_results
+      !> Samples per flush and per chunk of a compressed file
+      integer, parameter :: COMPRESSED_FLUSH = 256
       integer, allocatable :: flags(:)
       integer :: k, j, chunk_steps
       logical :: decimated
@@ -69,11 +71,17 @@ contains
          chunk_steps = 0
          if (decimated) chunk_steps = int(min(predicted_samples(output, 0.0_dp, s%t_end, s%h, &
             .true.), 8192_i8))
+         ! compressed: a chunk per flush (of COMPRESSED_FLUSH samples), so that each chunk is
+         ! deflated once, not again at every flush that adds to it
+         if (output%compression > 0) chunk_steps = min(merge(chunk_steps, COMPRESSED_FLUSH, &
+            chunk_steps > 0), COMPRESSED_FLUSH)
          call results%create(results_file, case%name, trim(case%run%title), &
             trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error, &
             has_crank=mech%rotor > 0, energies=chosen(output, 'energies', ''), &
             peaks=output%peaks .and. decimated, compression=output%compression, &
             chunk_steps=chunk_steps)
+         if (.not. allocated(error) .and. output%compression > 0) &
+            call results%set_steps_per_flush(COMPRESSED_FLUSH, error)
       end associate
       call add_sensor_series(results, mech, sensors, case, error)
       do k = 1, size(bodies)

@@ -402,15 +402,15 @@ contains
    !> the restart state and run information written at the end; uncompressed (an upper bound
    !> with compression).
    subroutine check_output_size(self, integrator, bodies, log, error)
+      ! sizes in bytes; `created`: the results file so far
+      integer(i8) :: created, samples, steps, results_bytes, animation_bytes, free
+      integer :: kind
+      character(len=:), allocatable :: note
       class(mechanism_output_t), intent(inout) :: self
       type(galpha_integrator_t), intent(in) :: integrator
       type(built_body_t), intent(in) :: bodies(:)
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
-      ! sizes in bytes; `created`: the results file so far
-      integer(i8) :: created, samples, steps, results_bytes, animation_bytes, free
-      integer :: kind
-      character(len=:), allocatable :: note
       associate (output => self%case%output, s => integrator%settings)
          call self%results%flush(error)
          if (.not. allocated(error)) call file_kind(self%temp_file, kind, created, error)

@@ -51,13 +51,14 @@ contains
          integer_key('compression', 0_i8, 9_i8), logical_key('ignore_free_space')]
    end function output_keys
 
-   !> Read &output from an open case file (optional group; defaults kept when absent).
+   !> Read the optional &output group from an open case file into `input`, whose values stay
+   !> for the keys not given (all of them when the group is absent).
    subroutine read_output_group(unit, input, error)
+      integer :: every_steps, compression, stat, k
+      real(dp) :: every_seconds
       integer, intent(in) :: unit
       type(output_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
-      integer :: every_steps, compression, stat, k
-      real(dp) :: every_seconds
       character(len=64) :: histories(MAX_HISTORIES)
       logical :: peaks, ignore_free_space
       character(len=512) :: msg
