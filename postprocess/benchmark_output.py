@@ -15,7 +15,7 @@ smallest CPU time counts.
 
 Usage (the target `benchmark_output` runs it):
     benchmark_output.py --ffrf FFRF --mesh-dir MESHES --work DIR --csv OUT.csv \\
-        --engine ENGINE.nml --engine-t-end 0.2 --mechanism MECH.nml --mechanism-t-end 0.5 \\
+        --engine ENGINE.nml --engine-t-end 1.0 --mechanism MECH.nml --mechanism-t-end 2.0 \\
         --mechanism-h 1e-4
 """
 import argparse
@@ -76,9 +76,9 @@ def main():
     parser.add_argument("--work", required=True)
     parser.add_argument("--csv", required=True)
     parser.add_argument("--engine", required=True)
-    parser.add_argument("--engine-t-end", type=float, default=0.05)
+    parser.add_argument("--engine-t-end", type=float, default=1.0)
     parser.add_argument("--mechanism", required=True)
-    parser.add_argument("--mechanism-t-end", type=float, default=0.2)
+    parser.add_argument("--mechanism-t-end", type=float, default=2.0)
     parser.add_argument("--mechanism-h", type=float, default=None,
                         help="the mechanism's step (default: the case's)")
     parser.add_argument("--repeat", type=int, default=1)
