@@ -463,8 +463,9 @@ contains
       text = to_str(real(bytes, dp) / 1.0e6_dp, 4) // ' MB'
    end function megabytes
 
-   !> Bytes of the Gmsh animations (write_animations): per flexible body, its mesh and `frames`
-   !> node-data views of one line per node ('tag ux uy uz', 3 x 25 characters).
+   !> Bytes of the Gmsh animations (write_animations): per flexible body, its mesh (a line per
+   !> node: tag and 3 x 25 characters) and `frames` node-data views of a line per node ('tag ux
+   !> uy uz', 3 x 15 characters).
    pure integer(i8) function predicted_animation_bytes(frames, bodies) result(bytes)
       integer, intent(in) :: frames
       type(built_body_t), intent(in) :: bodies(:)
@@ -478,7 +479,7 @@ contains
          tets = size(bodies(k)%modes%mesh%tets, 2, kind=i8)
          digits = int(log10(real(max(nodes, 1_i8), dp)), i8) + 2_i8
          bytes = bytes + nodes * (digits + 75_i8) + tets * (size(bodies(k)%modes%mesh%tets, 1, &
-            kind=i8) * digits + 8_i8 + digits) + int(frames, i8) * (nodes * (digits + 75_i8) + &
+            kind=i8) * digits + 8_i8 + digits) + int(frames, i8) * (nodes * (digits + 45_i8) + &
             200_i8) + 400_i8
       end do
    end function predicted_animation_bytes

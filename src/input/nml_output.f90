@@ -17,7 +17,7 @@ module ffrf_input_nml_output
    use, intrinsic :: iso_fortran_env, only: iostat_end
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_lower
+   use ffrf_core_strings, only: to_lower, to_str
    use ffrf_input_nml_common, only: namelist_read_error
    use ffrf_input_nml_source, only: key_spec_t, string_key, integer_key, real_key, logical_key
    implicit none
@@ -108,8 +108,7 @@ contains
          .not. input%ignore_free_space) return
       write (number, '(i0)') input%every_steps
       text = '&output every_steps = ' // trim(number)
-      write (number, '(es23.16)') input%every_seconds
-      text = text // ', every_seconds = ' // trim(adjustl(number)) // ', histories ='
+      text = text // ', every_seconds = ' // to_str(input%every_seconds, 12) // ', histories ='
       if (all(input%histories == '')) text = text // ' ''all'''
       do k = 1, MAX_HISTORIES
          if (len_trim(input%histories(k)) > 0) text = text // ' ''' // &

@@ -20,7 +20,8 @@ crankless (a mechanism without a crank, e.g. input/spatial_pendulum.nml shortene
   6. a run to a t_end between two samples continued by --restart equals the straight run
      (series and peaks), exactly;
   7. histories = 'energies' writes /time/t and /energy only;
-  8. the predicted size in the log is within 10 % of the written file (full rate and decimated).
+  8. the predicted size in the log is within 10 % of the written file (full rate and decimated),
+     and that of the animations within 10 % of the .msh files written.
 engine (the lc 8 mm engine, shortened): the full-rate run keeps /engine and /time/pressure; the
   conrod's peak joint force (the largest and smallest of each reaction component over the run)
   from the decimated output equals the full-rate one exactly; the prediction is within 10 %.
@@ -164,6 +165,13 @@ def crankless(ffrf, case, mesh_dir, work, sample, h, t_end):
                    if p in f]
         check(not present, f"no engine histories without a crank (present: {present})")
     check_prediction("full rate", full, full_path)
+    match = re.search(r"animations ([0-9.Ee+-]+) MB", full.stdout + full.stderr)
+    animations = sum(os.path.getsize(os.path.join(work, "full", n))
+                     for n in os.listdir(os.path.join(work, "full")) if n.endswith("animation.msh"))
+    predicted = float(match.group(1)) * 1e6 if match else math.nan
+    check(animations > 0 and abs(predicted - animations) <= 0.10 * animations,
+          f"animations: predicted {predicted / 1e6:.4f} MB, written {animations / 1e6:.4f} MB "
+          f"(within 10 %)")
 
     seconds = run(ffrf, case, mesh_dir, os.path.join(work, "seconds"),
                   base + [f"output.every_seconds={sample}"])
