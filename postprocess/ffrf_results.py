@@ -19,6 +19,7 @@ series the charts need, and `cycle_window` / `angle_mean` cut and average whole 
 """
 import math
 import os
+import re
 
 import h5py
 import numpy as np
@@ -126,6 +127,39 @@ class Results:
         if name not in names:
             raise ResultsError(f"{self.path}: no body '{name}'; bodies: {', '.join(names)}")
         return name
+
+    def history(self, path):
+        """A time series (a step per row), e.g. 'joints/crank_pin/reaction' (num_samples, 12):
+        full rate, decimated (&output) or compressed alike."""
+        return np.asarray(self._dataset(f"/{path.strip('/')}"), dtype=float)
+
+    def peaks(self, path):
+        """The extremes of a decimated series over each output interval (docs/results.md
+        "Output rate, peaks, compression, size"): a dict min, max, t_min, t_max of arrays shaped
+        as the series, or None when the file has none (full rate, or peaks = .false.)."""
+        group = f"/peaks/{path.strip('/')}"
+        if group not in self.file:
+            return None
+        return {name: np.asarray(self.file[f"{group}/{name}"][()], dtype=float)
+                for name in ("min", "max", "t_min", "t_max")}
+
+    @property
+    def decimated(self):
+        """True when the series hold samples at a reduced rate (/peaks written, or an
+        &output every_steps/every_seconds in the input echo)."""
+        if "peaks" in self.file:
+            return True
+        if "input/namelist" not in self.file:
+            return False
+        echo = text(self.file["input/namelist"][()])
+        for line in echo.splitlines():
+            if line.lstrip().startswith("&output"):
+                steps = re.search(r"every_steps\s*=\s*(\d+)", line)
+                seconds = re.search(r"every_seconds\s*=\s*([0-9.EeDd+-]+)", line)
+                return bool((steps and int(steps.group(1)) > 1) or
+                            (seconds and float(seconds.group(1).replace("D", "E")
+                                               .replace("d", "e")) > 0))
+        return False
 
     def frequencies(self, body):
         """Natural frequencies, Hz, (num_modes,)."""
@@ -251,8 +285,9 @@ def read_engine(path, allow_incomplete=False):
             if bad.size:
                 raise ResultsError(f"{results.path}: /time/{name} is {values[bad[0]]} at step "
                                    f"{bad[0]} (t = {series['t'][bad[0]]} s)")
+        # samples at a reduced rate may lie more than pi apart: no wrap check then
         jumps = np.flatnonzero(np.abs(np.diff(series["crank_angle"])) > math.pi)
-        if jumps.size:
+        if jumps.size and not results.decimated:
             k = jumps[0]
             raise ResultsError(f"{results.path}: /time/crank_angle jumps from "
                                f"{series['crank_angle'][k]} to {series['crank_angle'][k + 1]} "

@@ -29,6 +29,7 @@ module ffrf_app_mechanism_output
    use ffrf_core_error, only: error_t
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t
    use ffrf_input_case, only: case_input_t
+   use ffrf_input_nml_output, only: output_input_t
    use ffrf_app_engine_results, only: engine_results_t
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_io_results, only: output_lock_t
@@ -59,6 +60,8 @@ module ffrf_app_mechanism_output
       integer(i8), allocatable :: ints(:)
       !> Energy balance accumulators, crank-angle unwrapping reference (1)
       real(dp), allocatable :: balance(:), crank_reference(:)
+      !> The output interval being recorded (engine_results_t interval_state; empty: none)
+      real(dp), allocatable :: interval(:)
       !> Recorded steps that belong to the state, coordinates of the system
       integer :: num_steps = 0, num_coordinates = 0
       !> Names and modes of the bodies of the results
@@ -78,8 +81,9 @@ module ffrf_app_mechanism_output
 
    !> The results of a run being recorded (module header).
    type :: mechanism_output_t
-      !> reserve succeeded (lock held); start succeeded (file open, steps recorded)
-      logical :: reserved = .false., started = .false.
+      !> reserve succeeded (lock held); start succeeded (file open, steps recorded); the run
+      !> refused to start (its results would not fit: no file at all)
+      logical :: reserved = .false., started = .false., refused = .false.
       !> Folders, overwrite rule, restart file
       type(run_options_t) :: options
       !> The case (names, labels, animation, progress interval)
@@ -115,6 +119,9 @@ module ffrf_app_mechanism_output
       type(energy_balance_t) :: balance_before_last
       real(dp) :: reference_before_last = 0.0_dp
       integer :: rows_before_last = 0
+      real(dp), allocatable :: interval_before_last(:)
+      !> Output rate (&output): the next sample time of every_seconds (s)
+      real(dp) :: next_sample = 0.0_dp
       !> Joint reactions of a step and their min-norm flags, interleaved (REACTION_ROWS,
       !> 2 joints): column 2j-1 the reaction of joint j, 2j its /reaction_min_norm flags
       real(dp), allocatable :: reactions(:, :)
@@ -258,6 +265,16 @@ module ffrf_app_mechanism_output
          character(len=*), intent(in), optional :: stopped
       end subroutine output_finish
 
+      !> Samples a run records from t to t_end at the step h with &output's rate (docs/results.md
+      !> "Output rate, peaks, compression, size"): the first state when `first`, then every
+      !> every_steps-th step or one per multiple of every_seconds, and the last state.
+      module pure function predicted_samples(output, t, t_end, h, first) result(samples)
+         type(output_input_t), intent(in) :: output
+         real(dp), intent(in) :: t, t_end, h
+         logical, intent(in) :: first
+         integer(i8) :: samples
+      end function predicted_samples
+
       ! --- ffrf_app_mechanism_output_file (mechanism_output_file.f90) ----------------------------
 
       !> Sizes and the redundant constraint equations found at the start.
@@ -352,7 +369,7 @@ module ffrf_app_mechanism_output
       !> modes) and its restart fingerprint (ffrf_app_restart_fingerprint); then the file is
       !> flushed, so that it is consistent on disk.
       module subroutine write_restart_state(results, integrator, balance, num_steps, &
-            crank_reference, mech, bodies, fingerprint_input, fingerprint_model, error)
+            crank_reference, mech, bodies, fingerprint_input, fingerprint_model, error, interval)
          type(engine_results_t), intent(inout) :: results
          type(galpha_integrator_t), intent(in) :: integrator
          type(energy_balance_t), intent(in) :: balance
@@ -364,6 +381,8 @@ module ffrf_app_mechanism_output
          type(built_body_t), intent(in) :: bodies(:)
          character(len=*), intent(in) :: fingerprint_input(:), fingerprint_model(:)
          type(error_t), allocatable, intent(out) :: error
+         !> The output interval being recorded at this state (interval_state; none: absent)
+         real(dp), intent(in), optional :: interval(:)
       end subroutine write_restart_state
 
       !> Copy the results file being written (consistent after write_restart_state) to

@@ -2,11 +2,12 @@
 !> ffrf_app_mechanism_output): the opened file with its series, the bodies' modes, the run
 !> information and statistics, the log of the mechanism, the Gmsh animations.
 submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_file
-   use ffrf_core_kinds, only: pi
+   use ffrf_core_kinds, only: pi, i8
    use ffrf_core_error, only: add_context
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: join_path, insert_suffix
    use ffrf_input_case, only: case_echo
+   use ffrf_input_nml_output, only: output_input_t
    use ffrf_io_results, only: partial_name, commit_file, abandon_file
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
    use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
@@ -58,24 +59,45 @@ contains
    end procedure row_name
 
    module procedure open_results
+      !> Samples per flush and per chunk of a compressed file
+      integer, parameter :: COMPRESSED_FLUSH = 256
       integer, allocatable :: flags(:)
-      integer :: k, j
-      call results%create(results_file, case%name, trim(case%run%title), &
-         trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error, &
-         has_crank=mech%rotor > 0)
-      call add_sensor_series(results, mech, sensors, error)
+      integer :: k, j, chunk_steps
+      logical :: decimated
+      associate (output => case%output, s => integrator%settings)
+         ! an engine's histories only with a crank; the peaks only at a reduced rate, whose
+         ! chunks hold at most the run's samples (a chunk is allocated whole)
+         decimated = output%every_steps > 1 .or. output%every_seconds > 0.0_dp
+         chunk_steps = 0
+         if (decimated) chunk_steps = int(min(predicted_samples(output, 0.0_dp, s%t_end, s%h, &
+            .true.), 8192_i8))
+         ! compressed: a chunk per flush (of COMPRESSED_FLUSH samples), so that each chunk is
+         ! deflated once, not again at every flush that adds to it
+         if (output%compression > 0) chunk_steps = min(merge(chunk_steps, COMPRESSED_FLUSH, &
+            chunk_steps > 0), COMPRESSED_FLUSH)
+         call results%create(results_file, case%name, trim(case%run%title), &
+            trim(case%mechanism%mechanism%label), resolved%crank_mpc(), echo, error, &
+            has_crank=mech%rotor > 0, energies=chosen(output, 'energies', ''), &
+            peaks=output%peaks .and. decimated, compression=output%compression, &
+            chunk_steps=chunk_steps)
+         if (.not. allocated(error) .and. output%compression > 0) &
+            call results%set_steps_per_flush(COMPRESSED_FLUSH, error)
+      end associate
+      call add_sensor_series(results, mech, sensors, case, error)
       do k = 1, size(bodies)
          if (allocated(error)) exit
          call results%add_body_series(mech%bodies(bodies(k)%index)%name, bodies(k)%num_modes, &
-            error)
+            error, write=chosen(case%output, 'bodies', mech%bodies(bodies(k)%index)%name))
          if (allocated(error) .or. bodies(k)%num_modes == 0) cycle
          call write_body_modes(results, mech%bodies(bodies(k)%index)%name, bodies(k)%modes, error)
       end do
       do j = 1, size(mech%joints)
          if (allocated(error)) exit
-         call results%add_joint_series(mech%joints(j)%name, error)
+         call results%add_joint_series(mech%joints(j)%name, error, write=chosen(case%output, &
+            'joints', mech%joints(j)%name))
          if (.not. allocated(error)) call results%add_joint_series(mech%joints(j)%name, error, &
-            series='reaction_min_norm', units='1')
+            series='reaction_min_norm', units='1', write=chosen(case%output, 'joints', &
+            mech%joints(j)%name))
          if (allocated(error)) exit
          associate (joint => mech%joints(j))
             flags = [(merge(1, 0, any(integrator%dropped == joint%offset + k)), &
@@ -88,10 +110,11 @@ contains
    end procedure open_results
 
    !> A series /sensors/<name> per sensor, with its type and what it measures as attributes.
-   subroutine add_sensor_series(results, mech, sensors, error)
+   subroutine add_sensor_series(results, mech, sensors, case, error)
       type(engine_results_t), intent(inout) :: results
       type(mechanism_t), intent(in) :: mech
       type(sensor_t), intent(in) :: sensors(:)
+      type(case_input_t), intent(in) :: case
       type(error_t), allocatable, intent(inout) :: error
       character(len=:), allocatable :: body, marker, joint
       integer :: k, joint_kind
@@ -112,15 +135,26 @@ contains
             if (x%node > 0) then
                call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
                   sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, &
-                  error, node=x%node)
+                  error, node=x%node, write=chosen(case%output, 'sensors', trim(x%name)))
             else
                call results%add_sensor_series(trim(x%name), sensor_size(x%kind), &
                   sensor_unit(x%kind, joint_kind), sensor_word(x%kind), body, marker, joint, &
-                  error)
+                  error, write=chosen(case%output, 'sensors', trim(x%name)))
             end if
          end associate
       end do
    end subroutine add_sensor_series
+
+   !> A history is written (&output histories): every one by default ('' entries) or with
+   !> 'all', those of its kind ('bodies', 'joints', 'energies', 'sensors'), the one named.
+   pure logical function chosen(output, kind, name)
+      type(output_input_t), intent(in) :: output
+      character(len=*), intent(in) :: kind, name
+      chosen = all(output%histories == '')
+      if (chosen) return
+      chosen = any(output%histories == 'all' .or. output%histories == kind)
+      if (len(name) > 0) chosen = chosen .or. any(output%histories == name)
+   end function chosen
 
    !> The modal data of a flexible body for reading its modal coordinates back (frequencies,
    !> virtual-node rows, basis, interfaces), engine_results_write_modes.
@@ -132,11 +166,11 @@ contains
       integer :: k
       ! after the modes stage only: every flexible body's modes computed (a refusal while the
       ! bodies are built, e.g. a modes_file that does not fit, leaves no file)
-      if (.not. (all(bodies%made) .and. any(bodies%num_modes > 0))) return
+      if (.not. (all(bodies%made) .and. any(bodies%num_modes > 0)) .or. self%refused) return
       temp_file = partial_name(self%results_file)
       call results%create(temp_file, self%case%name, trim(self%case%run%title), &
          trim(self%case%mechanism%mechanism%label), '', case_echo(self%case), error, &
-         has_crank=.false.)
+         has_crank=.false., engine=.true.)
       if (allocated(error)) then
          call abandon_file(temp_file)
          return

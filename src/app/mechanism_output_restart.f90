@@ -43,6 +43,11 @@ contains
       ! the crank angle's unwrapping reference: an engine (a mechanism with a crank) only
       if (.not. allocated(error) .and. mech%rotor > 0) call results%write_real( &
          '/checkpoint/crank_reference', [crank_reference], 'rad', error)
+      ! the output interval being recorded (decimated output with peaks, &output)
+      if (.not. allocated(error) .and. present(interval)) then
+         if (size(interval) > 0) call results%write_real('/checkpoint/output_interval', &
+            interval, '1', error)
+      end if
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_steps', &
          [int(num_steps, i8)], error)
       if (.not. allocated(error)) call results%write_long('/checkpoint/num_coordinates', &
@@ -98,6 +103,9 @@ contains
             restart%crank_reference = [0.0_dp]
          end if
       end if
+      allocate (restart%interval(0))
+      if (.not. allocated(error) .and. source%exists('/checkpoint/output_interval')) &
+         call source%read_real('/checkpoint/output_interval', restart%interval, error)
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_steps', counts, error)
       if (.not. allocated(error)) restart%num_steps = int(counts(1))
       if (.not. allocated(error)) call source%read_int('/checkpoint/num_coordinates', counts, &
@@ -236,10 +244,18 @@ contains
       first = 0
       do k = 1, size(bodies)
          if (bodies(k)%num_modes == 0) cycle
-         call source%read_real('/bodies/' // mech%bodies(bodies(k)%index)%name // &
-            '/modal_coordinates', zeta, error)
-         if (allocated(error)) return
-         history%zeta(first + 1:first + bodies(k)%num_modes, :num_steps) = zeta(:, :num_steps)
+         associate (path => '/bodies/' // mech%bodies(bodies(k)%index)%name // &
+               '/modal_coordinates')
+            ! a body whose histories were not written (&output histories): no deformation shown
+            if (source%exists(path)) then
+               call source%read_real(path, zeta, error)
+               if (allocated(error)) return
+               history%zeta(first + 1:first + bodies(k)%num_modes, :num_steps) = &
+                  zeta(:, :num_steps)
+            else
+               history%zeta(first + 1:first + bodies(k)%num_modes, :num_steps) = 0.0_dp
+            end if
+         end associate
          first = first + bodies(k)%num_modes
       end do
       history%num_steps = num_steps

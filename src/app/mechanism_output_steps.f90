@@ -4,7 +4,7 @@
 submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_steps
    use ffrf_core_error, only: add_context, fatal_error, FFRF_INPUT_ERROR, FFRF_IO_ERROR, &
       FFRF_INTERRUPTED
-   use ffrf_core_posix, only: pending_signal, signal_name
+   use ffrf_core_posix, only: pending_signal, signal_name, file_kind, free_space
    use ffrf_core_strings, only: to_str
    use ffrf_core_paths, only: join_path
    use ffrf_core_log, only: peak_memory_mib, wall_time
@@ -96,8 +96,11 @@ contains
             if (.not. allocated(error)) call write_restart_origin(self%results, self%source, &
                options%restart_file, integrator%t, [self%fingerprint_input, &
                self%fingerprint_model], error)
+            if (.not. allocated(error)) call self%results%restore_interval( &
+               self%restart%interval, error)
             if (.not. allocated(error)) call self%source%close(error)
          end if
+         if (.not. allocated(error)) call check_output_size(self, integrator, bodies, log, error)
          if (allocated(error)) then
             call self%results%finish('error: ' // error%message, [character(len=1) ::], &
                [real(dp) ::], close_error)
@@ -115,6 +118,8 @@ contains
          call split_reactions(self, mech, bodies, integrator, log, error)
          if (allocated(error)) return
          self%next_progress = integrator%t + case%mechanism%mechanism%progress_interval
+         if (case%output%every_seconds > 0.0_dp) self%next_sample = next_sample_time( &
+            integrator%t, case%output%every_seconds, 1.0e-6_dp * integrator%settings%h)
          self%started = .true.
          if (.not. self%restarting) then
             call self%balance%init(mech, integrator%t, integrator%q, integrator%v, error, &
@@ -136,7 +141,7 @@ contains
 
    module procedure output_first_record
       if (.not. self%restarting) call record_step(self, mech, bodies, integrator, pressure, &
-         has_pressure, error)
+         has_pressure, .true., error)
    end procedure output_first_record
 
    module procedure output_before_step
@@ -145,17 +150,20 @@ contains
          self%balance_before_last = self%balance
          self%reference_before_last = mech%rotor_reference
          self%rows_before_last = self%results%num_steps()
+         self%interval_before_last = self%results%interval_state()
          self%have_before_last = .true.
       end if
    end procedure output_before_step
 
    module procedure output_after_step
       real(dp) :: wall
+      logical :: sample
+      sample = sample_due(self, integrator, t_end)
       call self%balance%update(mech, integrator%t, integrator%q, integrator%v, error, &
          lambda=integrator%lambda, scheme=integrator)
       if (.not. allocated(error)) call split_reactions(self, mech, bodies, integrator, log, error)
       if (.not. allocated(error)) call record_step(self, mech, bodies, integrator, pressure, &
-         has_pressure, error)
+         has_pressure, sample, error)
       if (.not. allocated(error)) call watch_step(self, mech, integrator, log, error)
       if (allocated(error)) return
       associate (h => integrator%settings%h, interval => &
@@ -191,7 +199,7 @@ contains
       checkpoint_start = wall_time()
       call write_restart_state(self%results, integrator, self%balance, &
          self%results%num_steps(), mech%rotor_reference, mech, bodies, self%fingerprint_input, &
-         self%fingerprint_model, error)
+         self%fingerprint_model, error, self%results%interval_state())
       if (.not. allocated(error)) call write_checkpoint_file(self%results_file, error)
       if (allocated(error)) return
       self%last_checkpoint = wall_time()
@@ -225,11 +233,12 @@ contains
          if (self%have_before_last .and. integrator%t == integrator%settings%t_end) then
             call write_restart_state(results, self%before_last, self%balance_before_last, &
                self%rows_before_last, self%reference_before_last, mech, bodies, &
-               self%fingerprint_input, self%fingerprint_model, state_error)
+               self%fingerprint_input, self%fingerprint_model, state_error, &
+               self%interval_before_last)
          else
             call write_restart_state(results, integrator, self%balance, results%num_steps(), &
                mech%rotor_reference, mech, bodies, self%fingerprint_input, &
-               self%fingerprint_model, state_error)
+               self%fingerprint_model, state_error, results%interval_state())
          end if
          if (self%num_checkpoints > 0) call log%info('run', to_str(self%num_checkpoints) // &
             ' restart checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &
@@ -295,14 +304,15 @@ contains
       call self%release()
    end procedure output_finish
 
-   !> Record the current state (results file and animation history).
-   subroutine record_step(self, mech, bodies, integrator, pressure, has_pressure, error)
+   !> Record the current state: into the output interval, and when it is a sample (`sample`)
+   !> into the results file and the animation history.
+   subroutine record_step(self, mech, bodies, integrator, pressure, has_pressure, sample, error)
       class(mechanism_output_t), intent(inout) :: self
       type(mechanism_t), intent(in) :: mech
       type(built_body_t), intent(in) :: bodies(:)
       type(galpha_integrator_t), intent(in) :: integrator
       type(pressure_model_t), intent(in) :: pressure
-      logical, intent(in) :: has_pressure
+      logical, intent(in) :: has_pressure, sample
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: angle, speed, p, force(3, 2), moment(3, 2)
       real(dp), allocatable :: coordinates(:), sensor_values(:), values(:)
@@ -334,8 +344,9 @@ contains
          call self%results%record(integrator%t, angle, speed, p, [balance%kinetic, &
             balance%strain, balance%work, balance%numerical_dissipation], coordinates, &
             self%reactions, error, scheme_dissipation=balance%scheme_dissipation, &
-            damping_dissipation=balance%physical_dissipation, sensors=sensor_values)
-         if (allocated(error)) return
+            damping_dissipation=balance%physical_dissipation, sensors=sensor_values, &
+            sample=sample)
+         if (allocated(error) .or. .not. sample) return
          ! Animation history
          n = history%num_steps + 1
          if (n > size(history%t)) call grow(history)
@@ -353,6 +364,125 @@ contains
          history%num_steps = n
       end associate
    end subroutine record_step
+
+   !> The step just taken is a sample (&output; docs/results.md "Output rate, peaks,
+   !> compression, size"): the last step (t_end), every every_steps-th step of the run
+   !> (counted from its start, so a --restart keeps the rhythm), or the first step at or after
+   !> the next multiple of every_seconds.
+   logical function sample_due(self, integrator, t_end) result(due)
+      class(mechanism_output_t), intent(inout) :: self
+      type(galpha_integrator_t), intent(in) :: integrator
+      real(dp), intent(in) :: t_end
+      real(dp) :: tolerance
+      tolerance = 1.0e-6_dp * integrator%settings%h
+      due = .true.
+      if (integrator%t >= t_end - tolerance) return
+      associate (output => self%case%output)
+         if (output%every_seconds > 0.0_dp) then
+            due = integrator%t >= self%next_sample - tolerance
+            if (due) self%next_sample = next_sample_time(integrator%t, output%every_seconds, &
+               tolerance)
+         else if (output%every_steps > 1) then
+            due = mod(integrator%stats%steps, int(output%every_steps, i8)) == 0_i8
+         end if
+      end associate
+   end function sample_due
+
+   !> The first multiple of `period` after t (a multiple within `tolerance` of t counts as
+   !> reached).
+   pure real(dp) function next_sample_time(t, period, tolerance) result(next)
+      real(dp), intent(in) :: t, period, tolerance
+      next = (aint((t + tolerance) / period) + 1.0_dp) * period
+   end function next_sample_time
+
+   !> The predicted size of the results file (and animations) in the log, before the
+   !> integration; FFRF_IO_ERROR (exit 3) when it exceeds the free space of the output folder,
+   !> unless &output ignore_free_space. The prediction: the file as created (input, modes,
+   !> empty series) plus the whole chunks of every series after the predicted samples, plus
+   !> the restart state and run information written at the end; uncompressed (an upper bound
+   !> with compression).
+   subroutine check_output_size(self, integrator, bodies, log, error)
+      ! sizes in bytes; `created`: the results file so far
+      integer(i8) :: created, samples, steps, results_bytes, animation_bytes, free
+      integer :: kind
+      character(len=:), allocatable :: note
+      class(mechanism_output_t), intent(inout) :: self
+      type(galpha_integrator_t), intent(in) :: integrator
+      type(built_body_t), intent(in) :: bodies(:)
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      associate (output => self%case%output, s => integrator%settings)
+         call self%results%flush(error)
+         if (.not. allocated(error)) call file_kind(self%temp_file, kind, created, error)
+         if (allocated(error)) return
+         steps = max(0_i8, ceiling((s%t_end - integrator%t) / s%h - 1.0e-6_dp, i8))
+         samples = predicted_samples(output, integrator%t, s%t_end, s%h, &
+            .not. self%restarting) + int(self%results%num_steps(), i8)
+         results_bytes = created + self%results%predicted_bytes(samples) - &
+            self%results%predicted_bytes(int(self%results%num_steps(), i8)) + &
+            8_i8 * 16_i8 * size(integrator%q, kind=i8) + 16384_i8
+         animation_bytes = predicted_animation_bytes(self%case%mechanism%mechanism% &
+            animation_frames, bodies)
+         ! the free space before the file was created (the prediction counts it whole)
+         call free_space(self%options%output_dir, free, error)
+         if (allocated(error)) return
+         free = free + created
+         note = ''
+         if (output%compression > 0) note = ', uncompressed: compression makes it smaller'
+         call log%info('output', 'predicted size: results ' // megabytes(results_bytes) // &
+            ' (' // to_str(samples) // ' samples of ' // to_str(steps) // ' steps' // note // &
+            '), animations ' // megabytes(animation_bytes) // '; free in the output folder ' // &
+            megabytes(free))
+         if (results_bytes + animation_bytes <= free .or. output%ignore_free_space) return
+         self%refused = .true.
+         call fatal_error(error, FFRF_IO_ERROR, 'the results (' // megabytes(results_bytes) // &
+            ') and animations (' // megabytes(animation_bytes) // ') would not fit in the ' // &
+            megabytes(free) // ' free in the output folder "' // self%options%output_dir // &
+            '"; write fewer samples (&output every_seconds or every_steps), fewer ' // &
+            'histories (&output histories), compress (&output compression), choose another ' // &
+            '--output-dir, or start anyway with &output ignore_free_space = .true.')
+      end associate
+   end subroutine check_output_size
+
+   module procedure predicted_samples
+      integer(i8) :: steps
+      steps = max(0_i8, ceiling((t_end - t) / h - 1.0e-6_dp, i8))
+      if (output%every_seconds > 0.0_dp) then
+         samples = min(floor(t_end / output%every_seconds + 1.0e-9_dp, i8) - &
+            floor(t / output%every_seconds + 1.0e-9_dp, i8) + 1_i8, steps)
+      else
+         samples = min(steps / output%every_steps + 1_i8, steps)
+      end if
+      if (first) samples = samples + 1_i8
+   end procedure predicted_samples
+
+   !> "12.3 MB" (10^6 bytes).
+   function megabytes(bytes) result(text)
+      integer(i8), intent(in) :: bytes
+      character(len=:), allocatable :: text
+      text = to_str(real(bytes, dp) / 1.0e6_dp, 4) // ' MB'
+   end function megabytes
+
+   !> Bytes of the Gmsh animations (write_animations): per flexible body, its mesh (a line per
+   !> node: tag and 3 x 25 characters) and `frames` node-data views of a line per node ('tag ux
+   !> uy uz', 3 x 15 characters).
+   pure integer(i8) function predicted_animation_bytes(frames, bodies) result(bytes)
+      integer, intent(in) :: frames
+      type(built_body_t), intent(in) :: bodies(:)
+      integer(i8) :: nodes, tets, digits
+      integer :: k
+      bytes = 0_i8
+      if (frames <= 0) return
+      do k = 1, size(bodies)
+         if (bodies(k)%num_modes == 0) cycle
+         nodes = size(bodies(k)%modes%mesh%xyz, 2, kind=i8)
+         tets = size(bodies(k)%modes%mesh%tets, 2, kind=i8)
+         digits = int(log10(real(max(nodes, 1_i8), dp)), i8) + 2_i8
+         bytes = bytes + nodes * (digits + 75_i8) + tets * (size(bodies(k)%modes%mesh%tets, 1, &
+            kind=i8) * digits + 8_i8 + digits) + int(frames, i8) * (nodes * (digits + 45_i8) + &
+            200_i8) + 400_i8
+      end do
+   end function predicted_animation_bytes
 
    !> True when `error` is the end of a run by a signal.
    pure logical function interrupted(error)

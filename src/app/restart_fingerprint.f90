@@ -36,7 +36,8 @@ module ffrf_app_restart_fingerprint
       'mechanism.label', 'mechanism.progress_interval', 'mechanism.animation_frames', &
       'integrator.t_end', 'integrator.max_steps', 'integrator.checkpoint_steps', &
       'integrator.checkpoint_seconds', 'integrator.energy_watch', &
-      'integrator.energy_watch_tolerance', 'integrator.energy_watch_window']
+      'integrator.energy_watch_tolerance', 'integrator.energy_watch_window', &
+      'output.compression', 'output.ignore_free_space']
 
 contains
 

@@ -13,6 +13,7 @@
 #include <time.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 /* File kinds of ffrf_file_kind, mirrored in ffrf_core_posix. */
@@ -33,6 +34,17 @@ int ffrf_file_kind(const char *path, int *kind, long long *size)
     else if (S_ISFIFO(st.st_mode)) *kind = KIND_FIFO;
     else if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) *kind = KIND_DEVICE;
     else *kind = KIND_OTHER;
+    return 0;
+}
+
+/* Bytes an unprivileged process may still write in the file system of `path` (statvfs:
+ * f_bavail blocks of f_frsize bytes); errno of statvfs() when it cannot be inspected. */
+int ffrf_free_space(const char *path, long long *bytes)
+{
+    struct statvfs st;
+    *bytes = 0;
+    if (statvfs(path, &st) != 0) return errno;
+    *bytes = (long long)st.f_bavail * (long long)st.f_frsize;
     return 0;
 }
 

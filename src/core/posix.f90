@@ -16,7 +16,7 @@ module ffrf_core_posix
    public :: ERRNO_WOULD_BLOCK
    public :: lock_output, ignore_file_size_signal, copy_file, sync_folder_of, commit_durably
    public :: signals_restart_calls, hold_signals, release_signals, signal_test_point
-   public :: create_new_file, same_file, exit_guard
+   public :: create_new_file, same_file, exit_guard, free_space
 
    !> File kinds (posix.c)
    integer, parameter :: FILE_MISSING = 0, FILE_REGULAR = 1, FILE_DIRECTORY = 2, FILE_FIFO = 3, &
@@ -35,6 +35,11 @@ module ffrf_core_posix
          integer(c_int), intent(out) :: kind
          integer(c_long_long), intent(out) :: size
       end function c_file_kind
+      integer(c_int) function c_free_space(path, bytes) bind(c, name='ffrf_free_space')
+         import :: c_int, c_char, c_long_long
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_long_long), intent(out) :: bytes
+      end function c_free_space
       integer(c_int) function c_rename(from, to) bind(c, name='ffrf_rename')
          import :: c_int, c_char
          character(kind=c_char), intent(in) :: from(*), to(*)
@@ -143,6 +148,17 @@ contains
       size_bytes = int(c_size, i8)
       call status_error(status, 'inspect "' // path // '"', error)
    end subroutine file_kind
+
+   !> Bytes that may still be written in the file system of `path` (a folder or file).
+   subroutine free_space(path, bytes, error)
+      character(len=*), intent(in) :: path
+      integer(i8), intent(out) :: bytes
+      type(error_t), allocatable, intent(out) :: error
+      integer(c_long_long) :: c_bytes
+      call status_error(c_free_space(c_string(path), c_bytes), 'find the free space of "' // &
+         path // '"', error)
+      bytes = int(c_bytes, i8)
+   end subroutine free_space
 
    !> "a regular file", "a folder", "a FIFO (named pipe)", ... (FILE_KIND_NAMES; an unknown kind
    !> reads as FILE_OTHER).

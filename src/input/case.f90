@@ -15,6 +15,8 @@ module ffrf_input_case
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text
    use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys
+   use ffrf_input_nml_output, only: output_input_t, read_output_group, output_keys, &
+      check_history_names
    use ffrf_input_nml_body, only: read_body_groups, body_keys
    use ffrf_input_nml_interface, only: read_interface_groups, interface_keys
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
@@ -49,6 +51,8 @@ module ffrf_input_case
       logical :: is_mechanism = .false.
       !> Markers, joints, loads, pressure, integrator (mechanism runs)
       type(mechanism_case_input_t) :: mechanism
+      !> Histories, their rate, compression, size check (&output; mechanism runs)
+      type(output_input_t) :: output
       !> The overrides the case was read with (command line, sweep table) as namelist comment
       !> lines, appended to the echo; unallocated or '' for none
       character(len=:), allocatable :: overrides
@@ -155,7 +159,7 @@ contains
       type(group_spec_t), allocatable :: groups(:)
       ! element by element: gfortran 12 leaks the keys of group_spec_t(...) constructors in an
       ! array constructor (valgrind, tests/capi)
-      allocate (groups(16))
+      allocate (groups(17))
       call set(1, 'run', .false., run_keys())
       call set(2, 'body', .true., body_keys())
       call set(3, 'interface', .true., interface_keys())
@@ -172,6 +176,7 @@ contains
       call set(14, 'driver', .true., driver_keys())
       call set(15, 'torsion_spring', .true., torsion_spring_keys())
       call set(16, 'bushing', .true., bushing_keys())
+      call set(17, 'output', .false., output_keys())
    contains
       subroutine set(k, name, repeatable, keys)
          integer, intent(in) :: k
@@ -247,6 +252,7 @@ contains
       end if
       call src%write_namelist(unit, error)
       if (.not. allocated(error)) call read_run_group(unit, case%run, error)
+      if (.not. allocated(error)) call read_output_group(unit, case%output, error)
       if (.not. allocated(error)) call read_body_groups(unit, src, case%bodies, case%motions, &
          error)
       if (.not. allocated(error)) call read_interface_groups(unit, src, case%interfaces, error)
@@ -291,6 +297,8 @@ contains
       end do
       if (case%is_mechanism) then
          call check_mechanism_names(src, case, error)
+         if (.not. allocated(error)) call check_history_names(case%output, [character(len=64) &
+            :: case%bodies%name, case%mechanism%joints%name, history_sensors(case)], error)
          if (.not. allocated(error)) call check_step_count(src, case, error)
          if (allocated(error)) then
             if (.not. located(error%message)) call add_context(error, &
@@ -324,5 +332,13 @@ contains
          end do
       end function located
    end subroutine read_case_in_section
+
+   !> The names of the case's sensors (none for a case built without &sensor groups).
+   function history_sensors(case) result(names)
+      type(case_input_t), intent(in) :: case
+      character(len=64), allocatable :: names(:)
+      allocate (names(0))
+      if (allocated(case%mechanism%sensors)) names = case%mechanism%sensors%name
+   end function history_sensors
 
 end module ffrf_input_case

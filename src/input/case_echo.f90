@@ -1,6 +1,7 @@
 !> The resolved input as namelist text (ffrf_input_case): every group with every key, defaults
 !> included, in the order the readers take them; results files and logs carry it.
 submodule (ffrf_input_case) ffrf_input_case_echo
+   use ffrf_input_nml_output, only: output_echo
    implicit none
 
 contains
@@ -50,7 +51,8 @@ contains
          ''', tolerance = ' // to_str(case%modes%tolerance, 6) // ', lanczos_vectors = ' // &
          to_str(case%modes%lanczos_vectors) // ', basis = ''' // nml_string(case%modes%basis) // &
          '''' // memory_echo(case%modes) // ' /' // nl
-      if (case%is_mechanism) text = text // mechanism_echo(case%mechanism)
+      if (case%is_mechanism) text = text // mechanism_echo(case%mechanism) // &
+         output_echo(case%output)
       if (allocated(case%overrides)) text = text // case%overrides
    end procedure case_echo
 

@@ -18,7 +18,7 @@ module ffrf_io_hdf5
    use hdf5, only: hid_t
    implicit none
    private
-   public :: h5_file_t, H5_READ_ONLY, H5_READ_WRITE
+   public :: h5_file_t, H5_READ_ONLY, H5_READ_WRITE, series_storage_bytes
 
    integer, parameter :: H5_READ_ONLY = 1   !< h5_file_t%open: read only
    integer, parameter :: H5_READ_WRITE = 2  !< h5_file_t%open: read and write
@@ -32,6 +32,10 @@ module ffrf_io_hdf5
       character(len=:), allocatable :: name
       !> False when opened H5_READ_ONLY
       logical :: writable = .false.
+      !> Deflate level (1-9) of the series created from now on, after a byte shuffle; 0: none
+      integer :: deflate_level = 0
+      !> At most this many steps per chunk of the series created from now on (0: no limit)
+      integer :: max_chunk_steps = 0
    contains
       procedure :: create => h5_file_create
       procedure :: open => h5_file_open
@@ -56,6 +60,7 @@ module ffrf_io_hdf5
       procedure :: set_status => h5_file_set_status
       procedure :: get_status => h5_file_get_status
       procedure :: create_series => h5_file_create_series
+      procedure :: set_compression => h5_file_set_compression
       generic :: append => append_real_0d, append_real_1d, append_real_2d
       procedure :: series_length => h5_file_series_length
       procedure, private :: write_real_0d, write_real_1d, write_real_2d
@@ -451,7 +456,10 @@ module ffrf_io_hdf5
       !> Create an empty, growing real dataset for time-integration output. `num_rows = 0`: a 1D
       !> series of scalars, Fortran (num_steps) = h5py (num_steps,); `num_rows > 0`: one column
       !> per step, Fortran (num_rows, num_steps) = h5py (num_steps, num_rows). Chunked, unlimited
-      !> along the step dimension; an existing dataset at `path` is replaced.
+      !> along the step dimension; an existing dataset at `path` is replaced. A chunk holds whole
+      !> steps and about 8192 values (64 kB): appending touches the last chunk only, and reading
+      !> one history whole reads its own chunks, contiguous in time. With set_compression, each
+      !> chunk is shuffled and deflated.
       module subroutine h5_file_create_series(self, path, num_rows, units, error)
          class(h5_file_t), intent(inout) :: self
          !> Absolute dataset path
@@ -462,6 +470,29 @@ module ffrf_io_hdf5
          character(len=*), intent(in) :: units
          type(error_t), allocatable, intent(out) :: error
       end subroutine h5_file_create_series
+
+      !> Compress the series created from now on (create_series): shuffle + deflate at `level`
+      !> (1 fastest .. 9 smallest; 0: none, the default). `max_chunk_steps` > 0 caps the steps
+      !> of a chunk (a series expected to hold few steps: a chunk is allocated whole).
+      module subroutine h5_file_set_compression(self, level, max_chunk_steps)
+         class(h5_file_t), intent(inout) :: self
+         !> Deflate level, 0..9 (clipped)
+         integer, intent(in) :: level
+         !> Steps per chunk at most (0, default: no cap)
+         integer, intent(in), optional :: max_chunk_steps
+      end subroutine h5_file_set_compression
+
+      !> Bytes a series of `num_rows` values per step (0: scalar) takes in the file after
+      !> `num_steps` steps without compression: whole chunks of create_series (the last one
+      !> allocated whole) and the nodes of their chunk index, without the few hundred bytes of
+      !> its header (written when the series is created).
+      module pure integer(i8) function series_storage_bytes(num_rows, num_steps, &
+            max_chunk_steps) result(bytes)
+         integer, intent(in) :: num_rows
+         integer(i8), intent(in) :: num_steps
+         !> The cap of set_compression (0: none)
+         integer, intent(in) :: max_chunk_steps
+      end function series_storage_bytes
 
       !> Append one step to a 1D (scalar) series.
       module subroutine append_real_0d(self, path, value, error)

@@ -1,5 +1,6 @@
 !> ffrf_io_hdf5: time series, chunked datasets that grow along their last dimension.
 submodule (ffrf_io_hdf5:ffrf_io_hdf5_internals) ffrf_io_hdf5_series
+   use hdf5, only: h5pset_shuffle_f, h5pset_deflate_f
    implicit none
 
 contains
@@ -20,11 +21,12 @@ contains
          if (num_rows == 0) then
             dims = [0_hsize_t]
             max_dims = [H5S_UNLIMITED_F]
-            chunk = [int(series_chunk, hsize_t)]
+            chunk = [int(chunk_steps(0, self%max_chunk_steps), hsize_t)]
          else
             dims = [int(num_rows, hsize_t), 0_hsize_t]
             max_dims = [int(num_rows, hsize_t), H5S_UNLIMITED_F]
-            chunk = [int(num_rows, hsize_t), int(max(1, series_chunk / num_rows), hsize_t)]
+            chunk = [int(num_rows, hsize_t), int(chunk_steps(num_rows, self%max_chunk_steps), &
+               hsize_t)]
          end if
          call prepare_dataset(self, path, error)
          if (allocated(error)) exit section
@@ -38,6 +40,12 @@ contains
             if (hdferr < 0) exit steps
             call h5pset_chunk_f(plist, size(chunk), chunk, hdferr)
             if (hdferr < 0) exit steps
+            if (self%deflate_level > 0) then
+               call h5pset_shuffle_f(plist, hdferr)
+               if (hdferr < 0) exit steps
+               call h5pset_deflate_f(plist, self%deflate_level, hdferr)
+               if (hdferr < 0) exit steps
+            end if
             call h5dcreate_f(self%id, path, H5T_NATIVE_DOUBLE, space, dset, hdferr, plist)
             if (hdferr < 0) exit steps
             call put_units(dset, units, hdferr)
@@ -47,6 +55,36 @@ contains
       end block section
       call leave_serial_section(SECTION_HDF5)
    end procedure h5_file_create_series
+
+   module procedure h5_file_set_compression
+      self%deflate_level = max(0, min(9, level))
+      self%max_chunk_steps = 0
+      if (present(max_chunk_steps)) self%max_chunk_steps = max(0, max_chunk_steps)
+   end procedure h5_file_set_compression
+
+   !> Steps per chunk of a series of num_rows values per step (0: scalar): about series_chunk
+   !> values, at most `cap` steps when cap > 0.
+   pure integer function chunk_steps(num_rows, cap) result(steps)
+      integer, intent(in) :: num_rows, cap
+      steps = max(1, series_chunk / max(1, num_rows))
+      if (cap > 0) steps = min(steps, cap)
+   end function chunk_steps
+
+   module procedure series_storage_bytes
+      integer(i8) :: rows, steps_per_chunk, chunks, leaves, node
+      rows = max(1_i8, int(num_rows, i8))
+      steps_per_chunk = int(chunk_steps(num_rows, max_chunk_steps), i8)
+      chunks = (num_steps + steps_per_chunk - 1_i8) / steps_per_chunk
+      bytes = chunks * steps_per_chunk * rows * 8_i8
+      ! the chunk index: version-1 B-tree nodes of 64 chunks (HDF5's default K = 32), a header
+      ! of 24 bytes, 65 keys (chunk size, filter mask, one offset per dimension and one more)
+      ! and 64 addresses, allocated once the first chunk is written
+      if (chunks == 0_i8) return
+      node = 24_i8 + 65_i8 * (8_i8 + 8_i8 * merge(3_i8, 2_i8, num_rows > 0)) + 64_i8 * 8_i8
+      leaves = (chunks + 63_i8) / 64_i8
+      bytes = bytes + (leaves + (leaves + 62_i8) / 63_i8 - merge(1_i8, 0_i8, leaves == 1_i8)) &
+         * node
+   end procedure series_storage_bytes
 
    module procedure append_real_0d
       call enter_serial_section(SECTION_HDF5)
