@@ -29,7 +29,7 @@ module ffrf_app_restart_fingerprint
    !> to write, how much to log, when to stop, the energy watch (it watches, it does not change
    !> the motion), the memory of the modal solver, and the mesh file names (the meshes
    !> themselves are compared by their modes fingerprints).
-   character(len=*), parameter :: MAY_CHANGE(*) = [character(len=32) :: &
+   character(len=*), parameter :: MAY_CHANGE(*) = [character(len=40) :: &
       'run.title', 'run.output', 'run.mode_shapes_msh', 'run.log_level', &
       'body.mesh_file', 'body.coarse_meshes', 'body.modes_file', &
       'modes.out_of_core', 'modes.ooc_tmpdir', 'modes.memory_limit_mb', &

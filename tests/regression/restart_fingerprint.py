@@ -201,9 +201,10 @@ def main():
               '--set', f'integrator.t_end={t_end + 0.002!r}', '--set', "run.title='another title'",
               '--set', "run.output='continued.h5'", '--set', "integrator.energy_watch='off'",
               '--set', 'mechanism.progress_interval=0.5', '--set', 'integrator.checkpoint_steps=7',
-              '--set', "run.log_level='debug'", '--restart', results)
-    check(out.returncode == 0, f'restart with t_end, title, output, watch, progress, checkpoints, '
-          f'log level changed: exit {out.returncode} {out.stderr.strip()}')
+              '--set', "run.log_level='debug'", '--set', 'integrator.energy_watch_tolerance=1e-3',
+              '--restart', results)
+    check(out.returncode == 0, f'restart with t_end, title, output, watch and its tolerance, '
+          f'progress, checkpoints, log level changed: exit {out.returncode} {out.stderr.strip()}')
     continued = os.path.join(work, 'may_change', 'continued.h5')
     if os.path.exists(continued):
         with h5py.File(continued, 'r') as f, h5py.File(results, 'r') as source:
