@@ -16,17 +16,13 @@ module ffrf_mpc_reduction
    use ffrf_la_dense, only: null_space, symmetric_eigen
    use ffrf_la_lapack, only: dposv
    use ffrf_mpc_interface, only: interface_t, MPC_RBE2, MPC_RBE3, DOF_NAMES
+   !> The formulations (FORMULATION_NONE: no reduction built, a body without modes) and their table
+   use ffrf_core_choices, only: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, &
+      formulation_choices, choice_name
    implicit none
    private
    public :: reduction_t, build_reduction, reduce_matrix, expand_vectors, reduced_coordinates
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
-
-   !> No reduction built (a body without modes)
-   integer, parameter :: FORMULATION_NONE = 0
-   !> RBE2 eliminated, RBE3 reference conditions as constraint rows (Lagrange multipliers)
-   integer, parameter :: FORMULATION_MULTIPLIERS = 1
-   !> Explicit null spaces B2 = null(D) or null(D G) (LAPACK SVD)
-   integer, parameter :: FORMULATION_NULL_SPACE = 2
 
    !> q = T p with C p = 0.
    type :: reduction_t
@@ -415,14 +411,7 @@ contains
       !> FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE or FORMULATION_NONE
       integer, intent(in) :: formulation
       character(len=:), allocatable :: name
-      select case (formulation)
-      case (FORMULATION_MULTIPLIERS)
-         name = 'multipliers'
-      case (FORMULATION_NULL_SPACE)
-         name = 'null_space'
-      case default
-         name = 'none'
-      end select
+      name = choice_name(formulation_choices, formulation, 'none')
    end function formulation_name
 
 end module ffrf_mpc_reduction
