@@ -1,11 +1,28 @@
-!> The readers of the mechanism's loads, drivers and force elements (ffrf_input_nml_mechanism):
-!> &load and &driver with their laws over time, &spring, &torsion_spring and &bushing.
-submodule (ffrf_input_nml_mechanism) ffrf_input_nml_mechanism_forces
+!> The readers of the mechanism's loads, drivers and force elements (keys and their rules: the
+!> header of ffrf_input_nml_mechanism, which calls them): &load and &driver with their laws over
+!> time, &spring, &torsion_spring and &bushing.
+module ffrf_input_nml_mechanism_forces
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_choices, only: choice_words
+   use ffrf_input_nml_common, only: read_status, check_unique_name
+   use ffrf_input_nml_source, only: nml_source_t
+   use ffrf_input_mechanism, only: load_input_t, spring_input_t, torsion_spring_input_t, &
+      bushing_input_t, driver_input_t, time_law_input_t, law_function, load_choices
+   use ffrf_mbs_time_function, only: time_function_t, max_table_points
    implicit none
+   private
+   public :: read_load_groups, read_driver_groups, read_spring_groups, &
+      read_torsion_spring_groups, read_bushing_groups
 
 contains
 
-   module procedure read_load_groups
+   subroutine read_load_groups(unit, src, loads, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(load_input_t), allocatable, intent(out) :: loads(:)
+      type(error_t), allocatable, intent(out) :: error
       type(load_input_t) :: defaults
       character(len=64) :: name, body, marker
       character(len=16) :: type
@@ -41,12 +58,8 @@ contains
          read (unit, nml=load, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(loads) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'load', k, msg, 'name, type, body, marker, ' // &
-               'direction, value, stall_torque, free_speed, switch_off, coefficient, ' // &
-               law_key_names)
-            return
-         end if
+         call read_status(src, 'load', k, stat, msg, error)
+         if (allocated(error)) return
          given_law = law_as_given(law, initial, final, speed, t_start, duration, &
             table_time, table_value, interpolation, beyond)
          if (value == huge(1.0_dp)) value = merge(1.0_dp, defaults%value, len_trim(law) > 0)
@@ -90,9 +103,14 @@ contains
             call move_alloc(grown, loads)
          end block
       end do
-   end procedure read_load_groups
+   end subroutine read_load_groups
 
-   module procedure read_driver_groups
+   !> The &driver groups (module header), in input order.
+   subroutine read_driver_groups(unit, src, drivers, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(driver_input_t), allocatable, intent(out) :: drivers(:)
+      type(error_t), allocatable, intent(out) :: error
       type(driver_input_t) :: defaults
       character(len=64) :: name, joint
       character(len=16) :: quantity
@@ -120,11 +138,8 @@ contains
          read (unit, nml=driver, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(drivers) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'driver', k, msg, 'name, joint, quantity, ' // &
-               'offset, ' // law_key_names)
-            return
-         end if
+         call read_status(src, 'driver', k, stat, msg, error)
+         if (allocated(error)) return
          given_law = law_as_given(law, initial, final, speed, t_start, duration, &
             table_time, table_value, interpolation, beyond)
          quantity = to_lower(quantity)
@@ -151,7 +166,7 @@ contains
             call move_alloc(grown, drivers)
          end block
       end do
-   end procedure read_driver_groups
+   end subroutine read_driver_groups
 
    !> The law keys' defaults before a read (time_law_input_t; table entries unset: huge).
    pure subroutine reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
@@ -200,137 +215,122 @@ contains
       n = size(values)
    end function count_set
 
-   module procedure read_spring_groups
-      type(spring_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness, damping, free_length
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
-      allocate (springs(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_length = defaults%free_length
-         read (unit, nml=spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'spring', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping, free_length')
-            return
-         end if
-         call check_marker_pair_group(src, 'spring', k, name, springs%name, body1, marker1, &
-            body2, marker2, error)
-         if (allocated(error)) return
-         springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
-            damping, free_length)]
-      end do
-   end procedure read_spring_groups
-
-   module procedure read_torsion_spring_groups
-      type(torsion_spring_input_t) :: defaults
-      character(len=64) :: name, joint
-      real(dp) :: stiffness, damping, free_angle
-      real(dp), parameter :: unset = huge(1.0_dp)
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
-      allocate (springs(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         joint = defaults%joint
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_angle = unset
-         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'torsion_spring', k, msg, 'name, joint, ' // &
-               'stiffness, damping, free_angle')
-            return
-         end if
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ': name is missing')
-         else if (any(springs%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, 'name') &
-               // ': the name is used twice; torsion spring names must be unique')
-         else if (len_trim(joint) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ' "' // trim(name) // '": joint is required (a revolute or cylindrical &joint)')
-         end if
-         if (allocated(error)) return
-         springs = [springs, torsion_spring_input_t(name, joint, stiffness, damping, &
-            merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
-      end do
-   end procedure read_torsion_spring_groups
-
-   !> The rules a group between two markers of two bodies shares (&spring, &bushing; group k,
-   !> `names` those of the groups before it): a unique name, all four ends, two bodies.
-   subroutine check_marker_pair_group(src, group, k, name, names, body1, marker1, body2, &
-      marker2, error)
+   !> The &spring groups (module header), in input order.
+   subroutine read_spring_groups(unit, src, springs, error)
+      integer, intent(in) :: unit
       type(nml_source_t), intent(in) :: src
-      character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
-      integer, intent(in) :: k
-      character(len=*), intent(in) :: names(:)
+      type(spring_input_t), allocatable, intent(out) :: springs(:)
       type(error_t), allocatable, intent(out) :: error
-      if (len_trim(name) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // &
-            ': name is missing')
-      else if (any(names == name)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'name') // &
-            ': the name is used twice; ' // group // ' names must be unique')
-      else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-         len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+      integer :: k, stat
+      character(len=512) :: msg
+      allocate (springs(src%count('spring')))
+      rewind (unit)
+      do k = 1, size(springs)
+         call read_spring(springs(k)%name, springs(k)%body1, springs(k)%marker1, &
+            springs(k)%body2, springs(k)%marker2, springs(k)%stiffness, springs(k)%damping, &
+            springs(k)%free_length)
+         if (allocated(error)) return
+      end do
+   contains
+      !> &spring k: the namelist read into its fields (absent keys keep their defaults), then
+      !> the rules of a group between two markers.
+      subroutine read_spring(name, body1, marker1, body2, marker2, stiffness, damping, &
+            free_length)
+         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: stiffness, damping, free_length
+         namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
+         read (unit, nml=spring, iostat=stat, iomsg=msg)
+         call check_marker_pair_group(src, 'spring', k, stat, msg, springs(:k - 1)%name, &
+            [character(len=64) :: name, body1, marker1, body2, marker2], error)
+      end subroutine read_spring
+   end subroutine read_spring_groups
+
+   !> The &torsion_spring groups (module header), in input order.
+   subroutine read_torsion_spring_groups(unit, src, springs, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, stat
+      character(len=512) :: msg
+      allocate (springs(src%count('torsion_spring')))
+      rewind (unit)
+      do k = 1, size(springs)
+         associate (spring => springs(k))
+            ! unset: the joint angle at the start
+            spring%free_angle = huge(1.0_dp)
+            call read_torsion_spring(spring%name, spring%joint, spring%stiffness, &
+               spring%damping, spring%free_angle)
+            spring%free_angle_given = spring%free_angle /= huge(1.0_dp)
+            if (.not. spring%free_angle_given) spring%free_angle = 0.0_dp
+            if (.not. allocated(error)) call check_unique_name(src, 'torsion_spring', k, &
+               spring%name, springs(:k - 1)%name, error)
+            if (.not. allocated(error) .and. len_trim(spring%joint) == 0) call fatal_error(error, &
+               FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // ' "' // &
+               trim(spring%name) // '": joint is required (a revolute or cylindrical &joint)')
+         end associate
+         if (allocated(error)) return
+      end do
+   contains
+      !> The namelist read of &torsion_spring k into its fields (absent keys keep their values).
+      subroutine read_torsion_spring(name, joint, stiffness, damping, free_angle)
+         character(len=*), intent(inout) :: name, joint
+         real(dp), intent(inout) :: stiffness, damping, free_angle
+         namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
+         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
+         call read_status(src, 'torsion_spring', k, stat, msg, error)
+      end subroutine read_torsion_spring
+   end subroutine read_torsion_spring_groups
+
+   !> After the namelist read of occurrence k of a group between two markers of two bodies
+   !> (&spring, &bushing; read status stat, iomsg msg): its rules, `names` those of the
+   !> occurrences before it, `ends` its name, body1, marker1, body2, marker2: a unique name,
+   !> all four ends, two bodies.
+   subroutine check_marker_pair_group(src, group, k, stat, msg, names, ends, error)
+      type(nml_source_t), intent(in) :: src
+      character(len=*), intent(in) :: group, msg
+      integer, intent(in) :: k, stat
+      character(len=*), intent(in) :: names(:), ends(5)
+      type(error_t), allocatable, intent(out) :: error
+      call read_status(src, group, k, stat, msg, error)
+      if (.not. allocated(error)) call check_unique_name(src, group, k, ends(1), names, error)
+      if (allocated(error)) return
+      if (any(len_trim(ends(2:)) == 0)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // ' "' // &
-            trim(name) // '": body1, marker1, body2 and marker2 are required')
-      else if (body1 == body2) then
+            trim(ends(1)) // '": body1, marker1, body2 and marker2 are required')
+      else if (ends(2) == ends(4)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'body2') // ': &' // &
-            group // ' "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
-            '"; a ' // group // ' connects two different bodies')
+            group // ' "' // trim(ends(1)) // '": body1 and body2 are both "' // &
+            trim(ends(2)) // '"; a ' // group // ' connects two different bodies')
       end if
    end subroutine check_marker_pair_group
 
-   module procedure read_bushing_groups
-      type(bushing_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness(6), damping(6)
-      integer :: stat, k
+   !> The &bushing groups (module header), in input order.
+   subroutine read_bushing_groups(unit, src, bushings, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, stat
       character(len=512) :: msg
-      namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
-      allocate (bushings(0))
+      allocate (bushings(src%count('bushing')))
       rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         read (unit, nml=bushing, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(bushings) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'bushing', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping')
-            return
-         end if
-         call check_marker_pair_group(src, 'bushing', k, name, bushings%name, body1, marker1, &
-            body2, marker2, error)
+      do k = 1, size(bushings)
+         call read_bushing(bushings(k)%name, bushings(k)%body1, bushings(k)%marker1, &
+            bushings(k)%body2, bushings(k)%marker2, bushings(k)%stiffness, bushings(k)%damping)
          if (allocated(error)) return
-         bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
-            stiffness, damping)]
       end do
-   end procedure read_bushing_groups
+   contains
+      !> &bushing k: the namelist read into its fields (absent keys keep their defaults), then
+      !> the rules of a group between two markers.
+      subroutine read_bushing(name, body1, marker1, body2, marker2, stiffness, damping)
+         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: stiffness(6), damping(6)
+         namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
+         read (unit, nml=bushing, iostat=stat, iomsg=msg)
+         call check_marker_pair_group(src, 'bushing', k, stat, msg, bushings(:k - 1)%name, &
+            [character(len=64) :: name, body1, marker1, body2, marker2], error)
+      end subroutine read_bushing
+   end subroutine read_bushing_groups
 
-end submodule ffrf_input_nml_mechanism_forces
+end module ffrf_input_nml_mechanism_forces

@@ -1,268 +1,254 @@
-!> The readers of the mechanism's single and structural groups (ffrf_input_nml_mechanism):
-!> &mechanism, &model, &marker, &joint, &pressure and &integrator.
-submodule (ffrf_input_nml_mechanism) ffrf_input_nml_mechanism_groups
+!> The readers of the mechanism's single and structural groups (keys and their rules: the
+!> header of ffrf_input_nml_mechanism, which calls them): &mechanism, &model, &marker, &joint,
+!> &pressure and &integrator; the &integrator jacobian table.
+module ffrf_input_nml_mechanism_groups
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str, to_lower
+   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
+   use ffrf_input_nml_common, only: read_status, check_unique_name
+   use ffrf_input_nml_source, only: nml_source_t
+   use ffrf_input_mechanism, only: mechanism_input_t, marker_input_t, joint_input_t, &
+      model_input_t
+   use ffrf_input_pressure, only: pressure_input_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
+      GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
+   use ffrf_mbs_joints, only: joint_choices
+   use ffrf_mbs_rotation, only: check_rotation
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
+      energy_watch_word
    implicit none
+   private
+   public :: read_model_group, read_mechanism_group, read_marker_groups, read_joint_groups, &
+      read_pressure_group, read_integrator_group, jacobian_choices
+
+   !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
+   type(choice_t), parameter :: jacobian_choices(*) = [ &
+      choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
+      choice_t('full', GALPHA_NEWTON_FULL)]
 
 contains
 
-   module procedure read_model_group
-      character(len=16) :: selection
-      real(dp) :: speed_tolerance, force_tolerance, resonance_floor
-      integer :: candidate_modes, stat
+   !> &model: automatic model selection and its error targets.
+   subroutine read_model_group(unit, src, input, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(model_input_t), intent(inout) :: input
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
       character(len=512) :: msg
-      namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
-         resonance_floor
-      selection = input%selection
-      speed_tolerance = input%speed_tolerance
-      force_tolerance = input%force_tolerance
-      candidate_modes = input%candidate_modes
-      resonance_floor = input%resonance_floor
       rewind (unit)
-      read (unit, nml=model, iostat=stat, iomsg=msg)
+      call read_model(input%selection, input%speed_tolerance, input%force_tolerance, &
+         input%candidate_modes, input%resonance_floor)
       if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'model', 0, msg, 'selection, speed_tolerance, ' // &
-            'force_tolerance, candidate_modes, resonance_floor')
-         return
-      end if
+      call read_status(src, 'model', 0, stat, msg, error)
       ! selection's word and the ranges were checked by the key spec (model_keys)
-      selection = to_lower(selection)
-      input%selection = selection
-      input%speed_tolerance = speed_tolerance
-      input%force_tolerance = force_tolerance
-      input%candidate_modes = candidate_modes
-      input%resonance_floor = resonance_floor
-   end procedure read_model_group
+      input%selection = to_lower(input%selection)
+   contains
+      !> The namelist read of &model into its fields (absent keys keep their values).
+      subroutine read_model(selection, speed_tolerance, force_tolerance, candidate_modes, &
+            resonance_floor)
+         character(len=*), intent(inout) :: selection
+         real(dp), intent(inout) :: speed_tolerance, force_tolerance, resonance_floor
+         integer, intent(inout) :: candidate_modes
+         namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
+            resonance_floor
+         read (unit, nml=model, iostat=stat, iomsg=msg)
+      end subroutine read_model
+   end subroutine read_model_group
 
-   module procedure read_mechanism_group
-      character(len=64) :: crank, label
-      real(dp) :: crank_angle_deg, crank_speed, gravity(3), progress_interval
-      integer :: animation_frames, stat
+   subroutine read_mechanism_group(unit, src, input, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(mechanism_input_t), intent(inout) :: input
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
       character(len=512) :: msg
-      namelist /mechanism/ crank, crank_angle_deg, crank_speed, gravity, label, &
-         progress_interval, animation_frames
-      crank = input%crank
-      crank_angle_deg = input%crank_angle_deg
-      crank_speed = input%crank_speed
-      gravity = input%gravity
-      label = input%label
-      progress_interval = input%progress_interval
-      animation_frames = input%animation_frames
       rewind (unit)
-      read (unit, nml=mechanism, iostat=stat, iomsg=msg)
+      call read_mechanism(input%crank, input%crank_angle_deg, input%crank_speed, input%gravity, &
+         input%label, input%progress_interval, input%animation_frames)
       if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'mechanism', 0, msg, 'crank, crank_angle_deg, ' // &
-            'crank_speed, gravity, label, progress_interval, animation_frames')
-         return
-      end if
-      if (.not. (progress_interval > 0.0_dp)) then
+      call read_status(src, 'mechanism', 0, stat, msg, error)
+      if (allocated(error)) return
+      if (.not. (input%progress_interval > 0.0_dp)) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: progress_interval = ' // &
-            to_str(progress_interval) // ' s, must be > 0')
-      else if (animation_frames < 0) then
+            to_str(input%progress_interval) // ' s, must be > 0')
+      else if (input%animation_frames < 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, '&mechanism: animation_frames = ' // &
-            to_str(animation_frames) // ', must be >= 0 (0: no animation file)')
+            to_str(input%animation_frames) // ', must be >= 0 (0: no animation file)')
       end if
-      input = mechanism_input_t(crank, crank_angle_deg, crank_speed, gravity, label, &
-         progress_interval, animation_frames)
-   end procedure read_mechanism_group
+   contains
+      !> The namelist read of &mechanism into its fields (absent keys keep their values).
+      subroutine read_mechanism(crank, crank_angle_deg, crank_speed, gravity, label, &
+            progress_interval, animation_frames)
+         character(len=*), intent(inout) :: crank, label
+         real(dp), intent(inout) :: crank_angle_deg, crank_speed, gravity(3), progress_interval
+         integer, intent(inout) :: animation_frames
+         namelist /mechanism/ crank, crank_angle_deg, crank_speed, gravity, label, &
+            progress_interval, animation_frames
+         read (unit, nml=mechanism, iostat=stat, iomsg=msg)
+      end subroutine read_mechanism
+   end subroutine read_mechanism_group
 
-   module procedure read_marker_groups
-      type(marker_input_t) :: defaults
-      character(len=64) :: body, name
-      real(dp) :: position(3), orientation(9)
-      integer :: stat, k
+   subroutine read_marker_groups(unit, src, markers, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(marker_input_t), allocatable, intent(out) :: markers(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: orientation(9)
+      integer :: k, stat
       character(len=512) :: msg
-      namelist /marker/ body, name, position, orientation
-      allocate (markers(0))
+      allocate (markers(src%count('marker')))
       rewind (unit)
-      do
-         body = defaults%body
-         name = defaults%name
-         position = defaults%position
+      do k = 1, size(markers)
          ! all zero: not given (a zero matrix is no rotation)
          orientation = 0.0_dp
+         call read_marker(markers(k)%body, markers(k)%name, markers(k)%position, orientation)
+         if (allocated(error)) return
+      end do
+   contains
+      !> &marker k: the namelist read into its fields (absent keys keep their defaults), then
+      !> its rules: body and name, given once, an orientation that is a rotation.
+      subroutine read_marker(body, name, position, orientation)
+         character(len=*), intent(inout) :: body, name
+         real(dp), intent(inout) :: position(3), orientation(9)
+         namelist /marker/ body, name, position, orientation
          read (unit, nml=marker, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         if (stat /= 0) then
-            call namelist_read_error(error, 'marker', size(markers) + 1, msg, &
-               'body, name, position, orientation')
-            return
-         end if
-         k = size(markers) + 1
+         call read_status(src, 'marker', k, stat, msg, error)
+         if (allocated(error)) return
          if (len_trim(body) == 0 .or. len_trim(name) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, '') // &
                ': body and name are required')
-            return
-         end if
-         if (any(markers%body == body .and. markers%name == name)) then
+         else if (any(markers(:k - 1)%body == body .and. markers(:k - 1)%name == name)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'name') // &
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" is given twice')
-            return
+         else if (any(orientation /= 0.0_dp)) then
+            markers(k)%orientation = transpose(reshape(orientation, [3, 3]))
+            markers(k)%oriented = .true.
+            call check_rotation(markers(k)%orientation, src%where('marker', k, &
+               'orientation') // ': marker "' // trim(name) // '" of body "' // trim(body) // &
+               '": the orientation', error)
          end if
-         if (any(orientation /= 0.0_dp)) then
-            call check_rotation(transpose(reshape(orientation, [3, 3])), &
-               src%where('marker', k, 'orientation') // ': marker "' // trim(name) // &
-               '" of body "' // trim(body) // '": the orientation', error)
-            if (allocated(error)) return
-            markers = [markers, marker_input_t(body, name, position, &
-               transpose(reshape(orientation, [3, 3])), .true.)]
-         else
-            markers = [markers, marker_input_t(body, name, position)]
-         end if
-      end do
-   end procedure read_marker_groups
+      end subroutine read_marker
+   end subroutine read_marker_groups
 
-   module procedure read_joint_groups
-      type(joint_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      character(len=16) :: type
-      real(dp) :: axis(3)
-      integer :: stat, k
+   subroutine read_joint_groups(unit, src, joints, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(joint_input_t), allocatable, intent(out) :: joints(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, stat
       character(len=512) :: msg
-      character(len=:), allocatable :: where
-      namelist /joint/ name, type, body1, marker1, body2, marker2, axis
-      allocate (joints(0))
+      allocate (joints(src%count('joint')))
       rewind (unit)
-      do
-         name = defaults%name
-         type = defaults%type
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         axis = defaults%axis
+      do k = 1, size(joints)
+         associate (joint => joints(k))
+            call read_joint(joint%name, joint%type, joint%body1, joint%marker1, joint%body2, &
+               joint%marker2, joint%axis)
+            if (.not. allocated(error)) call check_joint(joint, joints(:k - 1)%name, k, error)
+         end associate
+         if (allocated(error)) return
+      end do
+   contains
+      !> The namelist read of &joint k into its fields (absent keys keep their defaults).
+      subroutine read_joint(name, type, body1, marker1, body2, marker2, axis)
+         character(len=*), intent(inout) :: name, type, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: axis(3)
+         namelist /joint/ name, type, body1, marker1, body2, marker2, axis
          read (unit, nml=joint, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(joints) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'joint', k, msg, &
-               'name, type, body1, marker1, body2, marker2, axis')
-            return
-         end if
-         where = src%where('joint', k, '') // ' "' // trim(name) // '"'
-         type = to_lower(type)
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, '') // &
-               ': name is missing')
-         else if (any(joints%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'name') // &
-               ': the name is used twice; joint names must be unique')
-         else if (len_trim(type) == 0) then
+         call read_status(src, 'joint', k, stat, msg, error)
+      end subroutine read_joint
+
+      !> The rules of &joint k (`names` those before it); its axis made a unit vector.
+      subroutine check_joint(joint, names, k, error)
+         type(joint_input_t), intent(inout) :: joint
+         character(len=*), intent(in) :: names(:)
+         integer, intent(in) :: k
+         type(error_t), allocatable, intent(out) :: error
+         character(len=:), allocatable :: where
+         where = src%where('joint', k, '') // ' "' // trim(joint%name) // '"'
+         joint%type = to_lower(joint%type)
+         call check_unique_name(src, 'joint', k, joint%name, names, error)
+         if (allocated(error)) return
+         if (len_trim(joint%type) == 0) then
             ! a word given was checked by the key spec (joint_keys); here only its absence
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': type is missing; give one of ' &
                // choice_words(joint_choices))
-         else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-            len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+         else if (len_trim(joint%body1) == 0 .or. len_trim(joint%marker1) == 0 .or. &
+            len_trim(joint%body2) == 0 .or. len_trim(joint%marker2) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1, marker1, body2 and ' // &
                'marker2 are required')
-         else if (body1 == body2) then
+         else if (joint%body1 == joint%body2) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': body1 and body2 are both "' // &
-               trim(body1) // '"; a joint connects two different bodies')
-         else if (.not. (norm2(axis) > 0.0_dp)) then
+               trim(joint%body1) // '"; a joint connects two different bodies')
+         else if (.not. (norm2(joint%axis) > 0.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('joint', k, 'axis') // &
                ': the axis is zero; give a direction')
+         else
+            joint%axis = joint%axis / norm2(joint%axis)
          end if
-         if (allocated(error)) return
-         joints = [joints, joint_input_t(name, type, body1, marker1, body2, marker2, &
-            axis / norm2(axis))]
-      end do
-   end procedure read_joint_groups
+      end subroutine check_joint
+   end subroutine read_joint_groups
 
-   module procedure read_pressure_group
-      real(dp) :: bore, stroke, conrod_length, compression_ratio, intake_pressure, &
-         exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, combustion_start_deg, &
-         combustion_duration_deg, heat_per_cycle, target_peak_pressure, reference_pressure
+   subroutine read_pressure_group(unit, src, input, table_file, error)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(pressure_input_t), intent(inout) :: input
+      character(len=*), intent(inout) :: table_file
+      type(error_t), allocatable, intent(out) :: error
       integer :: stat
       character(len=512) :: msg
-      namelist /pressure/ bore, stroke, conrod_length, compression_ratio, intake_pressure, &
-         exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, combustion_start_deg, &
-         combustion_duration_deg, heat_per_cycle, target_peak_pressure, reference_pressure, &
-         table_file
-      bore = input%bore
-      stroke = input%stroke
-      conrod_length = input%conrod_length
-      compression_ratio = input%compression_ratio
-      intake_pressure = input%intake_pressure
-      exhaust_pressure = input%exhaust_pressure
-      polytropic_exponent = input%polytropic_exponent
-      wiebe_a = input%wiebe_a
-      wiebe_m = input%wiebe_m
-      combustion_start_deg = input%combustion_start_deg
-      combustion_duration_deg = input%combustion_duration_deg
-      heat_per_cycle = input%heat_per_cycle
-      target_peak_pressure = input%target_peak_pressure
-      reference_pressure = input%reference_pressure
       rewind (unit)
-      read (unit, nml=pressure, iostat=stat, iomsg=msg)
-      if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'pressure', 0, msg, 'bore, stroke, conrod_length, ' // &
-            'compression_ratio, intake_pressure, exhaust_pressure, polytropic_exponent, ' // &
-            'wiebe_a, wiebe_m, combustion_start_deg, combustion_duration_deg, ' // &
-            'heat_per_cycle, target_peak_pressure, reference_pressure, table_file')
-         return
-      end if
+      call read_pressure(input%bore, input%stroke, input%conrod_length, input%compression_ratio, &
+         input%intake_pressure, input%exhaust_pressure, input%polytropic_exponent, &
+         input%wiebe_a, input%wiebe_m, input%combustion_start_deg, &
+         input%combustion_duration_deg, input%heat_per_cycle, input%target_peak_pressure, &
+         input%reference_pressure)
       ! Ranges are checked by pressure_model_t%init with the key names.
-      input = pressure_input_t(bore, stroke, conrod_length, compression_ratio, &
-         intake_pressure, exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, &
-         combustion_start_deg, combustion_duration_deg, heat_per_cycle, target_peak_pressure, &
-         reference_pressure, input%step_deg)
-   end procedure read_pressure_group
+      if (.not. is_iostat_end(stat)) call read_status(src, 'pressure', 0, stat, msg, error)
+   contains
+      !> The namelist read of &pressure into its fields (absent keys keep their values).
+      subroutine read_pressure(bore, stroke, conrod_length, compression_ratio, intake_pressure, &
+            exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, combustion_start_deg, &
+            combustion_duration_deg, heat_per_cycle, target_peak_pressure, reference_pressure)
+         real(dp), intent(inout) :: bore, stroke, conrod_length, compression_ratio, &
+            intake_pressure, exhaust_pressure, polytropic_exponent, wiebe_a, wiebe_m, &
+            combustion_start_deg, combustion_duration_deg, heat_per_cycle, &
+            target_peak_pressure, reference_pressure
+         ! the keys by topic: engine geometry; gas exchange and compression; the Wiebe
+         ! combustion; the scale of the pressure; a measured table instead of the model
+         namelist /pressure/ bore, stroke, conrod_length, compression_ratio, &
+            intake_pressure, exhaust_pressure, polytropic_exponent, &
+            wiebe_a, wiebe_m, combustion_start_deg, combustion_duration_deg, heat_per_cycle, &
+            target_peak_pressure, reference_pressure, table_file
+         read (unit, nml=pressure, iostat=stat, iomsg=msg)
+      end subroutine read_pressure
+   end subroutine read_pressure_group
 
-   module procedure read_integrator_group
-      real(dp) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, rank_rtol
-      real(dp) :: checkpoint_seconds, energy_watch_tolerance, energy_watch_window
-      integer :: max_iterations, tangent_reuse, checkpoint_steps, stat, sparse_threshold
+   subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
+      integer, intent(in) :: unit
+      type(nml_source_t), intent(in) :: src
+      type(galpha_settings_t), intent(inout) :: settings
+      !> .true. when the group gives h
+      logical, intent(out) :: h_given
+      type(error_t), allocatable, intent(out) :: error
+      !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
+      type(energy_watch_settings_t), intent(inout) :: watch
       character(len=16) :: jacobian, energy_watch
+      integer :: stat
       character(len=512) :: msg
-      namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
-         min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, checkpoint_steps, &
-         energy_watch, energy_watch_tolerance, energy_watch_window, sparse_threshold
       energy_watch = energy_watch_word(watch%mode)
-      energy_watch_tolerance = watch%tolerance
-      energy_watch_window = watch%window
-      h = -1.0_dp
-      checkpoint_seconds = settings%checkpoint_seconds
-      checkpoint_steps = settings%checkpoint_steps
-      t_end = settings%t_end
-      rho_inf = settings%rho_inf
-      newton_atol = settings%newton_atol
-      newton_rtol = settings%newton_rtol
-      max_iterations = settings%max_iterations
-      min_step = settings%min_step
-      rank_rtol = settings%rank_rtol
-      tangent_reuse = settings%tangent_reuse
-      sparse_threshold = settings%sparse_threshold
       jacobian = choice_name(jacobian_choices, settings%jacobian, 'step')
       rewind (unit)
-      read (unit, nml=integrator, iostat=stat, iomsg=msg)
-      if (.not. is_iostat_end(stat)) then
-         if (stat /= 0) then
-            call namelist_read_error(error, 'integrator', 0, msg, 'h, t_end, rho_inf, ' // &
-               'newton_atol, newton_rtol, max_iterations, min_step, rank_rtol, jacobian, ' // &
-               'tangent_reuse, checkpoint_seconds, checkpoint_steps, energy_watch, ' // &
-               'energy_watch_tolerance, energy_watch_window, sparse_threshold')
-            return
-         end if
-      end if
+      call read_integrator(settings%h, settings%t_end, settings%rho_inf, settings%newton_atol, &
+         settings%newton_rtol, settings%max_iterations, settings%min_step, settings%rank_rtol, &
+         settings%tangent_reuse, settings%checkpoint_seconds, settings%checkpoint_steps, &
+         watch%tolerance, watch%window, settings%sparse_threshold)
+      if (.not. is_iostat_end(stat)) call read_status(src, 'integrator', 0, stat, msg, error)
+      if (allocated(error)) return
       h_given = src%has_key('integrator', 1, 'h')
-      if (h_given) settings%h = h
-      settings%t_end = t_end
-      settings%rho_inf = rho_inf
-      settings%newton_atol = newton_atol
-      settings%newton_rtol = newton_rtol
-      settings%max_iterations = max_iterations
-      settings%min_step = min_step
-      settings%rank_rtol = rank_rtol
-      settings%tangent_reuse = tangent_reuse
-      settings%sparse_threshold = sparse_threshold
-      settings%checkpoint_seconds = checkpoint_seconds
-      settings%checkpoint_steps = checkpoint_steps
       ! the words of energy_watch and jacobian were checked by the key spec (integrator_keys)
       watch%mode = energy_watch_kind(to_lower(energy_watch))
-      watch%tolerance = energy_watch_tolerance
-      watch%window = energy_watch_window
       settings%jacobian = jacobian_choices(choice_position(jacobian_choices, jacobian))%kind
       if (.not. (settings%min_step <= settings%h)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'min_step') // &
@@ -272,6 +258,22 @@ contains
       call check_galpha_settings(settings, error)
       if (allocated(error)) error%message = src%where('integrator', 1, '') // ': ' // &
          error%message
-   end procedure read_integrator_group
+   contains
+      !> The namelist read of &integrator into its fields (absent keys keep their values; the
+      !> words jacobian and energy_watch into those of the host).
+      subroutine read_integrator(h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
+            min_step, rank_rtol, tangent_reuse, checkpoint_seconds, checkpoint_steps, &
+            energy_watch_tolerance, energy_watch_window, sparse_threshold)
+         real(dp), intent(inout) :: h, t_end, rho_inf, newton_atol, newton_rtol, min_step, &
+            rank_rtol, checkpoint_seconds, energy_watch_tolerance, energy_watch_window
+         integer, intent(inout) :: max_iterations, tangent_reuse, checkpoint_steps, &
+            sparse_threshold
+         namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
+            min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, &
+            checkpoint_steps, energy_watch, energy_watch_tolerance, energy_watch_window, &
+            sparse_threshold
+         read (unit, nml=integrator, iostat=stat, iomsg=msg)
+      end subroutine read_integrator
+   end subroutine read_integrator_group
 
-end submodule ffrf_input_nml_mechanism_groups
+end module ffrf_input_nml_mechanism_groups
