@@ -104,7 +104,7 @@ module ffrf_input_nml_mechanism
       read_marker_groups, read_joint_groups, read_pressure_group, read_integrator_group, &
       jacobian_choices
    use ffrf_input_nml_mechanism_forces, only: read_load_groups, read_driver_groups, &
-      read_spring_groups, read_torsion_spring_groups, read_bushing_groups
+      read_marker_pair_groups, read_torsion_spring_groups
    implicit none
    private
    public :: read_mechanism_groups
@@ -269,10 +269,10 @@ contains
       if (.not. allocated(error)) call read_marker_groups(unit, src, input%markers, error)
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
-      if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
+      if (.not. allocated(error)) call read_marker_pair_groups(unit, src, input%springs, &
+         input%bushings, error)
       if (.not. allocated(error)) call read_torsion_spring_groups(unit, src, &
          input%torsion_springs, error)
-      if (.not. allocated(error)) call read_bushing_groups(unit, src, input%bushings, error)
       if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
       if (.not. allocated(error)) call read_pressure_group(unit, src, input%pressure, &
          input%pressure_table, error)

@@ -13,8 +13,8 @@ module ffrf_input_nml_mechanism_forces
    use ffrf_mbs_time_function, only: time_function_t, max_table_points
    implicit none
    private
-   public :: read_load_groups, read_driver_groups, read_spring_groups, &
-      read_torsion_spring_groups, read_bushing_groups
+   public :: read_load_groups, read_driver_groups, read_marker_pair_groups, &
+      read_torsion_spring_groups
 
 contains
 
@@ -215,36 +215,6 @@ contains
       n = size(values)
    end function count_set
 
-   !> The &spring groups (module header), in input order.
-   subroutine read_spring_groups(unit, src, springs, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(spring_input_t), allocatable, intent(out) :: springs(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer :: k, stat
-      character(len=512) :: msg
-      allocate (springs(src%count('spring')))
-      rewind (unit)
-      do k = 1, size(springs)
-         call read_spring(springs(k)%name, springs(k)%body1, springs(k)%marker1, &
-            springs(k)%body2, springs(k)%marker2, springs(k)%stiffness, springs(k)%damping, &
-            springs(k)%free_length)
-         if (allocated(error)) return
-      end do
-   contains
-      !> &spring k: the namelist read into its fields (absent keys keep their defaults), then
-      !> the rules of a group between two markers.
-      subroutine read_spring(name, body1, marker1, body2, marker2, stiffness, damping, &
-            free_length)
-         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
-         real(dp), intent(inout) :: stiffness, damping, free_length
-         namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
-         read (unit, nml=spring, iostat=stat, iomsg=msg)
-         call check_marker_pair_group(src, 'spring', k, stat, msg, springs(:k - 1)%name, &
-            [character(len=64) :: name, body1, marker1, body2, marker2], error)
-      end subroutine read_spring
-   end subroutine read_spring_groups
-
    !> The &torsion_spring groups (module header), in input order.
    subroutine read_torsion_spring_groups(unit, src, springs, error)
       integer, intent(in) :: unit
@@ -305,24 +275,48 @@ contains
       end if
    end subroutine check_marker_pair_group
 
-   !> The &bushing groups (module header), in input order.
-   subroutine read_bushing_groups(unit, src, bushings, error)
+   !> The groups between two markers of two bodies (module header), each in input order:
+   !> &spring, then &bushing; each group read straight into its record, then the rules they
+   !> share (check_marker_pair_group).
+   subroutine read_marker_pair_groups(unit, src, springs, bushings, error)
       integer, intent(in) :: unit
       type(nml_source_t), intent(in) :: src
+      type(spring_input_t), allocatable, intent(out) :: springs(:)
       type(bushing_input_t), allocatable, intent(out) :: bushings(:)
       type(error_t), allocatable, intent(out) :: error
       integer :: k, stat
       character(len=512) :: msg
-      allocate (bushings(src%count('bushing')))
+      allocate (springs(src%count('spring')), bushings(src%count('bushing')))
+      rewind (unit)
+      do k = 1, size(springs)
+         associate (x => springs(k))
+            call read_spring(x%name, x%body1, x%marker1, x%body2, x%marker2, x%stiffness, &
+               x%damping, x%free_length)
+         end associate
+         if (allocated(error)) return
+      end do
       rewind (unit)
       do k = 1, size(bushings)
-         call read_bushing(bushings(k)%name, bushings(k)%body1, bushings(k)%marker1, &
-            bushings(k)%body2, bushings(k)%marker2, bushings(k)%stiffness, bushings(k)%damping)
+         associate (x => bushings(k))
+            call read_bushing(x%name, x%body1, x%marker1, x%body2, x%marker2, x%stiffness, &
+               x%damping)
+         end associate
          if (allocated(error)) return
       end do
    contains
-      !> &bushing k: the namelist read into its fields (absent keys keep their defaults), then
-      !> the rules of a group between two markers.
+      !> The namelist read of &spring k into its fields (absent keys keep their defaults),
+      !> then its rules.
+      subroutine read_spring(name, body1, marker1, body2, marker2, stiffness, damping, &
+            free_length)
+         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: stiffness, damping, free_length
+         namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
+         read (unit, nml=spring, iostat=stat, iomsg=msg)
+         call check_marker_pair_group(src, 'spring', k, stat, msg, springs(:k - 1)%name, &
+            [character(len=64) :: name, body1, marker1, body2, marker2], error)
+      end subroutine read_spring
+
+      !> The same for &bushing k (six stiffnesses and dampings).
       subroutine read_bushing(name, body1, marker1, body2, marker2, stiffness, damping)
          character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
          real(dp), intent(inout) :: stiffness(6), damping(6)
@@ -331,6 +325,6 @@ contains
          call check_marker_pair_group(src, 'bushing', k, stat, msg, bushings(:k - 1)%name, &
             [character(len=64) :: name, body1, marker1, body2, marker2], error)
       end subroutine read_bushing
-   end subroutine read_bushing_groups
+   end subroutine read_marker_pair_groups
 
 end module ffrf_input_nml_mechanism_forces
