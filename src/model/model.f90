@@ -17,8 +17,8 @@ module ffrf_model_model
    use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function, load_choices
    use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_bushing, only: bushing_t
-   use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
-      selection_of, LOAD_PRESSURE
+   use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, model_load_t, &
+      joint_kind_of, selection_of, LOAD_PRESSURE
    use ffrf_core_choices, only: choice_kind
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
@@ -143,14 +143,10 @@ contains
          end do
          do k = 1, size(input%loads)
             associate (load => m%loads(k), given => input%loads(k))
-               load%name = given%name
-               load%direction = given%direction
-               load%value = given%value
-               load%stall_torque = given%stall_torque
-               load%free_speed = given%free_speed
-               load%switch_off = given%switch_off
-               load%coefficient = given%coefficient
-               load%timed = len_trim(given%law%law) > 0
+               load = model_load_t(name=given%name, direction=given%direction, &
+                  value=given%value, stall_torque=given%stall_torque, &
+                  free_speed=given%free_speed, switch_off=given%switch_off, &
+                  coefficient=given%coefficient, timed=len_trim(given%law%law) > 0)
                if (load%timed) call law_function(given%law, '&load "' // trim(given%name) // &
                   '"', load%law, error)
                if (.not. allocated(error)) call choice_kind(load_choices, 'type', &
