@@ -93,24 +93,117 @@ module ffrf_input_nml_mechanism
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
+   use ffrf_input_nml_common, only: read_status, check_unique_name
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
-   use ffrf_input_mechanism, only: mechanism_case_input_t, load_choices, selection_choices
-   use ffrf_mbs_time_function, only: time_function_words, max_table_points
-   use ffrf_core_choices, only: choice_words
+   use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
+      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      torsion_spring_input_t, bushing_input_t, &
+      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
+   use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
+   use ffrf_input_pressure, only: pressure_input_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
+      GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
+   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
    use ffrf_mbs_joints, only: joint_choices
-   use ffrf_mbs_energy_watch, only: ENERGY_WATCH_WORDS
-   use ffrf_input_nml_mechanism_groups, only: read_model_group, read_mechanism_group, &
-      read_marker_groups, read_joint_groups, read_pressure_group, read_integrator_group, &
-      jacobian_choices
-   use ffrf_input_nml_mechanism_forces, only: read_load_groups, read_driver_groups, &
-      read_marker_pair_groups, read_torsion_spring_groups
+   use ffrf_mbs_rotation, only: check_rotation
+   use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
+      energy_watch_word, ENERGY_WATCH_WORDS
    implicit none
    private
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
       model_keys, spring_keys, driver_keys, torsion_spring_keys, bushing_keys
    public :: jacobian_choices
+
+   !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
+   type(choice_t), parameter :: jacobian_choices(*) = [ &
+      choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
+      choice_t('full', GALPHA_NEWTON_FULL)]
+
+   interface
+      !> &model: automatic model selection and its error targets.
+      module subroutine read_model_group(unit, src, input, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(model_input_t), intent(inout) :: input
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_model_group
+
+      module subroutine read_mechanism_group(unit, src, input, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(mechanism_input_t), intent(inout) :: input
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_mechanism_group
+
+      module subroutine read_marker_groups(unit, src, markers, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(marker_input_t), allocatable, intent(out) :: markers(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_marker_groups
+
+      module subroutine read_joint_groups(unit, src, joints, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(joint_input_t), allocatable, intent(out) :: joints(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_joint_groups
+
+      module subroutine read_pressure_group(unit, src, input, table_file, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(pressure_input_t), intent(inout) :: input
+         character(len=*), intent(inout) :: table_file
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_pressure_group
+
+      module subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(galpha_settings_t), intent(inout) :: settings
+         !> .true. when the group gives h
+         logical, intent(out) :: h_given
+         type(error_t), allocatable, intent(out) :: error
+         !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
+         type(energy_watch_settings_t), intent(inout) :: watch
+      end subroutine read_integrator_group
+
+      module subroutine read_load_groups(unit, src, loads, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(load_input_t), allocatable, intent(out) :: loads(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_load_groups
+
+      !> The &driver groups (module header), in input order.
+      module subroutine read_driver_groups(unit, src, drivers, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(driver_input_t), allocatable, intent(out) :: drivers(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_driver_groups
+
+      !> The groups between two markers of two bodies (module header), each in input order:
+      !> &spring, then &bushing; each group read straight into its record, then the rules they
+      !> share (check_marker_pair_group).
+      module subroutine read_marker_pair_groups(unit, src, springs, bushings, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(spring_input_t), allocatable, intent(out) :: springs(:)
+         type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_marker_pair_groups
+
+      !> The &torsion_spring groups (module header), in input order.
+      module subroutine read_torsion_spring_groups(unit, src, springs, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_torsion_spring_groups
+   end interface
 
 contains
 

@@ -1,28 +1,12 @@
-!> The readers of the mechanism's loads, drivers and force elements (keys and their rules: the
-!> header of ffrf_input_nml_mechanism, which calls them): &load and &driver with their laws over
-!> time, &spring, &torsion_spring and &bushing.
-module ffrf_input_nml_mechanism_forces
-   use ffrf_core_kinds, only: dp
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_core_choices, only: choice_words
-   use ffrf_input_nml_common, only: read_status, check_unique_name
-   use ffrf_input_nml_source, only: nml_source_t
-   use ffrf_input_mechanism, only: load_input_t, spring_input_t, torsion_spring_input_t, &
-      bushing_input_t, driver_input_t, time_law_input_t, law_function, load_choices
-   use ffrf_mbs_time_function, only: time_function_t, max_table_points
+!> The readers of the mechanism's loads, drivers and force elements (ffrf_input_nml_mechanism):
+!> &load and &driver with their laws over time, &spring and &bushing (the groups between two
+!> markers, one reader), &torsion_spring.
+submodule (ffrf_input_nml_mechanism) ffrf_input_nml_mechanism_forces
    implicit none
-   private
-   public :: read_load_groups, read_driver_groups, read_marker_pair_groups, &
-      read_torsion_spring_groups
 
 contains
 
-   subroutine read_load_groups(unit, src, loads, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(load_input_t), allocatable, intent(out) :: loads(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_load_groups
       type(load_input_t) :: defaults
       character(len=64) :: name, body, marker
       character(len=16) :: type
@@ -103,14 +87,9 @@ contains
             call move_alloc(grown, loads)
          end block
       end do
-   end subroutine read_load_groups
+   end procedure read_load_groups
 
-   !> The &driver groups (module header), in input order.
-   subroutine read_driver_groups(unit, src, drivers, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(driver_input_t), allocatable, intent(out) :: drivers(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_driver_groups
       type(driver_input_t) :: defaults
       character(len=64) :: name, joint
       character(len=16) :: quantity
@@ -166,7 +145,7 @@ contains
             call move_alloc(grown, drivers)
          end block
       end do
-   end subroutine read_driver_groups
+   end procedure read_driver_groups
 
    !> The law keys' defaults before a read (time_law_input_t; table entries unset: huge).
    pure subroutine reset_law_keys(law, initial, final, speed, t_start, duration, table_time, &
@@ -215,12 +194,7 @@ contains
       n = size(values)
    end function count_set
 
-   !> The &torsion_spring groups (module header), in input order.
-   subroutine read_torsion_spring_groups(unit, src, springs, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_torsion_spring_groups
       integer :: k, stat
       character(len=512) :: msg
       allocate (springs(src%count('torsion_spring')))
@@ -250,7 +224,7 @@ contains
          read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
          call read_status(src, 'torsion_spring', k, stat, msg, error)
       end subroutine read_torsion_spring
-   end subroutine read_torsion_spring_groups
+   end procedure read_torsion_spring_groups
 
    !> After the namelist read of occurrence k of a group between two markers of two bodies
    !> (&spring, &bushing; read status stat, iomsg msg): its rules, `names` those of the
@@ -275,15 +249,7 @@ contains
       end if
    end subroutine check_marker_pair_group
 
-   !> The groups between two markers of two bodies (module header), each in input order:
-   !> &spring, then &bushing; each group read straight into its record, then the rules they
-   !> share (check_marker_pair_group).
-   subroutine read_marker_pair_groups(unit, src, springs, bushings, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(spring_input_t), allocatable, intent(out) :: springs(:)
-      type(bushing_input_t), allocatable, intent(out) :: bushings(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_marker_pair_groups
       integer :: k, stat
       character(len=512) :: msg
       allocate (springs(src%count('spring')), bushings(src%count('bushing')))
@@ -325,6 +291,6 @@ contains
          call check_marker_pair_group(src, 'bushing', k, stat, msg, bushings(:k - 1)%name, &
             [character(len=64) :: name, body1, marker1, body2, marker2], error)
       end subroutine read_bushing
-   end subroutine read_marker_pair_groups
+   end procedure read_marker_pair_groups
 
-end module ffrf_input_nml_mechanism_forces
+end submodule ffrf_input_nml_mechanism_forces

@@ -1,40 +1,11 @@
-!> The readers of the mechanism's single and structural groups (keys and their rules: the
-!> header of ffrf_input_nml_mechanism, which calls them): &mechanism, &model, &marker, &joint,
-!> &pressure and &integrator; the &integrator jacobian table.
-module ffrf_input_nml_mechanism_groups
-   use ffrf_core_kinds, only: dp
-   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
-   use ffrf_core_strings, only: to_str, to_lower
-   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
-   use ffrf_input_nml_common, only: read_status, check_unique_name
-   use ffrf_input_nml_source, only: nml_source_t
-   use ffrf_input_mechanism, only: mechanism_input_t, marker_input_t, joint_input_t, &
-      model_input_t
-   use ffrf_input_pressure, only: pressure_input_t
-   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
-      GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
-   use ffrf_mbs_joints, only: joint_choices
-   use ffrf_mbs_rotation, only: check_rotation
-   use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
-      energy_watch_word
+!> The readers of the mechanism's single and structural groups (ffrf_input_nml_mechanism):
+!> &mechanism, &model, &marker, &joint, &pressure and &integrator.
+submodule (ffrf_input_nml_mechanism) ffrf_input_nml_mechanism_groups
    implicit none
-   private
-   public :: read_model_group, read_mechanism_group, read_marker_groups, read_joint_groups, &
-      read_pressure_group, read_integrator_group, jacobian_choices
-
-   !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
-   type(choice_t), parameter :: jacobian_choices(*) = [ &
-      choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
-      choice_t('full', GALPHA_NEWTON_FULL)]
 
 contains
 
-   !> &model: automatic model selection and its error targets.
-   subroutine read_model_group(unit, src, input, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(model_input_t), intent(inout) :: input
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_model_group
       integer :: stat
       character(len=512) :: msg
       rewind (unit)
@@ -55,13 +26,9 @@ contains
             resonance_floor
          read (unit, nml=model, iostat=stat, iomsg=msg)
       end subroutine read_model
-   end subroutine read_model_group
+   end procedure read_model_group
 
-   subroutine read_mechanism_group(unit, src, input, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(mechanism_input_t), intent(inout) :: input
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_mechanism_group
       integer :: stat
       character(len=512) :: msg
       rewind (unit)
@@ -88,13 +55,9 @@ contains
             progress_interval, animation_frames
          read (unit, nml=mechanism, iostat=stat, iomsg=msg)
       end subroutine read_mechanism
-   end subroutine read_mechanism_group
+   end procedure read_mechanism_group
 
-   subroutine read_marker_groups(unit, src, markers, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(marker_input_t), allocatable, intent(out) :: markers(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_marker_groups
       real(dp) :: orientation(9)
       integer :: k, stat
       character(len=512) :: msg
@@ -130,13 +93,9 @@ contains
                '": the orientation', error)
          end if
       end subroutine read_marker
-   end subroutine read_marker_groups
+   end procedure read_marker_groups
 
-   subroutine read_joint_groups(unit, src, joints, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(joint_input_t), allocatable, intent(out) :: joints(:)
-      type(error_t), allocatable, intent(out) :: error
+   module procedure read_joint_groups
       integer :: k, stat
       character(len=512) :: msg
       allocate (joints(src%count('joint')))
@@ -150,15 +109,6 @@ contains
          if (allocated(error)) return
       end do
    contains
-      !> The namelist read of &joint k into its fields (absent keys keep their defaults).
-      subroutine read_joint(name, type, body1, marker1, body2, marker2, axis)
-         character(len=*), intent(inout) :: name, type, body1, marker1, body2, marker2
-         real(dp), intent(inout) :: axis(3)
-         namelist /joint/ name, type, body1, marker1, body2, marker2, axis
-         read (unit, nml=joint, iostat=stat, iomsg=msg)
-         call read_status(src, 'joint', k, stat, msg, error)
-      end subroutine read_joint
-
       !> The rules of &joint k (`names` those before it); its axis made a unit vector.
       subroutine check_joint(joint, names, k, error)
          type(joint_input_t), intent(inout) :: joint
@@ -188,14 +138,18 @@ contains
             joint%axis = joint%axis / norm2(joint%axis)
          end if
       end subroutine check_joint
-   end subroutine read_joint_groups
 
-   subroutine read_pressure_group(unit, src, input, table_file, error)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(pressure_input_t), intent(inout) :: input
-      character(len=*), intent(inout) :: table_file
-      type(error_t), allocatable, intent(out) :: error
+      !> The namelist read of &joint k into its fields (absent keys keep their defaults).
+      subroutine read_joint(name, type, body1, marker1, body2, marker2, axis)
+         character(len=*), intent(inout) :: name, type, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: axis(3)
+         namelist /joint/ name, type, body1, marker1, body2, marker2, axis
+         read (unit, nml=joint, iostat=stat, iomsg=msg)
+         call read_status(src, 'joint', k, stat, msg, error)
+      end subroutine read_joint
+   end procedure read_joint_groups
+
+   module procedure read_pressure_group
       integer :: stat
       character(len=512) :: msg
       rewind (unit)
@@ -223,17 +177,9 @@ contains
             target_peak_pressure, reference_pressure, table_file
          read (unit, nml=pressure, iostat=stat, iomsg=msg)
       end subroutine read_pressure
-   end subroutine read_pressure_group
+   end procedure read_pressure_group
 
-   subroutine read_integrator_group(unit, src, settings, h_given, error, watch)
-      integer, intent(in) :: unit
-      type(nml_source_t), intent(in) :: src
-      type(galpha_settings_t), intent(inout) :: settings
-      !> .true. when the group gives h
-      logical, intent(out) :: h_given
-      type(error_t), allocatable, intent(out) :: error
-      !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
-      type(energy_watch_settings_t), intent(inout) :: watch
+   module procedure read_integrator_group
       character(len=16) :: jacobian, energy_watch
       integer :: stat
       character(len=512) :: msg
@@ -274,6 +220,6 @@ contains
             sparse_threshold
          read (unit, nml=integrator, iostat=stat, iomsg=msg)
       end subroutine read_integrator
-   end subroutine read_integrator_group
+   end procedure read_integrator_group
 
-end module ffrf_input_nml_mechanism_groups
+end submodule ffrf_input_nml_mechanism_groups
