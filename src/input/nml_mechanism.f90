@@ -99,7 +99,8 @@ module ffrf_input_nml_mechanism
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
       torsion_spring_input_t, bushing_input_t, &
-      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
+      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices, &
+      quantity_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
@@ -267,7 +268,7 @@ contains
    function driver_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('name', 64), string_key('joint', 64), &
-         choice_key('quantity', 16, 'coordinate, rate'), &
+         choice_key('quantity', 16, choice_words(quantity_choices)), &
          real_key('offset', -1.0e6_dp, 1.0e6_dp, 'rad or m'), law_keys()]
    end function driver_keys
 

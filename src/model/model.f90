@@ -14,7 +14,8 @@ module ffrf_model_model
    use ffrf_modes_input, only: body_spec_t, modes_spec_t
    use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
-   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function, load_choices
+   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function, load_choices, &
+      quantity_choices, DRIVER_RATE
    use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_bushing, only: bushing_t
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, model_load_t, &
@@ -221,17 +222,15 @@ contains
       !> The &driver groups: joint names to joint numbers, laws to time functions.
       subroutine resolve_drivers(error)
          type(error_t), allocatable, intent(out) :: error
-         integer :: d
+         integer :: d, quantity
          allocate (model%mechanism%drivers(count_given(case%mechanism%drivers)))
          do d = 1, size(model%mechanism%drivers)
             associate (driver => model%mechanism%drivers(d), given => case%mechanism%drivers(d))
                driver%name = given%name
-               driver%rate = given%quantity == 'rate'
-               if (given%quantity /= 'rate' .and. given%quantity /= 'coordinate') then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&driver "' // trim(given%name) // &
-                     '": quantity = "' // trim(given%quantity) // '", must be coordinate or rate')
-                  return
-               end if
+               call choice_kind(quantity_choices, '&driver "' // trim(given%name) // &
+                  '": quantity', 'a driver quantity', given%quantity, quantity, error)
+               if (allocated(error)) return
+               driver%rate = quantity == DRIVER_RATE
                driver%offset = given%offset
                driver%joint = findloc(case%mechanism%joints%name, given%joint, dim=1)
                if (driver%joint == 0) then
