@@ -136,9 +136,9 @@ contains
                joint%axis = given%axis
                call joint_kind_of(given%type, joint%kind, error)
                call in_group(error, '&joint "' // trim(given%name) // '"')
-               if (.not. allocated(error)) call resolve_ends('joint', given%name, given%body1, given%marker1, given%body2, &
-                  given%marker2, joint%body(1), joint%marker(1), joint%body(2), &
-                  joint%marker(2), error)
+               if (.not. allocated(error)) call resolve_ends('joint', given%name, given%body1, &
+                  given%marker1, given%body2, given%marker2, joint%body(1), joint%marker(1), &
+                  joint%body(2), joint%marker(2), error)
             end associate
             if (allocated(error)) return
          end do
