@@ -6,9 +6,11 @@
 !> or touches global state, so distinct handles may be used from distinct threads (docs/api.md
 !> names the third-party solvers that are not reentrant).
 !>
-!> This module holds the handle type and the interfaces; the bodies are in the submodules
-!> capi_handle.f90 (the entry prologue, status, copies; open, new, run, last error, close) and
-!> capi_entries.f90 (the entry points on a case: body data, mechanism, a case from arrays).
+!> This module holds the handle type and the interfaces of the shared prologue and of the entry
+!> points without a case yet; their bodies are in the submodule capi_handle.f90 (the entry
+!> prologue, status, copies; open, new, run, last error, close). The entry points on a case
+!> (body data, mechanism, a case from arrays) are the module ffrf_capi_entries
+!> (capi_entries.f90), over this one.
 module ffrf_capi
    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_ptr, c_size_t
    use ffrf_core_kinds, only: dp
@@ -16,18 +18,11 @@ module ffrf_capi
    use ffrf_capi_case, only: ffrf_case_t
    implicit none
    private
-   public :: ffrf_version, ffrf_case_open, ffrf_case_run, ffrf_body_count, ffrf_body_name, &
-      ffrf_body_frequencies, ffrf_mechanism_advance, ffrf_crank_state, ffrf_last_error, &
-      ffrf_case_close, ffrf_body_sizes, ffrf_body_nodes, ffrf_body_mode_shapes, &
-      ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
-      ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
-      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
-      ffrf_sensor_name, ffrf_sensor_values
-   public :: ffrf_driver_state
-   public :: ffrf_body_invariant
-   public :: ffrf_case_new, ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
-      ffrf_case_set_num_modes
-   public :: ffrf_case_add_interface_nodes, ffrf_case_set_communicator
+   public :: ffrf_version, ffrf_case_open, ffrf_case_new, ffrf_case_run, ffrf_last_error, &
+      ffrf_case_close
+   ! the prologue and copies the entry points of ffrf_capi_entries share
+   public :: capi_handle_t, from_c, status_of, bad_call, ready, put_int, put_reals, got_handle, &
+      copy_out, count_entry, name_entry, BODY_NODES, BODY_MODE_SHAPES, BODY_VIRTUAL_NODE_SHAPES
 
    !> The arrays of a body (body_array)
    integer, parameter :: BODY_NODES = 1, BODY_MODE_SHAPES = 2, BODY_VIRTUAL_NODE_SHAPES = 3
@@ -155,237 +150,6 @@ module ffrf_capi
          type(c_ptr), value :: c
       end subroutine ffrf_case_close
 
-      ! --- ffrf_capi_entries (capi_entries.f90): body data ---------------------------------------
-
-      !> int ffrf_body_count(const ffrf_case *c, int *n)
-      module integer(c_int) function ffrf_body_count(c, n) result(stat) bind(c, &
-            name='ffrf_body_count')
-         type(c_ptr), value :: c, n
-      end function ffrf_body_count
-
-      !> int ffrf_body_name(const ffrf_case *c, int body, char *buf, size_t len)
-      module integer(c_int) function ffrf_body_name(c, body, buf, length) result(stat) &
-            bind(c, name='ffrf_body_name')
-         type(c_ptr), value :: c, buf
-         integer(c_int), value :: body
-         integer(c_size_t), value :: length
-      end function ffrf_body_name
-
-      !> int ffrf_body_frequencies(const ffrf_case *c, int body, double *hz, int capacity,
-      !> int *count)
-      module integer(c_int) function ffrf_body_frequencies(c, body, hz, capacity, count) &
-            result(stat) bind(c, name='ffrf_body_frequencies')
-         type(c_ptr), value :: c, hz, count
-         integer(c_int), value :: body, capacity
-      end function ffrf_body_frequencies
-
-      !> int ffrf_body_sizes(const ffrf_case *c, int body, int *num_nodes, int *num_modes,
-      !> int *num_interfaces)
-      module integer(c_int) function ffrf_body_sizes(c, body, num_nodes, num_modes, &
-            num_interfaces) &
-            result(stat) bind(c, name='ffrf_body_sizes')
-         type(c_ptr), value :: c, num_nodes, num_modes, num_interfaces
-         integer(c_int), value :: body
-      end function ffrf_body_sizes
-
-      !> int ffrf_body_nodes(const ffrf_case *c, int body, double *xyz, size_t capacity,
-      !> size_t *count)
-      module integer(c_int) function ffrf_body_nodes(c, body, xyz, capacity, count) result(stat) &
-            bind(c, name='ffrf_body_nodes')
-         type(c_ptr), value :: c, xyz, count
-         integer(c_int), value :: body
-         integer(c_size_t), value :: capacity
-      end function ffrf_body_nodes
-
-      !> int ffrf_body_mode_shapes(const ffrf_case *c, int body, double *shape, size_t capacity,
-      !> size_t *count)
-      module integer(c_int) function ffrf_body_mode_shapes(c, body, shape, capacity, count) &
-            result(stat) bind(c, name='ffrf_body_mode_shapes')
-         type(c_ptr), value :: c, shape, count
-         integer(c_int), value :: body
-         integer(c_size_t), value :: capacity
-      end function ffrf_body_mode_shapes
-
-      !> int ffrf_body_virtual_node_shapes(const ffrf_case *c, int body, double *rows,
-      !> size_t capacity, size_t *count)
-      module integer(c_int) function ffrf_body_virtual_node_shapes(c, body, rows, capacity, count) &
-            result(stat) bind(c, name='ffrf_body_virtual_node_shapes')
-         type(c_ptr), value :: c, rows, count
-         integer(c_int), value :: body
-         integer(c_size_t), value :: capacity
-      end function ffrf_body_virtual_node_shapes
-
-      !> int ffrf_body_mass_properties(const ffrf_case *c, int body, double *mass,
-      !> double center[3], double inertia[9])
-      module integer(c_int) function ffrf_body_mass_properties(c, body, mass, center, inertia) &
-            result(stat) bind(c, name='ffrf_body_mass_properties')
-         type(c_ptr), value :: c, mass, center, inertia
-         integer(c_int), value :: body
-      end function ffrf_body_mass_properties
-
-      !> int ffrf_body_invariant(ffrf_case *c, int body, const char *name, double *values,
-      !> size_t capacity, size_t *count)
-      module integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
-            result(stat) bind(c, name='ffrf_body_invariant')
-         type(c_ptr), value :: c, name, values, count
-         integer(c_int), value :: body
-         integer(c_size_t), value :: capacity
-      end function ffrf_body_invariant
-
-      ! --- ffrf_capi_entries (capi_entries.f90): mechanism ---------------------------------------
-
-      !> int ffrf_mechanism_advance(ffrf_case *c, double t)
-      module integer(c_int) function ffrf_mechanism_advance(c, t) result(stat) &
-            bind(c, name='ffrf_mechanism_advance')
-         type(c_ptr), value :: c
-         real(c_double), value :: t
-      end function ffrf_mechanism_advance
-
-      !> int ffrf_crank_state(const ffrf_case *c, double *angle_rad, double *speed_rad_s)
-      module integer(c_int) function ffrf_crank_state(c, angle, speed) result(stat) &
-            bind(c, name='ffrf_crank_state')
-         type(c_ptr), value :: c, angle, speed
-      end function ffrf_crank_state
-
-      !> int ffrf_mechanism_time(const ffrf_case *c, double *t, double *t_end)
-      module integer(c_int) function ffrf_mechanism_time(c, t, t_end) result(stat) &
-            bind(c, name='ffrf_mechanism_time')
-         type(c_ptr), value :: c, t, t_end
-      end function ffrf_mechanism_time
-
-      !> int ffrf_body_state(const ffrf_case *c, int body, double *q, double *v, int capacity,
-      !> int *count)
-      module integer(c_int) function ffrf_body_state(c, body, q, v, capacity, count) result(stat) &
-            bind(c, name='ffrf_body_state')
-         type(c_ptr), value :: c, q, v, count
-         integer(c_int), value :: body, capacity
-      end function ffrf_body_state
-
-      !> int ffrf_marker_count(const ffrf_case *c, int body, int *n)
-      module integer(c_int) function ffrf_marker_count(c, body, n) result(stat) &
-            bind(c, name='ffrf_marker_count')
-         type(c_ptr), value :: c, n
-         integer(c_int), value :: body
-      end function ffrf_marker_count
-
-      !> int ffrf_marker_state(const ffrf_case *c, int body, int marker, double position[3],
-      !> double velocity[3], double angular_velocity[3])
-      module integer(c_int) function ffrf_marker_state(c, body, marker, position, velocity, &
-            angular_velocity) result(stat) bind(c, name='ffrf_marker_state')
-         type(c_ptr), value :: c, position, velocity, angular_velocity
-         integer(c_int), value :: body, marker
-      end function ffrf_marker_state
-
-      !> int ffrf_joint_count(const ffrf_case *c, int *n)
-      module integer(c_int) function ffrf_joint_count(c, n) result(stat) bind(c, &
-            name='ffrf_joint_count')
-         type(c_ptr), value :: c, n
-      end function ffrf_joint_count
-
-      !> int ffrf_joint_name(const ffrf_case *c, int joint, char *buf, size_t len)
-      module integer(c_int) function ffrf_joint_name(c, joint, buf, length) result(stat) &
-            bind(c, name='ffrf_joint_name')
-         type(c_ptr), value :: c, buf
-         integer(c_int), value :: joint
-         integer(c_size_t), value :: length
-      end function ffrf_joint_name
-
-      !> int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double moment[6])
-      module integer(c_int) function ffrf_joint_reaction(c, joint, force, moment) result(stat) &
-            bind(c, name='ffrf_joint_reaction')
-         type(c_ptr), value :: c, force, moment
-         integer(c_int), value :: joint
-      end function ffrf_joint_reaction
-
-      !> int ffrf_driver_state(const ffrf_case *c, int joint, double values[3])
-      module integer(c_int) function ffrf_driver_state(c, joint, values) result(stat) &
-            bind(c, name='ffrf_driver_state')
-         type(c_ptr), value :: c, values
-         integer(c_int), value :: joint
-      end function ffrf_driver_state
-
-      !> int ffrf_sensor_count(const ffrf_case *c, int *n)
-      module integer(c_int) function ffrf_sensor_count(c, n) result(stat) bind(c, &
-            name='ffrf_sensor_count')
-         type(c_ptr), value :: c, n
-      end function ffrf_sensor_count
-
-      !> int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len)
-      module integer(c_int) function ffrf_sensor_name(c, sensor, buf, length) result(stat) &
-            bind(c, name='ffrf_sensor_name')
-         type(c_ptr), value :: c, buf
-         integer(c_int), value :: sensor
-         integer(c_size_t), value :: length
-      end function ffrf_sensor_name
-
-      !> int ffrf_sensor_values(const ffrf_case *c, int sensor, double *values, int capacity,
-      !> int *count)
-      module integer(c_int) function ffrf_sensor_values(c, sensor, values, capacity, count) &
-            result(stat) bind(c, name='ffrf_sensor_values')
-         type(c_ptr), value :: c, values, count
-         integer(c_int), value :: sensor, capacity
-      end function ffrf_sensor_values
-
-      !> int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[3],
-      !> const double moment[3])
-      module integer(c_int) function ffrf_marker_set_load(c, body, marker, force, moment) &
-            result(stat) bind(c, name='ffrf_marker_set_load')
-         type(c_ptr), value :: c, force, moment
-         integer(c_int), value :: body, marker
-      end function ffrf_marker_set_load
-
-      ! --- ffrf_capi_entries (capi_entries.f90): a case from arrays ------------------------------
-
-      !> int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
-      !> int nodes_per_tet, int num_tets, const int *tets, double young, double poisson,
-      !> double density)
-      module integer(c_int) function ffrf_case_add_body(c, name, num_nodes, xyz, nodes_per_tet, &
-            num_tets, tets, young, poisson, density) result(stat) bind(c, name='ffrf_case_add_body')
-         type(c_ptr), value :: c, name, xyz, tets
-         integer(c_int), value :: num_nodes, nodes_per_tet, num_tets
-         real(c_double), value :: young, poisson, density
-      end function ffrf_case_add_body
-
-      !> int ffrf_case_add_surface(ffrf_case *c, int body, const char *name,
-      !> int nodes_per_triangle, int num_triangles, const int *triangles)
-      module integer(c_int) function ffrf_case_add_surface(c, body, name, nodes_per_triangle, &
-            num_triangles, triangles) result(stat) bind(c, name='ffrf_case_add_surface')
-         type(c_ptr), value :: c, name, triangles
-         integer(c_int), value :: body, nodes_per_triangle, num_triangles
-      end function ffrf_case_add_surface
-
-      !> int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,
-      !> const double *virtual_node, const int rc[6])
-      module integer(c_int) function ffrf_case_add_interface(c, body, surface, mpc, &
-            virtual_node, rc) &
-            result(stat) bind(c, name='ffrf_case_add_interface')
-         type(c_ptr), value :: c, surface, virtual_node, rc
-         integer(c_int), value :: body, mpc
-      end function ffrf_case_add_interface
-
-      !> int ffrf_case_add_interface_nodes(ffrf_case *c, int body, const char *name, int mpc,
-      !> int num_nodes, const int *nodes, const double *weights, const double *virtual_node,
-      !> const int rc[6])
-      module integer(c_int) function ffrf_case_add_interface_nodes(c, body, name, mpc, &
-            num_nodes, nodes, &
-            weights, virtual_node, rc) result(stat) bind(c, name='ffrf_case_add_interface_nodes')
-         type(c_ptr), value :: c, name, nodes, weights, virtual_node, rc
-         integer(c_int), value :: body, mpc, num_nodes
-      end function ffrf_case_add_interface_nodes
-
-      !> int ffrf_case_set_num_modes(ffrf_case *c, int num_modes)
-      module integer(c_int) function ffrf_case_set_num_modes(c, num_modes) result(stat) &
-            bind(c, name='ffrf_case_set_num_modes')
-         type(c_ptr), value :: c
-         integer(c_int), value :: num_modes
-      end function ffrf_case_set_num_modes
-
-      !> int ffrf_case_set_communicator(ffrf_case *c, int fortran_comm)
-      module integer(c_int) function ffrf_case_set_communicator(c, fortran_comm) result(stat) &
-            bind(c, name='ffrf_case_set_communicator')
-         type(c_ptr), value :: c
-         integer(c_int), value :: fortran_comm
-      end function ffrf_case_set_communicator
    end interface
 
 end module ffrf_capi

@@ -1,24 +1,54 @@
-!> The entry points of the C API on a case (a submodule of ffrf_capi): body data (names,
-!> frequencies, sizes, nodes, mode shapes, virtual-node rows, mass properties, invariants), the
-!> mechanism (advance, time, crank, body and marker state, joints, sensors, the host's marker
-!> loads) and a case from arrays (bodies, surfaces, interfaces, modes, communicator). Each is
-!> the prologue of ffrf_capi_handle, one call of ffrf_case_t, and the copies out.
-submodule (ffrf_capi) ffrf_capi_entries
-   use, intrinsic :: iso_c_binding, only: c_associated, c_f_pointer
+!> The entry points of the C API on a case: body data (names, frequencies, sizes, nodes, mode
+!> shapes, virtual-node rows, mass properties, invariants), the mechanism (advance, time, crank,
+!> body and marker state, joints, sensors, the host's marker loads) and a case from arrays
+!> (bodies, surfaces, interfaces, modes, communicator). Each is the prologue of ffrf_capi
+!> (capi_handle.f90), one call of ffrf_case_t, and the copies out; each is declared once, here
+!> (bind(C) with the signature of include/ffrf.h, its C prototype above it).
+module ffrf_capi_entries
+   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_size_t, c_associated, &
+      c_f_pointer
+   use ffrf_core_kinds, only: dp
+   use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_str
+   use ffrf_capi, only: capi_handle_t, from_c, status_of, bad_call, ready, put_int, put_reals, &
+      got_handle, copy_out, count_entry, name_entry, BODY_NODES, BODY_MODE_SHAPES, &
+      BODY_VIRTUAL_NODE_SHAPES
    implicit none
+   private
+   public :: ffrf_body_count, ffrf_body_name, ffrf_body_frequencies, ffrf_body_sizes, &
+      ffrf_body_nodes, ffrf_body_mode_shapes, ffrf_body_virtual_node_shapes, &
+      ffrf_body_mass_properties, ffrf_body_invariant
+   public :: ffrf_mechanism_advance, ffrf_crank_state, ffrf_mechanism_time, ffrf_body_state, &
+      ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, ffrf_joint_name, &
+      ffrf_joint_reaction, ffrf_driver_state, ffrf_sensor_count, ffrf_sensor_name, &
+      ffrf_sensor_values, ffrf_marker_set_load
+   public :: ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
+      ffrf_case_add_interface_nodes, ffrf_case_set_num_modes, ffrf_case_set_communicator
 
 contains
 
-   module procedure ffrf_body_count
+   !> int ffrf_body_count(const ffrf_case *c, int *n)
+   integer(c_int) function ffrf_body_count(c, n) result(stat) bind(c, &
+         name='ffrf_body_count')
+      type(c_ptr), value :: c, n
       stat = count_entry(c, 'ffrf_body_count', n)
-   end procedure ffrf_body_count
+   end function ffrf_body_count
 
-   module procedure ffrf_body_name
+   !> int ffrf_body_name(const ffrf_case *c, int body, char *buf, size_t len)
+   integer(c_int) function ffrf_body_name(c, body, buf, length) result(stat) &
+         bind(c, name='ffrf_body_name')
+      type(c_ptr), value :: c, buf
+      integer(c_int), value :: body
+      integer(c_size_t), value :: length
       stat = name_entry(c, 'ffrf_body_name', body, buf, length)
-   end procedure ffrf_body_name
+   end function ffrf_body_name
 
-   module procedure ffrf_body_frequencies
+   !> int ffrf_body_frequencies(const ffrf_case *c, int body, double *hz, int capacity,
+   !> int *count)
+   integer(c_int) function ffrf_body_frequencies(c, body, hz, capacity, count) &
+         result(stat) bind(c, name='ffrf_body_frequencies')
+      type(c_ptr), value :: c, hz, count
+      integer(c_int), value :: body, capacity
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp), allocatable :: values(:)
@@ -38,9 +68,15 @@ contains
       if (stat /= 0) return
       stat = copy_out(h, 'ffrf_body_frequencies', values, hz, int(capacity, c_size_t), n)
       out = int(n, c_int)
-   end procedure ffrf_body_frequencies
+   end function ffrf_body_frequencies
 
-   module procedure ffrf_body_sizes
+   !> int ffrf_body_sizes(const ffrf_case *c, int body, int *num_nodes, int *num_modes,
+   !> int *num_interfaces)
+   integer(c_int) function ffrf_body_sizes(c, body, num_nodes, num_modes, &
+         num_interfaces) &
+         result(stat) bind(c, name='ffrf_body_sizes')
+      type(c_ptr), value :: c, num_nodes, num_modes, num_interfaces
+      integer(c_int), value :: body
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       integer :: sizes(3)
@@ -50,7 +86,7 @@ contains
       call put_int(num_modes, sizes(2))
       call put_int(num_interfaces, sizes(3))
       stat = status_of(h, error)
-   end procedure ffrf_body_sizes
+   end function ffrf_body_sizes
 
    !> Common part of the array queries of a body: `kind` (BODY_NODES, BODY_MODE_SHAPES or
    !> BODY_VIRTUAL_NODE_SHAPES) selects the array, `which` names the entry point in messages.
@@ -83,20 +119,43 @@ contains
       out = n
    end function body_array
 
-   module procedure ffrf_body_nodes
+   !> int ffrf_body_nodes(const ffrf_case *c, int body, double *xyz, size_t capacity,
+   !> size_t *count)
+   integer(c_int) function ffrf_body_nodes(c, body, xyz, capacity, count) result(stat) &
+         bind(c, name='ffrf_body_nodes')
+      type(c_ptr), value :: c, xyz, count
+      integer(c_int), value :: body
+      integer(c_size_t), value :: capacity
       stat = body_array(c, body, BODY_NODES, 'ffrf_body_nodes', xyz, capacity, count)
-   end procedure ffrf_body_nodes
+   end function ffrf_body_nodes
 
-   module procedure ffrf_body_mode_shapes
+   !> int ffrf_body_mode_shapes(const ffrf_case *c, int body, double *shape, size_t capacity,
+   !> size_t *count)
+   integer(c_int) function ffrf_body_mode_shapes(c, body, shape, capacity, count) &
+         result(stat) bind(c, name='ffrf_body_mode_shapes')
+      type(c_ptr), value :: c, shape, count
+      integer(c_int), value :: body
+      integer(c_size_t), value :: capacity
       stat = body_array(c, body, BODY_MODE_SHAPES, 'ffrf_body_mode_shapes', shape, capacity, count)
-   end procedure ffrf_body_mode_shapes
+   end function ffrf_body_mode_shapes
 
-   module procedure ffrf_body_virtual_node_shapes
+   !> int ffrf_body_virtual_node_shapes(const ffrf_case *c, int body, double *rows,
+   !> size_t capacity, size_t *count)
+   integer(c_int) function ffrf_body_virtual_node_shapes(c, body, rows, capacity, count) &
+         result(stat) bind(c, name='ffrf_body_virtual_node_shapes')
+      type(c_ptr), value :: c, rows, count
+      integer(c_int), value :: body
+      integer(c_size_t), value :: capacity
       stat = body_array(c, body, BODY_VIRTUAL_NODE_SHAPES, &
          'ffrf_body_virtual_node_shapes', rows, capacity, count)
-   end procedure ffrf_body_virtual_node_shapes
+   end function ffrf_body_virtual_node_shapes
 
-   module procedure ffrf_body_mass_properties
+   !> int ffrf_body_mass_properties(const ffrf_case *c, int body, double *mass,
+   !> double center[3], double inertia[9])
+   integer(c_int) function ffrf_body_mass_properties(c, body, mass, center, inertia) &
+         result(stat) bind(c, name='ffrf_body_mass_properties')
+      type(c_ptr), value :: c, mass, center, inertia
+      integer(c_int), value :: body
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: m, com(3), inertia_tensor(3, 3)
@@ -109,9 +168,15 @@ contains
       call put_reals(mass, [m])
       call put_reals(center, com)
       call put_reals(inertia, reshape(inertia_tensor, [9]))
-   end procedure ffrf_body_mass_properties
+   end function ffrf_body_mass_properties
 
-   module procedure ffrf_body_invariant
+   !> int ffrf_body_invariant(ffrf_case *c, int body, const char *name, double *values,
+   !> size_t capacity, size_t *count)
+   integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
+         result(stat) bind(c, name='ffrf_body_invariant')
+      type(c_ptr), value :: c, name, values, count
+      integer(c_int), value :: body
+      integer(c_size_t), value :: capacity
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp), allocatable :: array(:)
@@ -126,17 +191,24 @@ contains
       if (stat /= 0) return
       stat = copy_out(h, 'ffrf_body_invariant', array, values, capacity, n)
       out = n
-   end procedure ffrf_body_invariant
+   end function ffrf_body_invariant
 
-   module procedure ffrf_mechanism_advance
+   !> int ffrf_mechanism_advance(ffrf_case *c, double t)
+   integer(c_int) function ffrf_mechanism_advance(c, t) result(stat) &
+         bind(c, name='ffrf_mechanism_advance')
+      type(c_ptr), value :: c
+      real(c_double), value :: t
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       if (.not. got_handle(c, h, stat)) return
       call h%case%advance(real(t, dp), error)
       stat = status_of(h, error)
-   end procedure ffrf_mechanism_advance
+   end function ffrf_mechanism_advance
 
-   module procedure ffrf_crank_state
+   !> int ffrf_crank_state(const ffrf_case *c, double *angle_rad, double *speed_rad_s)
+   integer(c_int) function ffrf_crank_state(c, angle, speed) result(stat) &
+         bind(c, name='ffrf_crank_state')
+      type(c_ptr), value :: c, angle, speed
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: a, s
@@ -146,9 +218,12 @@ contains
       call put_reals(angle, [a])
       call put_reals(speed, [s])
       stat = status_of(h, error)
-   end procedure ffrf_crank_state
+   end function ffrf_crank_state
 
-   module procedure ffrf_mechanism_time
+   !> int ffrf_mechanism_time(const ffrf_case *c, double *t, double *t_end)
+   integer(c_int) function ffrf_mechanism_time(c, t, t_end) result(stat) &
+         bind(c, name='ffrf_mechanism_time')
+      type(c_ptr), value :: c, t, t_end
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: now, last
@@ -158,9 +233,14 @@ contains
       if (stat /= 0) return
       call put_reals(t, [now])
       call put_reals(t_end, [last])
-   end procedure ffrf_mechanism_time
+   end function ffrf_mechanism_time
 
-   module procedure ffrf_body_state
+   !> int ffrf_body_state(const ffrf_case *c, int body, double *q, double *v, int capacity,
+   !> int *count)
+   integer(c_int) function ffrf_body_state(c, body, q, v, capacity, count) result(stat) &
+         bind(c, name='ffrf_body_state')
+      type(c_ptr), value :: c, q, v, count
+      integer(c_int), value :: body, capacity
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp), allocatable :: qb(:), vb(:)
@@ -178,13 +258,22 @@ contains
          c_size_t), n)
       if (stat == 0 .and. c_associated(v)) stat = copy_out(h, 'ffrf_body_state', vb, v, &
          int(capacity, c_size_t), n)
-   end procedure ffrf_body_state
+   end function ffrf_body_state
 
-   module procedure ffrf_marker_count
+   !> int ffrf_marker_count(const ffrf_case *c, int body, int *n)
+   integer(c_int) function ffrf_marker_count(c, body, n) result(stat) &
+         bind(c, name='ffrf_marker_count')
+      type(c_ptr), value :: c, n
+      integer(c_int), value :: body
       stat = count_entry(c, 'ffrf_marker_count', n, body)
-   end procedure ffrf_marker_count
+   end function ffrf_marker_count
 
-   module procedure ffrf_marker_state
+   !> int ffrf_marker_state(const ffrf_case *c, int body, int marker, double position[3],
+   !> double velocity[3], double angular_velocity[3])
+   integer(c_int) function ffrf_marker_state(c, body, marker, position, velocity, &
+         angular_velocity) result(stat) bind(c, name='ffrf_marker_state')
+      type(c_ptr), value :: c, position, velocity, angular_velocity
+      integer(c_int), value :: body, marker
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: values(3, 3)
@@ -196,17 +285,29 @@ contains
       call put_reals(position, values(:, 1))
       call put_reals(velocity, values(:, 2))
       call put_reals(angular_velocity, values(:, 3))
-   end procedure ffrf_marker_state
+   end function ffrf_marker_state
 
-   module procedure ffrf_joint_count
+   !> int ffrf_joint_count(const ffrf_case *c, int *n)
+   integer(c_int) function ffrf_joint_count(c, n) result(stat) bind(c, &
+         name='ffrf_joint_count')
+      type(c_ptr), value :: c, n
       stat = count_entry(c, 'ffrf_joint_count', n)
-   end procedure ffrf_joint_count
+   end function ffrf_joint_count
 
-   module procedure ffrf_joint_name
+   !> int ffrf_joint_name(const ffrf_case *c, int joint, char *buf, size_t len)
+   integer(c_int) function ffrf_joint_name(c, joint, buf, length) result(stat) &
+         bind(c, name='ffrf_joint_name')
+      type(c_ptr), value :: c, buf
+      integer(c_int), value :: joint
+      integer(c_size_t), value :: length
       stat = name_entry(c, 'ffrf_joint_name', joint, buf, length)
-   end procedure ffrf_joint_name
+   end function ffrf_joint_name
 
-   module procedure ffrf_joint_reaction
+   !> int ffrf_joint_reaction(const ffrf_case *c, int joint, double force[6], double moment[6])
+   integer(c_int) function ffrf_joint_reaction(c, joint, force, moment) result(stat) &
+         bind(c, name='ffrf_joint_reaction')
+      type(c_ptr), value :: c, force, moment
+      integer(c_int), value :: joint
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: f(3, 2), m(3, 2)
@@ -217,9 +318,13 @@ contains
       if (stat /= 0) return
       call put_reals(force, reshape(f, [6]))
       call put_reals(moment, reshape(m, [6]))
-   end procedure ffrf_joint_reaction
+   end function ffrf_joint_reaction
 
-   module procedure ffrf_driver_state
+   !> int ffrf_driver_state(const ffrf_case *c, int joint, double values[3])
+   integer(c_int) function ffrf_driver_state(c, joint, values) result(stat) &
+         bind(c, name='ffrf_driver_state')
+      type(c_ptr), value :: c, values
+      integer(c_int), value :: joint
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp) :: state(3)
@@ -228,17 +333,30 @@ contains
       call h%case%driver_state(int(joint) + 1, state, error)
       stat = status_of(h, error)
       if (stat == 0) call put_reals(values, state)
-   end procedure ffrf_driver_state
+   end function ffrf_driver_state
 
-   module procedure ffrf_sensor_count
+   !> int ffrf_sensor_count(const ffrf_case *c, int *n)
+   integer(c_int) function ffrf_sensor_count(c, n) result(stat) bind(c, &
+         name='ffrf_sensor_count')
+      type(c_ptr), value :: c, n
       stat = count_entry(c, 'ffrf_sensor_count', n)
-   end procedure ffrf_sensor_count
+   end function ffrf_sensor_count
 
-   module procedure ffrf_sensor_name
+   !> int ffrf_sensor_name(const ffrf_case *c, int sensor, char *buf, size_t len)
+   integer(c_int) function ffrf_sensor_name(c, sensor, buf, length) result(stat) &
+         bind(c, name='ffrf_sensor_name')
+      type(c_ptr), value :: c, buf
+      integer(c_int), value :: sensor
+      integer(c_size_t), value :: length
       stat = name_entry(c, 'ffrf_sensor_name', sensor, buf, length)
-   end procedure ffrf_sensor_name
+   end function ffrf_sensor_name
 
-   module procedure ffrf_sensor_values
+   !> int ffrf_sensor_values(const ffrf_case *c, int sensor, double *values, int capacity,
+   !> int *count)
+   integer(c_int) function ffrf_sensor_values(c, sensor, values, capacity, count) &
+         result(stat) bind(c, name='ffrf_sensor_values')
+      type(c_ptr), value :: c, values, count
+      integer(c_int), value :: sensor, capacity
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(dp), allocatable :: x(:)
@@ -254,9 +372,14 @@ contains
       out = int(size(x), c_int)
       if (c_associated(values)) stat = copy_out(h, 'ffrf_sensor_values', x, values, &
          int(capacity, c_size_t), n)
-   end procedure ffrf_sensor_values
+   end function ffrf_sensor_values
 
-   module procedure ffrf_marker_set_load
+   !> int ffrf_marker_set_load(ffrf_case *c, int body, int marker, const double force[3],
+   !> const double moment[3])
+   integer(c_int) function ffrf_marker_set_load(c, body, marker, force, moment) &
+         result(stat) bind(c, name='ffrf_marker_set_load')
+      type(c_ptr), value :: c, force, moment
+      integer(c_int), value :: body, marker
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(c_double), pointer :: p(:)
@@ -274,9 +397,16 @@ contains
       end if
       call h%case%set_marker_load(int(body) + 1, int(marker) + 1, f, m, error)
       stat = status_of(h, error)
-   end procedure ffrf_marker_set_load
+   end function ffrf_marker_set_load
 
-   module procedure ffrf_case_add_body
+   !> int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
+   !> int nodes_per_tet, int num_tets, const int *tets, double young, double poisson,
+   !> double density)
+   integer(c_int) function ffrf_case_add_body(c, name, num_nodes, xyz, nodes_per_tet, &
+         num_tets, tets, young, poisson, density) result(stat) bind(c, name='ffrf_case_add_body')
+      type(c_ptr), value :: c, name, xyz, tets
+      integer(c_int), value :: num_nodes, nodes_per_tet, num_tets
+      real(c_double), value :: young, poisson, density
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(c_double), pointer :: x(:, :)
@@ -295,9 +425,14 @@ contains
       call h%case%add_body(from_c(name), real(x, dp), int(t) + 1, real(young, dp), &
          real(poisson, dp), real(density, dp), error)
       stat = status_of(h, error)
-   end procedure ffrf_case_add_body
+   end function ffrf_case_add_body
 
-   module procedure ffrf_case_add_surface
+   !> int ffrf_case_add_surface(ffrf_case *c, int body, const char *name,
+   !> int nodes_per_triangle, int num_triangles, const int *triangles)
+   integer(c_int) function ffrf_case_add_surface(c, body, name, nodes_per_triangle, &
+         num_triangles, triangles) result(stat) bind(c, name='ffrf_case_add_surface')
+      type(c_ptr), value :: c, name, triangles
+      integer(c_int), value :: body, nodes_per_triangle, num_triangles
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       integer(c_int), pointer :: t(:, :)
@@ -312,9 +447,15 @@ contains
       call c_f_pointer(triangles, t, [int(nodes_per_triangle), int(num_triangles)])
       call h%case%add_surface(int(body) + 1, from_c(name), int(t) + 1, error)
       stat = status_of(h, error)
-   end procedure ffrf_case_add_surface
+   end function ffrf_case_add_surface
 
-   module procedure ffrf_case_add_interface
+   !> int ffrf_case_add_interface(ffrf_case *c, int body, const char *surface, int mpc,
+   !> const double *virtual_node, const int rc[6])
+   integer(c_int) function ffrf_case_add_interface(c, body, surface, mpc, &
+         virtual_node, rc) &
+         result(stat) bind(c, name='ffrf_case_add_interface')
+      type(c_ptr), value :: c, surface, virtual_node, rc
+      integer(c_int), value :: body, mpc
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       real(c_double), pointer :: position(:)
@@ -330,9 +471,16 @@ contains
          call h%case%add_interface(int(body) + 1, from_c(surface), int(mpc), forbidden, error)
       end if
       stat = status_of(h, error)
-   end procedure ffrf_case_add_interface
+   end function ffrf_case_add_interface
 
-   module procedure ffrf_case_add_interface_nodes
+   !> int ffrf_case_add_interface_nodes(ffrf_case *c, int body, const char *name, int mpc,
+   !> int num_nodes, const int *nodes, const double *weights, const double *virtual_node,
+   !> const int rc[6])
+   integer(c_int) function ffrf_case_add_interface_nodes(c, body, name, mpc, &
+         num_nodes, nodes, &
+         weights, virtual_node, rc) result(stat) bind(c, name='ffrf_case_add_interface_nodes')
+      type(c_ptr), value :: c, name, nodes, weights, virtual_node, rc
+      integer(c_int), value :: body, mpc, num_nodes
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       integer(c_int), pointer :: node_list(:)
@@ -354,23 +502,31 @@ contains
       call h%case%add_interface_nodes(int(body) + 1, from_c(name), int(mpc), &
          int(node_list) + 1, forbidden, error, weights=w, position=position)
       stat = status_of(h, error)
-   end procedure ffrf_case_add_interface_nodes
+   end function ffrf_case_add_interface_nodes
 
-   module procedure ffrf_case_set_num_modes
+   !> int ffrf_case_set_num_modes(ffrf_case *c, int num_modes)
+   integer(c_int) function ffrf_case_set_num_modes(c, num_modes) result(stat) &
+         bind(c, name='ffrf_case_set_num_modes')
+      type(c_ptr), value :: c
+      integer(c_int), value :: num_modes
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       if (.not. got_handle(c, h, stat)) return
       call h%case%set_num_modes(int(num_modes), error)
       stat = status_of(h, error)
-   end procedure ffrf_case_set_num_modes
+   end function ffrf_case_set_num_modes
 
-   module procedure ffrf_case_set_communicator
+   !> int ffrf_case_set_communicator(ffrf_case *c, int fortran_comm)
+   integer(c_int) function ffrf_case_set_communicator(c, fortran_comm) result(stat) &
+         bind(c, name='ffrf_case_set_communicator')
+      type(c_ptr), value :: c
+      integer(c_int), value :: fortran_comm
       type(capi_handle_t), pointer :: h
       type(error_t), allocatable :: error
       if (.not. got_handle(c, h, stat)) return
       call h%case%set_communicator(int(fortran_comm), error)
       stat = status_of(h, error)
-   end procedure ffrf_case_set_communicator
+   end function ffrf_case_set_communicator
 
    !> The reference conditions of an interface from the C array rc[6] (nonzero: forbidden); none
    !> when rc is NULL.
@@ -384,4 +540,4 @@ contains
       forbidden = flags /= 0
    end function forbidden_of
 
-end submodule ffrf_capi_entries
+end module ffrf_capi_entries

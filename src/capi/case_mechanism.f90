@@ -159,34 +159,23 @@ contains
       if (.not. allocated(error)) n = self%session%num_joints()
    end procedure case_joint_count
 
-   !> FFRF_BAD_CALL unless the joint exists.
-   subroutine check_joint(self, what, joint, error)
-      class(ffrf_case_t), intent(in) :: self
-      character(len=*), intent(in) :: what
-      integer, intent(in) :: joint
-      type(error_t), allocatable, intent(out) :: error
-      call check_session(self, what, error)
-      if (.not. allocated(error)) call check_index(what, 'joint', joint, &
-         self%session%num_joints(), error)
-   end subroutine check_joint
-
    module procedure case_joint_name
       name = ''
-      call check_joint(self, 'joint_name', joint, error)
+      call check_item(self, 'joint_name', 'joint', joint, error)
       if (.not. allocated(error)) name = self%session%mech%joints(joint)%name
    end procedure case_joint_name
 
    module procedure case_joint_reaction
       force = 0.0_dp
       moment = 0.0_dp
-      call check_joint(self, 'joint_reaction', joint, error)
+      call check_item(self, 'joint_reaction', 'joint', joint, error)
       if (.not. allocated(error)) call self%session%joint_reaction(joint, force, moment, error)
    end procedure case_joint_reaction
 
    module procedure case_driver_state
       integer :: d
       values = 0.0_dp
-      call check_joint(self, 'driver_state', joint, error)
+      call check_item(self, 'driver_state', 'joint', joint, error)
       if (allocated(error)) return
       d = 0
       associate (s => self%session)
@@ -207,16 +196,20 @@ contains
       if (.not. allocated(error)) n = self%session%num_sensors()
    end procedure case_sensor_count
 
-   !> FFRF_BAD_CALL unless the sensor exists.
-   subroutine check_sensor(self, what, sensor, error)
+   !> FFRF_BAD_CALL unless the session runs and its `word` (joint or sensor) `index` exists.
+   subroutine check_item(self, what, word, index, error)
       class(ffrf_case_t), intent(in) :: self
-      character(len=*), intent(in) :: what
-      integer, intent(in) :: sensor
+      character(len=*), intent(in) :: what, word
+      integer, intent(in) :: index
       type(error_t), allocatable, intent(out) :: error
       call check_session(self, what, error)
-      if (.not. allocated(error)) call check_index(what, 'sensor', sensor, &
-         self%session%num_sensors(), error)
-   end subroutine check_sensor
+      if (allocated(error)) return
+      if (word == 'joint') then
+         call check_index(what, word, index, self%session%num_joints(), error)
+      else
+         call check_index(what, word, index, self%session%num_sensors(), error)
+      end if
+   end subroutine check_item
 
    !> FFRF_BAD_CALL unless 1 <= index <= count: "<what>: <word> <index - 1> does not exist; the
    !> case has <count> <word>s" (0-based, as the C API counts).
@@ -231,13 +224,13 @@ contains
 
    module procedure case_sensor_name
       name = ''
-      call check_sensor(self, 'sensor_name', sensor, error)
+      call check_item(self, 'sensor_name', 'sensor', sensor, error)
       if (.not. allocated(error)) call self%session%sensor_name(sensor, name, error)
    end procedure case_sensor_name
 
    module procedure case_sensor_values
       allocate (values(0))
-      call check_sensor(self, 'sensor_values', sensor, error)
+      call check_item(self, 'sensor_values', 'sensor', sensor, error)
       if (.not. allocated(error)) call self%session%sensor_values(sensor, values, error)
    end procedure case_sensor_values
 

@@ -9,12 +9,40 @@ module ffrf_core_choices
    implicit none
    private
    public :: choice_t, choice_words, choice_position, choice_name, choice_kind
+   public :: MPC_RBE2, MPC_RBE3, mpc_choices
+   public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
+   public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
       character(len=16) :: word = ''
       integer :: kind = 0
    end type choice_t
+
+   ! The tables whose kinds the numerics below the input use in more than one layer (mpc, modes,
+   ! io): kept here, the lowest layer, so that the readers' key specs, the model's word map and
+   ! the names in logs, fingerprints and results all come from one list. The numerics modules
+   ! re-export the kinds (ffrf_mpc_interface, ffrf_mpc_reduction, ffrf_modes_input).
+
+   !> MPC kinds (&interface mpc): rigid spider q_B = F q_V; interpolation element q_V = G q_B
+   integer, parameter :: MPC_RBE2 = 1, MPC_RBE3 = 2
+   type(choice_t), parameter :: mpc_choices(*) = [choice_t('RBE2', MPC_RBE2), &
+      choice_t('RBE3', MPC_RBE3)]
+
+   !> Formulations of the reference conditions (&modes formulation): none (no RC rows); RBE2
+   !> eliminated, RBE3 reference conditions as constraint rows (Lagrange multipliers); explicit
+   !> null spaces B2 = null(D) or null(D G) (LAPACK SVD). FORMULATION_NONE has no word.
+   integer, parameter :: FORMULATION_NONE = 0, FORMULATION_MULTIPLIERS = 1, &
+      FORMULATION_NULL_SPACE = 2
+   type(choice_t), parameter :: formulation_choices(*) = [ &
+      choice_t('multipliers', FORMULATION_MULTIPLIERS), &
+      choice_t('null_space', FORMULATION_NULL_SPACE)]
+
+   !> Mode bases (&modes basis): none (no modes asked, no word), the constrained normal modes of
+   !> the RC set, or Craig-Bampton (src/modes/craig_bampton.f90)
+   integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
+   type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
+      choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
 
 contains
 

@@ -245,7 +245,8 @@ contains
             ', newton_rtol = ' // to_str(s%newton_rtol, 6) // ', max_iterations = ' // &
             to_str(s%max_iterations) // ', min_step = ' // to_str(s%min_step, 6) // &
             ', rank_rtol = ' // to_str(s%rank_rtol, 6) // ', jacobian = ''' // &
-            jacobian_name(s%jacobian) // ''', tangent_reuse = ' // to_str(s%tangent_reuse)
+            choice_name(jacobian_choices, s%jacobian, 'adaptive') // ''', tangent_reuse = ' // &
+            to_str(s%tangent_reuse)
          if (mech%max_steps /= mechanism_case_input_t_max_steps()) text = text // &
             ', max_steps = ' // to_str(mech%max_steps)
          ! Checkpoint keys only when set: they do not change the results
@@ -284,19 +285,6 @@ contains
          text = text // ' ''' // nml_string(items(k)) // ''''
       end do
    end function quoted_list
-
-   pure function jacobian_name(policy) result(name)
-      integer, intent(in) :: policy
-      character(len=:), allocatable :: name
-      select case (policy)
-      case (GALPHA_NEWTON_FULL)
-         name = 'full'
-      case (GALPHA_NEWTON_STEP)
-         name = 'step'
-      case default
-         name = 'adaptive'
-      end select
-   end function jacobian_name
 
    !> The law keys of a &driver or &load as namelist text (ffrf_input_mechanism
    !> time_law_input_t), full precision.

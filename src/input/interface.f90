@@ -4,8 +4,8 @@ module ffrf_input_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
-   use ffrf_core_choices, only: choice_t
-   use ffrf_mpc_interface, only: DOF_NAMES, MPC_RBE2, MPC_RBE3, WEIGHTING_UNIFORM, &
+   use ffrf_core_choices, only: choice_t, mpc_choices
+   use ffrf_mpc_interface, only: DOF_NAMES, WEIGHTING_UNIFORM, &
       WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
    implicit none
    private
@@ -14,9 +14,8 @@ module ffrf_input_interface
 
    !> The &interface choice tables: words (any case), kinds of ffrf_mpc_interface, names in
    !> messages (docs/developer.md "One table per choice"); the key specs (interface_keys) take
-   !> their words from here, the model (ffrf_model_specs) their kinds
-   type(choice_t), parameter :: mpc_choices(*) = [choice_t('RBE2', MPC_RBE2), &
-      choice_t('RBE3', MPC_RBE3)]
+   !> their words from here, the model (ffrf_model_specs) their kinds; mpc_choices is that of
+   !> ffrf_core_choices (the numerics name their MPC kinds with it)
    type(choice_t), parameter :: weighting_choices(*) = [choice_t('uniform', WEIGHTING_UNIFORM), &
       choice_t('area', WEIGHTING_AREA), choice_t('area_consistent', WEIGHTING_AREA_CONSISTENT)]
    type(choice_t), parameter :: virtual_node_choices(*) = [ &

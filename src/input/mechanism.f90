@@ -15,7 +15,8 @@ module ffrf_input_mechanism
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
    public :: spring_input_t, torsion_spring_input_t, bushing_input_t, time_law_input_t, driver_input_t, law_function
    public :: mechanism_input_t, mechanism_case_input_t, model_input_t, GROUND_NAME
-   public :: load_choices, selection_choices
+   public :: load_choices, selection_choices, body_type_choices, quantity_choices
+   public :: BODY_FLEXIBLE, BODY_RIGID, DRIVER_COORDINATE, DRIVER_RATE
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
 
@@ -37,6 +38,19 @@ module ffrf_input_mechanism
    !> The &model selection table
    type(choice_t), parameter :: selection_choices(*) = [choice_t('auto', SELECTION_AUTO), &
       choice_t('manual', SELECTION_MANUAL)]
+
+   !> Body types (&body type): a reduced FFRF body from its mesh, or a rigid body. The word
+   !> travels on as text (body_motion_input_t%type); the model decides the rigid flag once
+   integer, parameter :: BODY_FLEXIBLE = 1, BODY_RIGID = 2
+   !> The &body type table
+   type(choice_t), parameter :: body_type_choices(*) = [choice_t('flexible', BODY_FLEXIBLE), &
+      choice_t('rigid', BODY_RIGID)]
+
+   !> Driver quantities (&driver quantity): the law gives the joint coordinate, or its rate
+   integer, parameter :: DRIVER_COORDINATE = 1, DRIVER_RATE = 2
+   !> The &driver quantity table
+   type(choice_t), parameter :: quantity_choices(*) = [ &
+      choice_t('coordinate', DRIVER_COORDINATE), choice_t('rate', DRIVER_RATE)]
 
    !> How a &body moves in a mechanism run.
    type :: body_motion_input_t

@@ -2,22 +2,16 @@
 !> The model (ffrf_model_specs) turns it into a modes_spec_t of ffrf_modes_input.
 module ffrf_input_modes
    use ffrf_core_kinds, only: dp
-   use ffrf_core_choices, only: choice_t
-   use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE
-   use ffrf_modes_input, only: BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON
+   use ffrf_core_choices, only: choice_t, formulation_choices, basis_choices
    implicit none
    private
    public :: modes_input_t, formulation_choices, basis_choices, eigensolver_choices
 
    !> The &modes choice tables: words, kinds, names in messages (docs/developer.md "One table
    !> per choice"); the key specs (modes_keys) take their words from here, the model
-   !> (ffrf_model_specs) their kinds. The eigensolver word travels as text to ffrf_modes
-   !> (eigen_options_t%eigensolver), so its kinds only number the rows.
-   type(choice_t), parameter :: formulation_choices(*) = [ &
-      choice_t('multipliers', FORMULATION_MULTIPLIERS), &
-      choice_t('null_space', FORMULATION_NULL_SPACE)]
-   type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
-      choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
+   !> (ffrf_model_specs) their kinds. formulation_choices and basis_choices are those of
+   !> ffrf_core_choices (the numerics name their kinds with them); the eigensolver word travels
+   !> as text to ffrf_modes (eigen_options_t%eigensolver), so its kinds only number the rows.
    type(choice_t), parameter :: eigensolver_choices(*) = [choice_t('auto', 1), &
       choice_t('arpack', 2), choice_t('block', 3)]
 

@@ -39,8 +39,9 @@ module ffrf_input_nml_body
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower
    use ffrf_input_body, only: body_input_t, MAX_VOLUMES
-   use ffrf_input_mechanism, only: body_motion_input_t
-   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_mechanism, only: body_motion_input_t, body_type_choices
+   use ffrf_core_choices, only: choice_words
+   use ffrf_input_nml_common, only: read_status
    use ffrf_mbs_rotation, only: rotation_defect, determinant3, ROTATION_TOLERANCE
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, logical_key, string_key, &
       choice_key, nml_source_t
@@ -58,7 +59,8 @@ contains
          real_key('young', 0.0_dp, 1.0e13_dp, 'Pa', lower_open=.true.), &
          real_key('poisson', -1.0_dp, 0.5_dp, '', lower_open=.true., upper_open=.true.), &
          real_key('density', 0.0_dp, 1.0e5_dp, 'kg/m^3', lower_open=.true.), &
-         choice_key('type', 16, 'flexible, rigid'), integer_key('num_modes', 0_i8, 10000_i8), &
+         choice_key('type', 16, choice_words(body_type_choices)), &
+         integer_key('num_modes', 0_i8, 10000_i8), &
          real_key('modal_damping', 0.0_dp, 1.0_dp, '', upper_open=.true.), &
          real_key('mass', 0.0_dp, 1.0e9_dp, 'kg'), &
          real_key('center_of_mass', -1.0e4_dp, 1.0e4_dp, 'm', count=3), &
@@ -79,62 +81,26 @@ contains
       type(body_input_t), allocatable, intent(out) :: bodies(:)
       type(body_motion_input_t), allocatable, intent(out) :: motions(:)
       type(error_t), allocatable, intent(out) :: error
-      type(body_input_t) :: defaults
-      type(body_motion_input_t) :: motion_defaults, motion
-      character(len=64) :: name
-      character(len=256) :: mesh_file
-      character(len=64) :: volumes(MAX_VOLUMES)
-      character(len=16) :: type
-      real(dp) :: young, poisson, density, modal_damping, mass, center_of_mass(3), inertia(6)
-      real(dp) :: position(3), orientation(9), velocity(3), angular_velocity(3)
-      integer :: num_modes
-      logical :: geometric_stiffness
-      character(len=256) :: coarse_meshes(4), modes_file
+      real(dp) :: orientation(9)
       character(len=512) :: msg
       integer :: stat, k
-      namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
-         modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, &
-         coarse_meshes, modes_file, orientation, velocity, angular_velocity
-      allocate (bodies(0), motions(0))
+      allocate (bodies(src%count('body')), motions(src%count('body')))
       rewind (unit)
-      do
-         name = defaults%name
-         mesh_file = defaults%mesh_file
-         volumes = defaults%volumes
-         young = defaults%young
-         poisson = defaults%poisson
-         density = defaults%density
-         geometric_stiffness = defaults%geometric_stiffness
-         type = motion_defaults%type
-         num_modes = motion_defaults%num_modes
-         modal_damping = motion_defaults%modal_damping
-         mass = motion_defaults%mass
-         center_of_mass = motion_defaults%center_of_mass
-         inertia = motion_defaults%inertia
-         position = motion_defaults%position
-         orientation = reshape(transpose(motion_defaults%orientation), [9])
-         velocity = motion_defaults%velocity
-         angular_velocity = motion_defaults%angular_velocity
-         coarse_meshes = motion_defaults%coarse_meshes
-         modes_file = defaults%modes_file
-         read (unit, nml=body, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         if (stat /= 0) then
-            call namelist_read_error(error, 'body', size(bodies) + 1, msg, &
-               'name, mesh_file, volumes, young, poisson, density, type, num_modes, ' // &
-               'modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, ' // &
-               'coarse_meshes, modes_file, orientation, velocity, angular_velocity')
-            return
-         end if
-         if (len_trim(volumes(1)) == 0) volumes(1) = name
-         motion = body_motion_input_t(to_lower(type), num_modes, modal_damping, mass, &
-            center_of_mass, inertia, position, coarse_meshes, &
-            orientation=transpose(reshape(orientation, [3, 3])), velocity=velocity, &
-            angular_velocity=angular_velocity)
-         bodies = [bodies, body_input_t(name, mesh_file, volumes, young, poisson, density, &
-            geometric_stiffness, modes_file)]
-         motions = [motions, motion]
-         call check_body(src, bodies(size(bodies)), motion, size(bodies), error)
+      do k = 1, size(bodies)
+         ! by rows in the input, the body axes its columns
+         orientation = reshape(transpose(motions(k)%orientation), [9])
+         associate (b => bodies(k), m => motions(k))
+            call read_body(b%name, b%mesh_file, b%volumes, b%young, b%poisson, b%density, &
+               m%type, m%num_modes, m%modal_damping, m%mass, m%center_of_mass, m%inertia, &
+               m%position, b%geometric_stiffness, m%coarse_meshes, b%modes_file, &
+               m%velocity, m%angular_velocity)
+            call read_status(src, 'body', k, stat, msg, error)
+            if (allocated(error)) return
+            if (len_trim(b%volumes(1)) == 0) b%volumes(1) = b%name
+            m%type = to_lower(m%type)
+            m%orientation = transpose(reshape(orientation, [3, 3]))
+         end associate
+         call check_body(src, bodies(k), motions(k), k, error)
          if (allocated(error)) return
       end do
       if (size(bodies) == 0) then
@@ -149,6 +115,23 @@ contains
             return
          end if
       end do
+   contains
+      !> The namelist read of &body k into its fields (absent keys keep their defaults; the
+      !> orientation into that of the host).
+      subroutine read_body(name, mesh_file, volumes, young, poisson, density, type, num_modes, &
+            modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, &
+            coarse_meshes, modes_file, velocity, angular_velocity)
+         character(len=*), intent(inout) :: name, mesh_file, volumes(MAX_VOLUMES), type, &
+            coarse_meshes(4), modes_file
+         real(dp), intent(inout) :: young, poisson, density, modal_damping, mass, &
+            center_of_mass(3), inertia(6), position(3), velocity(3), angular_velocity(3)
+         integer, intent(inout) :: num_modes
+         logical, intent(inout) :: geometric_stiffness
+         namelist /body/ name, mesh_file, volumes, young, poisson, density, type, num_modes, &
+            modal_damping, mass, center_of_mass, inertia, position, geometric_stiffness, &
+            coarse_meshes, modes_file, orientation, velocity, angular_velocity
+         read (unit, nml=body, iostat=stat, iomsg=msg)
+      end subroutine read_body
    end subroutine read_body_groups
 
    !> Cross-key checks of one &body (single keys are checked by ffrf_input_nml_source).

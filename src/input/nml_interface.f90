@@ -16,7 +16,7 @@ module ffrf_input_nml_interface
    use ffrf_core_choices, only: choice_words
    use ffrf_input_interface, only: interface_input_t, parse_dofs, mpc_choices, &
       weighting_choices, virtual_node_choices
-   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_common, only: read_status
    use ffrf_input_nml_source, only: key_spec_t, real_key, string_key, choice_key, nml_source_t
    implicit none
    private
@@ -41,47 +41,37 @@ contains
       type(nml_source_t), intent(in) :: src
       type(interface_input_t), allocatable, intent(out) :: interfaces(:)
       type(error_t), allocatable, intent(out) :: error
-      type(interface_input_t) :: defaults
-      character(len=64) :: body, name, rc
-      character(len=8) :: mpc
-      character(len=16) :: weighting, virtual_node
-      real(dp) :: position(3)
       character(len=512) :: msg
-      logical :: dofs(6)
       integer :: stat, k
-      namelist /interface/ body, name, mpc, weighting, virtual_node, position, rc
-      allocate (interfaces(0))
+      allocate (interfaces(src%count('interface')))
       rewind (unit)
-      do
-         body = defaults%body
-         name = defaults%name
-         mpc = defaults%mpc
-         weighting = defaults%weighting
-         virtual_node = defaults%virtual_node
-         position = defaults%position
-         rc = defaults%rc
-         read (unit, nml=interface, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(interfaces) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'interface', k, msg, &
-               'body, name, mpc, weighting, virtual_node, position, rc')
-            return
-         end if
-         if (len_trim(body) == 0 .or. len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, '') // &
-               ': body and name (the physical surface) are required')
-            return
-         end if
-         ! mpc, weighting and virtual_node were checked by the key spec (interface_keys)
-         call parse_dofs(rc, dofs, error)
+      do k = 1, size(interfaces)
+         associate (f => interfaces(k))
+            call read_interface(f%body, f%name, f%mpc, f%weighting, f%virtual_node, f%position, &
+               f%rc)
+            call read_status(src, 'interface', k, stat, msg, error)
+            if (allocated(error)) return
+            if (len_trim(f%body) == 0 .or. len_trim(f%name) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%where('interface', k, '') // &
+                  ': body and name (the physical surface) are required')
+               return
+            end if
+            ! mpc, weighting and virtual_node were checked by the key spec (interface_keys)
+            call parse_dofs(f%rc, f%rc_dofs, error)
+         end associate
          if (allocated(error)) then
             call add_context(error, src%where('interface', k, 'rc'))
             return
          end if
-         interfaces = [interfaces, interface_input_t(body, name, mpc, weighting, virtual_node, &
-            position, rc, dofs)]
       end do
+   contains
+      !> The namelist read of &interface k into its fields (absent keys keep their defaults).
+      subroutine read_interface(body, name, mpc, weighting, virtual_node, position, rc)
+         character(len=*), intent(inout) :: body, name, mpc, weighting, virtual_node, rc
+         real(dp), intent(inout) :: position(3)
+         namelist /interface/ body, name, mpc, weighting, virtual_node, position, rc
+         read (unit, nml=interface, iostat=stat, iomsg=msg)
+      end subroutine read_interface
    end subroutine read_interface_groups
 
 end module ffrf_input_nml_interface

@@ -99,13 +99,14 @@ module ffrf_input_nml_mechanism
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str, to_lower, join_words
    use ffrf_input_interface, only: weighting_choices
-   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_common, only: read_status, check_unique_name
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
       marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
       torsion_spring_input_t, bushing_input_t, &
-      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices
+      driver_input_t, time_law_input_t, law_function, load_choices, selection_choices, &
+      quantity_choices
    use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
@@ -120,10 +121,8 @@ module ffrf_input_nml_mechanism
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
       model_keys, spring_keys, driver_keys, torsion_spring_keys, bushing_keys
+   public :: jacobian_choices
 
-   !> The law keys, for messages (module header)
-   character(len=*), parameter :: law_key_names = 'law, initial, final, speed, t_start, ' // &
-      'duration, table_time, table_value, interpolation, beyond'
    !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
    type(choice_t), parameter :: jacobian_choices(*) = [ &
       choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
@@ -131,14 +130,16 @@ module ffrf_input_nml_mechanism
 
    interface
       !> &model: automatic model selection and its error targets.
-      module subroutine read_model_group(unit, input, error)
+      module subroutine read_model_group(unit, src, input, error)
          integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
          type(model_input_t), intent(inout) :: input
          type(error_t), allocatable, intent(out) :: error
       end subroutine read_model_group
 
-      module subroutine read_mechanism_group(unit, input, error)
+      module subroutine read_mechanism_group(unit, src, input, error)
          integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
          type(mechanism_input_t), intent(inout) :: input
          type(error_t), allocatable, intent(out) :: error
       end subroutine read_mechanism_group
@@ -157,47 +158,9 @@ module ffrf_input_nml_mechanism
          type(error_t), allocatable, intent(out) :: error
       end subroutine read_joint_groups
 
-      module subroutine read_load_groups(unit, src, loads, error)
+      module subroutine read_pressure_group(unit, src, input, table_file, error)
          integer, intent(in) :: unit
          type(nml_source_t), intent(in) :: src
-         type(load_input_t), allocatable, intent(out) :: loads(:)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine read_load_groups
-
-      !> The &driver groups (module header), in input order.
-      module subroutine read_driver_groups(unit, src, drivers, error)
-         integer, intent(in) :: unit
-         type(nml_source_t), intent(in) :: src
-         type(driver_input_t), allocatable, intent(out) :: drivers(:)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine read_driver_groups
-
-      !> The &spring groups (module header), in input order.
-      module subroutine read_spring_groups(unit, src, springs, error)
-         integer, intent(in) :: unit
-         type(nml_source_t), intent(in) :: src
-         type(spring_input_t), allocatable, intent(out) :: springs(:)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine read_spring_groups
-
-      !> The &torsion_spring groups (module header), in input order.
-      module subroutine read_torsion_spring_groups(unit, src, springs, error)
-         integer, intent(in) :: unit
-         type(nml_source_t), intent(in) :: src
-         type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine read_torsion_spring_groups
-
-      !> The &bushing groups (module header), in input order.
-      module subroutine read_bushing_groups(unit, src, bushings, error)
-         integer, intent(in) :: unit
-         type(nml_source_t), intent(in) :: src
-         type(bushing_input_t), allocatable, intent(out) :: bushings(:)
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine read_bushing_groups
-
-      module subroutine read_pressure_group(unit, input, table_file, error)
-         integer, intent(in) :: unit
          type(pressure_input_t), intent(inout) :: input
          character(len=*), intent(inout) :: table_file
          type(error_t), allocatable, intent(out) :: error
@@ -213,6 +176,40 @@ module ffrf_input_nml_mechanism
          !> The energy watch of the run (energy_watch, energy_watch_tolerance, energy_watch_window)
          type(energy_watch_settings_t), intent(inout) :: watch
       end subroutine read_integrator_group
+
+      module subroutine read_load_groups(unit, src, loads, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(load_input_t), allocatable, intent(out) :: loads(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_load_groups
+
+      !> The &driver groups (module header), in input order.
+      module subroutine read_driver_groups(unit, src, drivers, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(driver_input_t), allocatable, intent(out) :: drivers(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_driver_groups
+
+      !> The groups between two markers of two bodies (module header), each in input order:
+      !> &spring, then &bushing; each group read straight into its record, then the rules they
+      !> share (check_marker_pair_group).
+      module subroutine read_marker_pair_groups(unit, src, springs, bushings, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(spring_input_t), allocatable, intent(out) :: springs(:)
+         type(bushing_input_t), allocatable, intent(out) :: bushings(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_marker_pair_groups
+
+      !> The &torsion_spring groups (module header), in input order.
+      module subroutine read_torsion_spring_groups(unit, src, springs, error)
+         integer, intent(in) :: unit
+         type(nml_source_t), intent(in) :: src
+         type(torsion_spring_input_t), allocatable, intent(out) :: springs(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine read_torsion_spring_groups
    end interface
 
 contains
@@ -279,7 +276,7 @@ contains
    function driver_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('name', 64), string_key('joint', 64), &
-         choice_key('quantity', 16, 'coordinate, rate'), &
+         choice_key('quantity', 16, choice_words(quantity_choices)), &
          real_key('offset', -1.0e6_dp, 1.0e6_dp, 'rad or m'), law_keys()]
    end function driver_keys
 
@@ -370,20 +367,20 @@ contains
       type(nml_source_t), intent(in) :: src
       type(mechanism_case_input_t), intent(out) :: input
       type(error_t), allocatable, intent(out) :: error
-      call read_mechanism_group(unit, input%mechanism, error)
+      call read_mechanism_group(unit, src, input%mechanism, error)
       if (.not. allocated(error)) call read_marker_groups(unit, src, input%markers, error)
       if (.not. allocated(error)) call read_joint_groups(unit, src, input%joints, error)
       if (.not. allocated(error)) call read_load_groups(unit, src, input%loads, error)
-      if (.not. allocated(error)) call read_spring_groups(unit, src, input%springs, error)
+      if (.not. allocated(error)) call read_marker_pair_groups(unit, src, input%springs, &
+         input%bushings, error)
       if (.not. allocated(error)) call read_torsion_spring_groups(unit, src, &
          input%torsion_springs, error)
-      if (.not. allocated(error)) call read_bushing_groups(unit, src, input%bushings, error)
       if (.not. allocated(error)) call read_driver_groups(unit, src, input%drivers, error)
-      if (.not. allocated(error)) call read_pressure_group(unit, input%pressure, &
+      if (.not. allocated(error)) call read_pressure_group(unit, src, input%pressure, &
          input%pressure_table, error)
       if (.not. allocated(error)) call read_integrator_group(unit, src, input%integrator, &
          input%model%h_given, error, input%energy_watch)
-      if (.not. allocated(error)) call read_model_group(unit, input%model, error)
+      if (.not. allocated(error)) call read_model_group(unit, src, input%model, error)
       if (.not. allocated(error)) input%max_steps = src%integer_value('integrator', 1, &
          'max_steps', input%max_steps)
    end subroutine read_mechanism_groups

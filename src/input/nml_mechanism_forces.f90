@@ -1,5 +1,6 @@
 !> The readers of the mechanism's loads, drivers and force elements (ffrf_input_nml_mechanism):
-!> &load and &driver with their laws over time, &spring, &torsion_spring and &bushing.
+!> &load and &driver with their laws over time, &spring and &bushing (the groups between two
+!> markers, one reader), &torsion_spring.
 submodule (ffrf_input_nml_mechanism) ffrf_input_nml_mechanism_forces
    implicit none
 
@@ -41,12 +42,8 @@ contains
          read (unit, nml=load, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(loads) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'load', k, msg, 'name, type, body, marker, ' // &
-               'direction, value, stall_torque, free_speed, switch_off, coefficient, ' // &
-               law_key_names)
-            return
-         end if
+         call read_status(src, 'load', k, stat, msg, error)
+         if (allocated(error)) return
          given_law = law_as_given(law, initial, final, speed, t_start, duration, &
             table_time, table_value, interpolation, beyond)
          if (value == huge(1.0_dp)) value = merge(1.0_dp, defaults%value, len_trim(law) > 0)
@@ -120,11 +117,8 @@ contains
          read (unit, nml=driver, iostat=stat, iomsg=msg)
          if (is_iostat_end(stat)) exit
          k = size(drivers) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'driver', k, msg, 'name, joint, quantity, ' // &
-               'offset, ' // law_key_names)
-            return
-         end if
+         call read_status(src, 'driver', k, stat, msg, error)
+         if (allocated(error)) return
          given_law = law_as_given(law, initial, final, speed, t_start, duration, &
             table_time, table_value, interpolation, beyond)
          quantity = to_lower(quantity)
@@ -200,137 +194,103 @@ contains
       n = size(values)
    end function count_set
 
-   module procedure read_spring_groups
-      type(spring_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness, damping, free_length
-      integer :: stat, k
-      character(len=512) :: msg
-      namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
-      allocate (springs(0))
-      rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_length = defaults%free_length
-         read (unit, nml=spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'spring', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping, free_length')
-            return
-         end if
-         call check_marker_pair_group(src, 'spring', k, name, springs%name, body1, marker1, &
-            body2, marker2, error)
-         if (allocated(error)) return
-         springs = [springs, spring_input_t(name, body1, marker1, body2, marker2, stiffness, &
-            damping, free_length)]
-      end do
-   end procedure read_spring_groups
-
    module procedure read_torsion_spring_groups
-      type(torsion_spring_input_t) :: defaults
-      character(len=64) :: name, joint
-      real(dp) :: stiffness, damping, free_angle
-      real(dp), parameter :: unset = huge(1.0_dp)
-      integer :: stat, k
+      integer :: k, stat
       character(len=512) :: msg
-      namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
-      allocate (springs(0))
+      allocate (springs(src%count('torsion_spring')))
       rewind (unit)
-      do
-         name = defaults%name
-         joint = defaults%joint
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         free_angle = unset
-         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(springs) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'torsion_spring', k, msg, 'name, joint, ' // &
-               'stiffness, damping, free_angle')
-            return
-         end if
-         if (len_trim(name) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ': name is missing')
-         else if (any(springs%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, 'name') &
-               // ': the name is used twice; torsion spring names must be unique')
-         else if (len_trim(joint) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // &
-               ' "' // trim(name) // '": joint is required (a revolute or cylindrical &joint)')
-         end if
+      do k = 1, size(springs)
+         associate (spring => springs(k))
+            ! unset: the joint angle at the start
+            spring%free_angle = huge(1.0_dp)
+            call read_torsion_spring(spring%name, spring%joint, spring%stiffness, &
+               spring%damping, spring%free_angle)
+            spring%free_angle_given = spring%free_angle /= huge(1.0_dp)
+            if (.not. spring%free_angle_given) spring%free_angle = 0.0_dp
+            if (.not. allocated(error)) call check_unique_name(src, 'torsion_spring', k, &
+               spring%name, springs(:k - 1)%name, error)
+            if (.not. allocated(error) .and. len_trim(spring%joint) == 0) call fatal_error(error, &
+               FFRF_INPUT_ERROR, src%where('torsion_spring', k, '') // ' "' // &
+               trim(spring%name) // '": joint is required (a revolute or cylindrical &joint)')
+         end associate
          if (allocated(error)) return
-         springs = [springs, torsion_spring_input_t(name, joint, stiffness, damping, &
-            merge(0.0_dp, free_angle, free_angle == unset), free_angle /= unset)]
       end do
+   contains
+      !> The namelist read of &torsion_spring k into its fields (absent keys keep their values).
+      subroutine read_torsion_spring(name, joint, stiffness, damping, free_angle)
+         character(len=*), intent(inout) :: name, joint
+         real(dp), intent(inout) :: stiffness, damping, free_angle
+         namelist /torsion_spring/ name, joint, stiffness, damping, free_angle
+         read (unit, nml=torsion_spring, iostat=stat, iomsg=msg)
+         call read_status(src, 'torsion_spring', k, stat, msg, error)
+      end subroutine read_torsion_spring
    end procedure read_torsion_spring_groups
 
-   !> The rules a group between two markers of two bodies shares (&spring, &bushing; group k,
-   !> `names` those of the groups before it): a unique name, all four ends, two bodies.
-   subroutine check_marker_pair_group(src, group, k, name, names, body1, marker1, body2, &
-      marker2, error)
+   !> After the namelist read of occurrence k of a group between two markers of two bodies
+   !> (&spring, &bushing; read status stat, iomsg msg): its rules, `names` those of the
+   !> occurrences before it, `ends` its name, body1, marker1, body2, marker2: a unique name,
+   !> all four ends, two bodies.
+   subroutine check_marker_pair_group(src, group, k, stat, msg, names, ends, error)
       type(nml_source_t), intent(in) :: src
-      character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
-      integer, intent(in) :: k
-      character(len=*), intent(in) :: names(:)
+      character(len=*), intent(in) :: group, msg
+      integer, intent(in) :: k, stat
+      character(len=*), intent(in) :: names(:), ends(5)
       type(error_t), allocatable, intent(out) :: error
-      if (len_trim(name) == 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // &
-            ': name is missing')
-      else if (any(names == name)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'name') // &
-            ': the name is used twice; ' // group // ' names must be unique')
-      else if (len_trim(body1) == 0 .or. len_trim(marker1) == 0 .or. &
-         len_trim(body2) == 0 .or. len_trim(marker2) == 0) then
+      call read_status(src, group, k, stat, msg, error)
+      if (.not. allocated(error)) call check_unique_name(src, group, k, ends(1), names, error)
+      if (allocated(error)) return
+      if (any(len_trim(ends(2:)) == 0)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, '') // ' "' // &
-            trim(name) // '": body1, marker1, body2 and marker2 are required')
-      else if (body1 == body2) then
+            trim(ends(1)) // '": body1, marker1, body2 and marker2 are required')
+      else if (ends(2) == ends(4)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where(group, k, 'body2') // ': &' // &
-            group // ' "' // trim(name) // '": body1 and body2 are both "' // trim(body1) // &
-            '"; a ' // group // ' connects two different bodies')
+            group // ' "' // trim(ends(1)) // '": body1 and body2 are both "' // &
+            trim(ends(2)) // '"; a ' // group // ' connects two different bodies')
       end if
    end subroutine check_marker_pair_group
 
-   module procedure read_bushing_groups
-      type(bushing_input_t) :: defaults
-      character(len=64) :: name, body1, marker1, body2, marker2
-      real(dp) :: stiffness(6), damping(6)
-      integer :: stat, k
+   module procedure read_marker_pair_groups
+      integer :: k, stat
       character(len=512) :: msg
-      namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
-      allocate (bushings(0))
+      allocate (springs(src%count('spring')), bushings(src%count('bushing')))
       rewind (unit)
-      do
-         name = defaults%name
-         body1 = defaults%body1
-         marker1 = defaults%marker1
-         body2 = defaults%body2
-         marker2 = defaults%marker2
-         stiffness = defaults%stiffness
-         damping = defaults%damping
-         read (unit, nml=bushing, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(bushings) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'bushing', k, msg, 'name, body1, marker1, body2, ' &
-               // 'marker2, stiffness, damping')
-            return
-         end if
-         call check_marker_pair_group(src, 'bushing', k, name, bushings%name, body1, marker1, &
-            body2, marker2, error)
+      do k = 1, size(springs)
+         associate (x => springs(k))
+            call read_spring(x%name, x%body1, x%marker1, x%body2, x%marker2, x%stiffness, &
+               x%damping, x%free_length)
+         end associate
          if (allocated(error)) return
-         bushings = [bushings, bushing_input_t(name, body1, marker1, body2, marker2, &
-            stiffness, damping)]
       end do
-   end procedure read_bushing_groups
+      rewind (unit)
+      do k = 1, size(bushings)
+         associate (x => bushings(k))
+            call read_bushing(x%name, x%body1, x%marker1, x%body2, x%marker2, x%stiffness, &
+               x%damping)
+         end associate
+         if (allocated(error)) return
+      end do
+   contains
+      !> The namelist read of &spring k into its fields (absent keys keep their defaults),
+      !> then its rules.
+      subroutine read_spring(name, body1, marker1, body2, marker2, stiffness, damping, &
+            free_length)
+         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: stiffness, damping, free_length
+         namelist /spring/ name, body1, marker1, body2, marker2, stiffness, damping, free_length
+         read (unit, nml=spring, iostat=stat, iomsg=msg)
+         call check_marker_pair_group(src, 'spring', k, stat, msg, springs(:k - 1)%name, &
+            [character(len=64) :: name, body1, marker1, body2, marker2], error)
+      end subroutine read_spring
+
+      !> The same for &bushing k (six stiffnesses and dampings).
+      subroutine read_bushing(name, body1, marker1, body2, marker2, stiffness, damping)
+         character(len=*), intent(inout) :: name, body1, marker1, body2, marker2
+         real(dp), intent(inout) :: stiffness(6), damping(6)
+         namelist /bushing/ name, body1, marker1, body2, marker2, stiffness, damping
+         read (unit, nml=bushing, iostat=stat, iomsg=msg)
+         call check_marker_pair_group(src, 'bushing', k, stat, msg, bushings(:k - 1)%name, &
+            [character(len=64) :: name, body1, marker1, body2, marker2], error)
+      end subroutine read_bushing
+   end procedure read_marker_pair_groups
 
 end submodule ffrf_input_nml_mechanism_forces

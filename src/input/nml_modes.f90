@@ -37,7 +37,7 @@ module ffrf_input_nml_modes
    use ffrf_input_modes, only: modes_input_t, formulation_choices, basis_choices, &
       eigensolver_choices
    use ffrf_modes_shift_invert, only: DEFAULT_WINDOW_SIZE
-   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_common, only: read_status
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t, logical_key
    implicit none
@@ -69,83 +69,60 @@ contains
       type(nml_source_t), intent(in) :: src
       type(modes_input_t), intent(inout) :: input
       type(error_t), allocatable, intent(out) :: error
-      integer :: num_modes, lanczos_vectors, memory_limit_mb
-      real(dp) :: shift_hz, tolerance, compression_tolerance, max_frequency_hz
-      logical :: out_of_core, sturm_check
-      character(len=256) :: ooc_tmpdir
-      character(len=16) :: formulation, basis, eigensolver
-      character(len=64) :: rc_label
+      type(modes_input_t) :: m
       character(len=512) :: msg
       integer :: stat, kind
       integer(i8) :: size_bytes
-      namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, &
-         basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver, &
-         max_frequency_hz, sturm_check
+      m = input
       ! -1: not given (the strict pre-reader refuses it written), so that max_frequency_hz alone
       ! means every mode below it
-      num_modes = -1
-      shift_hz = input%shift_hz
-      formulation = input%formulation
-      rc_label = input%rc_label
-      tolerance = input%tolerance
-      lanczos_vectors = input%lanczos_vectors
-      basis = input%basis
-      out_of_core = input%out_of_core
-      ooc_tmpdir = input%ooc_tmpdir
-      memory_limit_mb = input%memory_limit_mb
-      compression_tolerance = input%compression_tolerance
-      eigensolver = input%eigensolver
-      max_frequency_hz = input%max_frequency_hz
-      sturm_check = input%sturm_check
+      m%num_modes = -1
       rewind (unit)
-      read (unit, nml=modes, iostat=stat, iomsg=msg)
+      call read_modes(m%num_modes, m%shift_hz, m%formulation, m%rc_label, m%tolerance, &
+         m%lanczos_vectors, m%basis, m%out_of_core, m%ooc_tmpdir, m%memory_limit_mb, &
+         m%compression_tolerance, m%eigensolver, m%max_frequency_hz, m%sturm_check)
       if (is_iostat_end(stat)) return
-      if (stat /= 0) then
-         call namelist_read_error(error, 'modes', 0, msg, &
-            'num_modes, shift_hz, formulation, rc_label, tolerance, lanczos_vectors, basis, ' // &
-            'out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, eigensolver, ' // &
-            'max_frequency_hz, sturm_check')
-         return
+      call read_status(src, 'modes', 0, stat, msg, error)
+      if (allocated(error)) return
+      if (m%num_modes == -1) then
+         m%num_modes = input%num_modes
+         if (m%max_frequency_hz > 0.0_dp) m%num_modes = 10000
       end if
-      if (num_modes == -1) then
-         num_modes = input%num_modes
-         if (max_frequency_hz > 0.0_dp) num_modes = 10000
-      end if
-      formulation = to_lower(formulation)
-      basis = to_lower(basis)
-      eigensolver = to_lower(eigensolver)
+      m%formulation = to_lower(m%formulation)
+      m%basis = to_lower(m%basis)
+      m%eigensolver = to_lower(m%eigensolver)
       ! the ranges, shift_hz's finiteness and the words of formulation, basis and eigensolver
       ! were checked by the key spec (modes_keys); here the rules between keys
-      if (lanczos_vectors /= 0 .and. lanczos_vectors <= min(num_modes, &
+      if (m%lanczos_vectors /= 0 .and. m%lanczos_vectors <= min(m%num_modes, &
                int(DEFAULT_WINDOW_SIZE))) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'lanczos_vectors') // &
-            ': must exceed num_modes = ' // to_str(num_modes) // ' (at most the ' // &
+            ': must exceed num_modes = ' // to_str(m%num_modes) // ' (at most the ' // &
             to_str(DEFAULT_WINDOW_SIZE) // ' modes of one shift window; about twice that; ' // &
             '0 = automatic)')
-      else if (max_frequency_hz > 0.0_dp .and. shift_hz > 0.0_dp) then
+      else if (m%max_frequency_hz > 0.0_dp .and. m%shift_hz > 0.0_dp) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'shift_hz') // &
-            ' Hz cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: ' // &
+            ' Hz cannot go with max_frequency_hz = ' // to_str(m%max_frequency_hz) // ' Hz: ' // &
             'the shift windows run from the shift up to it; give shift_hz <= 0 (0: ' // &
             'automatic, below every mode)')
-      else if (max_frequency_hz > 0.0_dp .and. .not. sturm_check) then
+      else if (m%max_frequency_hz > 0.0_dp .and. .not. m%sturm_check) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('modes', 1, 'sturm_check') // &
-            ' cannot go with max_frequency_hz = ' // to_str(max_frequency_hz) // ' Hz: the ' // &
+            ' cannot go with max_frequency_hz = ' // to_str(m%max_frequency_hz) // ' Hz: the ' // &
             'Sturm counts are how the shift windows find every mode below it; remove ' // &
             'sturm_check = .false. or max_frequency_hz')
-      else if (compression_tolerance > 0.0_dp) then
+      else if (m%compression_tolerance > 0.0_dp) then
          ! Measured on this toolchain (docs/performance.md "Large meshes"): about one BLR analysis
          ! in four ends with SIGSEGV inside SCOTCH, and the crank's fronts hardly compress.
          call fatal_error(error, FFRF_INPUT_ERROR, '&modes: compression_tolerance = ' // &
-            to_str(compression_tolerance) // ': block low-rank factors are not offered: ' // &
+            to_str(m%compression_tolerance) // ': block low-rank factors are not offered: ' // &
             'Debian 12''s MUMPS 5.5.1 with SCOTCH 7.0.3 crashes (SIGSEGV in ' // &
             'SCOTCH_graphBuild) in about one block low-rank analysis in four, and on the ' // &
             'crank they store 90-95 % of the full factor; use out_of_core = .true. or more ' // &
             'ranks (the MPI build) for large meshes, and compression_tolerance = 0')
       end if
       if (allocated(error)) return
-      if (out_of_core .and. len_trim(ooc_tmpdir) > 0) then
+      if (m%out_of_core .and. len_trim(m%ooc_tmpdir) > 0) then
          ! MUMPS would only fail in the factorisation (INFOG(1) = -90)
-         call file_kind(trim(ooc_tmpdir), kind, size_bytes, error)
+         call file_kind(trim(m%ooc_tmpdir), kind, size_bytes, error)
          if (allocated(error)) return
          if (kind /= FILE_DIRECTORY) then
             if (kind == FILE_MISSING) then
@@ -154,15 +131,27 @@ contains
                msg = 'is ' // file_kind_name(kind) // ', not a folder'
             end if
             call fatal_error(error, FFRF_IO_ERROR, src%where('modes', 1, 'ooc_tmpdir') // &
-               ': "' // trim(ooc_tmpdir) // '" ' // trim(msg) // '; out_of_core = .true. ' // &
+               ': "' // trim(m%ooc_tmpdir) // '" ' // trim(msg) // '; out_of_core = .true. ' // &
                'writes the factors there: create the folder, or leave ooc_tmpdir out ' // &
                '(TMPDIR, else the output folder)')
             return
          end if
       end if
-      input = modes_input_t(num_modes, shift_hz, formulation, rc_label, tolerance, &
-         lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance, &
-         eigensolver, max_frequency_hz, sturm_check)
+      input = m
+   contains
+      !> The namelist read of &modes into its fields (absent keys keep their values).
+      subroutine read_modes(num_modes, shift_hz, formulation, rc_label, tolerance, &
+            lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, &
+            compression_tolerance, eigensolver, max_frequency_hz, sturm_check)
+         integer, intent(inout) :: num_modes, lanczos_vectors, memory_limit_mb
+         real(dp), intent(inout) :: shift_hz, tolerance, compression_tolerance, max_frequency_hz
+         character(len=*), intent(inout) :: formulation, rc_label, basis, ooc_tmpdir, eigensolver
+         logical, intent(inout) :: out_of_core, sturm_check
+         namelist /modes/ num_modes, shift_hz, formulation, rc_label, tolerance, &
+            lanczos_vectors, basis, out_of_core, ooc_tmpdir, memory_limit_mb, &
+            compression_tolerance, eigensolver, max_frequency_hz, sturm_check
+         read (unit, nml=modes, iostat=stat, iomsg=msg)
+      end subroutine read_modes
    end subroutine read_modes_group
 
 end module ffrf_input_nml_modes

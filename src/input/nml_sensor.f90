@@ -16,7 +16,7 @@ module ffrf_input_nml_sensor
    use ffrf_core_kinds, only: i8
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
-   use ffrf_input_nml_common, only: namelist_read_error
+   use ffrf_input_nml_common, only: read_status
    use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key, integer_key, &
       nml_source_t
    use ffrf_input_mechanism, only: sensor_input_t
@@ -43,67 +43,61 @@ contains
       type(nml_source_t), intent(in) :: src
       type(sensor_input_t), allocatable, intent(out) :: sensors(:)
       type(error_t), allocatable, intent(out) :: error
-      type(sensor_input_t) :: defaults
-      character(len=64) :: name, body, marker, joint, spring
-      character(len=20) :: type
-      integer :: stat, k, kind, node
+      integer :: stat, k, kind
       character(len=512) :: msg
       character(len=:), allocatable :: where
-      namelist /sensor/ name, type, body, marker, joint, node, spring
-      allocate (sensors(0))
+      allocate (sensors(src%count('sensor')))
       rewind (unit)
-      do
-         name = defaults%name
-         type = defaults%type
-         body = defaults%body
-         marker = defaults%marker
-         joint = defaults%joint
-         node = defaults%node
-         spring = defaults%spring
-         read (unit, nml=sensor, iostat=stat, iomsg=msg)
-         if (is_iostat_end(stat)) exit
-         k = size(sensors) + 1
-         if (stat /= 0) then
-            call namelist_read_error(error, 'sensor', k, msg, 'name, type, body, marker, ' // &
-               'joint, node, spring')
-            return
-         end if
-         type = to_lower(type)
-         if (len_trim(name) == 0) name = type
-         where = src%where('sensor', k, '') // ' "' // trim(name) // '"'
-         kind = sensor_kind_of(type)
-         if (kind == 0) then
-            ! a word given was checked by the key spec (sensor_keys); here only its absence
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, '') // &
-               ': type is missing; give one of ' // sensor_words)
-         else if (any(sensors%name == name)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
-               ': sensor "' // trim(name) // '" is given twice; sensor names must be unique')
-         else if (scan(trim(name), '/.') > 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
-               ': name = ''' // trim(name) // ''' holds a "/" or "."; a sensor name is ' // &
-               'one word of the results file (/sensors/<name>)')
-         else if (sensor_needs_marker(kind) .and. (len_trim(body) == 0 .or. &
-            len_trim(marker) == 0)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs body and marker (a &marker point, or an &interface of a flexible body)')
-         else if (sensor_needs_joint(kind) .and. len_trim(joint) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs joint = ''<a &joint name>''')
-         else if (sensor_needs_body(kind) .and. len_trim(body) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs body = ''<a &body name>''')
-         else if (sensor_needs_spring(kind) .and. len_trim(spring) == 0) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs spring = ''<a &' // trim(type) // ' name>''')
-         else if (sensor_needs_node(kind) .and. node < 1) then
-            call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // trim(type) // &
-               ''' needs node = <a node tag of the body''s mesh>')
-         end if
+      do k = 1, size(sensors)
+         associate (s => sensors(k))
+            call read_sensor(s%name, s%type, s%body, s%marker, s%joint, s%node, s%spring)
+            call read_status(src, 'sensor', k, stat, msg, error)
+            if (allocated(error)) return
+            s%type = to_lower(s%type)
+            if (len_trim(s%name) == 0) s%name = s%type
+            where = src%where('sensor', k, '') // ' "' // trim(s%name) // '"'
+            kind = sensor_kind_of(s%type)
+            if (kind == 0) then
+               ! a word given was checked by the key spec (sensor_keys); here only its absence
+               call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, '') // &
+                  ': type is missing; give one of ' // sensor_words)
+            else if (any(sensors(:k - 1)%name == s%name)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
+                  ': sensor "' // trim(s%name) // '" is given twice; sensor names must be ' // &
+                  'unique')
+            else if (scan(trim(s%name), '/.') > 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
+                  ': name = ''' // trim(s%name) // ''' holds a "/" or "."; a sensor name is ' // &
+                  'one word of the results file (/sensors/<name>)')
+            else if (sensor_needs_marker(kind) .and. (len_trim(s%body) == 0 .or. &
+               len_trim(s%marker) == 0)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
+                  trim(s%type) // ''' needs body and marker (a &marker point, or an ' // &
+                  '&interface of a flexible body)')
+            else if (sensor_needs_joint(kind) .and. len_trim(s%joint) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
+                  trim(s%type) // ''' needs joint = ''<a &joint name>''')
+            else if (sensor_needs_body(kind) .and. len_trim(s%body) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
+                  trim(s%type) // ''' needs body = ''<a &body name>''')
+            else if (sensor_needs_spring(kind) .and. len_trim(s%spring) == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
+                  trim(s%type) // ''' needs spring = ''<a &' // trim(s%type) // ' name>''')
+            else if (sensor_needs_node(kind) .and. s%node < 1) then
+               call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
+                  trim(s%type) // ''' needs node = <a node tag of the body''s mesh>')
+            end if
+         end associate
          if (allocated(error)) return
-         sensors = [sensors, sensor_input_t(name, type, body, marker, joint, node, &
-            spring)]
       end do
+   contains
+      !> The namelist read of &sensor k into its fields (absent keys keep their defaults).
+      subroutine read_sensor(name, type, body, marker, joint, node, spring)
+         character(len=*), intent(inout) :: name, type, body, marker, joint, spring
+         integer, intent(inout) :: node
+         namelist /sensor/ name, type, body, marker, joint, node, spring
+         read (unit, nml=sensor, iostat=stat, iomsg=msg)
+      end subroutine read_sensor
    end subroutine read_sensor_groups
 
 end module ffrf_input_nml_sensor

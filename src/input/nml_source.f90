@@ -291,11 +291,7 @@ contains
       logical, intent(in), optional :: lower_open, upper_open
       integer, intent(in), optional :: count
       type(key_spec_t) :: key
-      key%name = name
-      key%kind = KEY_REAL
-      key%lower = lower
-      key%upper = upper
-      key%unit = unit
+      key = key_spec_t(name, KEY_REAL, lower=lower, upper=upper, unit=unit)
       if (present(lower_open)) key%lower_open = lower_open
       if (present(upper_open)) key%upper_open = upper_open
       if (present(count)) then
@@ -310,10 +306,7 @@ contains
       integer(i8), intent(in) :: lower, upper
       logical, intent(in), optional :: in_namelist
       type(key_spec_t) :: key
-      key%name = name
-      key%kind = KEY_INTEGER
-      key%int_lower = lower
-      key%int_upper = upper
+      key = key_spec_t(name, KEY_INTEGER, int_lower=lower, int_upper=upper)
       if (present(in_namelist)) key%in_namelist = in_namelist
    end function integer_key
 

@@ -20,35 +20,31 @@ contains
       end if
       if (len(text) >= 2) then
          if (text(1:2) == char(255) // char(254) .or. text(1:2) == char(254) // char(255)) then
-            call fail(self%file_name // ':1: a UTF-16 byte-order mark; save the case as ' // &
+            call fail(error, &
+               self%file_name // ':1: a UTF-16 byte-order mark; save the case as ' // &
                'UTF-8 or ASCII text')
             return
          end if
       end if
       do
-         call skip_blank(text, s, .true.)
-         if (s%pos > len(text)) exit
-         c = text(s%pos:s%pos)
-         if (c == '!') then
-            call skip_line(text, s)
-            cycle
-         end if
+         if (.not. next_significant(text, s, c)) exit
          if (c /= '&') then
-            call fail(self%file_name // ':' // to_str(s%line) // ': text outside a ' // &
+            call fail(error, self%file_name // ':' // to_str(s%line) // ': text outside a ' // &
                'namelist group: "' // quote(line_rest(text, s%pos)) // '"; outside groups ' // &
                'only blank lines and ! comments are allowed')
             return
          end if
          start_line = s%line
          if (self%used >= MAX_GROUPS) then
-            call fail(self%file_name // ':' // to_str(start_line) // ': more than ' // &
+            call fail(error, self%file_name // ':' // to_str(start_line) // ': more than ' // &
                to_str(MAX_GROUPS) // ' namelist groups; a case holds fewer')
             return
          end if
          s%pos = s%pos + 1
          name = to_lower(identifier(text, s))
          if (len(name) == 0) then
-            call fail(self%file_name // ':' // to_str(start_line) // ': ''&'' without a ' // &
+            call fail(error, &
+               self%file_name // ':' // to_str(start_line) // ': ''&'' without a ' // &
                'group name; groups are &' // join_words(groups%name, ', &'))
             return
          end if
@@ -57,7 +53,7 @@ contains
             if (trim(groups(k)%name) == name) g = k
          end do
          if (g == 0) then
-            call fail(self%file_name // ':' // to_str(start_line) // &
+            call fail(error, self%file_name // ':' // to_str(start_line) // &
                ': unknown namelist group &' // name // '; groups are &' // &
                join_words(groups%name, ', &'))
             return
@@ -65,7 +61,7 @@ contains
          if (s%pos <= len(text)) then
             if (index(' ' // achar(9) // achar(13) // achar(10) // '/!,', &
                text(s%pos:s%pos)) == 0) then
-               call fail(self%file_name // ':' // to_str(start_line) // ': &' // name // &
+               call fail(error, self%file_name // ':' // to_str(start_line) // ': &' // name // &
                   ': unexpected "' // quote(text(s%pos:s%pos)) // '" after the group name; ' // &
                   'write &' // name // ' key = value, ... /')
                return
@@ -73,7 +69,7 @@ contains
          end if
          k = self%group_count(g)
          if (.not. groups(g)%repeatable .and. k > 0) then
-            call fail(self%file_name // ':' // to_str(start_line) // ': &' // name // &
+            call fail(error, self%file_name // ':' // to_str(start_line) // ': &' // name // &
                ': a second &' // name // ' group (the first is on line ' // &
                to_str(first_line(self, g)) // '); give it once')
             return
@@ -81,11 +77,6 @@ contains
          call parse_group(self, text, s, g, k + 1, start_line, error)
          if (allocated(error)) return
       end do
-   contains
-      subroutine fail(message)
-         character(len=*), intent(in) :: message
-         call fatal_error(error, FFRF_INPUT_ERROR, message)
-      end subroutine fail
    end procedure source_parse
 
    !> The keys of one group occurrence, up to and including its '/'.
@@ -98,7 +89,7 @@ contains
       type(occurrence_t) :: occ
       type(entry_t) :: entry
       type(item_t), allocatable :: items(:)
-      character(len=:), allocatable :: gname, key, raw, problem
+      character(len=:), allocatable :: gname, key, raw, problem, at
       character(len=1) :: c
       integer :: k, key_line, e
       gname = '&' // trim(self%groups(g)%name)
@@ -107,16 +98,12 @@ contains
       occ%line = start_line
       allocate (occ%entries(0))
       do
-         call skip_blank(text, s, .true.)
-         if (s%pos > len(text)) then
-            call fail(self%file_name // ':' // to_str(start_line) // ': ' // gname // &
+         if (.not. next_significant(text, s, c)) then
+            call fail(error, self%file_name // ':' // to_str(start_line) // ': ' // gname // &
                ': not closed by ''/'' (end of the file reached); end every group with /')
             return
          end if
-         c = text(s%pos:s%pos)
          select case (c)
-         case ('!')
-            call skip_line(text, s)
          case (',')
             s%pos = s%pos + 1
          case ('/')
@@ -124,7 +111,7 @@ contains
             call skip_blank(text, s, .false.)
             if (s%pos <= len(text)) then
                if (text(s%pos:s%pos) /= '!' .and. text(s%pos:s%pos) /= achar(10)) then
-                  call fail(self%file_name // ':' // to_str(s%line) // ': ' // gname // &
+                  call fail(error, self%file_name // ':' // to_str(s%line) // ': ' // gname // &
                      ': text after the closing ''/'': "' // quote(line_rest(text, s%pos)) // &
                      '"; only a ! comment may follow / on its line')
                   return
@@ -133,7 +120,7 @@ contains
             call append_occurrence(self, occ)
             return
          case ('&', '$')
-            call fail(self%file_name // ':' // to_str(start_line) // ': ' // gname // &
+            call fail(error, self%file_name // ':' // to_str(start_line) // ': ' // gname // &
                ': not closed by ''/'' before the next group on line ' // to_str(s%line) // &
                '; end every group with /')
             return
@@ -141,16 +128,17 @@ contains
             key_line = s%line
             key = to_lower(identifier(text, s))
             if (len(key) == 0) then
-               call fail(self%file_name // ':' // to_str(s%line) // ': ' // gname // &
+               call fail(error, self%file_name // ':' // to_str(s%line) // ': ' // gname // &
                   ': unexpected "' // quote(line_rest(text, s%pos)) // '"; write key = value')
                return
             end if
+            ! the start of every message about this key: FILE:LINE: &group key
+            at = self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // key
             call skip_blank(text, s, .false.)
             if (s%pos <= len(text)) then
                if (text(s%pos:s%pos) == '(') then
-                  call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' &
-                     // key // '(...): array elements are not accepted; give the whole ' // &
-                     'array, ' // key // ' = v1, v2, ...')
+                  call fail(error, at // '(...): array elements are not accepted; give the ' // &
+                     'whole array, ' // key // ' = v1, v2, ...')
                   return
                end if
             end if
@@ -160,15 +148,14 @@ contains
                c = text(s%pos:s%pos)
             end if
             if (c /= '=') then
-               call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // &
-                  key // ': expected "=" after the key name; write ' // key // ' = value')
+               call fail(error, at // ': expected "=" after the key name; write ' // key // &
+                  ' = value')
                return
             end if
             s%pos = s%pos + 1
             call parse_items(text, s, items, raw, problem)
             if (len(problem) > 0) then
-               call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // &
-                  key // ' = ' // quote(raw) // ': ' // problem)
+               call fail(error, at // ' = ' // quote(raw) // ': ' // problem)
                return
             end if
             k = 0
@@ -176,15 +163,14 @@ contains
                if (trim(self%groups(g)%keys(e)%name) == key) k = e
             end do
             if (k == 0) then
-               call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // &
-                  key // ' = ' // quote(raw) // ': unknown key; the keys of ' // gname // &
-                  ' are ' // join_words(self%groups(g)%keys%name, ', '))
+               call fail(error, at // ' = ' // quote(raw) // ': unknown key; the keys of ' // &
+                  gname // ' are ' // join_words(self%groups(g)%keys%name, ', '))
                return
             end if
             do e = 1, size(occ%entries)
                if (occ%entries(e)%key == k) then
-                  call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' &
-                     // key // ' = ' // quote(raw) // ': given twice in this group (also ' // &
+                  call fail(error, at // ' = ' // quote(raw) // ': given twice in this ' // &
+                     'group (also ' // &
                      'on line ' // to_str(occ%entries(e)%line) // '); give each key once')
                   return
                end if
@@ -194,18 +180,12 @@ contains
             entry%raw = raw
             call check_value(self%groups(g)%keys(k), items, entry%canonical, problem)
             if (len(problem) > 0) then
-               call fail(self%file_name // ':' // to_str(key_line) // ': ' // gname // ' ' // &
-                  key // ' = ' // quote(raw) // ': ' // problem)
+               call fail(error, at // ' = ' // quote(raw) // ': ' // problem)
                return
             end if
             occ%entries = [occ%entries, entry]
          end select
       end do
-   contains
-      subroutine fail(message)
-         character(len=*), intent(in) :: message
-         call fatal_error(error, FFRF_INPUT_ERROR, message)
-      end subroutine fail
    end subroutine parse_group
 
    module procedure parse_items
@@ -219,13 +199,7 @@ contains
       problem = ''
       need_item = .true.
       do
-         call skip_blank(text, s, .true.)
-         if (s%pos > len(text)) exit
-         c = text(s%pos:s%pos)
-         if (c == '!') then
-            call skip_line(text, s)
-            cycle
-         end if
+         if (.not. next_significant(text, s, c)) exit
          if (c == '/' .or. c == '&' .or. c == '$') exit
          if (c == ',') then
             if (need_item) then
@@ -369,6 +343,30 @@ contains
          end select
       end do
    end subroutine skip_blank
+
+   !> An input error of the case text (`message`: FILE:LINE, what is wrong, what is allowed).
+   subroutine fail(error, message)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: message
+      call fatal_error(error, FFRF_INPUT_ERROR, message)
+   end subroutine fail
+
+   !> The next character `c` that is neither blank nor in a '!' comment, the scanner on it;
+   !> .false. at the end of the text.
+   logical function next_significant(text, s, c) result(found)
+      character(len=*), intent(in) :: text
+      type(scanner_t), intent(inout) :: s
+      character, intent(out) :: c
+      c = ' '
+      do
+         call skip_blank(text, s, .true.)
+         found = s%pos <= len(text)
+         if (.not. found) return
+         c = text(s%pos:s%pos)
+         if (c /= '!') return
+         call skip_line(text, s)
+      end do
+   end function next_significant
 
    !> To the start of the next line.
    subroutine skip_line(text, s)

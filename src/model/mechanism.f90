@@ -26,7 +26,7 @@ module ffrf_model_mechanism
    private
    public :: model_joint_t, model_load_t, model_marker_t, model_sensor_t, mechanism_model_t
    public :: model_spring_t, model_driver_t
-   public :: joint_kind_of, load_kind_of, selection_of, load_kind_name
+   public :: joint_kind_of, selection_of, load_kind_name
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
    public :: SELECTION_MANUAL, SELECTION_AUTO
 
@@ -163,15 +163,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call choice_kind(joint_choices, 'type', 'a joint kind', word, kind, error)
    end subroutine joint_kind_of
-
-   !> The load kind of a &load type word (any case).
-   subroutine load_kind_of(word, kind, error)
-      character(len=*), intent(in) :: word
-      !> LOAD_*
-      integer, intent(out) :: kind
-      type(error_t), allocatable, intent(out) :: error
-      call choice_kind(load_choices, 'type', 'a load kind', word, kind, error)
-   end subroutine load_kind_of
 
    !> The name of a load kind (the &load type word), for messages.
    pure function load_kind_name(kind) result(name)

@@ -14,14 +14,15 @@ module ffrf_model_model
    use ffrf_modes_input, only: body_spec_t, modes_spec_t
    use ffrf_input_body, only: body_input_t
    use ffrf_input_case, only: case_input_t
-   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function
+   use ffrf_input_mechanism, only: body_motion_input_t, GROUND_NAME, law_function, load_choices, &
+      quantity_choices, DRIVER_RATE
    use ffrf_mbs_torsion_spring, only: torsion_spring_t
    use ffrf_mbs_bushing, only: bushing_t
-   use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, joint_kind_of, &
-      load_kind_of, selection_of, LOAD_PRESSURE
+   use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, model_load_t, &
+      joint_kind_of, selection_of, LOAD_PRESSURE
+   use ffrf_core_choices, only: choice_kind
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
    use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
-   use ffrf_core_choices, only: choice_kind
    use ffrf_input_interface, only: weighting_choices
    implicit none
    private
@@ -139,51 +140,40 @@ contains
                joint%name = given%name
                joint%axis = given%axis
                call joint_kind_of(given%type, joint%kind, error)
-               if (.not. allocated(error)) call resolve_end(given%body1, given%marker1, &
-                  joint%body(1), joint%marker(1), error)
-               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
+               call in_group(error, '&joint "' // trim(given%name) // '"')
+               if (.not. allocated(error)) call resolve_ends('joint', given%name, given%body1, &
+                  given%marker1, given%body2, given%marker2, joint%body(1), joint%marker(1), &
                   joint%body(2), joint%marker(2), error)
-               if (.not. allocated(error)) call refuse_point_end(joint%body, joint%marker, error)
-               if (allocated(error)) then
-                  call add_context(error, '&joint "' // trim(given%name) // '"')
-                  return
+               if (.not. allocated(error)) then
+                  call refuse_point_end(joint%body, joint%marker, error)
+                  call in_group(error, '&joint "' // trim(given%name) // '"')
                end if
             end associate
+            if (allocated(error)) return
          end do
          do k = 1, size(input%loads)
             associate (load => m%loads(k), given => input%loads(k))
-               load%name = given%name
-               load%direction = given%direction
-               load%value = given%value
-               load%stall_torque = given%stall_torque
-               load%free_speed = given%free_speed
-               load%switch_off = given%switch_off
-               load%coefficient = given%coefficient
-               load%timed = len_trim(given%law%law) > 0
+               load = model_load_t(name=given%name, direction=given%direction, &
+                  value=given%value, stall_torque=given%stall_torque, &
+                  free_speed=given%free_speed, switch_off=given%switch_off, &
+                  coefficient=given%coefficient, timed=len_trim(given%law%law) > 0)
                if (load%timed) call law_function(given%law, '&load "' // trim(given%name) // &
                   '"', load%law, error)
-               if (.not. allocated(error)) call load_kind_of(given%type, load%kind, error)
+               if (.not. allocated(error)) call choice_kind(load_choices, 'type', &
+                  'a load kind', given%type, load%kind, error)
                if (.not. allocated(error)) call resolve_end(given%body, given%marker, &
                   load%body, load%marker, error)
                if (.not. allocated(error) .and. load%body == 0) call fatal_error(error, &
                   FFRF_INPUT_ERROR, 'body = "' // trim(given%body) // '": a load needs a ' // &
                   'moving body (a &body)')
-               if (allocated(error)) then
-                  call add_context(error, '&load "' // trim(given%name) // '"')
-                  return
-               end if
+               call in_group(error, '&load "' // trim(given%name) // '"')
             end associate
+            if (allocated(error)) return
          end do
-         call resolve_springs(error)
-         if (.not. allocated(error)) call resolve_torsion_springs(error)
-         if (.not. allocated(error)) call resolve_bushings(error)
+         call resolve_force_elements(error)
          if (.not. allocated(error)) call resolve_drivers(error)
          if (allocated(error)) return
-         allocate (m%sensors(0))
-         if (allocated(input%sensors)) then
-            deallocate (m%sensors)
-            allocate (m%sensors(size(input%sensors)))
-         end if
+         allocate (m%sensors(count_given(input%sensors)))
          do k = 1, size(m%sensors)
             associate (sensor => m%sensors(k), given => input%sensors(k))
                sensor%name = given%name
@@ -214,11 +204,9 @@ contains
                   if (sensor%joint == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'joint "' // &
                      trim(given%joint) // '" is not a &joint')
                end if
-               if (allocated(error)) then
-                  call add_context(error, '&sensor "' // trim(given%name) // '"')
-                  return
-               end if
+               call in_group(error, '&sensor "' // trim(given%name) // '"')
             end associate
+            if (allocated(error)) return
          end do
          m%has_pressure = any(m%loads%kind == LOAD_PRESSURE)
          m%crank = 0
@@ -243,20 +231,15 @@ contains
       !> The &driver groups: joint names to joint numbers, laws to time functions.
       subroutine resolve_drivers(error)
          type(error_t), allocatable, intent(out) :: error
-         integer :: d
-         allocate (model%mechanism%drivers(0))
-         if (.not. allocated(case%mechanism%drivers)) return
-         deallocate (model%mechanism%drivers)
-         allocate (model%mechanism%drivers(size(case%mechanism%drivers)))
-         do d = 1, size(case%mechanism%drivers)
+         integer :: d, quantity
+         allocate (model%mechanism%drivers(count_given(case%mechanism%drivers)))
+         do d = 1, size(model%mechanism%drivers)
             associate (driver => model%mechanism%drivers(d), given => case%mechanism%drivers(d))
                driver%name = given%name
-               driver%rate = given%quantity == 'rate'
-               if (given%quantity /= 'rate' .and. given%quantity /= 'coordinate') then
-                  call fatal_error(error, FFRF_INPUT_ERROR, '&driver "' // trim(given%name) // &
-                     '": quantity = "' // trim(given%quantity) // '", must be coordinate or rate')
-                  return
-               end if
+               call choice_kind(quantity_choices, '&driver "' // trim(given%name) // &
+                  '": quantity', 'a driver quantity', given%quantity, quantity, error)
+               if (allocated(error)) return
+               driver%rate = quantity == DRIVER_RATE
                driver%offset = given%offset
                driver%joint = findloc(case%mechanism%joints%name, given%joint, dim=1)
                if (driver%joint == 0) then
@@ -271,66 +254,27 @@ contains
          end do
       end subroutine resolve_drivers
 
-      !> The &spring groups: names to model body indices and marker handles.
-      subroutine resolve_springs(error)
+      !> The force elements: &spring and &bushing ends to model body indices and marker handles,
+      !> &torsion_spring joint names to joint numbers (in that order of their errors).
+      subroutine resolve_force_elements(error)
          type(error_t), allocatable, intent(out) :: error
          integer :: s
-         allocate (model%mechanism%springs(0))
-         if (.not. allocated(case%mechanism%springs)) return
-         deallocate (model%mechanism%springs)
-         allocate (model%mechanism%springs(size(case%mechanism%springs)))
-         do s = 1, size(case%mechanism%springs)
+         allocate (model%mechanism%springs(count_given(case%mechanism%springs)), &
+            model%mechanism%torsion_springs(count_given(case%mechanism%torsion_springs)), &
+            model%mechanism%bushings(count_given(case%mechanism%bushings)))
+         do s = 1, size(model%mechanism%springs)
             associate (spring => model%mechanism%springs(s), given => case%mechanism%springs(s))
                spring%name = given%name
                spring%stiffness = given%stiffness
                spring%damping = given%damping
                spring%free_length = given%free_length
-               call resolve_end(given%body1, given%marker1, spring%body(1), spring%marker(1), &
-                  error)
-               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
-                  spring%body(2), spring%marker(2), error)
-               if (allocated(error)) then
-                  call add_context(error, '&spring "' // trim(given%name) // '"')
-                  return
-               end if
+               call resolve_ends('spring', given%name, given%body1, given%marker1, given%body2, &
+                  given%marker2, spring%body(1), spring%marker(1), spring%body(2), &
+                  spring%marker(2), error)
             end associate
+            if (allocated(error)) return
          end do
-      end subroutine resolve_springs
-
-      !> The &bushing groups: names to model body indices and marker handles.
-      subroutine resolve_bushings(error)
-         type(error_t), allocatable, intent(out) :: error
-         integer :: s
-         allocate (model%mechanism%bushings(0))
-         if (.not. allocated(case%mechanism%bushings)) return
-         deallocate (model%mechanism%bushings)
-         allocate (model%mechanism%bushings(size(case%mechanism%bushings)))
-         do s = 1, size(case%mechanism%bushings)
-            associate (bushing => model%mechanism%bushings(s), &
-                  given => case%mechanism%bushings(s))
-               bushing = bushing_t(given%name, stiffness=given%stiffness, &
-                  damping=given%damping)
-               call resolve_end(given%body1, given%marker1, bushing%body_a, bushing%marker_a, &
-                  error)
-               if (.not. allocated(error)) call resolve_end(given%body2, given%marker2, &
-                  bushing%body_b, bushing%marker_b, error)
-               if (allocated(error)) then
-                  call add_context(error, '&bushing "' // trim(given%name) // '"')
-                  return
-               end if
-            end associate
-         end do
-      end subroutine resolve_bushings
-
-      !> The &torsion_spring groups: joint names to joint numbers.
-      subroutine resolve_torsion_springs(error)
-         type(error_t), allocatable, intent(out) :: error
-         integer :: s
-         allocate (model%mechanism%torsion_springs(0))
-         if (.not. allocated(case%mechanism%torsion_springs)) return
-         deallocate (model%mechanism%torsion_springs)
-         allocate (model%mechanism%torsion_springs(size(case%mechanism%torsion_springs)))
-         do s = 1, size(case%mechanism%torsion_springs)
+         do s = 1, size(model%mechanism%torsion_springs)
             associate (spring => model%mechanism%torsion_springs(s), &
                   given => case%mechanism%torsion_springs(s))
                spring = torsion_spring_t(given%name, findloc(case%mechanism%joints%name, &
@@ -344,7 +288,30 @@ contains
                end if
             end associate
          end do
-      end subroutine resolve_torsion_springs
+         do s = 1, size(model%mechanism%bushings)
+            associate (bushing => model%mechanism%bushings(s), &
+                  given => case%mechanism%bushings(s))
+               bushing = bushing_t(given%name, stiffness=given%stiffness, &
+                  damping=given%damping)
+               call resolve_ends('bushing', given%name, given%body1, given%marker1, &
+                  given%body2, given%marker2, bushing%body_a, bushing%marker_a, bushing%body_b, &
+                  bushing%marker_b, error)
+            end associate
+            if (allocated(error)) return
+         end do
+      end subroutine resolve_force_elements
+
+      !> The two ends of group `group` "name" between marker1 of body1 and marker2 of body2
+      !> (&joint, &spring, &bushing): model body indices and marker handles (resolve_end).
+      subroutine resolve_ends(group, name, body1, marker1, body2, marker2, index1, handle1, &
+            index2, handle2, error)
+         character(len=*), intent(in) :: group, name, body1, marker1, body2, marker2
+         integer, intent(out) :: index1, handle1, index2, handle2
+         type(error_t), allocatable, intent(out) :: error
+         call resolve_end(body1, marker1, index1, handle1, error)
+         if (.not. allocated(error)) call resolve_end(body2, marker2, index2, handle2, error)
+         call in_group(error, '&' // group // ' "' // trim(name) // '"')
+      end subroutine resolve_ends
 
       !> Model body index (0: ground) and marker handle of the marker `marker` of body `body`.
       subroutine resolve_end(body, marker, index, handle, error)
@@ -425,15 +392,27 @@ contains
       end associate
    end function model_crank_mpc
 
+   !> An error in resolving a group (not allocated: none) gets `where`, the group, as context.
+   subroutine in_group(error, where)
+      type(error_t), allocatable, intent(inout) :: error
+      character(len=*), intent(in) :: where
+      if (allocated(error)) call add_context(error, where)
+   end subroutine in_group
+
+   !> Number of items of a list of the case that may be unallocated (a case built in memory
+   !> leaves the groups it has none of unallocated: an absent argument).
+   pure integer function count_given(items) result(n)
+      class(*), intent(in), optional :: items(:)
+      n = 0
+      if (present(items)) n = size(items)
+   end function count_given
+
    !> Index of the body called name, 0 if none.
    pure integer function model_body_index(self, name) result(k)
       class(model_t), intent(in) :: self
       !> Body name
       character(len=*), intent(in) :: name
-      do k = 1, size(self%bodies)
-         if (self%bodies(k)%name == name) return
-      end do
-      k = 0
+      k = findloc(self%bodies%name, name, dim=1)
    end function model_body_index
 
    !> Marker handle (index among the body's interfaces) of the interface called name, 0 if none.
@@ -441,10 +420,7 @@ contains
       class(model_body_t), intent(in) :: self
       !> Interface (physical surface) name
       character(len=*), intent(in) :: name
-      do k = 1, size(self%interfaces)
-         if (self%interfaces(k)%name == name) return
-      end do
-      k = 0
+      k = findloc(self%interfaces%name, name, dim=1)
    end function body_marker_index
 
 end module ffrf_model_model

@@ -52,18 +52,12 @@ contains
       !> The specification for compute_body_modes
       type(modes_spec_t), intent(out) :: spec
       type(error_t), allocatable, intent(out) :: error
-      spec%num_modes = input%num_modes
-      spec%shift_hz = input%shift_hz
-      spec%rc_label = input%rc_label
-      spec%tolerance = input%tolerance
-      spec%lanczos_vectors = input%lanczos_vectors
-      spec%out_of_core = input%out_of_core
-      spec%ooc_directory = input%ooc_tmpdir
-      spec%memory_limit_mb = input%memory_limit_mb
-      spec%compression_tolerance = input%compression_tolerance
-      spec%eigensolver = input%eigensolver
-      spec%max_frequency_hz = input%max_frequency_hz
-      spec%sturm_check = input%sturm_check
+      spec = modes_spec_t(num_modes=input%num_modes, shift_hz=input%shift_hz, &
+         rc_label=input%rc_label, tolerance=input%tolerance, &
+         lanczos_vectors=input%lanczos_vectors, out_of_core=input%out_of_core, &
+         ooc_directory=input%ooc_tmpdir, memory_limit_mb=input%memory_limit_mb, &
+         compression_tolerance=input%compression_tolerance, eigensolver=input%eigensolver, &
+         max_frequency_hz=input%max_frequency_hz, sturm_check=input%sturm_check)
       call choice_kind(formulation_choices, '&modes: formulation', 'known', input%formulation, &
          spec%formulation, error)
       if (.not. allocated(error)) call choice_kind(basis_choices, '&modes: basis', 'known', &

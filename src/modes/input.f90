@@ -4,15 +4,16 @@
 module ffrf_modes_input
    use ffrf_core_kinds, only: dp
    use ffrf_mpc_reduction, only: FORMULATION_MULTIPLIERS
+   !> Mode basis: none (no modes asked), the constrained normal modes of the RC set, or
+   !> Craig-Bampton (src/modes/craig_bampton.f90); their words in basis_choices
+   use ffrf_core_choices, only: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices, &
+      choice_name
    implicit none
    private
    public :: body_spec_t, modes_spec_t, MAX_VOLUMES, BASIS_NONE, BASIS_RC_NORMAL, &
       BASIS_CRAIG_BAMPTON, basis_name
 
    integer, parameter :: MAX_VOLUMES = 16
-   !> Mode basis: none (no modes asked), the constrained normal modes of the RC set, or
-   !> Craig-Bampton (src/modes/craig_bampton.f90)
-   integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
 
    !> A body to cut from a mesh (compute_body_modes): its name, the physical volumes that make
    !> it up and its isotropic material.
@@ -85,14 +86,7 @@ contains
       !> BASIS_NONE, BASIS_RC_NORMAL or BASIS_CRAIG_BAMPTON
       integer, intent(in) :: basis
       character(len=:), allocatable :: name
-      select case (basis)
-      case (BASIS_RC_NORMAL)
-         name = 'rc_normal'
-      case (BASIS_CRAIG_BAMPTON)
-         name = 'craig_bampton'
-      case default
-         name = 'none'
-      end select
+      name = choice_name(basis_choices, basis, 'none')
    end function basis_name
 
 end module ffrf_modes_input

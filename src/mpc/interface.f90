@@ -6,6 +6,8 @@ module ffrf_mpc_interface
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   !> The MPC kinds and their table (rigid spider q_B = F q_V, interpolation element q_V = G q_B)
+   use ffrf_core_choices, only: MPC_RBE2, MPC_RBE3, mpc_choices, choice_name
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_fe_surface, only: surface_area_centroid, nodal_area_weights, nodal_consistent_weights
    use ffrf_la_sparse, only: sort_indices
@@ -18,8 +20,6 @@ module ffrf_mpc_interface
    public :: WEIGHTING_UNIFORM, WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN
    public :: VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
 
-   integer, parameter :: MPC_RBE2 = 1  !< rigid spider, q_B = F q_V
-   integer, parameter :: MPC_RBE3 = 2  !< interpolation element, q_V = G q_B
    integer, parameter :: WEIGHTING_UNIFORM = 1  !< RBE3 node weights all 1 (Nastran's default)
    integer, parameter :: WEIGHTING_AREA = 2     !< RBE3 node weights: tributary areas
    !> RBE3 node weights: consistent areas int N_i dA (Tri6 corners ~0)
@@ -296,8 +296,7 @@ contains
       !> MPC_RBE2 or MPC_RBE3
       integer, intent(in) :: mpc
       character(len=4) :: name
-      name = 'RBE3'
-      if (mpc == MPC_RBE2) name = 'RBE2'
+      name = choice_name(mpc_choices, mpc, 'RBE3')
    end function mpc_name
 
 end module ffrf_mpc_interface

@@ -12,26 +12,17 @@ module ffrf_mpc_reduction
    use ffrf_core_kinds, only: dp, ip
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_core_choices, only: choice_t, choice_name
    use ffrf_la_sparse, only: csr_t, csr_from_coo, csr_matmul, csr_transpose, csr_row_gram
    use ffrf_la_dense, only: null_space, symmetric_eigen
    use ffrf_la_lapack, only: dposv
    use ffrf_mpc_interface, only: interface_t, MPC_RBE2, MPC_RBE3, DOF_NAMES
+   !> The formulations (FORMULATION_NONE: no reduction built, a body without modes) and their table
+   use ffrf_core_choices, only: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, &
+      formulation_choices, choice_name
    implicit none
    private
    public :: reduction_t, build_reduction, reduce_matrix, expand_vectors, reduced_coordinates
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
-
-   !> No reduction built (a body without modes)
-   integer, parameter :: FORMULATION_NONE = 0
-   !> RBE2 eliminated, RBE3 reference conditions as constraint rows (Lagrange multipliers)
-   integer, parameter :: FORMULATION_MULTIPLIERS = 1
-   !> Explicit null spaces B2 = null(D) or null(D G) (LAPACK SVD)
-   integer, parameter :: FORMULATION_NULL_SPACE = 2
-   !> The formulations' words (the &modes key's; docs/developer.md "One table per choice")
-   type(choice_t), parameter :: formulation_choices(*) = [ &
-      choice_t('multipliers', FORMULATION_MULTIPLIERS), &
-      choice_t('null_space', FORMULATION_NULL_SPACE)]
 
    !> q = T p with C p = 0.
    type :: reduction_t
