@@ -26,7 +26,7 @@ module ffrf_app_check_case
    use ffrf_app_output_paths, only: check_output_paths
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_app_engine_pressure, only: pressure_model_t
-   use ffrf_app_mechanism_builder, only: make_pressure_model
+   use ffrf_app_mechanism_builder, only: make_pressure_model, check_joint_frames
    use ffrf_app_body_modes, only: check_stored_modes
    use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
    implicit none
@@ -70,6 +70,14 @@ contains
             'joints and Euler rows; the run refuses it after computing the modes); use ' // &
             'rho_inf < 1, typically 0.6 to 0.9')
          return
+      end if
+      ! as build_mechanism: the joint frames of two oriented markers, in the given poses
+      if (case%is_mechanism) then
+         call check_joint_frames(model, error)
+         if (allocated(error)) then
+            call add_context(error, case%file_name)
+            return
+         end if
       end if
       mesh_dir = options%mesh_dir
       if (len(mesh_dir) == 0) mesh_dir = folder_of(case%file_name)

@@ -26,10 +26,12 @@
 !> add_marker: frame A(theta) exp(phi~) C), so a joint at a flexible interface takes any axis;
 !> with the axis along A e_z (or a spherical joint) the interface's marker, the node frame,
 !> serves as before. A &marker orientation (rigid bodies and the ground) gives a joint its frame
-!> instead of the axis (resolve_markers). A flexible body's &marker with node or group (a mesh
-!> point that is no interface) is a further virtual node (flexible_body_t add_point, rows G Psi_B
-!> of ffrf_mpc_mesh_point) with a marker of the body's axes, or of its orientation: loads,
-!> springs, bushings and sensors take it, joints do not (ffrf_model_model refuses them).
+!> instead of the axis (resolve_markers); when both ends have one, each keeps its own and
+!> check_joint_frames refuses frames that disagree in what the joint locks. A flexible body's
+!> &marker with node or group (a mesh point that is no interface) is a further virtual node
+!> (flexible_body_t add_point, rows G Psi_B of ffrf_mpc_mesh_point) with a marker of the body's
+!> axes, or of its orientation: loads, springs, bushings and sensors take it, joints do not
+!> (ffrf_model_model refuses them).
 module ffrf_app_mechanism_builder
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    use ffrf_core_kinds, only: dp, i8, pi
@@ -48,7 +50,8 @@ module ffrf_app_mechanism_builder
    use ffrf_input_mechanism, only: GROUND_NAME
    use ffrf_model_mechanism, only: model_joint_t, model_load_t, model_marker_t, LOAD_PRESSURE, &
       LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
-   use ffrf_mbs_joints, only: JOINT_SPHERICAL
+   use ffrf_mbs_joints, only: JOINT_SPHERICAL, JOINT_REVOLUTE, JOINT_UNIVERSAL, JOINT_PRISMATIC, &
+      JOINT_FIXED, JOINT_CYLINDRICAL, joint_kind_name
    use ffrf_mbs_rotation, only: identity3, frame_from_axis, euler_from_rotation, euler_g
    use ffrf_mbs_flexible_body, only: flexible_body_t
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
@@ -69,6 +72,7 @@ module ffrf_app_mechanism_builder
    implicit none
    private
    public :: built_body_t, build_mechanism, frame_from_axis, make_pressure_model
+   public :: check_joint_frames
 
    !> What the run keeps of each &body.
    type :: built_body_t
@@ -134,6 +138,18 @@ module ffrf_app_mechanism_builder
          !> the frame)
          integer, allocatable, intent(out) :: bushing_ends(:, :)
       end subroutine resolve_markers
+
+      !> Refuses a joint both of whose markers carry a &marker orientation (rigid bodies and the
+      !> ground) when the two frames, turned by their &body orientations, disagree in the given
+      !> starting pose in what the joint locks by more than 1e-6 rad: revolute and cylindrical
+      !> the z axes, prismatic and fixed the whole frames, universal the twist x1.y2; spherical
+      !> nothing (docs/mechanisms.md "Joint frames"). From the given poses, so --check refuses
+      !> the same.
+      module subroutine check_joint_frames(resolved, error)
+         !> The case resolved (bodies with their poses, joints, markers)
+         type(model_t), intent(in) :: resolved
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine check_joint_frames
 
       !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
       module subroutine add_body(case, case_model, k, resolved, mesh_dir, log, times, list, &
@@ -318,6 +334,8 @@ contains
          bodies(k)%meshed = resolved%bodies(k)%meshed
       end do
       ! Markers of the joint ends and loads
+      call check_joint_frames(resolved, error)
+      if (allocated(error)) return
       call resolve_markers(resolved, lists, ends, sensor_markers, spring_ends, bushing_ends)
       call ground%init(lists(0)%xyz, lists(0)%frames, error)
       if (.not. allocated(error)) call mech%add_body(ground, GROUND_NAME, ground_index, error)

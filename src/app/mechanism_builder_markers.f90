@@ -2,6 +2,7 @@
 !> frames"): joint, load, sensor and force-element ends resolved to body markers and frames.
 submodule (ffrf_app_mechanism_builder) ffrf_app_mechanism_builder_markers
    use ffrf_mpc_mesh_point, only: mesh_point_t, build_mesh_point
+   use ffrf_mbs_rotation, only: cross3, axial3
    implicit none
 
 contains
@@ -63,24 +64,12 @@ contains
          given = .false.
          frame = frame_from_axis(joint%axis)
          do e = 1, 2
-            if (.not. is_oriented(joint%body(e), joint%marker(e))) cycle
+            if (.not. is_oriented(resolved, joint%body(e), joint%marker(e))) cycle
             given = .true.
-            frame = resolved%mechanism%markers(joint%marker(e))%orientation
-            if (joint%body(e) > 0) frame = matmul(resolved%bodies(joint%body(e))%motion% &
-               orientation, frame)
+            frame = given_frame(resolved, joint%body(e), joint%marker(e))
             return
          end do
       end subroutine joint_frame
-
-      !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation.
-      logical function is_oriented(b, handle)
-         integer, intent(in) :: b, handle
-         is_oriented = .false.
-         if (b > 0) then
-            if (.not. resolved%bodies(b)%rigid) return
-         end if
-         is_oriented = resolved%mechanism%markers(handle)%oriented
-      end function is_oriented
 
       !> The (unit) joint axis is along model body b's z axis in the starting pose (b > 0).
       logical function along_body_z(b, axis)
@@ -158,6 +147,83 @@ contains
       end subroutine marker_of
 
    end procedure resolve_markers
+
+   module procedure check_joint_frames
+      real(dp), parameter :: tolerance = 1.0e-6_dp
+      real(dp) :: f1(3, 3), f2(3, 3), r(3, 3), angle
+      character(len=:), allocatable :: what
+      integer :: j
+      do j = 1, size(resolved%mechanism%joints)
+         associate (joint => resolved%mechanism%joints(j))
+            if (.not. (is_oriented(resolved, joint%body(1), joint%marker(1)) .and. &
+               is_oriented(resolved, joint%body(2), joint%marker(2)))) cycle
+            f1 = given_frame(resolved, joint%body(1), joint%marker(1))
+            f2 = given_frame(resolved, joint%body(2), joint%marker(2))
+            select case (joint%kind)
+            case (JOINT_REVOLUTE, JOINT_CYLINDRICAL)
+               what = 'z axes'
+               angle = atan2(norm2(cross3(f1(:, 3), f2(:, 3))), dot_product(f1(:, 3), f2(:, 3)))
+            case (JOINT_PRISMATIC, JOINT_FIXED)
+               ! the angle of the relative rotation R = F1^T F2
+               what = 'frames'
+               r = matmul(transpose(f1), f2)
+               angle = atan2(norm2(axial3(r)), 0.5_dp * (r(1, 1) + r(2, 2) + r(3, 3) - 1.0_dp))
+            case (JOINT_UNIVERSAL)
+               ! the cross's arms x1 and y2 perpendicular
+               what = 'cross arms x1, y2 (off perpendicular)'
+               angle = asin(min(1.0_dp, abs(dot_product(f1(:, 1), f2(:, 2)))))
+            case default
+               cycle
+            end select
+            if (angle <= tolerance) cycle
+            call fatal_error(error, FFRF_INPUT_ERROR, '&joint "' // trim(joint%name) // '" (' // &
+               joint_kind_name(joint%kind) // '): the frames of its markers ' // &
+               end_name(joint%body(1), joint%marker(1)) // ' and ' // &
+               end_name(joint%body(2), joint%marker(2)) // ' disagree in the starting pose: ' // &
+               'their ' // what // ' are ' // to_str(angle, 3) // ' rad apart (more than ' // &
+               to_str(tolerance) // ' rad); give the two &marker orientations (turned by ' // &
+               'their &body orientations) frames that agree, or an orientation to one marker only')
+            return
+         end associate
+      end do
+
+   contains
+
+      !> '"marker" (body "name")' of marker handle `handle` on model body b (0: the ground).
+      function end_name(b, handle) result(text)
+         integer, intent(in) :: b, handle
+         character(len=:), allocatable :: text
+         if (b > 0) then
+            text = '"' // trim(resolved%mechanism%markers(handle)%name) // '" (body "' // &
+               trim(resolved%bodies(b)%name) // '")'
+         else
+            text = '"' // trim(resolved%mechanism%markers(handle)%name) // '" (body "' // &
+               GROUND_NAME // '")'
+         end if
+      end function end_name
+
+   end procedure check_joint_frames
+
+   !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation.
+   logical function is_oriented(resolved, b, handle)
+      type(model_t), intent(in) :: resolved
+      integer, intent(in) :: b, handle
+      is_oriented = .false.
+      if (b > 0) then
+         if (.not. resolved%bodies(b)%rigid) return
+      end if
+      is_oriented = resolved%mechanism%markers(handle)%oriented
+   end function is_oriented
+
+   !> The global frame in the given starting pose of an oriented marker (is_oriented): its
+   !> &marker orientation C turned by its body's &body orientation A (A C; the ground: C).
+   function given_frame(resolved, b, handle) result(frame)
+      type(model_t), intent(in) :: resolved
+      integer, intent(in) :: b, handle
+      real(dp) :: frame(3, 3)
+      frame = resolved%mechanism%markers(handle)%orientation
+      if (b > 0) frame = matmul(resolved%bodies(b)%motion%orientation, frame)
+   end function given_frame
 
    module procedure add_framed_markers
       type(mesh_point_t) :: point

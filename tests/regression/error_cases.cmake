@@ -121,3 +121,30 @@ ffrf_error_case(marker_weighting_word 2 "marker_weighting_word\\.nml:5: &marker 
   "${_held}\n&marker body = 'crank', name = 'P', group = 'B1', weighting = 'areas' /\n${_push}" --check)
 ffrf_error_case(marker_node_coarse_meshes 2 "marker_node_coarse_meshes\\.nml:5: &marker \"P\": body \"crank\" has coarse_meshes, whose node tags are other points"
   "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', coarse_meshes = 'crank_lc10.msh' /\n${_iface}\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&joint name = 'pin', type = 'fixed', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /\n&marker body = 'crank', name = 'P', node = 5 /\n${_push}" --check)
+# Joint frames that disagree in the starting pose (issue 24): both markers of a joint carry a
+# &marker orientation, the frames (turned by their &body orientations) checked in the given
+# poses to 1e-6 rad in what the joint locks; the run and --check refuse alike. The arm's frame
+# is the ground's turned by 90 deg about x (z axes apart by pi/2 = 1.571 rad), or by 1e-3 rad
+# about z (z axes equal: a revolute takes it, a prismatic, fixed or universal joint does not).
+set(_framed "&body name = 'arm', type = 'rigid', mass = 1.0, inertia = 0.01, 0.01, 0.01, 0, 0, 0 /
+&marker body = 'ground', name = 'hinge', position = 0, 0, 0, orientation = 1, 0, 0, 0, 1, 0, 0, 0, 1 /")
+set(_tilted "&marker body = 'arm', name = 'hinge', position = 0, 0, 0, orientation = 1, 0, 0, 0, 0, -1, 0, 1, 0 /")
+set(_twisted "&marker body = 'arm', name = 'hinge', position = 0, 0, 0, orientation = 0.9999995, -0.001, 0, 0.001, 0.9999995, 0, 0, 0, 1 /")
+set(_framed_joint "body1 = 'ground', marker1 = 'hinge', body2 = 'arm', marker2 = 'hinge' /")
+foreach(_mode run check)
+  if(_mode STREQUAL "check")
+    set(_args --check)
+  else()
+    set(_args)
+  endif()
+  ffrf_error_case(joint_frames_revolute_${_mode} 2 "&joint \"pivot\" \\(revolute\\): the frames of its markers \"hinge\" \\(body \"ground\"\\) and \"hinge\" \\(body \"arm\"\\) disagree in the starting pose: their z axes are 1\\.57 rad apart \\(more than 1E-06 rad\\); give the two &marker orientations"
+    "${_framed}\n${_tilted}\n&joint name = 'pivot', type = 'revolute', ${_framed_joint}" ${_args})
+  ffrf_error_case(joint_frames_prismatic_${_mode} 2 "&joint \"slide\" \\(prismatic\\): .* their frames are 0\\.001 rad apart"
+    "${_framed}\n${_twisted}\n&joint name = 'slide', type = 'prismatic', ${_framed_joint}" ${_args})
+endforeach()
+ffrf_error_case(joint_frames_fixed_check 2 "&joint \"weld\" \\(fixed\\): .* their frames are 0\\.001 rad apart"
+  "${_framed}\n${_twisted}\n&joint name = 'weld', type = 'fixed', ${_framed_joint}" --check)
+ffrf_error_case(joint_frames_cylindrical_check 2 "&joint \"sleeve\" \\(cylindrical\\): .* their z axes are 1\\.57 rad apart"
+  "${_framed}\n${_tilted}\n&joint name = 'sleeve', type = 'cylindrical', ${_framed_joint}" --check)
+ffrf_error_case(joint_frames_universal_check 2 "&joint \"cardan\" \\(universal\\): .* their cross arms x1, y2 \\(off perpendicular\\) are 0\\.001 rad apart"
+  "${_framed}\n${_twisted}\n&joint name = 'cardan', type = 'universal', ${_framed_joint}" --check)

@@ -57,3 +57,31 @@ frames_error(error_marker_orientation_reflection rigid_pendulum_oriented.nml
 frames_error(error_joint_axis_not_marker_z rigid_pendulum_oriented.nml
   "&joint \"hinge\": axis = \\(.*\\) is not the z axis \\(.*\\) of &marker \"pivot\" of body \"ground\""
   --set "joint[hinge].axis=0,0,1")
+# Joint frames given at both ends that agree (issue 24, docs/mechanisms.md "Joint frames"): the
+# rigid pendulum turned as a whole by R_z(30 deg) R_x(40 deg), its rod further by 25 deg about
+# its own axis and its end marker oriented back onto the pivot's frame, the inputs rounded to
+# 10 decimals (the two frames agree to 9e-11); it runs, and check_joint_frames.py compares its
+# motion turned back with the unturned pendulum's. About 1 s.
+function(joint_frames_run name dir)
+  file(MAKE_DIRECTORY "${_out}/${dir}")
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+      ${PROJECT_SOURCE_DIR}/tests/data/frames/rigid_pendulum_oriented.nml
+      --output-dir ${_out}/${dir} ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS "regression;mbs"
+    FIXTURES_SETUP joint_frames_results)
+endfunction()
+joint_frames_run(regression_joint_frames_reference joint_frames_reference)
+joint_frames_run(regression_joint_frames_turned joint_frames_turned
+  "--set" "mechanism.gravity=-3.1528732255, 5.4609366164, -7.5148959870"
+  "--set" "marker[pivot].orientation=0.8660254038, -0.3213938048, -0.3830222216, 0.5, 0.5566703992, 0.6634139482, 0, -0.7660444431, 0.6427876097"
+  "--set" "joint[hinge].axis=-0.3830222216, 0.6634139482, 0.6427876097"
+  "--set" "body[rod].position=0.4330127019, 0.25, 0"
+  "--set" "body[rod].orientation=0.8660254038, -0.2113091309, 0.4531538935, 0.5, 0.3659981508, -0.7848855672, 0, 0.9063077870, 0.4226182617"
+  "--set" "marker[end].orientation=1, 0, 0, 0, -0.4226182617, 0.9063077870, 0, -0.9063077870, -0.4226182617")
+add_test(NAME regression_joint_frames_agree
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_joint_frames.py
+    ${_out}/joint_frames_reference/rigid_pendulum_oriented.h5
+    ${_out}/joint_frames_turned/rigid_pendulum_oriented.h5)
+set_tests_properties(regression_joint_frames_agree PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED joint_frames_results)
