@@ -101,8 +101,9 @@ module ffrf_input_mechanism
       logical :: oriented = .false.
       !> Flexible body only: a Gmsh node tag of its mesh (the marker moves with the node), 0: none
       integer :: node = 0
-      !> Flexible body only: a physical group (surface, curve or point) of its mesh, the marker
-      !> at its RBE3 reference point (docs/mechanisms.md "Markers at mesh points"); '': none
+      !> Flexible body only: a physical surface of its mesh (curves and points are not read),
+      !> the marker at its RBE3 reference point (docs/mechanisms.md "Markers at mesh points");
+      !> '': none
       character(len=64) :: group = ''
       !> A group marker's RBE3 node weights: a word of weighting_choices (as &interface)
       character(len=16) :: weighting = 'uniform'
