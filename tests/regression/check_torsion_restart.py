@@ -37,18 +37,10 @@ import h5py
 import numpy as np
 
 from bitwise import digest_h5
-from check_torsion_springs import SPIN, STIFFNESS, INERTIA, write_spin_case
+from check_torsion_springs import SPIN, STIFFNESS, INERTIA, check, failures, write_spin_case
 
 H, T_STOP, T_END = 5.0e-4, 0.1, 0.3
 NAME = "torsion_spin"
-
-failures = []
-
-
-def check(ok, what):
-    print(("ok     " if ok else "FAILED ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def run(driver, case, mesh_dir, out, t_end, extra=()):
