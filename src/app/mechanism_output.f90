@@ -60,6 +60,10 @@ module ffrf_app_mechanism_output
       integer(i8), allocatable :: ints(:)
       !> Energy balance accumulators, crank-angle unwrapping reference (1)
       real(dp), allocatable :: balance(:), crank_reference(:)
+      !> The torsion springs' unwrapping references (one per spring; /checkpoint/torsion_reference)
+      !> and whether the file has them (written since issue 24)
+      real(dp), allocatable :: torsion_reference(:)
+      logical :: has_torsion_reference = .false.
       !> The output interval being recorded (engine_results_t interval_state; empty: none)
       real(dp), allocatable :: interval(:)
       !> Recorded steps that belong to the state, coordinates of the system
@@ -118,6 +122,7 @@ module ffrf_app_mechanism_output
       type(galpha_integrator_t) :: before_last
       type(energy_balance_t) :: balance_before_last
       real(dp) :: reference_before_last = 0.0_dp
+      real(dp), allocatable :: torsion_before_last(:)
       integer :: rows_before_last = 0
       real(dp), allocatable :: interval_before_last(:)
       !> Output rate (&output): the next sample time of every_seconds (s)
@@ -364,12 +369,14 @@ module ffrf_app_mechanism_output
 
       !> The restart state in the results file being written (/checkpoint): the integrator's
       !> whole state (galpha_export_state), the energy balance, the mechanism's crank-angle
-      !> unwrapping reference (the pressure cycle follows the unwrapped angle), the number of
+      !> unwrapping reference (the pressure cycle follows the unwrapped angle), the torsion
+      !> springs' unwrapping references (their angles count whole turns), the number of
       !> recorded steps that belong to it and what identifies the system (coordinates, bodies,
       !> modes) and its restart fingerprint (ffrf_app_restart_fingerprint); then the file is
       !> flushed, so that it is consistent on disk.
       module subroutine write_restart_state(results, integrator, balance, num_steps, &
-            crank_reference, mech, bodies, fingerprint_input, fingerprint_model, error, interval)
+            crank_reference, torsion_reference, mech, bodies, fingerprint_input, &
+            fingerprint_model, error, interval)
          type(engine_results_t), intent(inout) :: results
          type(galpha_integrator_t), intent(in) :: integrator
          type(energy_balance_t), intent(in) :: balance
@@ -377,6 +384,8 @@ module ffrf_app_mechanism_output
          integer, intent(in) :: num_steps
          !> mechanism_t%rotor_reference at this state (rad)
          real(dp), intent(in) :: crank_reference
+         !> torsion_spring_t%reference of every torsion spring at this state (rad)
+         real(dp), intent(in) :: torsion_reference(:)
          type(mechanism_t), intent(in) :: mech
          type(built_body_t), intent(in) :: bodies(:)
          character(len=*), intent(in) :: fingerprint_input(:), fingerprint_model(:)
@@ -429,7 +438,8 @@ module ffrf_app_mechanism_output
       end subroutine write_restart_origin
 
       !> Check that the restart state belongs to this case (coordinates, bodies, modes) and
-      !> restore it into the integrator and the energy balance; FFRF_INPUT_ERROR otherwise.
+      !> restore it into the integrator, the energy balance and the mechanism's unwrapping
+      !> references (crank, torsion springs); FFRF_INPUT_ERROR otherwise.
       module subroutine apply_restart(file_name, restart, mech, bodies, integrator, balance, error)
          character(len=*), intent(in) :: file_name
          type(restart_state_t), intent(in) :: restart

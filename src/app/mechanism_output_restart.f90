@@ -43,6 +43,9 @@ contains
       ! the crank angle's unwrapping reference: an engine (a mechanism with a crank) only
       if (.not. allocated(error) .and. mech%rotor > 0) call results%write_real( &
          '/checkpoint/crank_reference', [crank_reference], 'rad', error)
+      ! the torsion springs' unwrapping references (their whole turns): a case with some only
+      if (.not. allocated(error) .and. size(torsion_reference) > 0) call results%write_real( &
+         '/checkpoint/torsion_reference', torsion_reference, 'rad', error)
       ! the output interval being recorded (decimated output with peaks, &output)
       if (.not. allocated(error) .and. present(interval)) then
          if (size(interval) > 0) call results%write_real('/checkpoint/output_interval', &
@@ -103,6 +106,10 @@ contains
             restart%crank_reference = [0.0_dp]
          end if
       end if
+      ! written since issue 24; apply_restart refuses a case with torsion springs without it
+      restart%has_torsion_reference = source%exists('/checkpoint/torsion_reference')
+      if (.not. allocated(error) .and. restart%has_torsion_reference) call source%read_real( &
+         '/checkpoint/torsion_reference', restart%torsion_reference, error)
       allocate (restart%interval(0))
       if (.not. allocated(error) .and. source%exists('/checkpoint/output_interval')) &
          call source%read_real('/checkpoint/output_interval', restart%interval, error)
@@ -222,7 +229,32 @@ contains
          return
       end if
       mech%rotor_reference = restart%crank_reference(1)
+      call restore_torsion_references(file_name, restart, mech, error)
    end procedure apply_restart
+
+   !> The torsion springs' unwrapping references of the restart state into the mechanism; a
+   !> case with torsion springs and a restart state without them (written before issue 24) is
+   !> refused: its springs would continue from the starting pose's reference and lose every
+   !> whole turn wound at the restart state (docs/restart.md "Unwrapped angles").
+   subroutine restore_torsion_references(file_name, restart, mech, error)
+      character(len=*), intent(in) :: file_name
+      type(restart_state_t), intent(in) :: restart
+      type(mechanism_t), intent(inout) :: mech
+      type(error_t), allocatable, intent(out) :: error
+      integer :: count
+      count = size(mech%torsion_references())
+      if (.not. restart%has_torsion_reference) then
+         if (count == 0) return
+         call fatal_error(error, FFRF_INPUT_ERROR, '--restart "' // file_name // '": its ' // &
+            'restart state has no torsion-spring unwrapping references (/checkpoint/' // &
+            'torsion_reference: written by ffrf since issue 24) and this case has ' // &
+            to_str(count) // ' torsion spring(s), whose whole turns it would lose; run the ' // &
+            'case from t = 0')
+         return
+      end if
+      call mech%set_torsion_references(restart%torsion_reference, error)
+      if (allocated(error)) call add_context(error, '--restart "' // file_name // '"')
+   end subroutine restore_torsion_references
 
    module procedure history_from
       real(dp), allocatable :: t(:), angle(:), zeta(:, :)

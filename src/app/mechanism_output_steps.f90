@@ -134,6 +134,7 @@ contains
       self%have_before_last = .false.
       self%rows_before_last = 0
       self%reference_before_last = 0.0_dp
+      self%torsion_before_last = mech%torsion_references()
       self%checkpoint_seconds = 0.0_dp
       self%last_cost = 0.0_dp
       self%num_checkpoints = 0
@@ -149,6 +150,7 @@ contains
          self%before_last = integrator
          self%balance_before_last = self%balance
          self%reference_before_last = mech%rotor_reference
+         self%torsion_before_last = mech%torsion_references()
          self%rows_before_last = self%results%num_steps()
          self%interval_before_last = self%results%interval_state()
          self%have_before_last = .true.
@@ -198,8 +200,9 @@ contains
       if (.not. due) return
       checkpoint_start = wall_time()
       call write_restart_state(self%results, integrator, self%balance, &
-         self%results%num_steps(), mech%rotor_reference, mech, bodies, self%fingerprint_input, &
-         self%fingerprint_model, error, self%results%interval_state())
+         self%results%num_steps(), mech%rotor_reference, mech%torsion_references(), mech, &
+         bodies, self%fingerprint_input, self%fingerprint_model, error, &
+         self%results%interval_state())
       if (.not. allocated(error)) call write_checkpoint_file(self%results_file, error)
       if (allocated(error)) return
       self%last_checkpoint = wall_time()
@@ -232,13 +235,14 @@ contains
          ! The restart state of the results file
          if (self%have_before_last .and. integrator%t == integrator%settings%t_end) then
             call write_restart_state(results, self%before_last, self%balance_before_last, &
-               self%rows_before_last, self%reference_before_last, mech, bodies, &
-               self%fingerprint_input, self%fingerprint_model, state_error, &
+               self%rows_before_last, self%reference_before_last, self%torsion_before_last, &
+               mech, bodies, self%fingerprint_input, self%fingerprint_model, state_error, &
                self%interval_before_last)
          else
             call write_restart_state(results, integrator, self%balance, results%num_steps(), &
-               mech%rotor_reference, mech, bodies, self%fingerprint_input, &
-               self%fingerprint_model, state_error, results%interval_state())
+               mech%rotor_reference, mech%torsion_references(), mech, bodies, &
+               self%fingerprint_input, self%fingerprint_model, state_error, &
+               results%interval_state())
          end if
          if (self%num_checkpoints > 0) call log%info('run', to_str(self%num_checkpoints) // &
             ' restart checkpoint(s) written to ' // checkpoint_name(results_file) // ' in ' // &

@@ -176,6 +176,9 @@ module ffrf_mbs_mechanism
       procedure :: torsion_energy => mechanism_torsion_energy
       !> Start of the torsion springs: unwrapping references and the free angles not given
       procedure :: set_torsion_start => mechanism_set_torsion_start
+      !> The torsion springs' unwrapping references (a restart state), and setting them
+      procedure :: torsion_references => mechanism_torsion_references
+      procedure :: set_torsion_references => mechanism_set_torsion_references
       !> Add a 6-dof bushing between two markers of two bodies
       procedure :: add_bushing => mechanism_add_bushing
       !> Deflections, rates and element force of bushing s at a state
@@ -354,6 +357,24 @@ module ffrf_mbs_mechanism
          !> Coordinates of the starting pose, n
          real(dp), intent(in) :: q(:)
       end subroutine mechanism_set_torsion_start
+
+      !> The unwrapping reference of every torsion spring (rad; empty without torsion springs):
+      !> the angle at the last accepted step, which counts the whole turns (a restart state).
+      module function mechanism_torsion_references(self) result(references)
+         !> The mechanism
+         class(mechanism_t), intent(in) :: self
+         real(dp), allocatable :: references(:)
+      end function mechanism_torsion_references
+
+      !> Set every torsion spring's unwrapping reference (a restart); FFRF_INPUT_ERROR when
+      !> the count differs from the mechanism's torsion springs.
+      module subroutine mechanism_set_torsion_references(self, references, error)
+         !> The mechanism
+         class(mechanism_t), intent(inout) :: self
+         !> One per torsion spring, in their order (rad)
+         real(dp), intent(in) :: references(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_set_torsion_references
 
       !> Add the applied generalized forces to f (present), or their tangents to K_t (-df/dq)
       !> and C_t (-df/dq') (both present): loads, force elements, gravity (mechanism_applied.f90).

@@ -1,10 +1,12 @@
 !> Force elements of ffrf_mbs_mechanism beyond the spring-damper (a submodule): torsion
-!> spring-dampers (their state, potential energy, unwrapping references;
+!> spring-dampers (their state, potential energy, unwrapping references and their restart;
 !> ffrf_mbs_torsion_spring, docs/mechanisms.md "Torsion springs") and bushings (state, potential
 !> energy; ffrf_mbs_bushing, docs/mechanisms.md "Bushings"); and the generalized forces and
 !> tangents of all force elements, springs included, in one loop over force_element_t
 !> (ffrf_mbs_force_element). Adding them is in mechanism_build.f90.
 submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_force_elements
+   use ffrf_core_error, only: fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_str
    use ffrf_mbs_force_element, only: force_element_t
    use ffrf_mbs_torsion_spring, only: torsion_evaluate
    use ffrf_mbs_bushing, only: bushing_evaluate
@@ -53,6 +55,29 @@ contains
             self%torsion_springs(s)%free_angle = state%angle
       end do
    end procedure mechanism_set_torsion_start
+
+   !> Every torsion spring's unwrapping reference, in order (empty without torsion springs).
+   module procedure mechanism_torsion_references
+      if (allocated(self%torsion_springs)) then
+         references = self%torsion_springs%reference
+      else
+         allocate (references(0))
+      end if
+   end procedure mechanism_torsion_references
+
+   !> Every torsion spring's unwrapping reference set from a restart state.
+   module procedure mechanism_set_torsion_references
+      integer :: count
+      count = 0
+      if (allocated(self%torsion_springs)) count = size(self%torsion_springs)
+      if (size(references) /= count) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'torsion spring references: ' // &
+            to_str(size(references)) // ' given for ' // to_str(count) // &
+            ' torsion spring(s); give one per &torsion_spring of the case')
+         return
+      end if
+      if (count > 0) self%torsion_springs%reference = references
+   end procedure mechanism_set_torsion_references
 
    !> The angle at an accepted step becomes each torsion spring's unwrapping reference.
    module procedure update_torsion_references

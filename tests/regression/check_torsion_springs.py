@@ -126,7 +126,9 @@ def damped(driver, case, mesh_dir, work):
     check(abs(order - 2.0) <= 0.2, f"torsion pendulum: order {order:.3f} = 2 +- 0.2")
 
 
-def multi_turn(driver, case, mesh_dir, work):
+def write_spin_case(case, work):
+    """The multi-turn case: `case` without damping and free angle, started at SPIN rad/s, written
+    to WORK/torsion_spin.nml; None when the case's text could not be edited."""
     with open(case) as f:
         text = f.read()
     text = text.replace("damping = 0.008,\n                free_angle = -0.2 /",
@@ -135,11 +137,18 @@ def multi_turn(driver, case, mesh_dir, work):
                         f"position = 0.0, 0.0, 0.0, angular_velocity = 0.0, 0.0, {SPIN} /\n"
                         "&marker body = 'disc', name = 'centre'")
     if "damping = 0.0 /" not in text or "angular_velocity" not in text:
-        check(False, "multi-turn: the case could not be edited (its text changed)")
-        return
+        return None
     spin_case = os.path.join(work, "torsion_spin.nml")
     with open(spin_case, "w") as f:
         f.write(text)
+    return spin_case
+
+
+def multi_turn(driver, case, mesh_dir, work):
+    spin_case = write_spin_case(case, work)
+    if spin_case is None:
+        check(False, "multi-turn: the case could not be edited (its text changed)")
+        return
     w0 = math.sqrt(STIFFNESS / INERTIA)
     initial = 0.5 * INERTIA * SPIN**2
     errors, changes = [], []

@@ -93,6 +93,17 @@ add_test(NAME regression_torsion_springs
     ${PROJECT_BINARY_DIR}/tests/torsion_springs)
 set_tests_properties(regression_torsion_springs PROPERTIES LABELS "regression;springs")
 
+# regression_torsion_restart: the multi-turn torsion pendulum wound 2 turns at a restart state,
+# continued by --restart, equals the run straight to t_end in every entry, bitwise (the torsion
+# springs' unwrapping references are in the restart state, docs/restart.md "Unwrapped angles");
+# a restart state without them is refused (tests/regression/check_torsion_restart.py). About 2 s.
+add_test(NAME regression_torsion_restart
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_torsion_restart.py $<TARGET_FILE:ffrf>
+    ${PROJECT_SOURCE_DIR}/input/torsion_pendulum.nml ${PROJECT_BINARY_DIR}/meshes
+    ${PROJECT_BINARY_DIR}/tests/torsion_restart)
+set_tests_properties(regression_torsion_restart PROPERTIES LABELS "regression;springs")
+
 # The 6-dof bushing (&bushing, src/mbs/bushing.f90; issue 24, item 1): regression_bushings runs
 # input/bushing_mass.nml (a block held by a bushing, six directions at once) against the
 # closed-form frequencies sqrt(k/m), sqrt(k_r/J_i), amplitudes v0/w, energy conservation and
