@@ -26,3 +26,14 @@ foreach(_rate crankless engine free_space)
   set_tests_properties(regression_output_rate_${_rate} PROPERTIES
     LABELS "regression;results" FIXTURES_REQUIRED "${_rate_fixtures}")
 endforeach()
+
+# regression_output_live_read (issue 29 item 3): the spatial pendulum, compressed and decimated,
+# read while it runs: its checkpoint copy by ffrf_results (status 'running'), its .part file by
+# h5py without HDF5's file lock; stopped by SIGTERM (exit 5), the rows read mid-run equal the
+# finished file's exactly (tests/regression/check_live_read.py). About 1 s.
+add_test(NAME regression_output_live_read
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_live_read.py $<TARGET_FILE:ffrf>
+    ${_rate_spatial} ${PROJECT_BINARY_DIR}/meshes ${_rate_out}/live_read)
+set_tests_properties(regression_output_live_read PROPERTIES
+  LABELS "regression;results" FIXTURES_REQUIRED link_mesh)
