@@ -98,8 +98,11 @@ contains
             end if
          end associate
       end do
-      if (model%mechanism%crank == 0 .or. .not. has_pressure) then
-         choice%reason = 'not an engine (no crank or no pressure load)'
+      if (model%mechanism%crank == 0) then
+         ! a scene without an engine: its log and results name no engine part
+         choice%reason = 'it chooses for engine scenes only (docs/limits.md "Known limits")'
+      else if (.not. has_pressure) then
+         choice%reason = 'not an engine (no pressure load)'
       else if (.not. (drag > 0.0_dp)) then
          choice%reason = 'no drag load to set the regime speed'
       else if (.not. (piston_mass > 0.0_dp)) then
