@@ -166,7 +166,8 @@ contains
       type(mesh_point_t) :: point
       do m = 1, size(model%mechanism%markers)
          associate (marker => model%mechanism%markers(m))
-            if (marker%body /= k) cycle
+            ! a marker named as an interface only orients it (docs/mechanisms.md "Joint frames")
+            if (marker%body /= k .or. (marker%node == 0 .and. len_trim(marker%group) == 0)) cycle
             call build_mesh_point(body_mesh, marker%node, marker%group, marker%weighting, &
                point, error)
             if (allocated(error)) then

@@ -83,8 +83,9 @@ contains
       !> Marker on model body b (0: ground) of the marker handle `handle` (module
       !> ffrf_model_mechanism). A joint end's `frame` is global in the starting pose (stored in
       !> the body axes of a rotated body); a load's, sensor's or spring's is the body axes; a
-      !> &marker orientation replaces either. A flexible body's interface marker (the node
-      !> frame) serves when `node_frame`, else a framed marker at its virtual node.
+      !> &marker orientation replaces either (also one named as a flexible body's interface).
+      !> A flexible body's interface marker (the node frame) serves when `node_frame` and the
+      !> interface has no orientation, else a framed marker at its virtual node.
       subroutine marker_of(b, handle, frame, joint_end, marker, node_frame)
          integer, intent(in) :: b, handle
          real(dp), intent(in) :: frame(3, 3)
@@ -114,8 +115,15 @@ contains
                      if (point%oriented) local = point%orientation
                   end associate
                else
+                  ! an interface: its node frame, or a framed marker at its virtual node in the
+                  ! joint's frame or its own &marker orientation (as a rigid marker's)
                   marker = handle
-                  if (node_frame) return
+                  k = resolved%interface_marker(b, handle)
+                  if (k > 0) then
+                     local = resolved%mechanism%markers(k)%orientation
+                  else if (node_frame) then
+                     return
+                  end if
                end if
                do k = 1, size(lists(b)%nodes)
                   if (lists(b)%nodes(k) == node .and. maxval(abs(lists(b)%frames(:, :, k) - &
@@ -193,8 +201,11 @@ contains
       function end_name(b, handle) result(text)
          integer, intent(in) :: b, handle
          character(len=:), allocatable :: text
+         integer :: k
          if (b > 0) then
-            text = '"' // trim(resolved%mechanism%markers(handle)%name) // '" (body "' // &
+            k = resolved%interface_marker(b, handle)
+            if (k == 0) k = handle
+            text = '"' // trim(resolved%mechanism%markers(k)%name) // '" (body "' // &
                trim(resolved%bodies(b)%name) // '")'
          else
             text = '"' // trim(resolved%mechanism%markers(handle)%name) // '" (body "' // &
@@ -204,24 +215,34 @@ contains
 
    end procedure check_joint_frames
 
-   !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation.
+   !> Marker handle `handle` of model body b (0: ground) is a &marker point with an orientation,
+   !> or a flexible body's interface that a &marker of its name orients.
    logical function is_oriented(resolved, b, handle)
       type(model_t), intent(in) :: resolved
       integer, intent(in) :: b, handle
       is_oriented = .false.
       if (b > 0) then
-         if (.not. resolved%bodies(b)%rigid) return
+         if (.not. resolved%bodies(b)%rigid) then
+            is_oriented = resolved%interface_marker(b, handle) > 0
+            return
+         end if
       end if
       is_oriented = resolved%mechanism%markers(handle)%oriented
    end function is_oriented
 
    !> The global frame in the given starting pose of an oriented marker (is_oriented): its
-   !> &marker orientation C turned by its body's &body orientation A (A C; the ground: C).
+   !> &marker orientation C turned by its body's &body orientation A (A C; the ground: C; a
+   !> flexible body's interface: its undeformed virtual node frame is the body axes).
    function given_frame(resolved, b, handle) result(frame)
       type(model_t), intent(in) :: resolved
       integer, intent(in) :: b, handle
       real(dp) :: frame(3, 3)
-      frame = resolved%mechanism%markers(handle)%orientation
+      integer :: k
+      k = handle
+      if (b > 0) then
+         if (.not. resolved%bodies(b)%rigid) k = resolved%interface_marker(b, handle)
+      end if
+      frame = resolved%mechanism%markers(k)%orientation
       if (b > 0) frame = matmul(resolved%bodies(b)%motion%orientation, frame)
    end function given_frame
 

@@ -247,13 +247,28 @@ contains
          integer, intent(in) :: k
          type(marker_input_t), intent(in) :: m
          type(error_t), allocatable, intent(out) :: error
-         if (m%node == 0 .and. len_trim(m%group) == 0) then
+         logical :: is_interface
+         is_interface = any(case%interfaces%body == m%body .and. case%interfaces%name == m%name)
+         if (is_interface .and. m%node == 0 .and. len_trim(m%group) == 0) then
+            ! the interface's own marker frame (docs/mechanisms.md "Joint frames")
+            if (any(m%position /= 0.0_dp)) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'position') // &
+                  ': &marker "' // trim(m%name) // '": the &interface of that name on body "' &
+                  // trim(m%body) // '" is placed by its virtual node; drop the position ' // &
+                  '(the marker gives the interface its orientation only)')
+            else if (.not. m%oriented) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'name') // &
+                  ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has ' // &
+                  'an &interface of that name, which the marker can only orient; give its ' // &
+                  'orientation, or drop the &marker')
+            end if
+         else if (m%node == 0 .and. len_trim(m%group) == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'body') // &
                ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has a ' // &
                'mesh; place the marker by node = <a node tag> or group = ''<a physical ' // &
-               'surface>'' (its joint points are its &interface groups)')
-         else if (any(case%interfaces%body == m%body .and. case%interfaces%name == m%name)) &
-            then
+               'surface>'' (its joint points are its &interface groups, which a &marker ' // &
+               'of the same name may orient)')
+         else if (is_interface) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%at('marker', k, 'name') // &
                ': &marker "' // trim(m%name) // '": body "' // trim(m%body) // '" has an ' // &
                '&interface of that name; name the marker apart')
@@ -422,8 +437,10 @@ contains
       logical :: point
       b = body_index(case, body)
       point = .false.
+      ! a &marker named as an interface only orients it (check_point_marker): no point
       if (b > 0) point = case%motions(b)%type /= 'rigid' .and. &
-         any(case%mechanism%markers%body == body .and. case%mechanism%markers%name == marker)
+         any(case%mechanism%markers%body == body .and. case%mechanism%markers%name == marker) &
+         .and. .not. any(case%interfaces%body == body .and. case%interfaces%name == marker)
       if (point) then
          if (present(joint_end)) then
             if (joint_end) call fatal_error(error, FFRF_INPUT_ERROR, where // ': marker "' // &

@@ -65,6 +65,9 @@ module ffrf_model_model
    contains
       !> Index of the body called name, 0 if none (e.g. the ground)
       procedure :: body_index => model_body_index
+      !> The &marker (index in mechanism%markers) that orients interface marker handle `handle`
+      !> of flexible model body b, 0 if none
+      procedure :: interface_marker => model_interface_marker
       !> MPC of the crank's interfaces ('RBE2', 'RBE3', 'rigid'; '' without crank), a label
       procedure :: crank_mpc => model_crank_mpc
    end type model_t
@@ -414,6 +417,27 @@ contains
       character(len=*), intent(in) :: name
       k = findloc(self%bodies%name, name, dim=1)
    end function model_body_index
+
+   !> The &marker with an orientation that gives flexible model body b's interface `handle` its
+   !> frame (docs/mechanisms.md "Joint frames"): its index in mechanism%markers, 0 if none (also
+   !> for the ground, a rigid body, or a node or group marker handle).
+   pure integer function model_interface_marker(self, b, handle) result(k)
+      class(model_t), intent(in) :: self
+      !> Model body index (0: the ground) and marker handle
+      integer, intent(in) :: b, handle
+      integer :: m
+      k = 0
+      if (b <= 0) return
+      if (self%bodies(b)%rigid .or. handle > size(self%bodies(b)%interfaces)) return
+      do m = 1, size(self%mechanism%markers)
+         associate (marker => self%mechanism%markers(m))
+            if (marker%body /= b .or. .not. marker%oriented) cycle
+            if (marker%name /= self%bodies(b)%interfaces(handle)%name) cycle
+            k = m
+            return
+         end associate
+      end do
+   end function model_interface_marker
 
    !> Marker handle (index among the body's interfaces) of the interface called name, 0 if none.
    pure integer function body_marker_index(self, name) result(k)

@@ -148,3 +148,19 @@ ffrf_error_case(joint_frames_cylindrical_check 2 "&joint \"sleeve\" \\(cylindric
   "${_framed}\n${_tilted}\n&joint name = 'sleeve', type = 'cylindrical', ${_framed_joint}" --check)
 ffrf_error_case(joint_frames_universal_check 2 "&joint \"cardan\" \\(universal\\): .* their cross arms x1, y2 \\(off perpendicular\\) are 0\\.001 rad apart"
   "${_framed}\n${_twisted}\n&joint name = 'cardan', type = 'universal', ${_framed_joint}" --check)
+# A flexible interface's own &marker orientation (docs/mechanisms.md "Joint frames"): a &marker
+# named as the crank's interface B2 orients it; its virtual node places it (a position is
+# refused), it must be a rotation, and it must agree with the other end's frame at a joint
+# (B2 tilted by 90 deg about x against the framed ground pin: run and --check alike).
+set(_b2_tilted "&marker body = 'crank', name = 'B2', orientation = 1, 0, 0, 0, 0, -1, 0, 1, 0 /")
+set(_pin_framed "&marker body = 'ground', name = 'pin', position = 0, 0.045, 0, orientation = 1, 0, 0, 0, 1, 0, 0, 0, 1 /
+&joint name = 'pin', type = 'revolute', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /")
+set(_iface_frames_msg "&joint \"pin\" \\(revolute\\): the frames of its markers \"pin\" \\(body \"ground\"\\) and \"B2\" \\(body \"crank\"\\) disagree in the starting pose: their z axes are 1\\.57 rad apart")
+ffrf_error_case(iface_orient_frames_run 2 "${_iface_frames_msg}" "${_body}\n${_iface}\n${_b2_tilted}\n${_pin_framed}")
+ffrf_error_case(iface_orient_frames_check 2 "${_iface_frames_msg}" "${_body}\n${_iface}\n${_b2_tilted}\n${_pin_framed}" --check)
+ffrf_error_case(iface_orient_position_check 2 "iface_orient_position_check\\.nml:4: &marker \"B2\": the &interface of that name on body \"crank\" is placed by its virtual node; drop the position"
+  "${_body}\n${_iface}\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&marker body = 'crank', name = 'B2', position = 0, 0, 0.01, orientation = 1, 0, 0, 0, 1, 0, 0, 0, 1 /\n&joint name = 'pin', type = 'fixed', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /" --check)
+ffrf_error_case(iface_orient_unoriented_check 2 "&marker \"B2\": body \"crank\" has an &interface of that name, which the marker can only orient; give its orientation"
+  "${_held}\n&marker body = 'crank', name = 'B2' /" --check)
+ffrf_error_case(iface_orient_not_orthonormal_check 2 "iface_orient_not_orthonormal_check\\.nml:[0-9]+: &marker orientation = .*: marker \"B2\" of body \"crank\": the orientation is not orthonormal"
+  "${_held}\n&marker body = 'crank', name = 'B2', orientation = 1, 0, 0, 0, 1, 0, 0, 0, 1.1 /" --check)
