@@ -85,3 +85,46 @@ add_test(NAME regression_joint_frames_agree
     ${_out}/joint_frames_turned/rigid_pendulum_oriented.h5)
 set_tests_properties(regression_joint_frames_agree PROPERTIES LABELS "regression;mbs"
   FIXTURES_REQUIRED joint_frames_results)
+
+# A flexible interface's own &marker orientation (issue 24, docs/mechanisms.md "Joint frames"),
+# compared by check_iface_orient.py: (1) frames_pendulum_xz.nml with its joint frames given at
+# the links' interfaces (the axis frame turned by 90 deg about the joint axis) against the axis
+# run; (2) a universal joint between two interfaces, its cross arms turned by 45 deg about the
+# shafts (only the interfaces' orientation can say so), against the scene turned as a whole by
+# R_x(-45 deg) with the elbow's frame from its axis, and against the same scene with the axis
+# frame at the interfaces (it must move otherwise). About 5 x 1.3 s.
+# iface_orient_run(NAME CASE DIR [ARGS...]): the driver on tests/data/frames/CASE into
+# ${_out}/DIR, one thread, setting up iface_orient_results
+function(iface_orient_run name case dir)
+  file(MAKE_DIRECTORY "${_out}/${dir}")
+  add_test(NAME ${name}
+    COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 $<TARGET_FILE:ffrf>
+      ${PROJECT_SOURCE_DIR}/tests/data/frames/${case} --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --output-dir ${_out}/${dir} ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS "regression;mbs"
+    FIXTURES_REQUIRED beam_lc6_mesh FIXTURES_SETUP iface_orient_results)
+endfunction()
+iface_orient_run(regression_iface_orient_pendulum flexible_pendulum_iface_oriented.nml iface_orient)
+iface_orient_run(regression_iface_orient_universal universal_pendulum_iface.nml iface_orient)
+iface_orient_run(regression_iface_orient_universal_turned universal_pendulum_turned.nml iface_orient)
+iface_orient_run(regression_iface_orient_universal_plain universal_pendulum_iface.nml
+  iface_orient_plain --set "marker[end1].orientation=0, 0, 1, 1, 0, 0, 0, 1, 0"
+  --set "marker[end0].orientation=0, 0, 1, 1, 0, 0, 0, 1, 0")
+add_test(NAME regression_iface_orient_check
+  COMMAND $<TARGET_FILE:ffrf> ${PROJECT_SOURCE_DIR}/tests/data/frames/universal_pendulum_iface.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_out}/iface_orient --check)
+set_tests_properties(regression_iface_orient_check PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED beam_lc6_mesh)
+add_test(NAME regression_iface_orient_pendulum_agree
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iface_orient.py
+    ${_out}/frames/frames_pendulum_xz.h5
+    ${_out}/iface_orient/flexible_pendulum_iface_oriented.h5)
+set_tests_properties(regression_iface_orient_pendulum_agree PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED "frames_pendulum_results;iface_orient_results")
+add_test(NAME regression_iface_orient_universal_agree
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_iface_orient.py
+    --turned ${_out}/iface_orient/universal_pendulum_turned.h5
+    ${_out}/iface_orient/universal_pendulum_iface.h5
+    --plain ${_out}/iface_orient_plain/universal_pendulum_iface.h5)
+set_tests_properties(regression_iface_orient_universal_agree PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED iface_orient_results)
