@@ -25,8 +25,8 @@
 !> interface's virtual node with the constant orientation C = A^T frame (flexible_body_t
 !> add_marker: frame A(theta) exp(phi~) C), so a joint at a flexible interface takes any axis;
 !> with the axis along A e_z (or a spherical joint) the interface's marker, the node frame,
-!> serves as before. A &marker orientation (rigid bodies and the ground) gives a joint its frame
-!> instead of the axis (resolve_markers); when both ends have one, each keeps its own and
+!> serves as before. A &marker orientation (rigid bodies, the ground, and a flexible body's
+!> interface by its name) gives a joint its frame instead of the axis (resolve_markers); when both ends have one, each keeps its own and
 !> check_joint_frames refuses frames that disagree in what the joint locks. A flexible body's
 !> &marker with node or group (a mesh point that is no interface) is a further virtual node
 !> (flexible_body_t add_point, rows G Psi_B of ffrf_mpc_mesh_point) with a marker of the body's
