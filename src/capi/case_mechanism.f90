@@ -19,12 +19,9 @@ contains
       class(ffrf_case_t), intent(in) :: self
       character(len=*), intent(in) :: what
       type(error_t), allocatable, intent(out) :: error
-      call check_open(self, what, error)
+      call check_mechanism(self, what, error)
       if (allocated(error)) return
-      if (.not. self%case%is_mechanism) then
-         call bad_call(error, what // ': "' // self%case%file_name // '" is a modal case ' // &
-            '(no &joint groups); only a mechanism case moves')
-      else if (.not. self%session%prepared) then
+      if (.not. self%session%prepared) then
          if (self%have_final) then
             call bad_call(error, what // ': not available after ffrf_case_run with an ' // &
                'output folder (the run is over); open the case without one to query the state')
@@ -35,16 +32,22 @@ contains
       end if
    end subroutine check_session
 
+   !> FFRF_BAD_CALL unless the case is open and a mechanism case.
+   subroutine check_mechanism(self, what, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      call check_open(self, what, error)
+      if (.not. allocated(error) .and. .not. self%case%is_mechanism) call bad_call(error, &
+         what // ': "' // self%case%file_name // '" is a modal case (no &joint groups); ' // &
+         'only a mechanism case moves')
+   end subroutine check_mechanism
+
    module procedure case_advance
       type(stage_times_t) :: times
       integer :: k
-      call check_open(self, 'mechanism_advance', error)
+      call check_mechanism(self, 'mechanism_advance', error)
       if (allocated(error)) return
-      if (.not. self%case%is_mechanism) then
-         call bad_call(error, 'mechanism_advance: "' // self%case%file_name // '" is a ' // &
-            'modal case (no &joint groups); only a mechanism case moves')
-         return
-      end if
       if (self%have_final) then
          call bad_call(error, 'mechanism_advance: the case has run to t_end with an output ' &
             // 'folder; open it again to advance it')
@@ -249,13 +252,8 @@ contains
       type(case_input_t) :: case
       character(len=:), allocatable :: name
       integer :: n
-      call check_open(self, 'body_set_pose', error)
+      call check_mechanism(self, 'body_set_pose', error)
       if (allocated(error)) return
-      if (.not. self%case%is_mechanism) then
-         call bad_call(error, 'body_set_pose: "' // self%case%file_name // '" is a modal ' // &
-            'case (no &joint groups); only a mechanism case has a starting pose')
-         return
-      end if
       if (self%session%prepared .or. self%ran .or. self%have_final) then
          call bad_call(error, 'body_set_pose: the motion has started (the pose is the ' // &
             'starting pose); set it before the first ffrf_mechanism_advance or ffrf_case_run')
