@@ -67,6 +67,21 @@ int ffrf_body_name(const ffrf_case *c, int body, char *buf, size_t len);
  * ffrf_case_run, or after the first ffrf_mechanism_advance of a mechanism case. */
 int ffrf_body_frequencies(const ffrf_case *c, int body, double *hz, int capacity, int *count);
 
+/* Mechanism case: the starting pose of body `body`, as its &body keys (docs/mechanisms.md):
+ * position (m) of the body frame, orientation: the rotation matrix A (body -> global, its
+ * columns the body axes) by rows, 9 doubles A11 A12 A13 A21 ... A33 as the namelist gives it,
+ * velocity (m/s) and angular_velocity (rad/s), global. NULL keeps the case's value (the file's,
+ * or that of an earlier call). The case is read again with them as if given in the file, so
+ * they are checked and the consistent start assembles them exactly as the namelist keys (the
+ * log line of how far each body moved included). Before the first ffrf_mechanism_advance or
+ * ffrf_case_run (FFRF_BAD_CALL after). A bad body index or a modal case: FFRF_BAD_CALL; a
+ * value that is not finite, a rotation not orthonormal (largest |A A^T - I| > 1e-9) or with
+ * det A = -1, a value out of the key's range: FFRF_INPUT_ERROR naming the body and the defect;
+ * a refused call leaves the case as it was. */
+int ffrf_body_set_pose(ffrf_case *c, int body, const double position[3],
+                       const double orientation[9], const double velocity[3],
+                       const double angular_velocity[3]);
+
 /* Mechanism case: the first call prepares (modes, mechanism, consistent start at t_start);
  * then integrates up to time t (current time <= t <= t_end; t = t_start on the first call only
  * prepares); call again to go on. Steps are the case's h; one shortened step lands on a t

@@ -21,7 +21,7 @@ module ffrf_capi_entries
    public :: ffrf_mechanism_advance, ffrf_crank_state, ffrf_mechanism_time, ffrf_body_state, &
       ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, ffrf_joint_name, &
       ffrf_joint_reaction, ffrf_driver_state, ffrf_sensor_count, ffrf_sensor_name, &
-      ffrf_sensor_values, ffrf_marker_set_load
+      ffrf_sensor_values, ffrf_marker_set_load, ffrf_body_set_pose
    public :: ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_add_interface_nodes, ffrf_case_set_num_modes, ffrf_case_set_communicator
 
@@ -398,6 +398,39 @@ contains
       call h%case%set_marker_load(int(body) + 1, int(marker) + 1, f, m, error)
       stat = status_of(h, error)
    end function ffrf_marker_set_load
+
+   !> int ffrf_body_set_pose(ffrf_case *c, int body, const double position[3],
+   !> const double orientation[9], const double velocity[3], const double angular_velocity[3])
+   !> (orientation by rows, as &body orientation; NULL keeps the case's value)
+   integer(c_int) function ffrf_body_set_pose(c, body, position, orientation, velocity, &
+         angular_velocity) result(stat) bind(c, name='ffrf_body_set_pose')
+      type(c_ptr), value :: c, position, orientation, velocity, angular_velocity
+      integer(c_int), value :: body
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      real(c_double), pointer :: r(:), a(:), u(:), w(:)
+      if (.not. got_handle(c, h, stat)) return
+      r => vector(position, 3)
+      a => vector(orientation, 9)
+      u => vector(velocity, 3)
+      w => vector(angular_velocity, 3)
+      ! absent optional arguments where the pointers are null
+      if (associated(a)) then
+         call h%case%set_pose(int(body) + 1, error, r, transpose(reshape(a, [3, 3])), u, w)
+      else
+         call h%case%set_pose(int(body) + 1, error, r, velocity=u, angular_velocity=w)
+      end if
+      stat = status_of(h, error)
+   contains
+      !> The n doubles at p, or a null pointer for NULL.
+      function vector(p, n) result(values)
+         type(c_ptr), intent(in) :: p
+         integer, intent(in) :: n
+         real(c_double), pointer :: values(:)
+         values => null()
+         if (c_associated(p)) call c_f_pointer(p, values, [n])
+      end function vector
+   end function ffrf_body_set_pose
 
    !> int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
    !> int nodes_per_tet, int num_tets, const int *tets, double young, double poisson,

@@ -28,6 +28,7 @@ module ffrf_capi_case
    use ffrf_app_run_options, only: run_options_t
    use ffrf_app_mechanism_session, only: mechanism_session_t
    use ffrf_mpc_interface, only: interface_spec_t
+   use ffrf_input_overrides, only: override_t
    implicit none
    private
    public :: ffrf_case_t, FFRF_BAD_CALL, FFRF_RBE2, FFRF_RBE3, FFRF_RBE3_AREA
@@ -76,6 +77,9 @@ module ffrf_capi_case
       logical, allocatable, private :: have_invariants(:)
       !> Interfaces on node sets of a case built from arrays (add_interface_nodes)
       type(node_set_interface_t), allocatable, private :: node_sets(:)
+      !> The body poses set (set_pose) as overrides of the case file, in call order: the case is
+      !> read again with them, as the driver's --set body[NAME].KEY=...
+      type(override_t), allocatable, private :: pose_overrides(:)
    contains
       !> An FFRF inertia invariant of a body (theory.md 3.2), by name
       procedure :: invariant => case_invariant
@@ -125,6 +129,8 @@ module ffrf_capi_case
       !> Coordinate, rate and driving torque or force of the driver of a joint
       procedure :: driver_state => case_driver_state
       procedure :: set_marker_load => case_set_marker_load
+      !> Starting pose and velocities of a body (the &body keys), before the first advance
+      procedure :: set_pose => case_set_pose
       !> Release everything
       procedure :: close => case_close
    end type ffrf_case_t
@@ -478,6 +484,21 @@ module ffrf_capi_case
          real(dp), intent(in) :: force(3), moment(3)
          type(error_t), allocatable, intent(out) :: error
       end subroutine case_set_marker_load
+
+      !> The starting pose of body `body` of a mechanism case, as its &body keys position (m),
+      !> orientation (the rotation matrix A, body -> global, its columns the body axes),
+      !> velocity (m/s) and angular_velocity (rad/s, global); an absent argument keeps the
+      !> case's value. Before the first advance (the pose is the start of the motion). The case
+      !> is read again with them as overrides (docs/api.md "Body pose"), so they are checked and
+      !> assembled exactly as the namelist's keys; on an error the case is kept as it was.
+      module subroutine case_set_pose(self, body, error, position, orientation, velocity, &
+            angular_velocity)
+         class(ffrf_case_t), intent(inout) :: self
+         integer, intent(in) :: body
+         type(error_t), allocatable, intent(out) :: error
+         real(dp), intent(in), optional :: position(3), orientation(3, 3), velocity(3), &
+            angular_velocity(3)
+      end subroutine case_set_pose
    end interface
 
 end module ffrf_capi_case

@@ -1,11 +1,15 @@
 !> The mechanism of an ffrf_case_t (a submodule of ffrf_capi_case): advance, time and crank,
-!> body and marker state, joints and their reactions, sensors, the host's marker loads.
+!> body and marker state, joints and their reactions, sensors, the host's marker loads, the
+!> starting pose of a body.
 submodule (ffrf_capi_case) ffrf_capi_case_mechanism
    use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: stage_times_t
    use ffrf_core_parallel, only: use_ranks
    use ffrf_app_mechanism_session, only: move_modes
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use ffrf_input_case, only: case_input_t, read_case_with_overrides
+   use ffrf_input_overrides, only: override_t
    implicit none
 
 contains
@@ -15,12 +19,9 @@ contains
       class(ffrf_case_t), intent(in) :: self
       character(len=*), intent(in) :: what
       type(error_t), allocatable, intent(out) :: error
-      call check_open(self, what, error)
+      call check_mechanism(self, what, error)
       if (allocated(error)) return
-      if (.not. self%case%is_mechanism) then
-         call bad_call(error, what // ': "' // self%case%file_name // '" is a modal case ' // &
-            '(no &joint groups); only a mechanism case moves')
-      else if (.not. self%session%prepared) then
+      if (.not. self%session%prepared) then
          if (self%have_final) then
             call bad_call(error, what // ': not available after ffrf_case_run with an ' // &
                'output folder (the run is over); open the case without one to query the state')
@@ -31,16 +32,22 @@ contains
       end if
    end subroutine check_session
 
+   !> FFRF_BAD_CALL unless the case is open and a mechanism case.
+   subroutine check_mechanism(self, what, error)
+      class(ffrf_case_t), intent(in) :: self
+      character(len=*), intent(in) :: what
+      type(error_t), allocatable, intent(out) :: error
+      call check_open(self, what, error)
+      if (.not. allocated(error) .and. .not. self%case%is_mechanism) call bad_call(error, &
+         what // ': "' // self%case%file_name // '" is a modal case (no &joint groups); ' // &
+         'only a mechanism case moves')
+   end subroutine check_mechanism
+
    module procedure case_advance
       type(stage_times_t) :: times
       integer :: k
-      call check_open(self, 'mechanism_advance', error)
+      call check_mechanism(self, 'mechanism_advance', error)
       if (allocated(error)) return
-      if (.not. self%case%is_mechanism) then
-         call bad_call(error, 'mechanism_advance: "' // self%case%file_name // '" is a ' // &
-            'modal case (no &joint groups); only a mechanism case moves')
-         return
-      end if
       if (self%have_final) then
          call bad_call(error, 'mechanism_advance: the case has run to t_end with an output ' &
             // 'folder; open it again to advance it')
@@ -239,5 +246,65 @@ contains
       if (.not. allocated(error)) call self%session%set_marker_load(body, marker, force, &
          moment, error)
    end procedure case_set_marker_load
+
+   module procedure case_set_pose
+      type(override_t), allocatable :: overrides(:)
+      type(case_input_t) :: case
+      character(len=:), allocatable :: name
+      integer :: n
+      call check_mechanism(self, 'body_set_pose', error)
+      if (allocated(error)) return
+      if (self%session%prepared .or. self%ran .or. self%have_final) then
+         call bad_call(error, 'body_set_pose: the motion has started (the pose is the ' // &
+            'starting pose); set it before the first ffrf_mechanism_advance or ffrf_case_run')
+         return
+      end if
+      call check_body(self, 'body_set_pose', body, error)
+      if (allocated(error)) return
+      name = trim(self%case%bodies(body)%name)
+      if (.not. allocated(self%pose_overrides)) allocate (self%pose_overrides(0))
+      ! grown by hand (gfortran 12 leaks array constructors of types with allocatable parts)
+      n = size(self%pose_overrides)
+      allocate (overrides(n + 4))
+      overrides(:n) = self%pose_overrides
+      if (present(position)) call add('position', position)
+      if (present(orientation)) call add('orientation', reshape(transpose(orientation), [9]))
+      if (present(velocity)) call add('velocity', velocity)
+      if (present(angular_velocity)) call add('angular_velocity', angular_velocity)
+      if (allocated(error)) return
+      call read_case_with_overrides(self%case%file_name, overrides(:n), case, error)
+      if (allocated(error)) return
+      self%case = case
+      self%pose_overrides = overrides(:n)
+   contains
+      !> Override n + 1: body[name].key = values (17 significant digits: read back exactly);
+      !> FFRF_INPUT_ERROR for a value that is not finite.
+      subroutine add(key, values)
+         character(len=*), intent(in) :: key
+         real(dp), intent(in) :: values(:)
+         character(len=32) :: word
+         integer :: i
+         if (allocated(error)) return
+         do i = 1, size(values)
+            if (.not. ieee_is_finite(values(i))) then
+               call fatal_error(error, FFRF_INPUT_ERROR, 'body_set_pose: body ' // &
+                  to_str(body - 1) // ' "' // name // '": ' // key // ' value ' // to_str(i) // &
+                  ' is not finite (NaN or Inf); give finite values')
+               return
+            end if
+         end do
+         n = n + 1
+         overrides(n)%group = 'body'
+         overrides(n)%name = name
+         overrides(n)%key = key
+         overrides(n)%origin = 'body_set_pose body[' // name // '].' // key
+         overrides(n)%value = ''
+         do i = 1, size(values)
+            write (word, '(es25.17e3)') values(i)
+            overrides(n)%value = overrides(n)%value // trim(adjustl(word))
+            if (i < size(values)) overrides(n)%value = overrides(n)%value // ', '
+         end do
+      end subroutine add
+   end procedure case_set_pose
 
 end submodule ffrf_capi_case_mechanism

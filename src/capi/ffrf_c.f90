@@ -15,7 +15,7 @@ module ffrf_c
       ffrf_case_close, ffrf_body_sizes, ffrf_body_nodes, ffrf_body_mode_shapes, &
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
-      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_sensor_count, &
+      ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_body_set_pose, ffrf_sensor_count, &
       ffrf_sensor_name, ffrf_sensor_values
    public :: ffrf_driver_state
    public :: ffrf_body_invariant
@@ -268,6 +268,15 @@ module ffrf_c
          integer(c_int), value :: body, marker
          real(c_double), intent(in) :: force(3), moment(3)
       end function ffrf_marker_set_load
+
+      !> orientation by rows (as &body orientation); pass c_null_ptr to keep a value
+      integer(c_int) function ffrf_body_set_pose(c, body, position, orientation, velocity, &
+            angular_velocity) bind(c, name='ffrf_body_set_pose')
+         import :: c_int, c_ptr
+         implicit none
+         type(c_ptr), value :: c, position, orientation, velocity, angular_velocity
+         integer(c_int), value :: body
+      end function ffrf_body_set_pose
 
       integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
             bind(c, name='ffrf_body_invariant')

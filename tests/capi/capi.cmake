@@ -59,7 +59,8 @@ set(_capi_flags -std=c99 -Wall -Wextra -pedantic -Werror)
 # library into each test, minutes per program)
 set(_capi_link "$<$<C_COMPILER_ID:GNU>:-fno-lto>")
 foreach(program test_capi_bad_calls test_capi_run test_capi_node_sets test_capi_record
-    test_capi_values test_capi_sensors test_capi_drivers test_capi_frames test_capi_mesh_markers)
+    test_capi_values test_capi_sensors test_capi_drivers test_capi_frames test_capi_mesh_markers
+    test_capi_pose)
   add_executable(${program} capi/${program}.c)
   target_link_libraries(${program} PRIVATE ffrf::ffrf m)
   target_compile_options(${program} PRIVATE ${_capi_flags})
@@ -112,6 +113,25 @@ add_test(NAME capi_frames COMMAND test_capi_frames
   "${PROJECT_BINARY_DIR}/meshes")
 set_tests_properties(capi_frames PROPERTIES LABELS "capi" ENVIRONMENT "OPENBLAS_NUM_THREADS=1"
   FIXTURES_REQUIRED beam_lc6_mesh)
+
+# The body pose through the APIs (issue 24): a rigid rod without pose keys given its pose by
+# ffrf_body_set_pose and run with an output folder equals, bitwise, the driver's run with the
+# pose as --set (compare_pose.py; the refusals checked by test_capi_pose.c first); the same
+# through ffrf_case_t%set_pose against the pose in the namelist (test_pose_fortran.f90)
+add_test(NAME capi_pose_driver
+  COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}
+    ${CMAKE_CURRENT_SOURCE_DIR}/capi/compare_pose.py $<TARGET_FILE:ffrf>
+    $<TARGET_FILE:test_capi_pose> "${CMAKE_CURRENT_SOURCE_DIR}/capi/pose_pendulum.nml"
+    "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}/pose")
+set_tests_properties(capi_pose_driver PROPERTIES LABELS "capi;regression")
+add_executable(test_pose_fortran capi/test_pose_fortran.f90)
+target_link_libraries(test_pose_fortran PRIVATE ffrf::ffrf)
+target_link_options(test_pose_fortran PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_pose_fortran COMMAND test_pose_fortran
+  "${CMAKE_CURRENT_SOURCE_DIR}/capi/pose_pendulum.nml"
+  "${CMAKE_CURRENT_SOURCE_DIR}/capi/pose_pendulum_posed.nml" "${PROJECT_BINARY_DIR}/meshes")
+set_tests_properties(capi_pose_fortran PROPERTIES LABELS "capi" ENVIRONMENT
+  "OPENBLAS_NUM_THREADS=1")
 
 add_test(NAME capi_compare_driver
   COMMAND ${CMAKE_COMMAND} -E env OPENBLAS_NUM_THREADS=1 ${Python3_EXECUTABLE}

@@ -117,6 +117,10 @@ int main(int argc, char **argv)
     EXPECT(modal, ffrf_joint_count(modal, &n), FFRF_BAD_CALL, "is a modal case");
     EXPECT(modal, ffrf_body_state(modal, 0, q, v, 8, &count), FFRF_BAD_CALL,
            "is a modal case");
+    EXPECT(modal, ffrf_body_set_pose(modal, 0, NULL, NULL, NULL, NULL), FFRF_BAD_CALL,
+           "body_set_pose: \"");
+    EXPECT(modal, ffrf_body_set_pose(modal, 0, NULL, NULL, NULL, NULL), FFRF_BAD_CALL,
+           "is a modal case (no &joint groups); only a mechanism case moves");
     /* a successful call clears the message */
     EXPECT(modal, ffrf_body_count(modal, &n), FFRF_OK, "");
     ffrf_case_close(modal);
