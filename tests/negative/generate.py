@@ -815,6 +815,12 @@ def namelist_mutations(text, base, not_hdf5=NOT_HDF5_MODES):
     return out
 
 
+def is_mechanism(groups):
+    """A case with &joint groups is a mechanism run (docs/input.md "Command line"); a &mechanism
+    group alone says so too."""
+    return any(g.name in ('joint', 'mechanism') for g in groups)
+
+
 def issue12_mutations(text, groups, not_hdf5):
     """Mutations of the keys issue 12 added (names start 'issue12_', every case gets them):
     &modes out_of_core, ooc_tmpdir, memory_limit_mb, compression_tolerance (MODES_MEMORY_VALUES)
@@ -844,7 +850,7 @@ def issue12_mutations(text, groups, not_hdf5):
     rigid = [g for g in bodies if body_type(g) == 'rigid']
     flexible = [g for g in bodies if body_type(g) != 'rigid' and
                 'mesh_file' in [k[0] for k in g.keys]]
-    mechanism = any(g.name == 'mechanism' for g in groups)
+    mechanism = is_mechanism(groups)
 
     def with_modes_file(g, value):
         return splice(text, g.end, g.end, ', modes_file = %s ' % value)
@@ -875,7 +881,7 @@ def issue23_mutations(text, groups):
     option file, the lock a body's mode shapes file. Exit 2 before any work (also by --check),
     naming mode_shapes_msh. Outputs stay inside --output-dir (refused otherwise), so an output
     naming an input is tested where inputs sit there (regression_faults_io_output_paths)."""
-    if any(g.name == 'mechanism' for g in groups):
+    if is_mechanism(groups):
         return []
     bodies = [g for g in groups if g.name == 'body']
     names = [text[k[2]:k[3]].strip().strip('\'"') for g in bodies[:1] for k in g.keys
