@@ -6,6 +6,7 @@ submodule (ffrf_capi) ffrf_capi_handle
    use ffrf_core_strings, only: to_str
    use ffrf_core_build_info, only: FFRF_VERSION_MAJOR, FFRF_VERSION_MINOR, FFRF_VERSION_PATCH
    use ffrf_capi_case, only: FFRF_BAD_CALL
+   use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_FILES
    implicit none
 
    !> ffrf_last_error(NULL): a fixed, read-only text
@@ -233,6 +234,10 @@ contains
          stat = bad_call(h, 'ffrf_case_open: case_file is NULL')
          return
       end if
+      ! one open at a time in the process, the C strings' copies included: under load, ctest
+      ! capi_threads saw a case path arrive cut to the length of another thread's path (1 run
+      ! in about 20; the cause inside the copy or its temporaries was not found)
+      call enter_serial_section(SECTION_FILES)
       if (c_associated(mesh_dir) .and. c_associated(output_dir)) then
          call h%case%open(from_c(case_file), error, mesh_dir=from_c(mesh_dir), &
             output_dir=from_c(output_dir))
@@ -243,6 +248,7 @@ contains
       else
          call h%case%open(from_c(case_file), error)
       end if
+      call leave_serial_section(SECTION_FILES)
       stat = status_of(h, error)
    end procedure ffrf_case_open
 
