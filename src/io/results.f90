@@ -29,6 +29,12 @@ module ffrf_io_results
    private
    public :: results_create, results_write_body, results_finish
    public :: output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
+   public :: RESULTS_SCHEMA_VERSION
+
+   !> Root attribute `schema_version` of every results file, "MAJOR.MINOR": the minor grows with
+   !> additions, the major with a change an older reader would misread
+   !> (docs/results.md "Schema version")
+   character(len=*), parameter :: RESULTS_SCHEMA_VERSION = '1.0'
 
    !> The lock that keeps two runs off one output (module notes).
    type :: output_lock_t
@@ -106,7 +112,8 @@ contains
       call remove_file(temp, ignored)
    end subroutine abandon_file
 
-   !> Create the results file: status 'running', case name, input echo, build versions.
+   !> Create the results file: status 'running', schema version, case name, input echo, build
+   !> versions.
    subroutine results_create(file_name, case_name, title, echo, h5, error)
       !> Results file (truncated if it exists)
       character(len=*), intent(in) :: file_name
@@ -120,6 +127,8 @@ contains
       call h5%create(file_name, error)
       if (allocated(error)) return
       call h5%set_status('running', error)
+      if (.not. allocated(error)) call h5%set_attribute('/', 'schema_version', &
+         RESULTS_SCHEMA_VERSION, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'ffrf_version', FFRF_VERSION, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'case_name', case_name, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'title', title, error)
