@@ -24,17 +24,13 @@ module ffrf_io_results
    use ffrf_modes_input, only: basis_name, BASIS_CRAIG_BAMPTON
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_io_modes_file, only: write_fingerprint
+   use ffrf_io_schema, only: RESULTS_SCHEMA_VERSION
    use ffrf_modes_shift_invert, only: eigen_result_t
    implicit none
    private
    public :: results_create, results_write_body, results_finish
    public :: output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
    public :: RESULTS_SCHEMA_VERSION
-
-   !> Root attribute `schema_version` of every results file, "MAJOR.MINOR": the minor grows with
-   !> additions, the major with a change an older reader would misread
-   !> (docs/results.md "Schema version")
-   character(len=*), parameter :: RESULTS_SCHEMA_VERSION = '1.0'
 
    !> The lock that keeps two runs off one output (module notes).
    type :: output_lock_t
