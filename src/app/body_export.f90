@@ -6,6 +6,7 @@ module ffrf_app_body_export
    use ffrf_core_error, only: error_t
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_timer_t
+   use ffrf_core_paths, only: stem_of
    use ffrf_core_choices, only: EXPORT_EXUDYN
    use ffrf_la_sparse, only: csr_t
    use ffrf_modes_modal_analysis, only: body_modes_t
@@ -59,14 +60,7 @@ contains
    pure function exudyn_file_name(results_file, body_name) result(name)
       character(len=*), intent(in) :: results_file, body_name
       character(len=:), allocatable :: name
-      integer :: dot
-      dot = index(results_file, '.', back=.true.)
-      if (dot > index(results_file, '/', back=.true.)) then
-         name = results_file(:dot - 1)
-      else
-         name = results_file
-      end if
-      name = name // '_' // body_name // '.exudyn.hdf5'
+      name = stem_of(results_file) // '_' // body_name // '.exudyn.hdf5'
    end function exudyn_file_name
 
 end module ffrf_app_body_export

@@ -5,13 +5,13 @@
 !> a scipy CSR matrix a group 'csr_matrix' of data, indices, indptr, shape, an array a dataset
 !> 'ndarray', a string a dataset 'str', an integer a dataset 'int'; `LoadDictFromHDF5` compares
 !> those attributes with Python strings, so they are variable-length UTF-8 strings
-!> (h5_file_t%set_text_attribute). The file holds ffrf's own matrices and modes: the mesh
-!> nodes, the tetrahedra in Exudyn's Tet10 order (Abaqus C3D10: the last two mid-side nodes of
-!> Gmsh's order swapped, GMSH_TO_C3D10 of ffrf_fe_tet), the assembled M and K of the mesh
-!> dofs (x, y, z per node), the body's surface (outward triangles; Tet10: also the 6-node
-!> triangles), one node set per interface (RBE3 weights normalised to sum 1), the mode basis
-!> (RC normal 'NormalModes' or Craig-Bampton 'HCBmodes'; ffrf's basis word in /metaData) and
-!> omega^2 of each mode. Written as `<file>.part`, renamed when complete.
+!> (h5_file_t%set_attribute, variable = .true.). The file holds ffrf's own matrices and modes:
+!> the mesh nodes, the tetrahedra in Exudyn's Tet10 order (Abaqus C3D10: the last two
+!> mid-side nodes of Gmsh's order swapped, GMSH_TO_C3D10 of ffrf_fe_tet), the assembled M and
+!> K of the mesh dofs (x, y, z per node), the body's surface (outward triangles; Tet10: also
+!> the 6-node triangles), one node set per interface (RBE3 weights normalised to sum 1), the
+!> mode basis (RC normal 'NormalModes' or Craig-Bampton 'HCBmodes'; ffrf's basis word in
+!> /metaData) and omega^2 of each mode. Written as `<file>.part`, renamed when complete.
 module ffrf_io_exudyn_body
    use ffrf_core_kinds, only: dp, ip, i8, pi
    use ffrf_core_error, only: error_t, add_context
@@ -23,6 +23,7 @@ module ffrf_io_exudyn_body
    use ffrf_mpc_interface, only: dofs_text
    use ffrf_fe_tet, only: GMSH_TO_C3D10, TET10_EDGES
    use ffrf_modes_modal_analysis, only: body_modes_t
+   use ffrf_mbs_rotation, only: cross3
    use ffrf_io_hdf5, only: h5_file_t
    implicit none
    private
@@ -76,18 +77,16 @@ contains
 
       call put_string(h5, '/type', 'FEMinterface', error)
       if (.not. allocated(error)) call h5%write_int('/fileVersion', FEM_FILE_VERSION, error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/fileVersion', 'datatype', 'int', &
-         error)
+      if (.not. allocated(error)) call mark(h5, '/fileVersion', 'int', error)
       ! metaData: what Exudyn does not hold itself
-      if (.not. allocated(error)) call h5%set_text_attribute('/metaData', 'datatype', 'dict', &
-         error)
+      if (.not. allocated(error)) call mark(h5, '/metaData', 'dict', error)
       if (.not. allocated(error)) call put_string(h5, '/metaData/source', 'ffrf', error)
       if (.not. allocated(error)) call put_string(h5, '/metaData/body', body%name, error)
       if (.not. allocated(error)) call put_string(h5, '/metaData/basis', &
          choice_name(basis_choices, body%basis, missing='none'), error)
       if (allocated(error)) return
       ! nodes (metres) and elements (0-based, Exudyn's order)
-      call h5%set_text_attribute('/nodes', 'datatype', 'dict', error)
+      call mark(h5, '/nodes', 'dict', error)
       if (.not. allocated(error)) call put_array(h5, '/nodes/Position', body%mesh%xyz, 'm', error)
       if (allocated(error)) return
       if (body%mesh%nodes_per_tet == 10) then
@@ -97,30 +96,28 @@ contains
          element_type = 'Tet4'
          tets = body%mesh%tets(1:4, :) - 1_ip
       end if
-      call h5%set_text_attribute('/elements', 'datatype', 'list', error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/elements/item_0', 'datatype', &
-         'dict', error)
+      call mark(h5, '/elements', 'list', error)
+      if (.not. allocated(error)) call mark(h5, '/elements/item_0', 'dict', error)
       if (.not. allocated(error)) call put_string(h5, '/elements/item_0/Name', body%name, error)
       if (.not. allocated(error)) call h5%write_int('/elements/item_0/' // element_type, tets, &
          error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/elements/item_0/' // &
-         element_type, 'datatype', 'ndarray', error)
+      if (.not. allocated(error)) call mark(h5, '/elements/item_0/' // element_type, &
+         'ndarray', error)
       if (.not. allocated(error)) call put_csr(h5, '/massMatrix', M, 'kg', error)
       if (.not. allocated(error)) call put_csr(h5, '/stiffnessMatrix', K, 'N/m', error)
       if (.not. allocated(error)) call put_surface(h5, body, error)
       if (allocated(error)) return
       ! one node set per interface, in the body's interface order
-      call h5%set_text_attribute('/nodeSets', 'datatype', 'list', error)
+      call mark(h5, '/nodeSets', 'list', error)
       do i_if = 1, size(body%interfaces)
          if (allocated(error)) return
          associate (f => body%interfaces(i_if))
             g = '/nodeSets/item_' // to_str(i_if - 1)
-            call h5%set_text_attribute(g, 'datatype', 'dict', error)
+            call mark(h5, g, 'dict', error)
             if (.not. allocated(error)) call put_string(h5, g // '/Name', f%name, error)
             if (.not. allocated(error)) call h5%write_int(g // '/NodeNumbers', f%nodes - 1_ip, &
                error)
-            if (.not. allocated(error)) call h5%set_text_attribute(g // '/NodeNumbers', &
-               'datatype', 'ndarray', error)
+            if (.not. allocated(error)) call mark(h5, g // '/NodeNumbers', 'ndarray', error)
             if (.not. allocated(error)) call put_array(h5, g // '/NodeWeights', &
                f%weights / sum(f%weights), '1', error)
             if (.not. allocated(error)) call put_string(h5, g // '/type', 'boundary', error)
@@ -132,12 +129,10 @@ contains
          end associate
       end do
       if (allocated(error)) return
-      call h5%set_text_attribute('/elementSets', 'datatype', 'list', error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/postProcessingModes', &
-         'datatype', 'dict', error)
+      call mark(h5, '/elementSets', 'list', error)
+      if (.not. allocated(error)) call mark(h5, '/postProcessingModes', 'dict', error)
       ! the mode basis (3 num_nodes, num_modes) and omega^2 (1/s^2)
-      if (.not. allocated(error)) call h5%set_text_attribute('/modeBasis', 'datatype', 'dict', &
-         error)
+      if (.not. allocated(error)) call mark(h5, '/modeBasis', 'dict', error)
       if (.not. allocated(error)) call put_array(h5, '/modeBasis/matrix', &
          transpose(body%shape), '1', error)
       if (allocated(error)) return
@@ -175,7 +170,7 @@ contains
             c = xyz(:, tet(corner(3)))
             d = xyz(:, tet(opposite))
             ! outward: the face normal (b - a) x (c - a) points away from the opposite corner
-            if (dot_product(cross(b - a, c - a), d - a) > 0.0_dp) corner = corner([1, 3, 2])
+            if (dot_product(cross3(b - a, c - a), d - a) > 0.0_dp) corner = corner([1, 3, 2])
             trigs(:, i) = tet(corner) - 1_ip
             if (body%mesh%nodes_per_tet == 10) then
                do j = 1, 3
@@ -185,18 +180,15 @@ contains
             end if
          end associate
       end do
-      call h5%set_text_attribute('/surface', 'datatype', 'list', error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/surface/item_0', 'datatype', &
-         'dict', error)
+      call mark(h5, '/surface', 'list', error)
+      if (.not. allocated(error)) call mark(h5, '/surface/item_0', 'dict', error)
       if (.not. allocated(error)) call put_string(h5, '/surface/item_0/Name', 'meshSurface', &
          error)
       if (.not. allocated(error)) call h5%write_int('/surface/item_0/Trigs', trigs, error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/surface/item_0/Trigs', &
-         'datatype', 'ndarray', error)
+      if (.not. allocated(error)) call mark(h5, '/surface/item_0/Trigs', 'ndarray', error)
       if (allocated(error) .or. body%mesh%nodes_per_tet /= 10) return
       call h5%write_int('/surface/item_0/Trigs6', trigs6, error)
-      if (.not. allocated(error)) call h5%set_text_attribute('/surface/item_0/Trigs6', &
-         'datatype', 'ndarray', error)
+      if (.not. allocated(error)) call mark(h5, '/surface/item_0/Trigs6', 'ndarray', error)
    end subroutine put_surface
 
    !> The Gmsh Tet10 edge (1..6, mid-side node 4 + edge) joining corners p and q.
@@ -210,12 +202,6 @@ contains
       end do
    end function edge_of
 
-   pure function cross(u, v) result(w)
-      real(dp), intent(in) :: u(3), v(3)
-      real(dp) :: w(3)
-      w = [u(2) * v(3) - u(3) * v(2), u(3) * v(1) - u(1) * v(3), u(1) * v(2) - u(2) * v(1)]
-   end function cross
-
    !> A CSR matrix as scipy's csr_matrix dictionary (0-based indices and pointers).
    subroutine put_csr(h5, path, A, units, error)
       type(h5_file_t), intent(inout) :: h5
@@ -224,7 +210,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer(ip) :: nnz
       nnz = A%row_ptr(A%num_rows + 1) - 1
-      call h5%set_text_attribute(path, 'datatype', 'csr_matrix', error)
+      call mark(h5, path, 'csr_matrix', error)
       if (.not. allocated(error)) call h5%write_real(path // '/data', A%val(1:nnz), units, error)
       if (.not. allocated(error)) call h5%write_int(path // '/indices', A%col(1:nnz) - 1_ip, &
          error)
@@ -233,13 +219,22 @@ contains
          [int(A%num_rows, i8), int(A%num_cols, i8)], error)
    end subroutine put_csr
 
+   !> The attribute datatype = `kind` of the group or dataset at `path` (a missing path becomes a
+   !> group), as a variable-length string: Exudyn's loader compares it with Python strings.
+   subroutine mark(h5, path, kind, error)
+      type(h5_file_t), intent(inout) :: h5
+      character(len=*), intent(in) :: path, kind
+      type(error_t), allocatable, intent(out) :: error
+      call h5%set_attribute(path, 'datatype', kind, error, variable=.true.)
+   end subroutine mark
+
    !> A string dataset as Exudyn stores a str (datatype 'str').
    subroutine put_string(h5, path, text, error)
       type(h5_file_t), intent(inout) :: h5
       character(len=*), intent(in) :: path, text
       type(error_t), allocatable, intent(out) :: error
       call h5%write_string(path, text, error)
-      if (.not. allocated(error)) call h5%set_text_attribute(path, 'datatype', 'str', error)
+      if (.not. allocated(error)) call mark(h5, path, 'str', error)
    end subroutine put_string
 
    !> A real vector as Exudyn stores a numpy array (datatype 'ndarray').
@@ -249,7 +244,7 @@ contains
       real(dp), intent(in) :: values(:)
       type(error_t), allocatable, intent(out) :: error
       call h5%write_real(path, values, units, error)
-      if (.not. allocated(error)) call h5%set_text_attribute(path, 'datatype', 'ndarray', error)
+      if (.not. allocated(error)) call mark(h5, path, 'ndarray', error)
    end subroutine put_vector
 
    !> A real matrix as Exudyn stores a numpy array (h5py sees the transposed shape).
@@ -259,7 +254,7 @@ contains
       real(dp), intent(in) :: values(:, :)
       type(error_t), allocatable, intent(out) :: error
       call h5%write_real(path, values, units, error)
-      if (.not. allocated(error)) call h5%set_text_attribute(path, 'datatype', 'ndarray', error)
+      if (.not. allocated(error)) call mark(h5, path, 'ndarray', error)
    end subroutine put_matrix
 
 end module ffrf_io_exudyn_body

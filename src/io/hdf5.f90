@@ -57,7 +57,6 @@ module ffrf_io_hdf5
       generic :: set_attribute => set_attribute_string, set_attribute_real, set_attribute_int
       generic :: read_attribute => read_attribute_string, read_attribute_real, &
          read_attribute_int
-      procedure :: set_text_attribute => h5_file_set_text_attribute
       procedure :: set_status => h5_file_set_status
       procedure :: get_status => h5_file_get_status
       procedure :: create_series => h5_file_create_series
@@ -364,7 +363,7 @@ module ffrf_io_hdf5
       ! ------------------------------------------------------------------ attributes
 
       !> Set (or replace) a string attribute of the group or dataset at `path` ('/' = root).
-      module subroutine set_attribute_string(self, path, name, value, error)
+      module subroutine set_attribute_string(self, path, name, value, error, variable)
          class(h5_file_t), intent(inout) :: self
          !> Absolute path of an existing group or dataset
          character(len=*), intent(in) :: path
@@ -373,22 +372,12 @@ module ffrf_io_hdf5
          !> Text
          character(len=*), intent(in) :: value
          type(error_t), allocatable, intent(out) :: error
+         !> .true.: a variable-length UTF-8 string (what h5py writes for a Python str and reads
+         !> back as str, for readers that compare it with one: Exudyn's LoadDictFromHDF5,
+         !> docs/results.md "Exudyn export"), and a missing `path` becomes a group (with its
+         !> parents); default .false.: fixed-length, NUL-padded
+         logical, intent(in), optional :: variable
       end subroutine set_attribute_string
-
-      !> Set (or replace) a variable-length UTF-8 string attribute (what h5py writes for a Python
-      !> str, and reads back as str) of the object at `path`; a missing path becomes a group
-      !> (with its parents). For readers that compare attributes with Python strings (Exudyn's
-      !> LoadDictFromHDF5: docs/results.md "Exudyn export").
-      module subroutine h5_file_set_text_attribute(self, path, name, value, error)
-         class(h5_file_t), intent(inout) :: self
-         !> Absolute path of a group or dataset, or of a group to create
-         character(len=*), intent(in) :: path
-         !> Attribute name
-         character(len=*), intent(in) :: name
-         !> Text
-         character(len=*), intent(in) :: value
-         type(error_t), allocatable, intent(out) :: error
-      end subroutine h5_file_set_text_attribute
 
       !> Set (or replace) a real scalar attribute.
       module subroutine set_attribute_real(self, path, name, value, error)

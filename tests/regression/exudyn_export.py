@@ -232,6 +232,9 @@ def stage_hinge(args):
     import exudyn as exu
     import exudyn.itemInterface as eii
     from exudyn.FEM import ObjectFFRFreducedOrderInterface
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "postprocess"))
+    import peer_exudyn_engine
     failures = []
     os.makedirs(args.work, exist_ok=True)
     modal = os.path.join(args.work, "hinge_modes.nml")
@@ -262,16 +265,6 @@ def stage_hinge(args):
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     ground = mbs.AddObject(eii.ObjectGround())
-    node_rigid = mbs.AddNode(eii.NodeRigidBodyEP(referenceCoordinates=[0.0] * 3 + [1, 0, 0, 0],
-                                                 initialVelocities=[0.0] * 7))
-    m = cms.nModes
-    node_modal = mbs.AddNode(eii.NodeGenericODE2(numberOfODE2Coordinates=m,
-                                                 referenceCoordinates=[0.0] * m,
-                                                 initialCoordinates=[0.0] * m,
-                                                 initialCoordinates_t=[0.0] * m))
-    kmc, mmc = exu.MatrixContainer(), exu.MatrixContainer()
-    kmc.SetWithDenseMatrix(cms.stiffnessMatrixReduced, useDenseMatrix=False)
-    mmc.SetWithDenseMatrix(cms.massMatrixReduced, useDenseMatrix=False)
     # the mode rows of the interface nodes only (all the markers use; every inertia term comes
     # from the whole mesh through cms), as postprocess/peer_exudyn_engine.py does
     node_set = {s["Name"]: s for s in fem.nodeSets}
@@ -279,14 +272,8 @@ def stage_hinge(args):
     local = -np.ones(len(fem.nodes["Position"]), dtype=np.int64)
     local[kept] = np.arange(len(kept))
     rows = (3 * kept[:, None] + np.arange(3)).ravel()
-    obj = mbs.AddObject(eii.ObjectFFRFreducedOrder(
-        nodeNumbers=[node_rigid, node_modal], stiffnessMatrixReduced=kmc,
-        massMatrixReduced=mmc, modeBasis=cms.modeBasis[rows], referencePositions=cms.xRef[rows],
-        mass=cms.totalMass, inertia=cms.inertiaLocal, centerOfMass=cms.chiU,
-        mPsiTildePsi=cms.mPsiTildePsi, mPsiTildePsiTilde=cms.mPsiTildePsiTilde,
-        mPhitTPsi=cms.mPhitTPsi, mPhitTPsiTilde=cms.mPhitTPsiTilde,
-        mXRefTildePsi=cms.mXRefTildePsi, mXRefTildePsiTilde=cms.mXRefTildePsiTilde,
-        computeFFRFterms=True, visualization=eii.VObjectFFRFreducedOrder(show=False)))
+    obj, node_rigid, node_modal = peer_exudyn_engine.add_reduced_body(
+        exu, mbs, cms, [0.0, 0.0, 0.0], cms.modeBasis[rows], cms.xRef[rows])
     s = node_set["big_end"]
     w = s["NodeWeights"]
     centroid = w @ fem.nodes["Position"][s["NodeNumbers"]]
@@ -303,24 +290,8 @@ def stage_hinge(args):
     s_modal = mbs.AddSensor(eii.SensorNode(nodeNumber=node_modal, storeInternal=True,
                                            outputVariableType=exu.OutputVariableType.Coordinates))
     mbs.Assemble()
-    ss = exu.SimulationSettings()
-    ti = ss.timeIntegration
-    ti.endTime = HINGE_T_END
-    ti.numberOfSteps = int(round(HINGE_T_END / HINGE_H))
-    ti.verboseMode = 0
-    ti.adaptiveStep = False
-    ti.newton.useModifiedNewton = True
-    ti.newton.relativeTolerance = 1e-12
-    ti.newton.absoluteTolerance = 1e-14
-    ti.generalizedAlpha.computeInitialAccelerations = True
-    ti.generalizedAlpha.spectralRadius = HINGE_RHO
-    ti.generalizedAlpha.useIndex2Constraints = False
-    ti.generalizedAlpha.useNewmark = False
-    ss.solutionSettings.writeSolutionToFile = False
-    ss.solutionSettings.sensorsWritePeriod = HINGE_H
-    ss.linearSolverType = exu.LinearSolverType.EXUdense
-    ss.displayStatistics = False
-    ss.displayComputationTime = False
+    ss = peer_exudyn_engine.simulation_settings(exu, HINGE_H, HINGE_T_END, HINGE_RHO, 1e-12,
+                                                1e-14)
     exu.SolveDynamic(mbs, ss, solverType=exu.DynamicSolverType.GeneralizedAlpha, showHints=False)
     rot = mbs.GetSensorStoredData(s_rot)
     zeta = mbs.GetSensorStoredData(s_modal)[:, 1:]
