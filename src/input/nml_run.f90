@@ -86,7 +86,7 @@ contains
    end function log_level_code
 
    !> Every word of &run export is a word of export_choices; `where` starts the message
-   !> (FILE:LINE: &run export).
+   !> (FILE:LINE: &run export = 'value').
    subroutine check_export(where, export, error)
       character(len=*), intent(in) :: where, export
       type(error_t), allocatable, intent(out) :: error
@@ -95,9 +95,8 @@ contains
       words = export_words(export)
       do k = 1, size(words)
          if (choice_position(export_choices, words(k)) > 0) cycle
-         call fatal_error(error, FFRF_INPUT_ERROR, where // ' = ''' // trim(export) // ''': ''' &
-            // trim(words(k)) // ''' is no export; use blank-separated words of: ' // &
-            choice_words(export_choices))
+         call fatal_error(error, FFRF_INPUT_ERROR, where // ': ''' // trim(words(k)) // &
+            ''' is no export; use blank-separated words of: ' // choice_words(export_choices))
          return
       end do
    end subroutine check_export
