@@ -12,6 +12,7 @@ module ffrf_core_choices
    public :: MPC_RBE2, MPC_RBE3, mpc_choices
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
    public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
+   public :: EXPORT_EXUDYN, export_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
@@ -43,6 +44,11 @@ module ffrf_core_choices
    integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
    type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
       choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
+
+   !> Exports beside the results (&run export, a list of these words): 'exudyn', each flexible
+   !> body as a file Exudyn's FEMinterface.LoadFromFile loads (docs/results.md "Exudyn export")
+   integer, parameter :: EXPORT_EXUDYN = 1
+   type(choice_t), parameter :: export_choices(*) = [choice_t('exudyn', EXPORT_EXUDYN)]
 
 contains
 
