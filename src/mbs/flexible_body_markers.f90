@@ -30,7 +30,7 @@ contains
       do j = 1, 3
          X(:, j) = X(:, j) + w_position * b_p(j)
       end do
-      H(4:7, 4:7) = euler_quadratic_hessian(X)
+      H(4:7, 4:7) = euler_hessian(X)
       ! theta-zeta, mode by mode (3-vectors, no m-sized temporaries)
       T = rotation_vector_tangent(phi)
       Z = theta_gradient_matrix(q(4:7), w_position)
@@ -96,18 +96,6 @@ contains
          Z(:, c) = matmul(w, rotated_vector_jacobian(theta, unit_axes(:, c)))
       end do
    end function theta_gradient_matrix
-
-   !> Hessian in theta of sum w^T A(theta) b, from X = sum w b^T (4 x 4; A + I = 2 e0^2 I
-   !> + 2 e e^T + 2 e0 e~ is a quadratic form): H_00 = 4 tr X, H_ee = 2 (X + X^T),
-   !> H_0e = 2 sum b x w.
-   pure function euler_quadratic_hessian(X) result(H)
-      real(dp), intent(in) :: X(3, 3)
-      real(dp) :: H(4, 4)
-      H(1, 1) = 4.0_dp * (X(1, 1) + X(2, 2) + X(3, 3))
-      H(2:4, 1) = 2.0_dp * [X(3, 2) - X(2, 3), X(1, 3) - X(3, 1), X(2, 1) - X(1, 2)]
-      H(1, 2:4) = H(2:4, 1)
-      H(2:4, 2:4) = 2.0_dp * (X + transpose(X))
-   end function euler_quadratic_hessian
 
    module procedure flexible_body_marker_force_tangent
       real(dp) :: A(3, 3), G_bar(3, 4), u(3), y(3), n(3), p(3), dy(3, 4), dn(3, 4), phi(3)
