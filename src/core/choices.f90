@@ -12,10 +12,15 @@ module ffrf_core_choices
    public :: MPC_RBE2, MPC_RBE3, mpc_choices
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
    public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
+   public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
+      SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
+      SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_SPRING, SENSOR_DRIVER, &
+      SENSOR_TORSION_SPRING, SENSOR_BUSHING, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED, &
+      sensor_choices, rotor_sensor_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
-      character(len=16) :: word = ''
+      character(len=20) :: word = ''
       integer :: kind = 0
    end type choice_t
 
@@ -43,6 +48,27 @@ module ffrf_core_choices
    integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
    type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
       choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
+
+   !> Sensor kinds (&sensor type; src/mbs/sensors.f90 has their values and units). The rotor
+   !> kinds have no &sensor word: the engine adds them (rotor_sensor_choices names them).
+   integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
+      SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
+      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
+      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_DRIVER = 12, &
+      SENSOR_TORSION_SPRING = 13, SENSOR_BUSHING = 14, SENSOR_ROTOR_ANGLE = 15, &
+      SENSOR_ROTOR_SPEED = 16
+   type(choice_t), parameter :: sensor_choices(*) = [choice_t('position', SENSOR_POSITION), &
+      choice_t('velocity', SENSOR_VELOCITY), choice_t('acceleration', SENSOR_ACCELERATION), &
+      choice_t('orientation', SENSOR_ORIENTATION), &
+      choice_t('angular_velocity', SENSOR_ANGULAR_VELOCITY), &
+      choice_t('joint_coordinate', SENSOR_JOINT_COORDINATE), &
+      choice_t('reaction', SENSOR_REACTION), choice_t('energy', SENSOR_ENERGY), &
+      choice_t('node_displacement', SENSOR_NODE_DISPLACEMENT), &
+      choice_t('node_position', SENSOR_NODE_POSITION), choice_t('spring', SENSOR_SPRING), &
+      choice_t('driver', SENSOR_DRIVER), choice_t('torsion_spring', SENSOR_TORSION_SPRING), &
+      choice_t('bushing', SENSOR_BUSHING)]
+   type(choice_t), parameter :: rotor_sensor_choices(*) = [ &
+      choice_t('rotor_angle', SENSOR_ROTOR_ANGLE), choice_t('rotor_speed', SENSOR_ROTOR_SPEED)]
 
 contains
 
