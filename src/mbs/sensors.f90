@@ -43,7 +43,7 @@ module ffrf_mbs_sensors
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
-   use ffrf_core_choices, only: choice_position, choice_name, choice_words, sensor_choices, &
+   use ffrf_core_choices, only: choice_kind_of, choice_name, choice_words, sensor_choices, &
       rotor_sensor_choices, SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, &
       SENSOR_ORIENTATION, SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, &
       SENSOR_ENERGY, SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_SPRING, &
@@ -108,9 +108,7 @@ contains
    !> The kind of a &sensor type word (a user word, any case; 0 if none).
    pure integer function sensor_kind_of(word) result(kind)
       character(len=*), intent(in) :: word
-      kind = 0
-      if (choice_position(sensor_choices, word) > 0) &
-         kind = sensor_choices(choice_position(sensor_choices, word))%kind
+      kind = choice_kind_of(sensor_choices, word)
    end function sensor_kind_of
 
    !> The word of a kind (the rotor kinds included).
