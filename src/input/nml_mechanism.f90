@@ -107,7 +107,7 @@ module ffrf_input_nml_mechanism
       torsion_spring_input_t, bushing_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices, &
       quantity_choices
-   use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
+   use ffrf_mbs_time_function, only: time_function_t, time_law_choices, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
@@ -263,7 +263,7 @@ contains
       times%max_count = max_table_points
       values = real_key('table_value', -1.0e12_dp, 1.0e12_dp, '')
       values%max_count = max_table_points
-      keys = [choice_key('law', 16, time_function_words), &
+      keys = [choice_key('law', 16, choice_words(time_law_choices)), &
          real_key('initial', -1.0e12_dp, 1.0e12_dp, ''), &
          real_key('final', -1.0e12_dp, 1.0e12_dp, ''), &
          real_key('speed', -1.0e12_dp, 1.0e12_dp, '1/s'), &
