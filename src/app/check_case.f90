@@ -29,6 +29,7 @@ module ffrf_app_check_case
    use ffrf_app_mechanism_builder, only: make_pressure_model, check_joint_frames
    use ffrf_app_body_modes, only: check_stored_modes
    use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
+   use ffrf_mbs_generalized_alpha, only: GALPHA_INDEX3
    implicit none
    private
    public :: check_case
@@ -63,12 +64,13 @@ contains
          return
       end if
       ! as galpha_init at the run's start, after the modes: a mechanism always has constraints
-      if (case%is_mechanism .and. model%mechanism%integrator%rho_inf >= 1.0_dp) then
+      if (case%is_mechanism .and. model%mechanism%integrator%rho_inf >= 1.0_dp .and. &
+         model%mechanism%integrator%constraints == GALPHA_INDEX3) then
          call fatal_error(error, FFRF_INPUT_ERROR, case%file_name // ': &integrator rho_inf = ' &
             // to_str(model%mechanism%integrator%rho_inf) // ': generalized-alpha without ' // &
             'numerical damping is unstable with the index-3 constraints of a mechanism (its ' // &
             'joints and Euler rows; the run refuses it after computing the modes); use ' // &
-            'rho_inf < 1, typically 0.6 to 0.9')
+            'rho_inf < 1, typically 0.6 to 0.9, or constraints = ''index2''')
          return
       end if
       ! as build_mechanism: the joint frames of two oriented markers, in the given poses
