@@ -73,7 +73,7 @@ contains
    contains
       !> &marker k: the namelist read into its fields (absent keys keep their defaults), then
       !> its rules: body and name, given once, an orientation that is a rotation, a mesh point
-      !> (node or group) that is not also given a position.
+      !> (node or group) that is not also given a position, no weighting at a node.
       subroutine read_marker(body, name, position, orientation, node, group, weighting)
          character(len=*), intent(inout) :: body, name, group, weighting
          real(dp), intent(inout) :: position(3), orientation(9)
@@ -93,6 +93,12 @@ contains
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'group') // &
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives node ' // &
                'and group; give one (a mesh node, or the centre of a physical group)')
+         else if (node > 0 .and. src%has_key('marker', k, 'weighting')) then
+            ! (issue 24) the RBE3 weights of a group's point mean nothing at a single node
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'weighting') // &
+               ': marker "' // trim(name) // '" of body "' // trim(body) // '" is at node ' // &
+               to_str(node) // ', where weighting (the RBE3 weights of a group marker) means ' &
+               // 'nothing; drop weighting')
          else if ((node > 0 .or. len_trim(group) > 0) .and. any(position /= 0.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'position') // &
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives a ' // &
