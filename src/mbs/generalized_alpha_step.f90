@@ -454,14 +454,20 @@ contains
          abs(trial%Phi_q)) + abs(matmul(trial%M, trial%qdd) + matmul(trial%lambda, &
          trial%Phi_q) - trial%r_q)
       self%residual_floor = matmul(abs(tangent), u) + epsilon(1.0_dp) * terms
-      self%constraint_floor = matmul(abs(trial%Phi_q(self%active, :)), u)
-      ! Index 2: the floor of the velocity rows, |Phi_q| eps |q'| beta h / gamma, after Phi's
-      if (order > n + nr) self%constraint_floor = [self%constraint_floor, &
-         trial%velocity_scale * matmul(abs(trial%Phi_q(self%active, :)), &
-         epsilon(1.0_dp) * abs(trial%v))]
+      if (order == n + nr) then
+         self%constraint_floor = matmul(abs(trial%Phi_q(self%active, :)), u)
+      else
+         ! Index 2: the floor of the velocity rows, |Phi_q| eps |q'| beta h / gamma, after Phi's
+         if (allocated(self%constraint_floor)) deallocate (self%constraint_floor)
+         allocate (self%constraint_floor(2 * nr))
+         self%constraint_floor(:nr) = matmul(abs(trial%Phi_q(self%active, :)), u)
+         self%constraint_floor(nr + 1:) = trial%velocity_scale * &
+            matmul(abs(trial%Phi_q(self%active, :)), epsilon(1.0_dp) * abs(trial%v))
+      end if
       noise(:n) = bh2 * self%residual_floor
-      if (nr > 0) noise(n + 1:) = [(self%row_scale, i=1, (order - n) / nr)] * &
-         self%constraint_floor
+      do i = 1, order - n
+         noise(n + i) = self%row_scale(mod(i - 1, nr) + 1) * self%constraint_floor(i)
+      end do
       self%increment_floor = [(0.0_dp, i=1, n + nr)]
       do pattern = 1, 2
          do i = 1, order
