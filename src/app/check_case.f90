@@ -6,8 +6,9 @@
 !> modes of a body with &body modes_file (read and checked against the body's fingerprint by the
 !> run's own check, check_stored_modes). Meant for quick validation, e.g. by a fuzzer: no results
 !> file is written and no matrix is assembled. What a mechanism run would refuse only after the
-!> modes is refused here too: rho_inf = 1 (generalized-alpha refuses it with constraints, and
-!> every mechanism has its joints and Euler rows: ffrf_mbs_generalized_alpha). Gravity is
+!> modes is refused here too: rho_inf = 1 with the default index-3 constraints (generalized-alpha
+!> refuses it with constraints, and every mechanism has its joints and Euler rows:
+!> ffrf_mbs_generalized_alpha; constraints = 'index2' accepts it, theory.md 4.6). Gravity is
 !> accepted on every body kind (rigid and flexible, docs/theory.md 3.6), so there is nothing
 !> about it to refuse.
 module ffrf_app_check_case
