@@ -22,7 +22,7 @@ module ffrf_input_case
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys, &
-      torsion_spring_keys, bushing_keys, jacobian_choices
+      torsion_spring_keys, bushing_keys, jacobian_choices, constraints_choices
    use ffrf_core_choices, only: choice_name
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set

@@ -261,6 +261,10 @@ contains
          ! The linear solver's switch only when set (the default's results are every run's)
          if (s%sparse_threshold /= default_settings%sparse_threshold) text = text // &
             ', sparse_threshold = ' // to_str(s%sparse_threshold)
+         ! The constraint formulation only when set (index3, the default, is every run's)
+         if (s%constraints /= default_settings%constraints) text = text // &
+            ', constraints = ''' // choice_name(constraints_choices, s%constraints, 'index3') &
+            // ''''
          ! Energy watch keys only when set (the default watch is in every run)
          if (mech%energy_watch%mode /= default_watch%mode) text = text // &
             ', energy_watch = ''' // energy_watch_word(mech%energy_watch%mode) // ''''
