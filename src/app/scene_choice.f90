@@ -51,7 +51,7 @@ contains
       type(mesh_point_t) :: point
       real(dp), allocatable :: attached(:), relative(:, :)
       logical, allocatable :: grounded(:)
-      integer, allocatable :: node_index(:), at_interface(:)
+      integer, allocatable :: node_index(:), at_interface(:), link_interface(:)
       integer :: p, j, other
       character(len=:), allocatable :: kept
 
@@ -79,7 +79,8 @@ contains
       where (grounded) attached = 0.0_dp
       relative = relative_shape(modes%virtual_node_shape, grounded)
       associate (record => choice%record)
-         allocate (node_index(size(record%names)), at_interface(size(record%names)), source=0)
+         allocate (node_index(size(record%names)), at_interface(size(record%names)), &
+            link_interface(size(record%names)), source=0)
          do p = 1, size(record%names)
             if (record%kinds(p) == TARGET_NODE .and. record%body(p) == k) then
                call build_mesh_point(modes%mesh, record%node(p), '', 0, point, error)
@@ -89,6 +90,15 @@ contains
                   return
                end if
                node_index(p) = point%nodes(1)
+            else if (record%kinds(p) == TARGET_NODE) then
+               do j = 1, size(model%mechanism%joints)
+                  associate (joint => model%mechanism%joints(j))
+                     if (joint%body(1) == k .and. joint%body(2) == record%body(p)) &
+                        link_interface(p) = joint%marker(1)
+                     if (joint%body(2) == k .and. joint%body(1) == record%body(p)) &
+                        link_interface(p) = joint%marker(2)
+                  end associate
+               end do
             else if (record%kinds(p) == TARGET_REACTION) then
                associate (joint => model%mechanism%joints(record%joint(p)))
                   do j = 1, 2
@@ -100,8 +110,8 @@ contains
          end do
          call scene_select_modes(record, k, modes%frequency_hz, modes%shape, &
             modes%virtual_node_shape, relative, mass_matrix, modes%mesh%xyz, attached, &
-            case%motions(k)%modal_damping, node_index, at_interface, record%tolerances / &
-            3.0_dp, selection)
+            case%motions(k)%modal_damping, node_index, at_interface, link_interface, &
+            record%tolerances / 3.0_dp, selection)
       end associate
       body%name = input%name
       body%mesh_file = input%mesh_file

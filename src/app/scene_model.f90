@@ -21,7 +21,10 @@
 !>    gets the change of the force the joint carries, the inertia of the mode's motion:
 !>    |b_j| |x_j''(t)|, b_j = s_j + sum_i m_i u~_ij (the mode's momentum with the jointed masses,
 !>    u~ relative to the grounded interfaces), or m_i |u~_ij| at the joint's own interface i if
-!>    larger. The sensor's peak P_s = max_t r_s(t) = r_s(t_p) (r: |F| in the pre-run; |sum over
+!>    larger. A node target on a body B jointed to body k at interface i: the mode shakes B's
+!>    base by u_ij x_j'', a relative change 2 |u_ij x_j''(t)| / max_t |g - a0|_B of B's load
+!>    field (the 2 of a suddenly applied load), taken as the relative error of the deflection
+!>    (quasi-static in B). Bodies not jointed directly are not estimated. The sensor's peak P_s = max_t r_s(t) = r_s(t_p) (r: |F| in the pre-run; |sum over
 !>    the candidates Psi_n x| for a node) moves by a perturbation of magnitude at most d(t) by
 !>    at most max(d(t_p), max_t (r_s + d) - P_s): a mode's error e_sj is this over P_s for
 !>    d = |c_sj|, the dropped modes' for d = sum of their |c_sj|. Modes are dropped, smallest
@@ -96,13 +99,16 @@ contains
    !> `at_interface(s)`: the interface of body k at reaction target s's joint whose other body
    !> is not the ground (0: none). Updates record%peak and record%curvature of node targets.
    subroutine scene_select_modes(record, k, frequency_hz, shape, virtual_node_shape, relative, &
-         mass_matrix, xyz, attached, zeta, node_index, at_interface, budgets, selection)
+         mass_matrix, xyz, attached, zeta, node_index, at_interface, link_interface, budgets, &
+         selection)
       type(scene_record_t), intent(inout) :: record
       integer, intent(in) :: k
       real(dp), intent(in) :: frequency_hz(:), shape(:, :), virtual_node_shape(:, :)
       real(dp), intent(in) :: relative(:, :), xyz(:, :), attached(:), zeta
       type(csr_t), intent(in) :: mass_matrix
       integer, intent(in) :: node_index(:), at_interface(:)
+      !> For a node target on another body: the interface of body k jointed to it (0: none)
+      integer, intent(in) :: link_interface(:)
       real(dp), intent(in) :: budgets(:)
       type(scene_selection_t), intent(out) :: selection
       real(dp), allocatable :: s(:, :), big_s(:, :, :), force(:, :), x(:, :), v(:, :), a(:, :)
@@ -155,6 +161,18 @@ contains
                dynamic_part(:, j, p) = norm2(shape(3 * m - 2:3 * m, j)) * abs(x(:, j) - &
                   force(:, j) / (2.0_dp * pi * frequency_hz(j))**2)
             end do
+         else if (record%kinds(p) == TARGET_NODE .and. link_interface(p) > 0) then
+            ! a node of the body jointed at interface i: the mode shakes its base, a relative
+            ! change of its load field of |u_ij x_j''| / max |g - a0|, twice for the transient
+            i = link_interface(p)
+            associate (other => record%bodies(record%body(p)))
+               c = maxval(norm2(other%gravity - other%acceleration, dim=1))
+            end associate
+            do j = 1, nm
+               contribution(:, j, p) = 2.0_dp * norm2(relative(6 * i - 5:6 * i - 3, j)) * &
+                  abs(a(:, j)) / max(c, tiny(1.0_dp))
+               dynamic_part(:, j, p) = contribution(:, j, p)
+            end do
          else if (record%kinds(p) == TARGET_REACTION) then
             do j = 1, nm
                momentum = s(:, j)
@@ -172,8 +190,8 @@ contains
       allocate (selection%error(nr, nm), selection%dynamic(nr, nm), source=0.0_dp)
       do p = 1, nr
          do j = 1, nm
-            selection%error(p, j) = peak_error(record, p, contribution(:, j, p))
-            selection%dynamic(p, j) = peak_error(record, p, dynamic_part(:, j, p))
+            selection%error(p, j) = target_error(p, contribution(:, j, p))
+            selection%dynamic(p, j) = target_error(p, dynamic_part(:, j, p))
          end do
       end do
       ! drop the candidates of smallest relative error while every target's budget holds for
@@ -189,7 +207,7 @@ contains
          j = minloc(score, dim=1, mask=keep .and. score < huge(1.0_dp))
          if (j == 0) exit
          do p = 1, nr
-            trial(p) = peak_error(record, p, envelope(:, p) + contribution(:, j, p))
+            trial(p) = target_error(p, envelope(:, p) + contribution(:, j, p))
          end do
          if (any(trial > budgets)) then
             score(j) = huge(1.0_dp)
@@ -200,6 +218,18 @@ contains
          keep(j) = .false.
       end do
       selection%kept = pack([(j, j=1, nm)], keep)
+   contains
+      !> The error of target p for a perturbation d: peak_error, or max d for a node target of
+      !> another body (d relative already).
+      real(dp) function target_error(p, d)
+         integer, intent(in) :: p
+         real(dp), intent(in) :: d(:)
+         if (record%kinds(p) == TARGET_NODE .and. link_interface(p) > 0) then
+            target_error = maxval(d)
+         else
+            target_error = peak_error(record, p, d)
+         end if
+      end function target_error
    end subroutine scene_select_modes
 
    !> Bound of the change of target p's peak P = max r(t) = r(t_p) by a perturbation of
