@@ -39,7 +39,7 @@
 module ffrf_app_scene_model
    use ffrf_core_kinds, only: dp, pi
    use ffrf_la_sparse, only: csr_t, csr_matvec
-   use ffrf_app_engine_model_selection, only: galpha_response, galpha_mode, jointed_mass_share, &
+   use ffrf_app_model_estimates, only: galpha_response, galpha_mode, jointed_mass_share, &
       STEP_LADDER
    implicit none
    private
