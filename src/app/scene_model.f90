@@ -24,7 +24,8 @@
 !>    larger. A node target on a body B jointed to body k at interface i: the mode shakes B's
 !>    base by u_ij x_j'', a relative change 2 |u_ij x_j''(t)| / max_t |g - a0|_B of B's load
 !>    field (the 2 of a suddenly applied load), taken as the relative error of the deflection
-!>    (quasi-static in B). Bodies not jointed directly are not estimated. The sensor's peak P_s = max_t r_s(t) = r_s(t_p) (r: |F| in the pre-run; |sum over
+!>    (quasi-static in B). Bodies not jointed directly are not estimated. The sensor's peak
+!>    P_s = max_t r_s(t) = r_s(t_p) (r: |F| in the pre-run; |sum over
 !>    the candidates Psi_n x| for a node) moves by a perturbation of magnitude at most d(t) by
 !>    at most max(d(t_p), max_t (r_s + d) - P_s): a mode's error e_sj is this over P_s for
 !>    d = |c_sj|, the dropped modes' for d = sum of their |c_sj|. Modes are dropped, smallest
