@@ -35,8 +35,13 @@ contains
                      'stiffening)')
                   return
                end if
-               call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
-                  built%modes, mass_matrix, error)
+               if (model%scene) then
+                  call scene_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                     built%modes, mass_matrix, error)
+               else
+                  call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                     built%modes, mass_matrix, error)
+               end if
             else if (resolved%body%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
                call compute_body_modes_from_file(resolved%body, resolved%interfaces, &

@@ -277,7 +277,10 @@ contains
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
             ', candidate_modes = ' // to_str(mech%model%candidate_modes) // &
-            ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6) // ' /' // nl
+            ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6)
+         if (len_trim(mech%model%targets) > 0) text = text // ', targets = ''' // &
+            nml_string(trim(mech%model%targets)) // ''''
+         text = text // ' /' // nl
       end associate
    end function mechanism_echo
 

@@ -104,7 +104,7 @@ module ffrf_input_nml_mechanism
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
-      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, parse_targets, &
       torsion_spring_input_t, bushing_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices, &
       quantity_choices
@@ -336,7 +336,8 @@ contains
          real_key('speed_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          real_key('force_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          integer_key('candidate_modes', 1_i8, 200_i8), &
-         real_key('resonance_floor', 0.0_dp, 1.0_dp, '', lower_open=.true.)]
+         real_key('resonance_floor', 0.0_dp, 1.0_dp, '', lower_open=.true.), &
+         string_key('targets', 512)]
    end function model_keys
 
    !> Read every mechanism group of the open case file.

@@ -8,22 +8,25 @@ contains
    module procedure read_model_group
       integer :: stat
       character(len=512) :: msg
+      character(len=64), allocatable :: names(:)
+      real(dp), allocatable :: tolerances(:)
       rewind (unit)
       call read_model(input%selection, input%speed_tolerance, input%force_tolerance, &
-         input%candidate_modes, input%resonance_floor)
+         input%candidate_modes, input%resonance_floor, input%targets)
       if (is_iostat_end(stat)) return
       call read_status(src, 'model', 0, stat, msg, error)
+      if (.not. allocated(error)) call parse_targets(input%targets, names, tolerances, error)
       ! selection's word and the ranges were checked by the key spec (model_keys)
       input%selection = to_lower(input%selection)
    contains
       !> The namelist read of &model into its fields (absent keys keep their values).
       subroutine read_model(selection, speed_tolerance, force_tolerance, candidate_modes, &
-            resonance_floor)
-         character(len=*), intent(inout) :: selection
+            resonance_floor, targets)
+         character(len=*), intent(inout) :: selection, targets
          real(dp), intent(inout) :: speed_tolerance, force_tolerance, resonance_floor
          integer, intent(inout) :: candidate_modes
          namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
-            resonance_floor
+            resonance_floor, targets
          read (unit, nml=model, iostat=stat, iomsg=msg)
       end subroutine read_model
    end procedure read_model_group
