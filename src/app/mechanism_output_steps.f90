@@ -10,7 +10,9 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_steps
    use ffrf_core_log, only: peak_memory_mib, wall_time
    use ffrf_input_case, only: case_echo
    use ffrf_io_results, only: partial_name, commit_file, abandon_file, check_no_overwrite
-   use ffrf_app_output_paths, only: check_output_paths
+   use ffrf_app_output_paths, only: check_output_paths, export_asked
+   use ffrf_core_choices, only: EXPORT_XDMF
+   use ffrf_io_xdmf, only: xdmf_body_t, write_xdmf_file, xdmf_name
    use ffrf_app_engine_crank_log, only: crank_progress
    use ffrf_mbs_reaction_split, only: TOLERANCE_FACTOR
    use ffrf_app_engine_auto_model, only: write_model_choice
@@ -220,7 +222,9 @@ contains
       type(error_t), allocatable :: state_error, close_error
       type(stage_timer_t) :: timer
       character(len=:), allocatable :: status
-      logical :: closed
+      logical :: closed, xdmf
+      !> The bodies of the XDMF export (&run export = 'xdmf')
+      type(xdmf_body_t), allocatable :: exported(:)
       if (.not. self%started) then
          if (self%reserved .and. allocated(run_error)) then
             if (run_error%code /= FFRF_INTERRUPTED) call record_failed_start(self, bodies, &
@@ -257,9 +261,10 @@ contains
          call timer%begin()
          call write_run_information(results, mech, integrator, error)
          if (.not. allocated(error)) call write_warnings(results, self%watch, log, error)
-         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
-            .not. interrupted(run_error)) call write_animations(case, self%options, bodies, &
-            self%history, log, error)
+         xdmf = export_asked(case, EXPORT_XDMF)
+         if (.not. allocated(error) .and. (case%mechanism%mechanism%animation_frames > 0 .or. &
+            xdmf) .and. .not. interrupted(run_error)) call write_animations(case, self%options, &
+            bodies, self%history, log, results, xdmf, exported, error)
          call self%times%add('output', timer%seconds())
          call self%times%add('total', self%total%seconds())
          ! A failed, interrupted or stopped run: its file goes into place when it could be closed
@@ -302,6 +307,16 @@ contains
          end if
          call remove_checkpoint(results_file)
          call log%info('output', 'results written: ' // results_file)
+         if (xdmf .and. allocated(exported)) then
+            ! beside the results file, which it names relative to its own folder
+            call write_xdmf_file(xdmf_name(results_file), results_file(index(results_file, &
+               '/', back=.true.) + 1:), exported, error)
+            if (allocated(error)) then
+               call self%release()
+               return
+            end if
+            call log%info('output', 'XDMF for ParaView written: ' // xdmf_name(results_file))
+         end if
          call log%info('done', case%name // ': ' // to_str(self%total%seconds(), 3) // ' s, ' &
             // 'peak memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
       end associate

@@ -12,6 +12,8 @@ module ffrf_core_choices
    public :: MPC_RBE2, MPC_RBE3, mpc_choices
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
    public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
+   public :: choice_kinds
+   public :: EXPORT_XDMF, export_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
@@ -43,6 +45,12 @@ module ffrf_core_choices
    integer, parameter :: BASIS_NONE = 0, BASIS_RC_NORMAL = 1, BASIS_CRAIG_BAMPTON = 2
    type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
       choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
+
+   !> Exports beside the results file (&run export, a list of words, each one dispatched by the
+   !> applications): XDMF 3 for ParaView (src/io/xdmf.f90)
+   integer, parameter :: EXPORT_XDMF = 1
+   type(choice_t), parameter :: export_choices(*) = [ &
+      choice_t('xdmf', EXPORT_XDMF)]
 
 contains
 
@@ -104,5 +112,41 @@ contains
       end if
       kind = table(position)%kind
    end subroutine choice_kind
+
+   !> The kinds of a list of words of `table` (separated by blanks or commas, any case), in the
+   !> order given, a repeated word kept once; an unknown word is choice_kind's error.
+   subroutine choice_kinds(table, key, what, words, kinds, error)
+      type(choice_t), intent(in) :: table(:)
+      !> The key (with its group or owner) and what a word of the table is, for the message
+      character(len=*), intent(in) :: key, what
+      !> The list, e.g. 'xdmf'
+      character(len=*), intent(in) :: words
+      integer, allocatable, intent(out) :: kinds(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=len(words)) :: text
+      integer :: first, last, kind, n
+      integer, allocatable :: grown(:)
+      text = words
+      do first = 1, len(text)
+         if (text(first:first) == ',') text(first:first) = ' '
+      end do
+      allocate (kinds(0))
+      last = 0
+      do
+         first = verify(text(last + 1:), ' ')
+         if (first == 0) exit
+         first = first + last
+         last = index(text(first:), ' ') + first - 2
+         if (last < first) last = len(text)
+         call choice_kind(table, key, what, text(first:last), kind, error)
+         if (allocated(error)) return
+         if (any(kinds == kind)) cycle
+         n = size(kinds)
+         allocate (grown(n + 1))
+         grown(:n) = kinds
+         grown(n + 1) = kind
+         call move_alloc(grown, kinds)
+      end do
+   end subroutine choice_kinds
 
 end module ffrf_core_choices

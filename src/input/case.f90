@@ -23,7 +23,7 @@ module ffrf_input_case
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys, &
       torsion_spring_keys, bushing_keys, jacobian_choices
-   use ffrf_core_choices, only: choice_name
+   use ffrf_core_choices, only: choice_name, choice_kinds, export_choices
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
    use ffrf_input_mechanism, only: body_motion_input_t, mechanism_case_input_t, GROUND_NAME, &
@@ -227,6 +227,7 @@ contains
       type(nml_source_t) :: src
       character(len=:), allocatable :: text
       integer :: unit, stat, k
+      integer, allocatable :: export_kinds(:)
       character(len=512) :: msg
       if (file_name == '-') then
          case%file_name = 'stdin'
@@ -311,6 +312,14 @@ contains
       if (.not. allocated(error)) call check_output_path(src%where('run', 1, &
          'mode_shapes_msh'), case%run%mode_shapes_msh, error)
       if (allocated(error)) return
+      ! &run export: a list of words of export_choices (the key spec sees one string)
+      call choice_kinds(export_choices, 'export', 'an export format', case%run%export, &
+         export_kinds, error)
+      if (allocated(error)) then
+         error%message = src%where('run', 1, 'export') // ': ' // error%message // &
+            ' (a blank-separated list, e.g. ''xdmf'')'
+         return
+      end if
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
       if (len_trim(case%run%mode_shapes_msh) == 0 .and. overrides_set(overrides, 'run', &
          'output')) then

@@ -12,7 +12,11 @@ contains
       text = '&run title = ''' // nml_string(case%run%title) // ''', output = ''' // &
          nml_string(case%run%output) // ''', mode_shapes_msh = ''' // &
          msh_name(case%run%mode_shapes_msh) // &
-         ''', log_level = ''' // nml_string(case%run%log_level) // ''' /' // nl
+         ''', log_level = ''' // nml_string(case%run%log_level) // ''''
+      ! export only when asked (the echo of a case without it is the one written before it existed)
+      if (len_trim(case%run%export) > 0) text = text // ', export = ''' // &
+         nml_string(case%run%export) // ''''
+      text = text // ' /' // nl
       do k = 1, size(case%bodies)
          associate (b => case%bodies(k))
             text = text // '&body name = ''' // nml_string(b%name) // ''', mesh_file = ''' // &

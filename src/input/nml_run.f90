@@ -6,6 +6,9 @@
 !>   mode_shapes_msh  Gmsh file to animate the modes (default <case>_modes.msh; 'none': no file);
 !>                    same rules as output
 !>   log_level        'quiet', 'info' (default) or 'debug'
+!>   export           files written beside the results file, a list of words of export_choices
+!>                    (ffrf_core_choices): 'xdmf' (<stem>.xdmf for ParaView); default '' (none).
+!>                    The words are checked by ffrf_input_case (check_export)
 !> Types, lengths and choices are checked by ffrf_input_nml_source from run_keys; the output
 !> paths by ffrf_input_case.
 module ffrf_input_nml_run
@@ -30,6 +33,8 @@ module ffrf_input_nml_run
       character(len=256) :: output = ''
       character(len=256) :: mode_shapes_msh = ''
       character(len=16) :: log_level = 'info'
+      !> Export words, lower case, blank-separated ('': none)
+      character(len=64) :: export = ''
    end type run_input_t
 
 contains
@@ -39,7 +44,7 @@ contains
       type(key_spec_t), allocatable :: keys(:)
       keys = [string_key('title', 256), string_key('output', 256), &
          string_key('mode_shapes_msh', 256), choice_key('log_level', 16, &
-         choice_words(log_level_choices))]
+         choice_words(log_level_choices)), string_key('export', 64)]
    end function run_keys
 
    !> Read &run from an open case file (optional group; defaults kept when absent).
@@ -49,24 +54,26 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=256) :: title, output, mode_shapes_msh
       character(len=16) :: log_level
+      character(len=64) :: export
       character(len=512) :: msg
       integer :: stat
-      namelist /run/ title, output, mode_shapes_msh, log_level
+      namelist /run/ title, output, mode_shapes_msh, log_level, export
       title = input%title
       output = input%output
       mode_shapes_msh = input%mode_shapes_msh
       log_level = input%log_level
+      export = input%export
       rewind (unit)
       read (unit, nml=run, iostat=stat, iomsg=msg)
       if (is_iostat_end(stat)) return
       if (stat /= 0) then
          call namelist_read_error(error, 'run', 0, msg, &
-            'title, output, mode_shapes_msh, log_level')
+            'title, output, mode_shapes_msh, log_level, export')
          return
       end if
       ! log_level's word was checked by the key spec (run_keys)
       log_level = to_lower(log_level)
-      input = run_input_t(title, output, mode_shapes_msh, log_level)
+      input = run_input_t(title, output, mode_shapes_msh, log_level, to_lower(export))
    end subroutine read_run_group
 
    !> The logger level (LOG_QUIET, LOG_INFO, LOG_DEBUG of ffrf_core_log) of a &run log_level
