@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Benchmark of the XDMF export (&run export = 'xdmf'; docs/results.md "XDMF export"): what it
+adds to a run in time and in size. Each case runs twice with the same input, without and with
+--set run.export=xdmf: the crank, RC set 1, modal, meshed at --lc (default 4 mm), and the
+engine with its animation (--engine, default input/engine_rc1_manual.nml: flexible crank and
+conrod, 2 s, 24 frames). One CSV row per case: nodes of the flexible bodies, the run's wall time
+without the export, the export's time (the output stages of /timings with the export minus
+without: the mesh, mode or frame datasets and the .xdmf file), its share of the run, the
+results file without the export, the bytes the export adds to it and the .xdmf file's size.
+Not a test: timings depend on the machine; report them with the machine named."""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+
+
+def output_seconds(h5):
+    """Sum of the stage times named '... output' (modal: per body; mechanism: one)."""
+    names = [n.decode().strip() for n in h5["/timings/stage"][()]]
+    return sum(s for n, s in zip(names, h5["/timings/seconds"][()]) if n.endswith("output"))
+
+
+def run(ffrf, case, mesh_dir, work, export):
+    """Wall time, output stages' time, results size and .xdmf size of one run."""
+    out = os.path.join(work, "export" if export else "plain")
+    os.makedirs(out, exist_ok=True)
+    command = [ffrf, case, "--output-dir", out, "--quiet"]
+    if mesh_dir:
+        command += ["--mesh-dir", mesh_dir]
+    if export:
+        command += ["--set", "run.export=xdmf"]
+    env = dict(os.environ, OPENBLAS_NUM_THREADS=os.environ.get("OPENBLAS_NUM_THREADS", "1"))
+    t0 = time.perf_counter()
+    subprocess.run(command, check=True, env=env)
+    wall = time.perf_counter() - t0
+    stem = os.path.splitext(os.path.basename(case))[0]
+    results = os.path.join(out, stem + ".h5")
+    with h5py.File(results, "r") as h5:
+        seconds = output_seconds(h5)
+        nodes = sum(h5[f"/xdmf/{b}/geometry"].shape[0] for b in h5["/xdmf"]) if "xdmf" in h5 \
+            else 0
+    xdmf = os.path.join(out, stem + ".xdmf")
+    return wall, seconds, os.path.getsize(results), \
+        os.path.getsize(xdmf) if os.path.exists(xdmf) else 0, nodes
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--ffrf", required=True, help="the ffrf program")
+    parser.add_argument("--gmsh", default="gmsh", help="the gmsh program")
+    parser.add_argument("--geo", required=True, help="crank.geo")
+    parser.add_argument("--case", required=True, help="crank_rc1.nml")
+    parser.add_argument("--lc", type=float, default=0.004, help="crank mesh size in metres")
+    parser.add_argument("--engine", required=True, help="the engine case (with its animation)")
+    parser.add_argument("--mesh-dir", required=True, help="meshes of the engine case")
+    parser.add_argument("--work", default="benchmark", help="folder for meshes and results")
+    parser.add_argument("--csv", default=None, help="also write the CSV here")
+    args = parser.parse_args()
+    os.makedirs(args.work, exist_ok=True)
+    mesh = os.path.join(args.work, f"crank_lc{args.lc * 1000:g}mm.msh")
+    if not os.path.exists(mesh):
+        subprocess.run([args.gmsh, "-3", "-setnumber", "lc", str(args.lc), "-format", "msh41",
+                        "-o", mesh, args.geo], check=True, stdout=subprocess.DEVNULL)
+    with open(args.case) as f:
+        text = f.read()
+    text = re.sub(r"mesh_file\s*=\s*'[^']*'", f"mesh_file = '{os.path.abspath(mesh)}'", text)
+    crank = os.path.join(args.work, f"xdmf_crank_lc{args.lc * 1000:g}mm.nml")
+    with open(crank, "w") as f:
+        f.write(text)
+    columns = ["case", "nodes", "run_s", "export_s", "export_share", "results_mb",
+               "export_datasets_mb", "xdmf_kb"]
+    writer = csv.writer(sys.stdout)
+    writer.writerow(columns)
+    rows = []
+    for label, case, mesh_dir in [(f"crank RC set 1 modal, lc = {args.lc * 1000:g} mm", crank,
+                                   None), ("engine animation", args.engine, args.mesh_dir)]:
+        wall, plain_output, plain_size, _, _ = run(args.ffrf, case, mesh_dir, args.work, False)
+        _, export_output, export_size, xdmf_size, nodes = run(args.ffrf, case, mesh_dir,
+                                                              args.work, True)
+        export_s = export_output - plain_output
+        row = [label, nodes, f"{wall:.2f}", f"{export_s:.3f}", f"{export_s / wall:.4f}",
+               f"{plain_size / 1e6:.2f}", f"{(export_size - plain_size) / 1e6:.2f}",
+               f"{xdmf_size / 1e3:.1f}"]
+        writer.writerow(row)
+        sys.stdout.flush()
+        rows.append(row)
+    if args.csv:
+        with open(args.csv, "w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow(columns)
+            out.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()
