@@ -347,9 +347,9 @@ module ffrf_app_mechanism_output
       !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle;
       !> without a crank, evenly in time over the whole run. With `xdmf` (&run export), the
       !> body's mesh and the same frames also go into the results file (ffrf_io_xdmf), each
-      !> body described in `exported` for the XDMF file.
+      !> body described in `exported` for the XDMF file, in `xdmf_seconds` of wall time.
       module subroutine write_animations(case, options, bodies, history, log, results, xdmf, &
-            exported, error)
+            exported, xdmf_seconds, error)
          type(case_input_t), intent(in) :: case
          type(run_options_t), intent(in) :: options
          type(built_body_t), intent(in) :: bodies(:)
@@ -358,6 +358,7 @@ module ffrf_app_mechanism_output
          type(engine_results_t), intent(inout) :: results
          logical, intent(in) :: xdmf
          type(xdmf_body_t), allocatable, intent(out) :: exported(:)
+         real(dp), intent(out) :: xdmf_seconds
          type(error_t), allocatable, intent(out) :: error
       end subroutine write_animations
 

@@ -307,7 +307,9 @@ contains
       real(dp), allocatable :: fields(:, :), x(:)
       character(len=:), allocatable :: file_name, span
       type(xdmf_body_t), allocatable :: grown(:)
+      type(stage_timer_t) :: timer
       allocate (exported(0))
+      xdmf_seconds = 0.0_dp
       n = history%num_steps
       if (.not. any(bodies%num_modes > 0)) return
       frames = case%mechanism%mechanism%animation_frames
@@ -356,11 +358,13 @@ contains
             end if
             if (xdmf) then
                ! the same frames into the results file (/xdmf/<body>), grown by hand
+               call timer%begin()
                allocate (grown(size(exported) + 1))
                grown(:size(exported)) = exported
                call results%write_xdmf_body(modes%name, modes%mesh%xyz, modes%mesh%tets, &
                   fields, history%t(steps), grown(size(grown)), error)
                call move_alloc(grown, exported)
+               xdmf_seconds = xdmf_seconds + timer%seconds()
                if (allocated(error)) return
             end if
             first = first + m

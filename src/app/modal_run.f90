@@ -105,6 +105,7 @@ contains
          type(model_t) :: model
          !> The bodies of the XDMF export (&run export = 'xdmf'), grown by hand
          type(xdmf_body_t), allocatable :: exported(:), grown(:)
+         type(stage_timer_t) :: xdmf_timer
 
          if (allocated(options%restart_file)) then
             if (len(options%restart_file) > 0) then
@@ -165,12 +166,14 @@ contains
             if (.not. allocated(error) .and. ranks%is_root()) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)
                if (.not. allocated(error) .and. xdmf) then
+                  call xdmf_timer%begin()
                   allocate (grown(size(exported) + 1))
                   grown(:size(exported)) = exported
                   call write_xdmf_body(h5, bodies(k)%name, bodies(k)%mesh%xyz, &
                      bodies(k)%mesh%tets, bodies(k)%shape, bodies(k)%frequency_hz, .false., &
                      grown(size(grown)), error)
                   call move_alloc(grown, exported)
+                  call times%add(bodies(k)%name // ': xdmf export', xdmf_timer%seconds())
                end if
                if (allocated(error)) call add_context(error, 'results file "' // &
                   results_file // '"')

@@ -16,9 +16,11 @@
 !> - The XML: one Domain; per body a Uniform grid (modes as point vector attributes
 !>   "mode k, f Hz") or a Temporal collection of Uniform grids, one per frame with its Time and
 !>   the attribute "elastic displacement" (each grid names the same topology and geometry).
-!>   The HDF5 file is named relative to the .xdmf file (its file name only: both sit in one
-!>   folder). Written under `<file>.part`, checked whole on disk and renamed over `<file>`
-!>   (ffrf_io_gmsh_writer open_part, close_part; ffrf_core_posix commit_durably), as the results are.
+!>   A mechanism run without frames (animation_frames = 0) gives each body's mesh alone, as a
+!>   Uniform grid. The HDF5 file is named relative to the .xdmf file (its file name only: both
+!>   sit in one folder). Written under `<file>.part`, checked whole on disk and renamed over
+!>   `<file>` (ffrf_io_gmsh_writer open_part, close_part; ffrf_core_posix commit_durably), as
+!>   the results are.
 module ffrf_io_xdmf
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
@@ -140,7 +142,7 @@ contains
       end do
       do b = 1, size(bodies)
          associate (body => bodies(b))
-            if (body%frames) then
+            if (body%frames .and. size(body%values) > 0) then
                call file%put_line('    <Grid Name="' // body%name // '" GridType="Collection"' &
                   // ' CollectionType="Temporal">')
                do k = 1, size(body%values)

@@ -6,7 +6,7 @@
  *  - refusals: a NULL handle or formats (FFRF_BAD_CALL), an unknown word (FFRF_INPUT_ERROR
  *    listing the known words, the case left as it was: it then runs), a case built from arrays
  *    and a call after the run (FFRF_BAD_CALL);
- *  - "xdmf" set, the case run with an output folder: OUT_DIR/<stem>.xdmf exists and names the
+ *  - "xdmf, XDMF" and "" accepted, then "XDMF" set (the last call counts), the case run with an output folder: OUT_DIR/<stem>.xdmf exists and names the
  *    results file, the Tet4 topology and mode 4; ctest capi_export_xdmf then reads it back with
  *    meshio (check_xdmf.py: every mode bitwise equal to the results file's).
  */
@@ -29,6 +29,9 @@ int main(int argc, char **argv)
     EXPECT(c, ffrf_case_set_export(c, "xdmf bogus"), FFRF_INPUT_ERROR,
            "export = \"bogus\" is not an export format; use one of xdmf");
     EXPECT(c, ffrf_case_set_export(c, "'xdmf'"), FFRF_INPUT_ERROR, "holds a quote");
+    /* commas, any case, a repeated word kept once; the last call is the one that counts */
+    EXPECT(c, ffrf_case_set_export(c, "xdmf, XDMF"), FFRF_OK, "");
+    EXPECT(c, ffrf_case_set_export(c, ""), FFRF_OK, "");
     EXPECT(c, ffrf_case_set_export(c, "XDMF"), FFRF_OK, "");
     EXPECT(c, ffrf_case_run(c), FFRF_OK, "");
     EXPECT(c, ffrf_case_set_export(c, "xdmf"), FFRF_BAD_CALL,
