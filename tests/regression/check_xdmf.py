@@ -8,6 +8,8 @@ beside the original (meshio reads one grid per file), and meshio reads it:
     equal /bodies/<b>/mesh/tets in VTK's order, 0-based (Gmsh's Tet10 with its last two nodes
     swapped), exactly, and mode k's point vectors equal column k of /bodies/<b>/modes/shape
     bitwise, for every mode;
+  - a mechanism run without frames (Uniform grid, no /bodies/<b>/mesh): the points equal
+    /xdmf/<b>/geometry bitwise and it has no fields;
   - a mechanism run (Temporal collection): every frame's "elastic displacement" equals the
     dataset /xdmf/<b>/frame_<k> bitwise, its time is one of /time/t exactly, the number of
     frames is --frames, and (--animation BODY=FILE) each frame equals the Gmsh animation's
@@ -122,7 +124,14 @@ def main():
         name = grid.get('Name')
         copy = one_grid_file(args.xdmf, grid, name)
         try:
-            if grid.get('GridType') == 'Uniform':
+            if grid.get('GridType') == 'Uniform' and f'/bodies/{name}/mesh' not in h5:
+                # a mechanism run without frames: the mesh alone
+                mesh = meshio.read(copy, file_format='xdmf')
+                points, blocks = mesh.points, mesh.cells
+                check(f'{name}: points = /xdmf/{name}/geometry (bitwise), no fields',
+                      np.array_equal(points, h5[f'/xdmf/{name}/geometry'][()])
+                      and not mesh.point_data and args.frames == 0)
+            elif grid.get('GridType') == 'Uniform':
                 mesh = meshio.read(copy, file_format='xdmf')
                 points, blocks = mesh.points, mesh.cells
                 check(f'{name}: points = /bodies/{name}/mesh/coordinates (bitwise)',
