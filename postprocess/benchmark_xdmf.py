@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Benchmark of the XDMF export (&run export = 'xdmf'; docs/results.md "XDMF export"): what it
 adds to a run in time and in size. Each case runs twice with the same input, without and with
---set run.export=xdmf: the crank, RC set 1, modal, meshed at --lc (default 4 mm), and the
-engine with its animation (--engine, default input/engine_rc1_manual.nml: flexible crank and
-conrod, 2 s, 24 frames). One CSV row per case: nodes of the flexible bodies, the run's wall time
+--set run.export=xdmf: the crank, RC set 1, modal, on the mesh given (the target benchmark_xdmf:
+lc = 4 mm, meshed by gmsh), and the engine with its animation (the target:
+input/engine_rc1_manual.nml, flexible crank and conrod, 2 s, 24 frames). One CSV row per case: nodes of the flexible bodies, the run's wall time
 without and with the export, the export's time (its stages '... xdmf export' of /timings: the
 mesh and the mode or frame datasets written into the results file; the small .xdmf file is
 written after the timings), its share of the run without it, the results file without the
@@ -54,50 +54,39 @@ def run(ffrf, case, mesh_dir, work, export):
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--ffrf", required=True, help="the ffrf program")
-    parser.add_argument("--gmsh", default="gmsh", help="the gmsh program")
-    parser.add_argument("--geo", required=True, help="crank.geo")
-    parser.add_argument("--case", required=True, help="crank_rc1.nml")
-    parser.add_argument("--lc", type=float, default=0.004, help="crank mesh size in metres")
-    parser.add_argument("--engine", required=True, help="the engine case (with its animation)")
-    parser.add_argument("--mesh-dir", required=True, help="meshes of the engine case")
-    parser.add_argument("--work", default="benchmark", help="folder for meshes and results")
+    parser.add_argument("--crank", required=True,
+                        help="crank_rc1.nml and the crank mesh to run it on, comma-separated")
+    parser.add_argument("--engine", required=True,
+                        help="the engine case (with its animation) and its mesh folder, "
+                             "comma-separated")
+    parser.add_argument("--work", default="benchmark", help="folder for the results")
     parser.add_argument("--cases", default="crank,engine", help="which: crank, engine or both")
     parser.add_argument("--csv", default=None, help="also write the CSV here")
     args = parser.parse_args()
+    crank_case, crank_mesh = args.crank.split(",")
+    engine_case, engine_meshes = args.engine.split(",")
     os.makedirs(args.work, exist_ok=True)
-    mesh = os.path.join(args.work, f"crank_lc{args.lc * 1000:g}mm.msh")
-    if not os.path.exists(mesh):
-        subprocess.run([args.gmsh, "-3", "-setnumber", "lc", str(args.lc), "-format", "msh41",
-                        "-o", mesh, args.geo], check=True, stdout=subprocess.DEVNULL)
-    with open(args.case) as f:
-        text = f.read()
-    text = re.sub(r"mesh_file\s*=\s*'[^']*'", f"mesh_file = '{os.path.abspath(mesh)}'", text)
-    crank = os.path.join(args.work, f"xdmf_crank_lc{args.lc * 1000:g}mm.nml")
+    with open(crank_case) as f:
+        text = re.sub(r"mesh_file\s*=\s*'[^']*'", f"mesh_file = '{os.path.abspath(crank_mesh)}'",
+                      f.read())
+    crank = os.path.join(args.work, "xdmf_" + os.path.basename(crank_case))
     with open(crank, "w") as f:
         f.write(text)
-    columns = ["case", "nodes", "run_s", "run_export_s", "export_s", "export_share", "results_mb",
-               "export_datasets_mb", "xdmf_kb"]
-    writer = csv.writer(sys.stdout)
-    writer.writerow(columns)
-    rows = []
-    cases = {"crank": (f"crank RC set 1 modal, lc = {args.lc * 1000:g} mm", crank, None),
-             "engine": ("engine animation", args.engine, args.mesh_dir)}
+    cases = {"crank": ("crank RC set 1 modal, " + os.path.basename(crank_mesh), crank, None),
+             "engine": ("engine animation", engine_case, engine_meshes)}
+    table = [["case", "nodes", "run_s", "run_export_s", "export_s", "export_share",
+              "results_mb", "export_datasets_mb", "xdmf_kb"]]
     for label, case, mesh_dir in [cases[name] for name in args.cases.split(",")]:
         wall, _, plain_size, _, _ = run(args.ffrf, case, mesh_dir, args.work, False)
         wall_export, export_s, export_size, xdmf_size, nodes = run(args.ffrf, case, mesh_dir,
                                                                    args.work, True)
-        row = [label, nodes, f"{wall:.2f}", f"{wall_export:.2f}", f"{export_s:.3f}",
-               f"{export_s / wall:.4f}",
-               f"{plain_size / 1e6:.2f}", f"{(export_size - plain_size) / 1e6:.2f}",
-               f"{xdmf_size / 1e3:.1f}"]
-        writer.writerow(row)
-        sys.stdout.flush()
-        rows.append(row)
+        table.append([label, nodes, f"{wall:.2f}", f"{wall_export:.2f}", f"{export_s:.3f}",
+                      f"{export_s / wall:.4f}", f"{plain_size / 1e6:.2f}",
+                      f"{(export_size - plain_size) / 1e6:.2f}", f"{xdmf_size / 1e3:.1f}"])
+    csv.writer(sys.stdout).writerows(table)
     if args.csv:
         with open(args.csv, "w", newline="") as f:
-            out = csv.writer(f)
-            out.writerow(columns)
-            out.writerows(rows)
+            csv.writer(f).writerows(table)
 
 
 if __name__ == "__main__":
