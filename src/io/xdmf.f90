@@ -143,11 +143,11 @@ contains
       do b = 1, size(bodies)
          associate (body => bodies(b))
             if (body%frames .and. size(body%values) > 0) then
-               call file%put_line('    <Grid Name="' // body%name // '" GridType="Collection"' &
-                  // ' CollectionType="Temporal">')
+               call file%put_line('    <Grid Name="' // xml_escaped(body%name) // &
+                  '" GridType="Collection" CollectionType="Temporal">')
                do k = 1, size(body%values)
-                  call file%put_line('      <Grid Name="' // body%name // ' frame ' // &
-                     to_str(k) // '" GridType="Uniform">')
+                  call file%put_line('      <Grid Name="' // xml_escaped(body%name) // &
+                     ' frame ' // to_str(k) // '" GridType="Uniform">')
                   call file%put_line('        <Time Value="' // to_str(body%values(k), 17) // &
                      '"/>')
                   call put_mesh(body, '        ')
@@ -156,7 +156,8 @@ contains
                   call file%put_line('      </Grid>')
                end do
             else
-               call file%put_line('    <Grid Name="' // body%name // '" GridType="Uniform">')
+               call file%put_line('    <Grid Name="' // xml_escaped(body%name) // &
+                  '" GridType="Uniform">')
                call put_mesh(body, '      ')
                do k = 1, size(body%values)
                   call put_field(body, 'mode ' // to_str(k) // ', ' // &
@@ -207,9 +208,30 @@ contains
          character(len=*), intent(in) :: dimensions, number_type, body_name, dataset
          character(len=:), allocatable :: line
          line = '<DataItem Dimensions="' // dimensions // '" NumberType="' // number_type // &
-            '" Format="HDF">' // h5_name // ':/xdmf/' // body_name // '/' // dataset // &
-            '</DataItem>'
+            '" Format="HDF">' // xml_escaped(h5_name // ':/xdmf/' // body_name // '/' // &
+            dataset) // '</DataItem>'
       end function data_item
    end subroutine write_xdmf_file
+
+   !> `text` with XML's special characters as entities (&amp; &lt; &gt; &quot;), for names in
+   !> attribute values and element text.
+   pure function xml_escaped(text) result(escaped)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: escaped
+      !> The special characters and their entities, in the same order
+      character(len=*), parameter :: special = '&<>"'
+      character(len=6), parameter :: entities(4) = [character(len=6) :: '&amp;', '&lt;', &
+         '&gt;', '&quot;']
+      integer :: i, e
+      escaped = ''
+      do i = 1, len(text)
+         e = index(special, text(i:i))
+         if (e > 0) then
+            escaped = escaped // trim(entities(e))
+         else
+            escaped = escaped // text(i:i)
+         end if
+      end do
+   end function xml_escaped
 
 end module ffrf_io_xdmf
