@@ -82,6 +82,14 @@ int ffrf_body_set_pose(ffrf_case *c, int body, const double position[3],
                        const double orientation[9], const double velocity[3],
                        const double angular_velocity[3]);
 
+/* The files written beside the results (&run export): formats, a blank-separated list of
+ * export words, "xdmf" (<stem>.xdmf for ParaView, docs/results.md "XDMF export"); "" none.
+ * Before ffrf_case_run or the first ffrf_mechanism_advance (FFRF_BAD_CALL after, and for a
+ * case built from arrays); the case is read again with it as the override run.export, as the
+ * driver's --set run.export=...: an unknown word is FFRF_INPUT_ERROR listing the known ones,
+ * the case left as it was. Without an output_dir nothing is written. */
+int ffrf_case_set_export(ffrf_case *c, const char *formats);
+
 /* Mechanism case: the first call prepares (modes, mechanism, consistent start at t_start);
  * then integrates up to time t (current time <= t <= t_end; t = t_start on the first call only
  * prepares); call again to go on. Steps are the case's h; one shortened step lands on a t

@@ -7,11 +7,10 @@ module ffrf_app_body_export
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t, stage_timer_t
    use ffrf_core_paths, only: stem_of
-   use ffrf_core_choices, only: EXPORT_EXUDYN
+   use ffrf_core_choices, only: EXPORT_EXUDYN, choice_kinds, export_choices
    use ffrf_la_sparse, only: csr_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_io_exudyn_body, only: write_exudyn_body
-   use ffrf_input_nml_run, only: export_kinds
    implicit none
    private
    public :: export_body, exports_matrices, exudyn_file_name
@@ -19,10 +18,19 @@ module ffrf_app_body_export
 contains
 
    !> True when an export of `export` (the &run export words) needs the bodies' M and K.
-   pure logical function exports_matrices(export)
+   logical function exports_matrices(export)
       character(len=*), intent(in) :: export
       exports_matrices = any(export_kinds(export) == EXPORT_EXUDYN)
    end function exports_matrices
+
+   !> The kinds (EXPORT_*) of the &run export words, checked when the case was read
+   function export_kinds(export) result(kinds)
+      character(len=*), intent(in) :: export
+      integer, allocatable :: kinds(:)
+      type(error_t), allocatable :: error
+      call choice_kinds(export_choices, 'export', 'an export format', export, kinds, error)
+      if (allocated(error)) allocate (kinds(0))
+   end function export_kinds
 
    !> Write every export of `export` for one body whose modes are computed.
    subroutine export_body(export, results_file, body, M, K, log, error)

@@ -33,6 +33,7 @@ module ffrf_app_mechanism_output
    use ffrf_app_engine_results, only: engine_results_t
    use ffrf_io_hdf5, only: h5_file_t
    use ffrf_io_results, only: output_lock_t
+   use ffrf_io_xdmf, only: xdmf_body_t
    use ffrf_app_run_options, only: run_options_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_mbs_mechanism, only: mechanism_t
@@ -344,13 +345,20 @@ module ffrf_app_mechanism_output
       !> For each flexible body, <results stem>_<body>_animation.msh: its elastic displacement
       !> Psi zeta (body frame) at animation_frames instants evenly spread over the last 720 deg of
       !> crank rotation (the whole run if it turned less), each the recorded step nearest in angle;
-      !> without a crank, evenly in time over the whole run.
-      module subroutine write_animations(case, options, bodies, history, log, error)
+      !> without a crank, evenly in time over the whole run. With `xdmf` (&run export), the
+      !> body's mesh and the same frames also go into the results file (ffrf_io_xdmf), each
+      !> body described in `exported` for the XDMF file, in `xdmf_seconds` of wall time.
+      module subroutine write_animations(case, options, bodies, history, log, results, xdmf, &
+            exported, xdmf_seconds, error)
          type(case_input_t), intent(in) :: case
          type(run_options_t), intent(in) :: options
          type(built_body_t), intent(in) :: bodies(:)
          type(history_t), intent(in) :: history
          type(logger_t), intent(in) :: log
+         type(engine_results_t), intent(inout) :: results
+         logical, intent(in) :: xdmf
+         type(xdmf_body_t), allocatable, intent(out) :: exported(:)
+         real(dp), intent(out) :: xdmf_seconds
          type(error_t), allocatable, intent(out) :: error
       end subroutine write_animations
 

@@ -10,6 +10,7 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_file
    use ffrf_input_nml_output, only: output_input_t
    use ffrf_io_results, only: partial_name, commit_file, abandon_file
    use ffrf_io_gmsh_writer, only: write_displacement_frames_msh
+   use ffrf_io_xdmf, only: xdmf_body_t
    use ffrf_io_modes_file, only: fingerprint_dataset, NUM_FINGERPRINT_DATASETS
    use ffrf_modes_input, only: basis_name
    use ffrf_mbs_sensors, only: sensor_size, sensor_unit, sensor_word
@@ -305,46 +306,67 @@ contains
       real(dp) :: angle_end, angle_start, target
       real(dp), allocatable :: fields(:, :), x(:)
       character(len=:), allocatable :: file_name, span
+      type(xdmf_body_t), allocatable :: grown(:)
+      type(stage_timer_t) :: timer
+      allocate (exported(0))
+      xdmf_seconds = 0.0_dp
       n = history%num_steps
-      if (n < 2 .or. .not. any(bodies%num_modes > 0)) return
+      if (.not. any(bodies%num_modes > 0)) return
       frames = case%mechanism%mechanism%animation_frames
-      if (history%angle(n) /= history%angle(1)) then
-         ! an engine: the last 720 deg of its crank
-         x = history%angle(:n)
-         angle_end = x(n)
-         angle_start = max(x(1), angle_end - 4.0_dp * pi)
-         span = 'the last cycle'
-      else
-         ! a mechanism without a crank (no angle): evenly in time over the whole run
-         x = history%t(:n)
-         angle_end = x(n)
-         angle_start = x(1)
-         span = 'the run'
-      end if
+      if (n < 2) frames = 0
+      if (frames == 0 .and. .not. xdmf) return
       allocate (steps(frames))
-      s = 1
-      do f = 1, frames
-         target = angle_start + (angle_end - angle_start) * real(f - 1, dp) / real(max(frames - &
-            1, 1), dp)
-         do while (s < n)
-            if (abs(x(s + 1) - target) > abs(x(s) - target)) exit
-            s = s + 1
+      if (frames > 0) then
+         if (history%angle(n) /= history%angle(1)) then
+            ! an engine: the last 720 deg of its crank
+            x = history%angle(:n)
+            angle_end = x(n)
+            angle_start = max(x(1), angle_end - 4.0_dp * pi)
+            span = 'the last cycle'
+         else
+            ! a mechanism without a crank (no angle): evenly in time over the whole run
+            x = history%t(:n)
+            angle_end = x(n)
+            angle_start = x(1)
+            span = 'the run'
+         end if
+         s = 1
+         do f = 1, frames
+            target = angle_start + (angle_end - angle_start) * real(f - 1, dp) / &
+               real(max(frames - 1, 1), dp)
+            do while (s < n)
+               if (abs(x(s + 1) - target) > abs(x(s) - target)) exit
+               s = s + 1
+            end do
+            steps(f) = s
          end do
-         steps(f) = s
-      end do
+      end if
       first = 0
       do k = 1, size(bodies)
          if (bodies(k)%num_modes == 0) cycle
          associate (modes => bodies(k)%modes, m => bodies(k)%num_modes)
             fields = matmul(modes%shape, history%zeta(first + 1:first + m, steps))
-            file_name = insert_suffix(join_path(options%output_dir, trim(case%run%output)), &
-               '_' // modes%name // '_animation')
-            file_name = file_name(:index(file_name, '.', back=.true.)) // 'msh'
-            call write_displacement_frames_msh(file_name, modes%mesh%xyz, modes%mesh%tets, &
-               fields, history%t(steps), error)
-            if (allocated(error)) return
-            call log%info('output', modes%name // ': elastic deformation over ' // span // &
-               ' for gmsh: ' // file_name)
+            if (frames > 0) then
+               file_name = insert_suffix(join_path(options%output_dir, &
+                  trim(case%run%output)), '_' // modes%name // '_animation')
+               file_name = file_name(:index(file_name, '.', back=.true.)) // 'msh'
+               call write_displacement_frames_msh(file_name, modes%mesh%xyz, modes%mesh%tets, &
+                  fields, history%t(steps), error)
+               if (allocated(error)) return
+               call log%info('output', modes%name // ': elastic deformation over ' // span // &
+                  ' for gmsh: ' // file_name)
+            end if
+            if (xdmf) then
+               ! the same frames into the results file (/xdmf/<body>), grown by hand
+               call timer%begin()
+               allocate (grown(size(exported) + 1))
+               grown(:size(exported)) = exported
+               call results%write_xdmf_body(modes%name, modes%mesh%xyz, modes%mesh%tets, &
+                  fields, history%t(steps), grown(size(grown)), error)
+               call move_alloc(grown, exported)
+               xdmf_seconds = xdmf_seconds + timer%seconds()
+               if (allocated(error)) return
+            end if
             first = first + m
          end associate
       end do

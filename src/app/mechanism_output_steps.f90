@@ -10,7 +10,9 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_steps
    use ffrf_core_log, only: peak_memory_mib, wall_time
    use ffrf_input_case, only: case_echo
    use ffrf_io_results, only: partial_name, commit_file, abandon_file, check_no_overwrite
-   use ffrf_app_output_paths, only: check_output_paths
+   use ffrf_app_output_paths, only: check_output_paths, export_asked
+   use ffrf_core_choices, only: EXPORT_XDMF
+   use ffrf_io_xdmf, only: xdmf_body_t, write_xdmf_file, xdmf_name
    use ffrf_app_engine_crank_log, only: crank_progress
    use ffrf_mbs_reaction_split, only: TOLERANCE_FACTOR
    use ffrf_app_engine_auto_model, only: write_model_choice
@@ -223,7 +225,10 @@ contains
       type(error_t), allocatable :: state_error, close_error
       type(stage_timer_t) :: timer
       character(len=:), allocatable :: status
-      logical :: closed
+      logical :: closed, xdmf
+      !> The bodies of the XDMF export (&run export = 'xdmf') and its wall time (s)
+      type(xdmf_body_t), allocatable :: exported(:)
+      real(dp) :: xdmf_seconds
       if (.not. self%started) then
          if (self%reserved .and. allocated(run_error)) then
             if (run_error%code /= FFRF_INTERRUPTED) call record_failed_start(self, bodies, &
@@ -260,10 +265,13 @@ contains
          call timer%begin()
          call write_run_information(results, mech, integrator, error)
          if (.not. allocated(error)) call write_warnings(results, self%watch, log, error)
-         if (.not. allocated(error) .and. case%mechanism%mechanism%animation_frames > 0 .and. &
-            .not. interrupted(run_error)) call write_animations(case, self%options, bodies, &
-            self%history, log, error)
+         xdmf = export_asked(case, EXPORT_XDMF)
+         if (.not. allocated(error) .and. (case%mechanism%mechanism%animation_frames > 0 .or. &
+            xdmf) .and. .not. interrupted(run_error)) call write_animations(case, self%options, &
+            bodies, self%history, log, results, xdmf, exported, xdmf_seconds, error)
          call self%times%add('output', timer%seconds())
+         ! a stage of its own only when asked (the timings of a run without it are unchanged)
+         if (xdmf .and. allocated(exported)) call self%times%add('xdmf export', xdmf_seconds)
          call self%times%add('total', self%total%seconds())
          ! A failed, interrupted or stopped run: its file goes into place when it could be closed
          if (allocated(run_error) .or. allocated(error) .or. present(stopped)) then
@@ -305,6 +313,16 @@ contains
          end if
          call remove_checkpoint(results_file)
          call log%info('output', 'results written: ' // results_file)
+         if (xdmf .and. allocated(exported)) then
+            ! beside the results file, which it names relative to its own folder
+            call write_xdmf_file(xdmf_name(results_file), results_file(index(results_file, &
+               '/', back=.true.) + 1:), exported, error)
+            if (allocated(error)) then
+               call self%release()
+               return
+            end if
+            call log%info('output', 'XDMF for ParaView written: ' // xdmf_name(results_file))
+         end if
          call log%info('done', case%name // ': ' // to_str(self%total%seconds(), 3) // ' s, ' &
             // 'peak memory ' // to_str(peak_memory_mib(), 4) // ' MiB')
       end associate
@@ -429,7 +447,7 @@ contains
             self%results%predicted_bytes(int(self%results%num_steps(), i8)) + &
             8_i8 * 16_i8 * size(integrator%q, kind=i8) + 16384_i8
          animation_bytes = predicted_animation_bytes(self%case%mechanism%mechanism% &
-            animation_frames, bodies)
+            animation_frames, bodies, export_asked(self%case, EXPORT_XDMF))
          ! the free space before the file was created (the prediction counts it whole)
          call free_space(self%options%output_dir, free, error)
          if (allocated(error)) return
@@ -472,22 +490,25 @@ contains
 
    !> Bytes of the Gmsh animations (write_animations): per flexible body, its mesh (a line per
    !> node: tag and 3 x 25 characters) and `frames` node-data views of a line per node ('tag ux
-   !> uy uz', 3 x 15 characters).
-   pure integer(i8) function predicted_animation_bytes(frames, bodies) result(bytes)
+   !> uy uz', 3 x 15 characters). With `xdmf`, also the XDMF datasets in the results file
+   !> (ffrf_io_xdmf): geometry and `frames` frames of 3 doubles a node, 4-byte node numbers.
+   pure integer(i8) function predicted_animation_bytes(frames, bodies, xdmf) result(bytes)
       integer, intent(in) :: frames
       type(built_body_t), intent(in) :: bodies(:)
+      logical, intent(in) :: xdmf
       integer(i8) :: nodes, tets, digits
       integer :: k
       bytes = 0_i8
-      if (frames <= 0) return
       do k = 1, size(bodies)
          if (bodies(k)%num_modes == 0) cycle
          nodes = size(bodies(k)%modes%mesh%xyz, 2, kind=i8)
          tets = size(bodies(k)%modes%mesh%tets, 2, kind=i8)
          digits = int(log10(real(max(nodes, 1_i8), dp)), i8) + 2_i8
-         bytes = bytes + nodes * (digits + 75_i8) + tets * (size(bodies(k)%modes%mesh%tets, 1, &
-            kind=i8) * digits + 8_i8 + digits) + int(frames, i8) * (nodes * (digits + 45_i8) + &
-            200_i8) + 400_i8
+         if (frames > 0) bytes = bytes + nodes * (digits + 75_i8) + tets * (size(bodies(k)% &
+            modes%mesh%tets, 1, kind=i8) * digits + 8_i8 + digits) + int(frames, i8) * &
+            (nodes * (digits + 45_i8) + 200_i8) + 400_i8
+         if (xdmf) bytes = bytes + 24_i8 * nodes * int(max(frames, 0) + 1, i8) + 4_i8 * &
+            size(bodies(k)%modes%mesh%tets, kind=i8)
       end do
    end function predicted_animation_bytes
 

@@ -12,7 +12,9 @@ module ffrf_app_modal_run
    use ffrf_core_paths, only: folder_of, join_path, insert_suffix
    use ffrf_core_log, only: logger_t, stage_timer_t, stage_times_t, peak_memory_mib
    use ffrf_app_run_options, only: run_options_t, set_log_level
-   use ffrf_app_output_paths, only: check_output_paths
+   use ffrf_app_output_paths, only: check_output_paths, export_asked
+   use ffrf_core_choices, only: EXPORT_XDMF
+   use ffrf_io_xdmf, only: xdmf_body_t, write_xdmf_body, write_xdmf_file, xdmf_name
    use ffrf_core_parallel, only: parallel_t, use_ranks
    use ffrf_input_nml_run, only: log_level_code
    use ffrf_input_case, only: case_input_t, read_case, case_echo
@@ -101,9 +103,12 @@ contains
          type(error_t), allocatable, intent(out) :: error
          character(len=:), allocatable :: temp_file, stopped_at
          integer :: signal
-         logical :: closed
+         logical :: closed, xdmf
          type(model_t) :: model
          type(csr_t) :: mass_matrix, stiffness_matrix
+         !> The bodies of the XDMF export (&run export = 'xdmf'), grown by hand
+         type(xdmf_body_t), allocatable :: exported(:), grown(:)
+         type(stage_timer_t) :: xdmf_timer
 
          if (allocated(options%restart_file)) then
             if (len(options%restart_file) > 0) then
@@ -137,7 +142,8 @@ contains
          call log%info('output', 'results (written when complete): ' // results_file)
 
          signal = 0
-         allocate (bodies(size(case%bodies)))
+         allocate (bodies(size(case%bodies)), exported(0))
+         xdmf = export_asked(case, EXPORT_XDMF)
          do k = 1, size(case%bodies)
             if (model%bodies(k)%rigid) then
                call log%note('input', trim(case%bodies(k)%name) // ' is rigid: no modes')
@@ -169,6 +175,16 @@ contains
             call output_timer%begin()
             if (.not. allocated(error) .and. ranks%is_root()) then
                call results_write_body(h5, bodies(k), trim(case%modes%rc_label), error)
+               if (.not. allocated(error) .and. xdmf) then
+                  call xdmf_timer%begin()
+                  allocate (grown(size(exported) + 1))
+                  grown(:size(exported)) = exported
+                  call write_xdmf_body(h5, bodies(k)%name, bodies(k)%mesh%xyz, &
+                     bodies(k)%mesh%tets, bodies(k)%shape, bodies(k)%frequency_hz, .false., &
+                     grown(size(grown)), error)
+                  call move_alloc(grown, exported)
+                  call times%add(bodies(k)%name // ': xdmf export', xdmf_timer%seconds())
+               end if
                if (allocated(error)) call add_context(error, 'results file "' // &
                   results_file // '"')
             end if
@@ -231,6 +247,13 @@ contains
             return
          end if
          call log%info('output', 'results written: ' // results_file)
+         if (xdmf) then
+            ! beside the results file, which it names relative to its own folder
+            call write_xdmf_file(xdmf_name(results_file), results_file(index(results_file, &
+               '/', back=.true.) + 1:), exported, error)
+            if (allocated(error)) return
+            call log%info('output', 'XDMF for ParaView written: ' // xdmf_name(results_file))
+         end if
          if (ranks%num_ranks > 1) then
             call log%info('done', case%name // ': ' // to_str(total%seconds(), 3) // ' s on ' &
                // to_str(ranks%num_ranks) // ' MPI ranks, peak memory per rank max ' // &

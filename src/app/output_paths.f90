@@ -12,11 +12,13 @@ module ffrf_app_output_paths
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_paths, only: join_path, insert_suffix, folder_of
    use ffrf_core_posix, only: same_file
+   use ffrf_core_choices, only: choice_kinds, export_choices, EXPORT_XDMF
    use ffrf_input_case, only: case_input_t
+   use ffrf_io_xdmf, only: xdmf_name
    use ffrf_app_run_options, only: run_options_t
    implicit none
    private
-   public :: check_output_paths
+   public :: check_output_paths, export_asked
 
    !> A file of the run and what it is to the run ("the mesh of body ""crank""").
    type :: named_path_t
@@ -27,6 +29,19 @@ module ffrf_app_output_paths
    end type named_path_t
 
 contains
+
+   !> Whether &run export asks for the export `kind` (EXPORT_* of ffrf_core_choices); the words
+   !> were checked when the case was read (a case built in memory has none).
+   logical function export_asked(case, kind)
+      type(case_input_t), intent(in) :: case
+      integer, intent(in) :: kind
+      integer, allocatable :: kinds(:)
+      type(error_t), allocatable :: error
+      call choice_kinds(export_choices, 'export', 'an export format', case%run%export, kinds, &
+         error)
+      export_asked = .false.
+      if (.not. allocated(error)) export_asked = any(kinds == kind)
+   end function export_asked
 
    !> FFRF_INPUT_ERROR when an output of the run is one of its inputs or another of its
    !> outputs (module notes); nothing is created or changed.
@@ -67,6 +82,10 @@ contains
       call add(outputs, 'the results file', results)
       call add(outputs, 'the temporary results file', results // '.part', .true.)
       call add(outputs, 'the lock of the results file', results // '.lock', .true.)
+      if (export_asked(case, EXPORT_XDMF)) then
+         call add(outputs, 'the XDMF file (&run export)', xdmf_name(results))
+         call add(outputs, 'the temporary XDMF file', xdmf_name(results) // '.part', .true.)
+      end if
       if (case%is_mechanism) then
          call add(outputs, 'the checkpoint', results // '.checkpoint')
          call add(outputs, 'the temporary checkpoint', results // '.checkpoint.part', .true.)

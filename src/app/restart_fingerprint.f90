@@ -30,7 +30,7 @@ module ffrf_app_restart_fingerprint
    !> the motion), the memory of the modal solver, and the mesh file names (the meshes
    !> themselves are compared by their modes fingerprints).
    character(len=*), parameter :: MAY_CHANGE(*) = [character(len=40) :: &
-      'run.title', 'run.output', 'run.mode_shapes_msh', 'run.log_level', &
+      'run.title', 'run.output', 'run.mode_shapes_msh', 'run.log_level', 'run.export', &
       'body.mesh_file', 'body.coarse_meshes', 'body.modes_file', &
       'modes.out_of_core', 'modes.ooc_tmpdir', 'modes.memory_limit_mb', &
       'mechanism.label', 'mechanism.progress_interval', 'mechanism.animation_frames', &

@@ -21,7 +21,7 @@ module ffrf_capi_entries
    public :: ffrf_mechanism_advance, ffrf_crank_state, ffrf_mechanism_time, ffrf_body_state, &
       ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, ffrf_joint_name, &
       ffrf_joint_reaction, ffrf_driver_state, ffrf_sensor_count, ffrf_sensor_name, &
-      ffrf_sensor_values, ffrf_marker_set_load, ffrf_body_set_pose
+      ffrf_sensor_values, ffrf_marker_set_load, ffrf_body_set_pose, ffrf_case_set_export
    public :: ffrf_case_add_body, ffrf_case_add_surface, ffrf_case_add_interface, &
       ffrf_case_add_interface_nodes, ffrf_case_set_num_modes, ffrf_case_set_communicator
 
@@ -431,6 +431,18 @@ contains
          if (c_associated(p)) call c_f_pointer(p, values, [n])
       end function vector
    end function ffrf_body_set_pose
+
+   !> int ffrf_case_set_export(ffrf_case *c, const char *formats)
+   integer(c_int) function ffrf_case_set_export(c, formats) result(stat) &
+         bind(c, name='ffrf_case_set_export')
+      type(c_ptr), value :: c, formats
+      type(capi_handle_t), pointer :: h
+      type(error_t), allocatable :: error
+      if (.not. ready(c, h, stat, [c_associated(formats)], &
+         'ffrf_case_set_export: formats is NULL')) return
+      call h%case%set_export(from_c(formats), error)
+      stat = status_of(h, error)
+   end function ffrf_case_set_export
 
    !> int ffrf_case_add_body(ffrf_case *c, const char *name, int num_nodes, const double *xyz,
    !> int nodes_per_tet, int num_tets, const int *tets, double young, double poisson,

@@ -80,6 +80,8 @@ module ffrf_capi_case
       !> The body poses set (set_pose) as overrides of the case file, in call order: the case is
       !> read again with them, as the driver's --set body[NAME].KEY=...
       type(override_t), allocatable, private :: pose_overrides(:)
+      !> The exports set (set_export) as the override run.export, read with the poses
+      type(override_t), allocatable, private :: export_override
    contains
       !> An FFRF inertia invariant of a body (theory.md 3.2), by name
       procedure :: invariant => case_invariant
@@ -131,6 +133,8 @@ module ffrf_capi_case
       procedure :: set_marker_load => case_set_marker_load
       !> Starting pose and velocities of a body (the &body keys), before the first advance
       procedure :: set_pose => case_set_pose
+      !> The exports beside the results (&run export), before the run
+      procedure :: set_export => case_set_export
       !> Release everything
       procedure :: close => case_close
    end type ffrf_case_t
@@ -499,6 +503,14 @@ module ffrf_capi_case
          real(dp), intent(in), optional :: position(3), orientation(3, 3), velocity(3), &
             angular_velocity(3)
       end subroutine case_set_pose
+
+      !> &run export = formats (a list of export words: 'xdmf'; '' none), before the run or the
+      !> first advance; the case is read again with it, as the driver's --set run.export=...
+      module subroutine case_set_export(self, formats, error)
+         class(ffrf_case_t), intent(inout) :: self
+         character(len=*), intent(in) :: formats
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine case_set_export
    end interface
 
 end module ffrf_capi_case

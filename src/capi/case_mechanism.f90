@@ -251,7 +251,7 @@ contains
       type(override_t), allocatable :: overrides(:)
       type(case_input_t) :: case
       character(len=:), allocatable :: name
-      integer :: n
+      integer :: n, m
       call check_mechanism(self, 'body_set_pose', error)
       if (allocated(error)) return
       if (self%session%prepared .or. self%ran .or. self%have_final) then
@@ -265,14 +265,20 @@ contains
       if (.not. allocated(self%pose_overrides)) allocate (self%pose_overrides(0))
       ! grown by hand (gfortran 12 leaks array constructors of types with allocatable parts)
       n = size(self%pose_overrides)
-      allocate (overrides(n + 4))
+      allocate (overrides(n + 5))
       overrides(:n) = self%pose_overrides
       if (present(position)) call add('position', position)
       if (present(orientation)) call add('orientation', reshape(transpose(orientation), [9]))
       if (present(velocity)) call add('velocity', velocity)
       if (present(angular_velocity)) call add('angular_velocity', angular_velocity)
       if (allocated(error)) return
-      call read_case_with_overrides(self%case%file_name, overrides(:n), case, error)
+      ! the exports set (set_export) are read again with the poses
+      m = n
+      if (allocated(self%export_override)) then
+         m = n + 1
+         overrides(m) = self%export_override
+      end if
+      call read_case_with_overrides(self%case%file_name, overrides(:m), case, error)
       if (allocated(error)) return
       self%case = case
       self%pose_overrides = overrides(:n)
@@ -306,5 +312,42 @@ contains
          end do
       end subroutine add
    end procedure case_set_pose
+
+   module procedure case_set_export
+      type(override_t), allocatable :: overrides(:)
+      type(case_input_t) :: case
+      integer :: n
+      call check_open(self, 'case_set_export', error)
+      if (allocated(error)) return
+      if (self%from_arrays) then
+         call bad_call(error, 'case_set_export: a case built from arrays writes no files; ' // &
+            'export the results of a case file opened with an output folder')
+         return
+      end if
+      if (self%session%prepared .or. self%ran .or. self%have_final) then
+         call bad_call(error, 'case_set_export: the case has run or started its motion; set ' // &
+            'the exports before ffrf_case_run or the first ffrf_mechanism_advance')
+         return
+      end if
+      if (index(formats, '''') > 0 .or. index(formats, '"') > 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'case_set_export: formats "' // formats // &
+            '" holds a quote; give the words alone, e.g. "xdmf"')
+         return
+      end if
+      n = 0
+      if (allocated(self%pose_overrides)) n = size(self%pose_overrides)
+      ! grown by hand (gfortran 12 leaks array constructors of types with allocatable parts)
+      allocate (overrides(n + 1))
+      if (n > 0) overrides(:n) = self%pose_overrides
+      overrides(n + 1)%group = 'run'
+      overrides(n + 1)%name = ''
+      overrides(n + 1)%key = 'export'
+      overrides(n + 1)%value = '''' // formats // ''''
+      overrides(n + 1)%origin = 'case_set_export run.export'
+      call read_case_with_overrides(self%case%file_name, overrides, case, error)
+      if (allocated(error)) return
+      self%case = case
+      self%export_override = overrides(n + 1)
+   end procedure case_set_export
 
 end submodule ffrf_capi_case_mechanism

@@ -16,6 +16,7 @@ module ffrf_c
       ffrf_body_virtual_node_shapes, ffrf_body_mass_properties, ffrf_mechanism_time, &
       ffrf_body_state, ffrf_marker_count, ffrf_marker_state, ffrf_joint_count, &
       ffrf_joint_name, ffrf_joint_reaction, ffrf_marker_set_load, ffrf_body_set_pose, ffrf_sensor_count, &
+      ffrf_case_set_export, &
       ffrf_sensor_name, ffrf_sensor_values
    public :: ffrf_driver_state
    public :: ffrf_body_invariant
@@ -277,6 +278,14 @@ module ffrf_c
          type(c_ptr), value :: c, position, orientation, velocity, angular_velocity
          integer(c_int), value :: body
       end function ffrf_body_set_pose
+
+      !> formats: a NUL-terminated list of export words ("xdmf"), before the run
+      integer(c_int) function ffrf_case_set_export(c, formats) bind(c, name='ffrf_case_set_export')
+         import :: c_int, c_ptr, c_char
+         implicit none
+         type(c_ptr), value :: c
+         character(kind=c_char), intent(in) :: formats(*)
+      end function ffrf_case_set_export
 
       integer(c_int) function ffrf_body_invariant(c, body, name, values, capacity, count) &
             bind(c, name='ffrf_body_invariant')

@@ -12,7 +12,8 @@ module ffrf_core_choices
    public :: MPC_RBE2, MPC_RBE3, mpc_choices
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
    public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
-   public :: EXPORT_EXUDYN, export_choices
+   public :: choice_kinds
+   public :: EXPORT_XDMF, EXPORT_EXUDYN, export_choices
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
       SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_SPRING, SENSOR_DRIVER, &
@@ -54,10 +55,13 @@ module ffrf_core_choices
    type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
       choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
 
-   !> Exports beside the results (&run export, a list of these words): 'exudyn', each flexible
-   !> body as a file Exudyn's FEMinterface.LoadFromFile loads (docs/results.md "Exudyn export")
-   integer, parameter :: EXPORT_EXUDYN = 1
-   type(choice_t), parameter :: export_choices(*) = [choice_t('exudyn', EXPORT_EXUDYN)]
+   !> Exports beside the results file (&run export, a list of words, each one dispatched by the
+   !> applications): XDMF 3 for ParaView (src/io/xdmf.f90); each flexible body of a modal run as a
+   !> file Exudyn's FEMinterface.LoadFromFile loads (src/io/exudyn_body.f90; docs/results.md
+   !> "Exudyn export")
+   integer, parameter :: EXPORT_XDMF = 1, EXPORT_EXUDYN = 2
+   type(choice_t), parameter :: export_choices(*) = [ &
+      choice_t('xdmf', EXPORT_XDMF), choice_t('exudyn', EXPORT_EXUDYN)]
 
    !> RBE3 node weightings (&interface weighting, &marker weighting): every node weight 1
    !> (Nastran's default), tributary areas, consistent areas int N_i dA (Tri6 corners ~0); given
@@ -169,5 +173,41 @@ contains
       end if
       kind = table(position)%kind
    end subroutine choice_kind
+
+   !> The kinds of a list of words of `table` (separated by blanks or commas, any case), in the
+   !> order given, a repeated word kept once; an unknown word is choice_kind's error.
+   subroutine choice_kinds(table, key, what, words, kinds, error)
+      type(choice_t), intent(in) :: table(:)
+      !> The key (with its group or owner) and what a word of the table is, for the message
+      character(len=*), intent(in) :: key, what
+      !> The list, e.g. 'xdmf'
+      character(len=*), intent(in) :: words
+      integer, allocatable, intent(out) :: kinds(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=len(words)) :: text
+      integer :: first, last, kind, n
+      integer, allocatable :: grown(:)
+      text = words
+      do first = 1, len(text)
+         if (text(first:first) == ',') text(first:first) = ' '
+      end do
+      allocate (kinds(0))
+      last = 0
+      do
+         first = verify(text(last + 1:), ' ')
+         if (first == 0) exit
+         first = first + last
+         last = index(text(first:), ' ') + first - 2
+         if (last < first) last = len(text)
+         call choice_kind(table, key, what, text(first:last), kind, error)
+         if (allocated(error)) return
+         if (any(kinds == kind)) cycle
+         n = size(kinds)
+         allocate (grown(n + 1))
+         grown(:n) = kinds
+         grown(n + 1) = kind
+         call move_alloc(grown, kinds)
+      end do
+   end subroutine choice_kinds
 
 end module ffrf_core_choices

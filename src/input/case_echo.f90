@@ -13,7 +13,7 @@ contains
          nml_string(case%run%output) // ''', mode_shapes_msh = ''' // &
          msh_name(case%run%mode_shapes_msh) // &
          ''', log_level = ''' // nml_string(case%run%log_level) // ''''
-      ! new key: echoed only when given, so that the echo of a case without it stays as it was
+      ! export only when asked (the echo of a case without it is the one written before it existed)
       if (len_trim(case%run%export) > 0) text = text // ', export = ''' // &
          nml_string(case%run%export) // ''''
       text = text // ' /' // nl

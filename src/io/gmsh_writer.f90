@@ -39,7 +39,7 @@ module ffrf_io_gmsh_writer
    use ffrf_io_text_stream, only: text_stream_t
    implicit none
    private
-   public :: write_mode_shapes_msh, write_displacement_frames_msh
+   public :: write_mode_shapes_msh, write_displacement_frames_msh, open_part, close_part
 
    !> Largest displacement drawn, as a fraction of the bounding-box diagonal
    real(dp), parameter :: shown_amplitude = 0.1_dp
@@ -106,12 +106,8 @@ contains
 
       ! The text is that of the formatted writes '(i0, 3(1x, es24.16e3))' (nodes, values),
       ! '(*(i0, :, 1x))' (elements) and '(a)', byte for byte, formatted in memory (text_stream)
-      call file%open(file_name // '.part')
-      if (file%stat /= 0) then
-         call fatal_error(error, FFRF_IO_ERROR, 'cannot write Gmsh file "' // file_name // &
-            '": ' // trim(file%msg) // '; check that its folder exists and is writable')
-         return
-      end if
+      call open_part(file, file_name, 'Gmsh file', error)
+      if (allocated(error)) return
       call file%put_line('$MeshFormat')
       call file%put_line('2.2 0 8')
       call file%put_line('$EndMeshFormat')
@@ -152,14 +148,7 @@ contains
          call file%put_tagged_es_lines(1, shapes(:, mode), digits)
          call file%put_line('$EndNodeData')
       end do
-      call file%flush()
-      if (file%stat /= 0) then
-         close (file%unit, status='delete')
-         call fatal_error(error, FFRF_IO_ERROR, 'writing Gmsh file "' // file_name // &
-            '" failed: ' // trim(file%msg) // ' (disk full, quota or file size limit?)')
-         return
-      end if
-      call close_whole(file%unit, file_name // '.part', 'Gmsh file "' // file_name // '"', error)
+      call close_part(file, file_name, 'Gmsh file', error)
       if (allocated(error)) return
       call write_options(file_name // '.opt', xyz, shapes, frames, error)
       if (.not. allocated(error)) call commit_durably(file_name // '.part', file_name, 'Gmsh file', &
@@ -171,6 +160,36 @@ contains
          call remove_quietly(file_name // '.opt.part')
       end if
    end subroutine write_views
+
+   !> Open `<file_name>.part` as the text stream `file` (`file_name`: its final name);
+   !> FFRF_IO_ERROR "cannot write <what> ..." when it cannot be created.
+   subroutine open_part(file, file_name, what, error)
+      type(text_stream_t), intent(inout) :: file
+      !> Final name, and what the file is ('Gmsh file'), for the message
+      character(len=*), intent(in) :: file_name, what
+      type(error_t), allocatable, intent(out) :: error
+      call file%open(file_name // '.part')
+      if (file%stat /= 0) call fatal_error(error, FFRF_IO_ERROR, 'cannot write ' // what // &
+         ' "' // file_name // '": ' // trim(file%msg) // '; check that its folder exists and ' &
+         // 'is writable')
+   end subroutine open_part
+
+   !> Flush the text stream `file` of `<file_name>.part`, close it and check that it is whole on
+   !> disk (close_whole); on failure it is removed and FFRF_IO_ERROR names `what`.
+   subroutine close_part(file, file_name, what, error)
+      type(text_stream_t), intent(inout) :: file
+      !> Final name, and what the file is ('Gmsh file'), for the message
+      character(len=*), intent(in) :: file_name, what
+      type(error_t), allocatable, intent(out) :: error
+      call file%flush()
+      if (file%stat /= 0) then
+         close (file%unit, status='delete')
+         call fatal_error(error, FFRF_IO_ERROR, 'writing ' // what // ' "' // file_name // &
+            '" failed: ' // trim(file%msg) // ' (disk full, quota or file size limit?)')
+         return
+      end if
+      call close_whole(file%unit, file_name // '.part', what // ' "' // file_name // '"', error)
+   end subroutine close_part
 
    !> Close `unit` (the file `path`) and check that all it was written reached the file: the
    !> size on disk must equal the size the runtime wrote (a full disk or a file size limit

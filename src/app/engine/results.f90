@@ -34,6 +34,7 @@ module ffrf_app_engine_results
    use ffrf_core_kinds, only: dp, i8
    use ffrf_core_error, only: error_t
    use ffrf_io_hdf5, only: h5_file_t
+   use ffrf_io_xdmf, only: xdmf_body_t
    implicit none
    private
    public :: engine_results_t
@@ -98,6 +99,7 @@ module ffrf_app_engine_results
       procedure :: write_int => engine_results_write_int
       procedure :: write_strings => engine_results_write_strings
       procedure :: write_modes => engine_results_write_modes
+      procedure :: write_xdmf_body => engine_results_write_xdmf_body
       procedure :: write_long => engine_results_write_long
       procedure :: append_from => engine_results_append_from
       procedure :: interval_state => engine_results_interval_state
@@ -354,6 +356,22 @@ module ffrf_app_engine_results
          integer, intent(in) :: num_static
          type(error_t), allocatable, intent(out) :: error
       end subroutine engine_results_write_modes
+
+      !> The XDMF datasets of a flexible body (ffrf_io_xdmf write_xdmf_body: mesh and frames).
+      module subroutine engine_results_write_xdmf_body(self, name, xyz, tets, fields, times, &
+            body, error)
+         class(engine_results_t), intent(inout) :: self
+         !> Body name
+         character(len=*), intent(in) :: name
+         !> Node coordinates (3, num_nodes), m; tetrahedra (4 or 10, num_tets), Gmsh order
+         real(dp), intent(in) :: xyz(:, :)
+         integer, intent(in) :: tets(:, :)
+         !> Elastic displacement of each frame (3 num_nodes, frames), m; time of each (s)
+         real(dp), intent(in) :: fields(:, :), times(:)
+         !> What the XDMF file says of it
+         type(xdmf_body_t), intent(out) :: body
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine engine_results_write_xdmf_body
 
       !> Write 64-bit integer run information (the restart state).
       module subroutine engine_results_write_long(self, path, values, error)

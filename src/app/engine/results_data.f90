@@ -3,6 +3,7 @@
 submodule (ffrf_app_engine_results) ffrf_app_engine_results_data
    use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_io_xdmf, only: write_xdmf_body
    implicit none
 
 contains
@@ -53,6 +54,10 @@ contains
       end do
       if (allocated(error)) call add_context(error, 'engine results "' // self%file_name // '"')
    end procedure engine_results_write_modes
+
+   module procedure engine_results_write_xdmf_body
+      call write_xdmf_body(self%h5, name, xyz, tets, fields, times, .true., body, error)
+   end procedure engine_results_write_xdmf_body
 
    module procedure engine_results_write_long
       call self%h5%write_int(path, values, error)
