@@ -1,0 +1,49 @@
+# Nastran bulk data as a mesh (issue 26, item 2; docs/input.md "Nastran bulk data").
+#  - bdf_crank_pynastran: the crank written as bulk data by pyNastran (small, large and free
+#    fields, continuations, INCLUDE, RBE2 and RBE3) gives the frequencies of the Gmsh path to
+#    1e-12 relative for RC sets 1-3 with RBE3 and RBE2 interfaces, on the lc = 10 mm mesh of the
+#    CalculiX cross-check (measured worst 3.4e-13); pyNastran from PyPI in a virtual environment
+#    over Debian's numpy/h5py/meshio (skip, code 77, when it cannot be made).
+#  - bdf_error_<name>: each deck of tests/data/bdf/bad holds one defect; ffrf stops with one line
+#    naming the file, the line and the card (exit 2; 3 for the missing INCLUDE, an I/O error);
+#    bdf_good_deck: the deck they are made from runs.
+set(_bdf_dir "${PROJECT_SOURCE_DIR}/tests/data/bdf/bad")
+set(_bdf_out "${PROJECT_BINARY_DIR}/tests/bdf")
+file(MAKE_DIRECTORY "${_bdf_out}")
+
+add_test(NAME bdf_crank_pynastran
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_bdf_crank.py
+    --driver $<TARGET_FILE:ffrf> --input-dir ${PROJECT_SOURCE_DIR}/input
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --work ${_bdf_out}/crank
+    --venv ${PROJECT_BINARY_DIR}/tests/pynastran_venv)
+set_tests_properties(bdf_crank_pynastran PROPERTIES LABELS "regression;mesh;bdf"
+  FIXTURES_REQUIRED crank_lc10_mesh SKIP_RETURN_CODE 77 TIMEOUT 300
+  ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_NUM_THREADS=1")
+
+# ffrf_bdf_case(<name> <deck>): a body "block" of PSOLID 1 with the interface RBE3 101.
+function(ffrf_bdf_case name deck)
+  file(WRITE "${_bdf_out}/${name}.nml"
+    "&body name = 'block', mesh_file = '${deck}', volumes = '1' /\n&interface body = 'block', name = '101', rc = '123456' /\n&modes num_modes = 2 /\n")
+endfunction()
+
+ffrf_bdf_case(good good.bdf)
+add_test(NAME bdf_good_deck COMMAND ffrf ${_bdf_out}/good.nml --mesh-dir ${_bdf_dir}
+  --output-dir ${_bdf_out})
+set_tests_properties(bdf_good_deck PROPERTIES LABELS "regression;mesh;bdf" TIMEOUT 20)
+
+# ffrf_bdf_error(<name> <exit code> <message regex>): deck <name>.bdf of tests/data/bdf/bad.
+function(ffrf_bdf_error name code regex)
+  ffrf_bdf_case(${name} ${name}.bdf)
+  add_test(NAME bdf_error_${name}
+    COMMAND ${CMAKE_COMMAND}
+      "-DCOMMAND=$<TARGET_FILE:ffrf>;${_bdf_out}/${name}.nml;--mesh-dir;${_bdf_dir};--output-dir;${_bdf_out}"
+      -DEXIT_CODE=${code} "-DMESSAGE=${regex}" -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+  set_tests_properties(bdf_error_${name} PROPERTIES LABELS "regression;errors;mesh;bdf" TIMEOUT 20)
+endfunction()
+
+ffrf_bdf_error(missing_grid 2 "missing_grid.bdf': line 7, CTETRA 1, field 6 \\(grid\\): grid 4 is no GRID of the deck")
+ffrf_bdf_error(unknown_psolid 2 "unknown_psolid.bdf': line 7, CTETRA 1: PID = 2 is no PSOLID of the deck")
+ffrf_bdf_error(bad_field 2 "bad_field.bdf': line 3, GRID 2, field 3 \\(X1\\): '1.2.3' is no real")
+ffrf_bdf_error(unterminated 2 "unterminated.bdf': line 10, RBE3 \\(card of line 10\\): unterminated continuation")
+ffrf_bdf_error(rbe3_no_weights 2 "rbe3_no_weights.bdf': line 10, RBE3 101: no weights and grids \\(RBE3 without weights\\)")
+ffrf_bdf_error(include_missing 3 "include_missing.bdf': line 2, INCLUDE 'not_there.bdf': included file .*not_there.bdf\" does not exist")
