@@ -31,12 +31,19 @@ add_test(NAME bdf_good_deck COMMAND ffrf ${_bdf_out}/good.nml --mesh-dir ${_bdf_
   --output-dir ${_bdf_out})
 set_tests_properties(bdf_good_deck PROPERTIES LABELS "regression;mesh;bdf" TIMEOUT 20)
 
-# ffrf_bdf_error(<name> <exit code> <message regex>): deck <name>.bdf of tests/data/bdf/bad.
+# ffrf_bdf_error(<name> <exit code> <message regex> [deck [--set ...]]): deck <name>.bdf of
+# tests/data/bdf/bad, or [deck] with the options after it.
 function(ffrf_bdf_error name code regex)
-  ffrf_bdf_case(${name} ${name}.bdf)
+  set(deck ${name}.bdf)
+  set(options "")
+  if(ARGC GREATER 3)
+    set(deck ${ARGV3})
+    list(SUBLIST ARGN 1 -1 options)
+  endif()
+  ffrf_bdf_case(${name} ${deck})
   add_test(NAME bdf_error_${name}
     COMMAND ${CMAKE_COMMAND}
-      "-DCOMMAND=$<TARGET_FILE:ffrf>;${_bdf_out}/${name}.nml;--mesh-dir;${_bdf_dir};--output-dir;${_bdf_out}"
+      "-DCOMMAND=$<TARGET_FILE:ffrf>;${_bdf_out}/${name}.nml;--mesh-dir;${_bdf_dir};--output-dir;${_bdf_out};${options}"
       -DEXIT_CODE=${code} "-DMESSAGE=${regex}" -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
   set_tests_properties(bdf_error_${name} PROPERTIES LABELS "regression;errors;mesh;bdf" TIMEOUT 20)
 endfunction()
@@ -47,3 +54,6 @@ ffrf_bdf_error(bad_field 2 "bad_field.bdf': line 3, GRID 2, field 3 \\(X1\\): '1
 ffrf_bdf_error(unterminated 2 "unterminated.bdf': line 10, RBE3 \\(card of line 10\\): unterminated continuation")
 ffrf_bdf_error(rbe3_no_weights 2 "rbe3_no_weights.bdf': line 10, RBE3 101: no weights and grids \\(RBE3 without weights\\)")
 ffrf_bdf_error(include_missing 3 "include_missing.bdf': line 2, INCLUDE 'not_there.bdf': included file .*not_there.bdf\" does not exist")
+# an &interface that does not fit the deck: an element id it lacks, an RBE3 called RBE2
+ffrf_bdf_error(no_element 2 "interface .103.: deck .*good.bdf' has no RBE2 or RBE3 element 103.*elements: 101" good.bdf --set interface[101].name=103)
+ffrf_bdf_error(mpc_mismatch 2 "interface .101. \\(RBE3 element 101 at .*good.bdf:10\\): &interface mpc = 'RBE2' but the element is an RBE3" good.bdf --set interface[101].mpc=RBE2)
