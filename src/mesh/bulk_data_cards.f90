@@ -7,6 +7,7 @@
 !> the model); any other card is listed in mesh%ignored_cards and not read.
 submodule(ffrf_mesh_bulk_data:ffrf_mesh_bulk_data_fields) ffrf_mesh_bulk_data_cards
    use ffrf_core_choices, only: MPC_RBE2, MPC_RBE3
+   use ffrf_la_sparse, only: sort_indices
    implicit none
 
    !> Cards that change the model and are not read: refused
@@ -28,6 +29,7 @@ contains
       logical, allocatable :: on_tet(:)
       character(len=8), allocatable :: other(:)
       integer, allocatable :: other_count(:)
+      integer(i8) :: duplicate
       integer :: c, k, n
 
       allocate (cord(3, 4, 0), cord_id(0), psolid(3, 0), mat_id(0), mat(3, 0), mat_card(0))
@@ -64,15 +66,12 @@ contains
       end do
       mesh%num_nodes = n
       mesh%node_tags = grids%id
-      call sort_grids(grids)
-      do k = 2, n
-         if (grids%sorted(k) == grids%sorted(k - 1)) then
-            call fatal_error(error, FFRF_INPUT_ERROR, 'deck ''' // trim(deck%files(1)) // &
-               ''': GRID ' // to_str(grids%sorted(k)) // ' is given twice; grid ids must ' // &
-               'be unique')
-            return
-         end if
-      end do
+      call sort_grids(grids, duplicate)
+      if (duplicate /= 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'deck ''' // trim(deck%files(1)) // &
+            ''': GRID ' // to_str(duplicate) // ' is given twice; grid ids must be unique')
+         return
+      end if
       call read_tets(deck, grids, psolid, mesh, error)
       if (allocated(error)) return
       call volume_groups(deck, psolid, mat_id, mat, mat_card, mesh, error)
@@ -168,6 +167,11 @@ contains
       if (.not. allocated(error)) call get_int(deck, c, 6, 'CD', cd, error, 0_i8)
       if (.not. allocated(error)) call get_int(deck, c, 8, 'SEID', seid, error, 0_i8)
       if (allocated(error)) return
+      if (id < 1 .or. id > huge(1_ip)) then
+         call fatal_error(error, FFRF_INPUT_ERROR, card_where(deck, c) // ': grid id ' // &
+            to_str(id) // '; give 1 .. ' // to_str(huge(1_ip)))
+         return
+      end if
       if (len_trim(field(deck, c, 7)) > 0 .or. seid /= 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, card_where(deck, c) // ': PS (permanent ' // &
             'constraints) or SEID (superelement) given; ffrf''s body floats (its reference ' // &
@@ -334,18 +338,23 @@ contains
       integer, intent(in) :: mat_card(:)
       type(mesh_t), intent(inout) :: mesh
       type(error_t), allocatable, intent(out) :: error
-      integer(i8), allocatable :: used(:)
+      integer(ip), allocatable :: used(:)
+      logical :: has_tets(size(psolid, 2))
       integer :: k, p, m, c
-      used = pack(psolid(1, :), [(any(mesh%tet_entity == psolid(1, k)), k=1, size(psolid, 2))])
-      call sort_ids(used)
+      do k = 1, size(psolid, 2)
+         has_tets(k) = any(mesh%tet_entity == psolid(1, k))
+      end do
+      allocate (used(count(has_tets)))
+      used = int(pack(psolid(1, :), has_tets), ip)
+      call sort_indices(used)
       allocate (mesh%groups(size(used)), mesh%materials(size(used)))
       do k = 1, size(used)
-         p = findloc(psolid(1, :), used(k), dim=1)
+         p = findloc(psolid(1, :), int(used(k), i8), dim=1)
          c = int(psolid(3, p))
          mesh%groups(k)%dim = 3
-         mesh%groups(k)%tag = int(used(k), ip)
+         mesh%groups(k)%tag = used(k)
          mesh%groups(k)%name = to_str(used(k))
-         mesh%groups(k)%entities = [int(used(k), ip)]
+         mesh%groups(k)%entities = [used(k)]
          m = findloc(mat_id, psolid(2, p), dim=1)
          if (m == 0) then
             call fatal_error(error, FFRF_INPUT_ERROR, card_where(deck, c) // ': MID = ' // &
@@ -353,7 +362,7 @@ contains
                '); ffrf reads isotropic MAT1')
             return
          end if
-         mesh%materials(k)%volume = int(used(k), ip)
+         mesh%materials(k)%volume = used(k)
          mesh%materials(k)%young = mat(1, m)
          mesh%materials(k)%poisson = mat(2, m)
          mesh%materials(k)%density = mat(3, m)

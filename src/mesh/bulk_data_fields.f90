@@ -2,12 +2,13 @@
 !> id lists with THRU), the grid-id look-up, and the located messages "deck 'a.bdf': line 12,
 !> GRID 7, field 3 (X1)" every error of a deck carries. Parent of bulk_data_cards.
 submodule(ffrf_mesh_bulk_data) ffrf_mesh_bulk_data_fields
+   use ffrf_la_sparse, only: sort_indices
    implicit none
 
    !> The grids of the deck: ids in card order, and sorted for the look-up
    type :: grid_map_t
-      integer(i8), allocatable :: id(:), sorted(:)
-      integer(ip), allocatable :: index_of_sorted(:)
+      integer(i8), allocatable :: id(:)
+      integer(ip), allocatable :: sorted(:), index_of_sorted(:)
    end type grid_map_t
 
 contains
@@ -282,73 +283,53 @@ contains
    pure integer function grid_index(grids, g)
       type(grid_map_t), intent(in) :: grids
       integer(i8), intent(in) :: g
-      integer :: lo, hi, mid
+      integer :: k
       grid_index = 0
+      k = sorted_position(grids%sorted, g)
+      if (k > 0) grid_index = grids%index_of_sorted(k)
+   end function grid_index
+
+   !> grids%sorted (the ids ascending) and grids%index_of_sorted (the card-order index of each)
+   !> from grids%id; `duplicate` is an id given twice (0 if none).
+   subroutine sort_grids(grids, duplicate)
+      type(grid_map_t), intent(inout) :: grids
+      integer(i8), intent(out) :: duplicate
+      integer :: k, n
+      n = size(grids%id)
+      grids%sorted = int(grids%id, ip)
+      call sort_indices(grids%sorted)
+      duplicate = 0
+      do k = 2, n
+         if (grids%sorted(k) == grids%sorted(k - 1)) then
+            duplicate = grids%sorted(k)
+            return
+         end if
+      end do
+      allocate (grids%index_of_sorted(n))
+      do k = 1, n
+         grids%index_of_sorted(sorted_position(grids%sorted, grids%id(k))) = int(k, ip)
+      end do
+   end subroutine sort_grids
+
+   !> Position of g in the ascending `sorted`, 0 if absent.
+   pure integer function sorted_position(sorted, g)
+      integer(ip), intent(in) :: sorted(:)
+      integer(i8), intent(in) :: g
+      integer :: lo, hi, mid
+      sorted_position = 0
       lo = 1
-      hi = size(grids%sorted)
+      hi = size(sorted)
       do while (lo <= hi)
          mid = (lo + hi) / 2
-         if (grids%sorted(mid) == g) then
-            grid_index = grids%index_of_sorted(mid)
+         if (sorted(mid) == g) then
+            sorted_position = mid
             return
-         else if (grids%sorted(mid) < g) then
+         else if (sorted(mid) < g) then
             lo = mid + 1
          else
             hi = mid - 1
          end if
       end do
-   end function grid_index
-
-   !> grids%sorted, grids%index_of_sorted from grids%id (merge sort, stable).
-   subroutine sort_grids(grids)
-      type(grid_map_t), intent(inout) :: grids
-      integer(ip), allocatable :: order(:), work(:)
-      integer :: n, width, lo, mid, hi, i, j, k
-      n = size(grids%id)
-      allocate (order(n), work(n))
-      do i = 1, n
-         order(i) = int(i, ip)
-      end do
-      width = 1
-      do while (width < n)
-         do lo = 1, n, 2 * width
-            mid = min(lo + width, n + 1)
-            hi = min(lo + 2 * width, n + 1)
-            i = lo
-            j = mid
-            do k = lo, hi - 1
-               if (i < mid .and. (j >= hi .or. grids%id(order(min(i, n))) <= &
-                  grids%id(order(min(j, n))))) then
-                  work(k) = order(i)
-                  i = i + 1
-               else
-                  work(k) = order(j)
-                  j = j + 1
-               end if
-            end do
-         end do
-         order = work
-         width = 2 * width
-      end do
-      grids%index_of_sorted = order
-      grids%sorted = grids%id(order)
-   end subroutine sort_grids
-
-   !> Sort ids ascending (insertion: few PSOLIDs).
-   pure subroutine sort_ids(ids)
-      integer(i8), intent(inout) :: ids(:)
-      integer(i8) :: v
-      integer :: i, j
-      do i = 2, size(ids)
-         v = ids(i)
-         j = i - 1
-         do while (j >= 1)
-            if (ids(j) <= v) exit
-            ids(j + 1) = ids(j)
-            j = j - 1
-         end do
-         ids(j + 1) = v
-      end do
-   end subroutine sort_ids
+   end function sorted_position
 
 end submodule ffrf_mesh_bulk_data_fields

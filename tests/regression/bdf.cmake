@@ -4,7 +4,7 @@
 #    1e-12 relative for RC sets 1-3 with RBE3 and RBE2 interfaces, on the lc = 10 mm mesh of the
 #    CalculiX cross-check (measured worst 3.4e-13); pyNastran from PyPI in a virtual environment
 #    over Debian's numpy/h5py/meshio (skip, code 77, when it cannot be made).
-#  - bdf_error_<name>: each deck of tests/data/bdf/bad holds one defect; ffrf stops with one line
+#  - error_bdf_<name>: each deck of tests/data/bdf/bad holds one defect; ffrf stops with one line
 #    naming the file, the line and the card (exit 2; 3 for the missing INCLUDE, an I/O error);
 #    bdf_good_deck: the deck they are made from runs.
 set(_bdf_dir "${PROJECT_SOURCE_DIR}/tests/data/bdf/bad")
@@ -20,40 +20,29 @@ set_tests_properties(bdf_crank_pynastran PROPERTIES LABELS "regression;mesh;bdf"
   FIXTURES_REQUIRED crank_lc10_mesh SKIP_RETURN_CODE 77 TIMEOUT 300
   ENVIRONMENT "OPENBLAS_NUM_THREADS=1;OMP_NUM_THREADS=1")
 
-# ffrf_bdf_case(<name> <deck>): a body "block" of PSOLID 1 with the interface RBE3 101.
-function(ffrf_bdf_case name deck)
-  file(WRITE "${_bdf_out}/${name}.nml"
-    "&body name = 'block', mesh_file = '${deck}', volumes = '1' /\n&interface body = 'block', name = '101', rc = '123456' /\n&modes num_modes = 2 /\n")
-endfunction()
-
-ffrf_bdf_case(good good.bdf)
-add_test(NAME bdf_good_deck COMMAND ffrf ${_bdf_out}/good.nml --mesh-dir ${_bdf_dir}
-  --output-dir ${_bdf_out})
+# The case of each deck: a body "block" of PSOLID 1 with the interface RBE3 101.
+set(_bdf_body "&body name = 'block', volumes = '1', mesh_file = '${_bdf_dir}")
+set(_bdf_iface "' /\n&interface body = 'block', name = '101', rc = '123456' /\n&modes num_modes = 2 /")
+file(WRITE "${_bdf_out}/good.nml" "${_bdf_body}/good.bdf${_bdf_iface}\n")
+add_test(NAME bdf_good_deck COMMAND ffrf ${_bdf_out}/good.nml --output-dir ${_bdf_out})
 set_tests_properties(bdf_good_deck PROPERTIES LABELS "regression;mesh;bdf" TIMEOUT 20)
 
-# ffrf_bdf_error(<name> <exit code> <message regex> [deck [--set ...]]): deck <name>.bdf of
-# tests/data/bdf/bad, or [deck] with the options after it.
-function(ffrf_bdf_error name code regex)
-  set(deck ${name}.bdf)
-  set(options "")
-  if(ARGC GREATER 3)
-    set(deck ${ARGV3})
-    list(SUBLIST ARGN 1 -1 options)
-  endif()
-  ffrf_bdf_case(${name} ${deck})
-  add_test(NAME bdf_error_${name}
-    COMMAND ${CMAKE_COMMAND}
-      "-DCOMMAND=$<TARGET_FILE:ffrf>;${_bdf_out}/${name}.nml;--mesh-dir;${_bdf_dir};--output-dir;${_bdf_out};${options}"
-      -DEXIT_CODE=${code} "-DMESSAGE=${regex}" -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
-  set_tests_properties(bdf_error_${name} PROPERTIES LABELS "regression;errors;mesh;bdf" TIMEOUT 20)
-endfunction()
-
-ffrf_bdf_error(missing_grid 2 "missing_grid.bdf': line 7, CTETRA 1, field 6 \\(grid\\): grid 4 is no GRID of the deck")
-ffrf_bdf_error(unknown_psolid 2 "unknown_psolid.bdf': line 7, CTETRA 1: PID = 2 is no PSOLID of the deck")
-ffrf_bdf_error(bad_field 2 "bad_field.bdf': line 3, GRID 2, field 3 \\(X1\\): '1.2.3' is no real")
-ffrf_bdf_error(unterminated 2 "unterminated.bdf': line 10, RBE3 \\(card of line 10\\): unterminated continuation")
-ffrf_bdf_error(rbe3_no_weights 2 "rbe3_no_weights.bdf': line 10, RBE3 101: no weights and grids \\(RBE3 without weights\\)")
-ffrf_bdf_error(include_missing 3 "include_missing.bdf': line 2, INCLUDE 'not_there.bdf': included file .*not_there.bdf\" does not exist")
+# ffrf_error_case (error_cases.cmake): error_bdf_<name>, deck <name>.bdf of tests/data/bdf/bad
+foreach(_entry
+    "missing_grid|2|missing_grid.bdf': line 7, CTETRA 1, field 6 \\(grid\\): grid 4 is no GRID of the deck"
+    "unknown_psolid|2|unknown_psolid.bdf': line 7, CTETRA 1: PID = 2 is no PSOLID of the deck"
+    "bad_field|2|bad_field.bdf': line 3, GRID 2, field 3 \\(X1\\): '1.2.3' is no real"
+    "unterminated|2|unterminated.bdf': line 10, RBE3 \\(card of line 10\\): unterminated continuation"
+    "rbe3_no_weights|2|rbe3_no_weights.bdf': line 10, RBE3 101: no weights and grids \\(RBE3 without weights\\)"
+    "include_missing|3|include_missing.bdf': line 2, INCLUDE 'not_there.bdf': included file .*not_there.bdf\" does not exist")
+  string(REPLACE "|" ";" _parts "${_entry}")
+  list(GET _parts 0 _name)
+  list(GET _parts 1 _code)
+  list(GET _parts 2 _regex)
+  ffrf_error_case(bdf_${_name} ${_code} "${_regex}" "${_bdf_body}/${_name}.bdf${_bdf_iface}")
+endforeach()
 # an &interface that does not fit the deck: an element id it lacks, an RBE3 called RBE2
-ffrf_bdf_error(no_element 2 "interface .103.: deck .*good.bdf' has no RBE2 or RBE3 element 103.*elements: 101" good.bdf --set interface[101].name=103)
-ffrf_bdf_error(mpc_mismatch 2 "interface .101. \\(RBE3 element 101 at .*good.bdf:10\\): &interface mpc = 'RBE2' but the element is an RBE3" good.bdf --set interface[101].mpc=RBE2)
+ffrf_error_case(bdf_no_element 2 "interface .103.: deck .*good.bdf' has no RBE2 or RBE3 element 103.*elements: 101"
+  "${_bdf_body}/good.bdf${_bdf_iface}" --set interface[101].name=103)
+ffrf_error_case(bdf_mpc_mismatch 2 "interface .101. \\(RBE3 element 101 at .*good.bdf:10\\): &interface mpc = 'RBE2' but the element is an RBE3"
+  "${_bdf_body}/good.bdf${_bdf_iface}" --set interface[101].mpc=RBE2)

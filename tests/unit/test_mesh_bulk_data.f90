@@ -12,7 +12,7 @@ module test_mesh_bulk_data
    use ffrf_core_choices, only: MPC_RBE2, MPC_RBE3
    use ffrf_mesh_mesh, only: mesh_t, extract_body
    use ffrf_mesh_bulk_data, only: read_mesh_file, is_bulk_data_file
-   use ffrf_testing, only: unittest_t, new_unittest, check_close, check
+   use ffrf_testing, only: unittest_t, new_unittest, check_close, check, test_data_dir
    implicit none
    private
    public :: collect_mesh_bulk_data
@@ -31,11 +31,7 @@ contains
    function deck(name) result(path)
       character(len=*), intent(in) :: name
       character(len=:), allocatable :: path
-      character(len=4096) :: dir
-      integer :: length, stat
-      call get_environment_variable('FFRF_TEST_DATA_DIR', dir, length, stat)
-      if (stat /= 0 .or. length == 0) dir = 'tests/data'
-      path = trim(dir) // '/bdf/' // name
+      path = test_data_dir() // '/bdf/' // name
    end function deck
 
    !> Grids in card order (the INCLUDE read where it stands), their coordinates from small,
