@@ -2,13 +2,14 @@
 !> id lists with THRU), the grid-id look-up, and the located messages "deck 'a.bdf': line 12,
 !> GRID 7, field 3 (X1)" every error of a deck carries. Parent of bulk_data_cards.
 submodule(ffrf_mesh_bulk_data) ffrf_mesh_bulk_data_fields
-   use ffrf_la_sparse, only: sort_indices
+   use ffrf_la_sparse, only: csr_t, csr_find, sort_indices
    implicit none
 
    !> The grids of the deck: ids in card order, and sorted for the look-up
    type :: grid_map_t
       integer(i8), allocatable :: id(:)
-      integer(ip), allocatable :: sorted(:), index_of_sorted(:)
+      type(csr_t) :: sorted
+      integer(ip), allocatable :: index_of_sorted(:)
    end type grid_map_t
 
 contains
@@ -283,53 +284,37 @@ contains
    pure integer function grid_index(grids, g)
       type(grid_map_t), intent(in) :: grids
       integer(i8), intent(in) :: g
-      integer :: k
+      integer(ip) :: k
       grid_index = 0
-      k = sorted_position(grids%sorted, g)
+      if (g < 1 .or. g > huge(1_ip)) return
+      k = csr_find(grids%sorted, 1_ip, int(g, ip))
       if (k > 0) grid_index = grids%index_of_sorted(k)
    end function grid_index
 
-   !> grids%sorted (the ids ascending) and grids%index_of_sorted (the card-order index of each)
-   !> from grids%id; `duplicate` is an id given twice (0 if none).
+   !> grids%sorted (the ids ascending, as the one row of a CSR pattern, searched by csr_find)
+   !> and grids%index_of_sorted (the card-order index of each) from grids%id; `duplicate` is an
+   !> id given twice (0 if none).
    subroutine sort_grids(grids, duplicate)
       type(grid_map_t), intent(inout) :: grids
       integer(i8), intent(out) :: duplicate
-      integer :: k, n
-      n = size(grids%id)
-      grids%sorted = int(grids%id, ip)
-      call sort_indices(grids%sorted)
+      integer(ip) :: k, n
+      n = size(grids%id, kind=ip)
+      grids%sorted%num_rows = 1
+      grids%sorted%num_cols = huge(1_ip)
+      grids%sorted%row_ptr = [1_ip, n + 1_ip]
+      grids%sorted%col = int(grids%id, ip)
+      call sort_indices(grids%sorted%col)
       duplicate = 0
       do k = 2, n
-         if (grids%sorted(k) == grids%sorted(k - 1)) then
-            duplicate = grids%sorted(k)
+         if (grids%sorted%col(k) == grids%sorted%col(k - 1)) then
+            duplicate = grids%sorted%col(k)
             return
          end if
       end do
       allocate (grids%index_of_sorted(n))
       do k = 1, n
-         grids%index_of_sorted(sorted_position(grids%sorted, grids%id(k))) = int(k, ip)
+         grids%index_of_sorted(csr_find(grids%sorted, 1_ip, int(grids%id(k), ip))) = k
       end do
    end subroutine sort_grids
-
-   !> Position of g in the ascending `sorted`, 0 if absent.
-   pure integer function sorted_position(sorted, g)
-      integer(ip), intent(in) :: sorted(:)
-      integer(i8), intent(in) :: g
-      integer :: lo, hi, mid
-      sorted_position = 0
-      lo = 1
-      hi = size(sorted)
-      do while (lo <= hi)
-         mid = (lo + hi) / 2
-         if (sorted(mid) == g) then
-            sorted_position = mid
-            return
-         else if (sorted(mid) < g) then
-            lo = mid + 1
-         else
-            hi = mid - 1
-         end if
-      end do
-   end function sorted_position
 
 end submodule ffrf_mesh_bulk_data_fields
