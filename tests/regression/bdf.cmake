@@ -2,8 +2,9 @@
 #  - bdf_crank_pynastran: the crank written as bulk data by pyNastran (small, large and free
 #    fields, continuations, INCLUDE, RBE2 and RBE3) gives the frequencies of the Gmsh path to
 #    1e-12 relative for RC sets 1-3 with RBE3 and RBE2 interfaces, on the lc = 10 mm mesh of the
-#    CalculiX cross-check (measured worst 3.4e-13); pyNastran from PyPI in a virtual environment
-#    over Debian's numpy/h5py/meshio (skip, code 77, when it cannot be made).
+#    CalculiX cross-check (measured worst 5.1e-13, Ritz values to machine precision); pyNastran
+#    from PyPI in a virtual environment over Debian's numpy/h5py/meshio (skip, code 77, when it
+#    cannot be made).
 #  - error_bdf_<name>: each deck of tests/data/bdf/bad holds one defect; ffrf stops with one line
 #    naming the file, the line and the card (exit 2; 3 for the missing INCLUDE, an I/O error);
 #    bdf_good_deck: the deck they are made from runs.
