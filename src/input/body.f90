@@ -12,7 +12,8 @@ module ffrf_input_body
    type :: body_input_t
       !> Body name, used by &interface and in the results
       character(len=64) :: name = ''
-      !> Mesh file: Gmsh (MSH 4.1 or 2.2) or Nastran bulk data (.bdf .dat .nas .blk); relative paths are taken from the mesh directory
+      !> Mesh file: Gmsh (MSH 4.1 or 2.2) or Nastran bulk data (.bdf .dat .nas .blk); relative
+      !> paths are taken from the mesh directory
       character(len=256) :: mesh_file = ''
       !> Physical volume names that make up the body
       character(len=64) :: volumes(MAX_VOLUMES) = ''

@@ -108,7 +108,8 @@ contains
             all(r3%nodes == [1, 2, 3]) .and. all(r3%weights == [1.0_dp, 1.0_dp, 2.5_dp]))
          if (.not. allocated(error)) call check_close(error, 'RBE3 reference x', &
             r3%reference(1), 3.0_dp, atol=12.0_dp * epsilon(1.0_dp))
-         if (.not. allocated(error)) call check(error, 'RBE2 102: grids 1 THRU 4, reference grid 51', &
+         if (.not. allocated(error)) call check(error, &
+            'RBE2 102: grids 1 THRU 4, reference grid 51', &
             r2%name == '102' .and. &
             r2%rbe == MPC_RBE2 .and. all(r2%nodes == [1, 2, 3, 4]) .and. &
             all(r2%reference == 0.5_dp))
