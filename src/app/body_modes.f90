@@ -10,7 +10,8 @@ module ffrf_app_body_modes
    use ffrf_core_paths, only: join_path
    use ffrf_la_sparse, only: csr_t
    use ffrf_mesh_mesh, only: mesh_t
-   use ffrf_mesh_gmsh, only: read_gmsh
+   use ffrf_mesh_bulk_data, only: read_mesh_file
+   use ffrf_modes_input, only: body_spec_t
    use ffrf_mpc_interface, only: interface_spec_t, interface_t
    use ffrf_modes_input, only: modes_spec_t
    use ffrf_input_body, only: body_input_t
@@ -25,12 +26,13 @@ module ffrf_app_body_modes
    implicit none
    private
    public :: read_body_mesh, compute_body_modes_from_file, compute_input_body_modes, &
-      reuse_body_modes, check_stored_modes
+      reuse_body_modes, check_stored_modes, mesh_body_spec
 
 contains
 
-   !> Read the Gmsh file of a body (body_input%mesh_file, relative to mesh_dir unless absolute);
-   !> the reading time goes to `times` as "<body>: mesh file".
+   !> Read the mesh file of a body (body_input%mesh_file, relative to mesh_dir unless absolute;
+   !> Gmsh, or Nastran bulk data by its suffix); the reading time goes to `times` as
+   !> "<body>: mesh file".
    subroutine read_body_mesh(body_input, mesh_dir, times, mesh, error)
       !> Body: name and mesh file
       type(body_input_t), intent(in) :: body_input
@@ -43,10 +45,58 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(stage_timer_t) :: timer
       call timer%begin()
-      call read_gmsh(join_path(mesh_dir, trim(body_input%mesh_file)), mesh, error)
+      call read_mesh_file(join_path(mesh_dir, trim(body_input%mesh_file)), mesh, error)
       if (allocated(error)) return
       call times%add(trim(body_input%name) // ': mesh file', timer%seconds())
    end subroutine read_body_mesh
+
+   !> The body to cut from `mesh` (body_spec_of), its material taken from a Nastran deck (the
+   !> MAT1 of the body's PSOLIDs) for each of young, poisson, density that &body does not give
+   !> (docs/input.md "Nastran bulk data"); a body whose PSOLIDs have different MAT1 is refused.
+   subroutine mesh_body_spec(body_input, mesh, spec, error, log)
+      type(body_input_t), intent(in) :: body_input
+      !> The mesh as read (or the body cut from it)
+      type(mesh_t), intent(in) :: mesh
+      type(body_spec_t), intent(out) :: spec
+      type(error_t), allocatable, intent(out) :: error
+      !> Where the material and the cards not read are reported
+      type(logger_t), intent(in), optional :: log
+      integer :: i, k, m, found
+      spec = body_spec_of(body_input)
+      if (.not. allocated(mesh%materials)) return
+      found = 0
+      do i = 1, size(body_input%volumes)
+         if (len_trim(body_input%volumes(i)) == 0) cycle
+         k = mesh%find_group(3, trim(body_input%volumes(i)))
+         if (k == 0) cycle
+         m = findloc(mesh%materials%volume, mesh%groups(k)%tag, dim=1)
+         if (m == 0) cycle
+         if (found == 0) found = m
+         if (mesh%materials(m)%young /= mesh%materials(found)%young .or. &
+            mesh%materials(m)%poisson /= mesh%materials(found)%poisson .or. &
+            mesh%materials(m)%density /= mesh%materials(found)%density) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'body "' // trim(body_input%name) // &
+               '": its PSOLIDs have different materials, ' // mesh%materials(found)%origin // &
+               ' and ' // mesh%materials(m)%origin // '; a body has one material: make ' // &
+               'one body per material')
+            return
+         end if
+      end do
+      if (found == 0) return
+      if (.not. body_input%material_given(1)) spec%young = mesh%materials(found)%young
+      if (.not. body_input%material_given(2)) spec%poisson = mesh%materials(found)%poisson
+      if (.not. body_input%material_given(3)) spec%density = mesh%materials(found)%density
+      if (present(log)) then
+         call log%info('mesh', trim(body_input%name) // ': material E = ' // &
+            to_str(spec%young, 6) // ' Pa, nu = ' // to_str(spec%poisson, 6) // ', rho = ' // &
+            to_str(spec%density, 6) // ' kg/m^3 (' // mesh%materials(found)%origin // &
+            ' where &body gives none)')
+         if (allocated(mesh%ignored_cards)) then
+            if (len(mesh%ignored_cards) > 0) call log%info('mesh', trim(body_input%name) // &
+               ': cards not read: ' // mesh%ignored_cards)
+         end if
+      end if
+   end subroutine mesh_body_spec
 
    !> read_body_mesh, then compute_body_modes on the mesh (same arguments otherwise).
    subroutine compute_body_modes_from_file(body_input, interfaces, modes, mesh_dir, &
@@ -71,9 +121,11 @@ contains
       !> The FE stiffness matrix of the body
       type(csr_t), intent(out), optional :: stiffness_matrix
       type(mesh_t) :: mesh
+      type(body_spec_t) :: spec
       call read_body_mesh(body_input, mesh_dir, times, mesh, error)
+      if (.not. allocated(error)) call mesh_body_spec(body_input, mesh, spec, error, log)
       if (allocated(error)) return
-      call compute_body_modes(mesh, body_spec_of(body_input), interfaces, modes, log, times, &
+      call compute_body_modes(mesh, spec, interfaces, modes, log, times, &
          body, error, mass_matrix, stiffness_matrix)
    end subroutine compute_body_modes_from_file
 
@@ -146,6 +198,7 @@ contains
       type(stage_timer_t) :: timer
       type(logger_t) :: quiet
       type(csr_t) :: unused_mass
+      type(body_spec_t) :: spec
       character(len=:), allocatable :: file_name, where
 
       file_name = trim(body_input%modes_file)
@@ -158,18 +211,19 @@ contains
       geometry_only = modes
       geometry_only%num_modes = 0
       call read_body_mesh(body_input, mesh_dir, times, mesh, error)
+      if (.not. allocated(error)) call mesh_body_spec(body_input, mesh, spec, error)
       if (allocated(error)) return
       if (present(stiffness_matrix)) then
          ! K for the geometric stiffness: the assembly of computed modes, without modes
          quiet = log
          quiet%level = LOG_QUIET
-         call compute_body_modes(mesh, body_spec_of(body_input), interfaces, geometry_only, &
+         call compute_body_modes(mesh, spec, interfaces, geometry_only, &
             quiet, times, body, error, mass_matrix, stiffness_matrix)
       else if (present(mass_matrix)) then
-         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+         call body_without_modes(mesh, spec, interfaces, log, times, body, &
             mass_matrix, error)
       else
-         call body_without_modes(mesh, body_spec_of(body_input), interfaces, log, times, body, &
+         call body_without_modes(mesh, spec, interfaces, log, times, body, &
             unused_mass, error)
       end if
       if (allocated(error)) return
@@ -212,6 +266,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(modes_spec_t) :: asked
       type(modes_fingerprint_t) :: here
+      type(body_spec_t) :: spec
       character(len=:), allocatable :: difference, where
       logical :: same
       integer :: num_dofs
@@ -219,8 +274,9 @@ contains
       where = 'modes_file "' // trim(body_input%modes_file) // '"'
       asked = modes
       if (.not. num_modes_given) asked%num_modes = size(stored%frequency_hz)
-      call make_fingerprint(mesh, interfaces, body_spec_of(body_input), asked, &
-         asked%num_modes, here)
+      call mesh_body_spec(body_input, mesh, spec, error)
+      if (allocated(error)) return
+      call make_fingerprint(mesh, interfaces, spec, asked, asked%num_modes, here)
       call compare_fingerprints(here, stored%fingerprint, .not. num_modes_given, same, &
          difference)
       if (.not. same) then

@@ -19,7 +19,7 @@ module ffrf_app_check_case
    use ffrf_core_log, only: logger_t
    use ffrf_input_case, only: case_input_t
    use ffrf_mesh_mesh, only: mesh_t, extract_body
-   use ffrf_mesh_gmsh, only: read_gmsh
+   use ffrf_mesh_bulk_data, only: read_mesh_file
    use ffrf_mpc_interface, only: interface_t, build_interface
    use ffrf_mpc_mesh_point, only: mesh_point_t, build_mesh_point
    use ffrf_model_model, only: model_t, model_body_t, build_model
@@ -134,7 +134,7 @@ contains
       type(mesh_t) :: mesh
       integer :: i
       associate (body => model_body%body)
-         call read_gmsh(mesh_file, mesh, error)
+         call read_mesh_file(mesh_file, mesh, error)
          if (allocated(error)) return
          call extract_body(mesh, pack(body%volumes, len_trim(body%volumes) > 0), body_mesh, &
             error)

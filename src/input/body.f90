@@ -12,7 +12,8 @@ module ffrf_input_body
    type :: body_input_t
       !> Body name, used by &interface and in the results
       character(len=64) :: name = ''
-      !> Gmsh mesh file (MSH 4.1 or 2.2); relative paths are taken from the mesh directory
+      !> Mesh file: Gmsh (MSH 4.1 or 2.2) or Nastran bulk data (.bdf .dat .nas .blk); relative
+      !> paths are taken from the mesh directory
       character(len=256) :: mesh_file = ''
       !> Physical volume names that make up the body
       character(len=64) :: volumes(MAX_VOLUMES) = ''
@@ -22,6 +23,8 @@ module ffrf_input_body
       real(dp) :: poisson = 0.3_dp
       !> Density (kg/m^3)
       real(dp) :: density = 7850.0_dp
+      !> young, poisson, density written in &body (a Nastran deck's MAT1 gives those not written)
+      logical :: material_given(3) = .false.
       !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal
       !> load cases (stress stiffening of a spinning body, ffrf_modes_modal_geometric_stiffness)
       logical :: geometric_stiffness = .false.

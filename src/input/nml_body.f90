@@ -1,8 +1,9 @@
 !> Namelist group &body (required, repeatable): a flexible body meshed in Gmsh.
 !>   name       body name (unique, not 'ground'), used by &interface; <= 64 characters
-!>   mesh_file  Gmsh MSH 4.1/2.2 file; relative to the mesh directory (ffrf --mesh-dir), or
-!>              absolute; <= 256 characters
-!>   volumes    physical volume name(s) of the body (default: the body name); 1 to 16 names
+!>   mesh_file  Gmsh MSH 4.1/2.2 file, or Nastran bulk data (.bdf .dat .nas .blk); relative to
+!>              the mesh directory (ffrf --mesh-dir), or absolute; <= 256 characters
+!>   volumes    physical volume name(s) of the body (default: the body name); 1 to 16 names;
+!>              of a Nastran deck: PSOLID ids ('1'), whose MAT1 gives the material keys not set
 !>   young [Pa]        Young's modulus, in (0, 1e13] Pa
 !>   poisson [-]       Poisson's ratio, in (-1, 0.5)
 !>   density [kg/m^3]  in (0, 1e5] kg/m^3
@@ -97,6 +98,8 @@ contains
             call read_status(src, 'body', k, stat, msg, error)
             if (allocated(error)) return
             if (len_trim(b%volumes(1)) == 0) b%volumes(1) = b%name
+            b%material_given = [src%has_key('body', k, 'young'), &
+               src%has_key('body', k, 'poisson'), src%has_key('body', k, 'density')]
             m%type = to_lower(m%type)
             m%orientation = transpose(reshape(orientation, [3, 3]))
          end associate

@@ -12,7 +12,7 @@ module ffrf_mesh_mesh
    implicit none
    private
    public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
-   public :: face_connected_parts, boundary_faces
+   public :: face_connected_parts, boundary_faces, mesh_node_set_t, mesh_material_t
 
    !> A Gmsh physical group: a named set of geometric entities of one dimension.
    type :: physical_group_t
@@ -25,6 +25,35 @@ module ffrf_mesh_mesh
       !> Entity tags (of this dim) in the group, sorted
       integer(ip), allocatable :: entities(:)
    end type physical_group_t
+
+   !> A bulk-data interface element (RBE2 or RBE3, docs/input.md "Nastran bulk data"): the grids
+   !> that are not its reference point, their weights and the reference point. Empty for Gmsh.
+   type :: mesh_node_set_t
+      !> Element id as text ('101'), the name &interface gives
+      character(len=:), allocatable :: name
+      !> MPC_RBE2 (independent GN, dependent GMi) or MPC_RBE3 (dependent REFGRID, weighted Gi,j)
+      !> of ffrf_core_choices
+      integer :: rbe = 0
+      !> Node indices 1..num_nodes (the GMi of RBE2, the Gi,j of RBE3), in card order; not
+      !> allocated in a body cut by extract_body when a grid is not on the body
+      integer(ip), allocatable :: nodes(:)
+      !> Weight of each node (RBE3's WTi; ones for RBE2)
+      real(dp), allocatable :: weights(:)
+      !> The reference point (RBE2 GN, RBE3 REFGRID) in basic coordinates (m)
+      real(dp) :: reference(3) = 0.0_dp
+      !> Where the card is and, in a body, why it is not on it, for messages
+      character(len=:), allocatable :: origin, off_body
+   end type mesh_node_set_t
+
+   !> The material a bulk-data deck gives a volume (PSOLID -> MAT1). Empty for Gmsh.
+   type :: mesh_material_t
+      !> Volume entity tag (the PSOLID id)
+      integer(ip) :: volume = 0
+      !> Young's modulus (Pa), Poisson's ratio, density (kg/m^3)
+      real(dp) :: young = 0.0_dp, poisson = 0.0_dp, density = 0.0_dp
+      !> "MAT1 7 (deck.bdf:12)", for messages and the log
+      character(len=:), allocatable :: origin
+   end type mesh_material_t
 
    !> Nodes, tetrahedra, triangles and physical groups of a Gmsh mesh.
    type :: mesh_t
@@ -62,6 +91,12 @@ module ffrf_mesh_mesh
       !> For a body cut by extract_body: the surface entity of each triangle of the whole mesh
       !> that is not a face of the body's tetrahedra (an interface surface must not hold any)
       integer(ip), allocatable :: off_body_tri_entity(:)
+      !> Nastran bulk data only: the RBE2/RBE3 elements (interfaces named by element id)
+      type(mesh_node_set_t), allocatable :: node_sets(:)
+      !> Nastran bulk data only: the material of each PSOLID of the tetrahedra
+      type(mesh_material_t), allocatable :: materials(:)
+      !> Nastran bulk data only: the cards not read and their counts, "PARAM (2), SPC1 (1)"
+      character(len=:), allocatable :: ignored_cards
    contains
       procedure :: num_tets => mesh_num_tets
       procedure :: num_tris => mesh_num_tris

@@ -130,11 +130,40 @@ contains
       body%file_name = file_of(mesh)
       body%volumes = quoted_list(volume_names)
       body%off_body_tri_entity = pack(mesh%tri_entity, .not. keep_tri)
+      if (allocated(mesh%node_sets)) call cut_node_sets(mesh, new_index, body)
+      if (allocated(mesh%materials)) body%materials = mesh%materials
 
       call check_duplicate_tets(body, error)
       if (allocated(error)) return
       call check_tet_nodes(body, error)
    end procedure extract_body
+
+   !> The bulk-data interface elements of a body: their nodes renumbered (new_index); one with a
+   !> grid that is not a node of the body's tetrahedra keeps no nodes and says which grid.
+   subroutine cut_node_sets(mesh, new_index, body)
+      type(mesh_t), intent(in) :: mesh
+      !> New index of every node of `mesh`, 0 if not in the body
+      integer(ip), intent(in) :: new_index(:)
+      type(mesh_t), intent(inout) :: body
+      integer(ip) :: k, j
+      allocate (body%node_sets(size(mesh%node_sets)))
+      do k = 1, size(mesh%node_sets, kind=ip)
+         associate (from => mesh%node_sets(k), to => body%node_sets(k))
+            to%name = from%name
+            to%rbe = from%rbe
+            to%weights = from%weights
+            to%reference = from%reference
+            to%origin = from%origin
+            j = findloc(new_index(from%nodes) == 0, .true., dim=1, kind=ip)
+            if (j == 0) then
+               to%nodes = new_index(from%nodes)
+            else
+               to%off_body = 'its grid ' // to_str(mesh%node_tags(from%nodes(j))) // &
+                  ' is not a node of the tetrahedra of physical volume(s) ' // body%volumes
+            end if
+         end associate
+      end do
+   end subroutine cut_node_sets
 
    !> Tet10 conformity and connectivity, in one pass over the tetrahedra with arrays indexed by
    !> node: O(n).

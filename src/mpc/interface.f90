@@ -97,31 +97,38 @@ contains
       real(dp), allocatable :: node_xyz(:, :)
       real(dp) :: centroid(3)
       integer :: i
+      type(interface_spec_t) :: s
 
       iface%name = trim(spec%name)
-      if (spec%mpc /= MPC_RBE2 .and. spec%mpc /= MPC_RBE3) then
+      s = spec
+      ! a Nastran deck's interface is an RBE2/RBE3 element: its grids, weights, reference point
+      if (.not. allocated(spec%nodes) .and. allocated(body%node_sets)) then
+         call element_interface_spec(body, spec, s, error)
+         if (allocated(error)) return
+      end if
+      if (s%mpc /= MPC_RBE2 .and. s%mpc /= MPC_RBE3) then
          call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // '": mpc = ' // &
-            to_str(spec%mpc) // ' is not known; use MPC_RBE2 or MPC_RBE3')
+            to_str(s%mpc) // ' is not known; use MPC_RBE2 or MPC_RBE3')
          return
       end if
-      iface%mpc = spec%mpc
-      iface%weighting = spec%weighting
-      iface%rc = spec%rc
+      iface%mpc = s%mpc
+      iface%weighting = s%weighting
+      iface%rc = s%rc
 
-      if (allocated(spec%nodes)) then
-         call node_set_interface(body, spec, iface, centroid, error)
+      if (allocated(s%nodes)) then
+         call node_set_interface(body, s, iface, centroid, error)
       else
-         call surface_interface(body, spec, iface, centroid, error)
+         call surface_interface(body, s, iface, centroid, error)
       end if
       if (allocated(error)) return
-      select case (spec%virtual_node)
+      select case (s%virtual_node)
       case (VIRTUAL_NODE_CENTROID)
          iface%virtual_xyz = centroid
       case (VIRTUAL_NODE_POSITION)
-         iface%virtual_xyz = spec%position
+         iface%virtual_xyz = s%position
       case default
          call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // iface%name // &
-            '": virtual_node = ' // to_str(spec%virtual_node) // ' is not known; use ' // &
+            '": virtual_node = ' // to_str(s%virtual_node) // ' is not known; use ' // &
             'VIRTUAL_NODE_CENTROID or VIRTUAL_NODE_POSITION')
          return
       end select
@@ -150,6 +157,68 @@ contains
       end if
       if (allocated(error)) call add_context(error, 'interface "' // iface%name // '"')
    end subroutine build_interface
+
+   !> The interface `spec` of a body cut from Nastran bulk data: the RBE2 or RBE3 element whose
+   !> id is spec%name gives the nodes (RBE2's GMi, RBE3's Gi,j: the grids that are not the
+   !> reference point), the weights (RBE3's WTi as WEIGHTING_GIVEN; RBE2 uniform) and the
+   !> virtual node (the reference grid's position). &interface's mpc must be the element's kind,
+   !> its weighting uniform and its virtual node the centroid (the defaults): the element decides
+   !> them (docs/input.md "Nastran bulk data").
+   subroutine element_interface_spec(body, spec, s, error)
+      !> The body's mesh (read from a deck)
+      type(mesh_t), intent(in) :: body
+      !> The interface as resolved from &interface
+      type(interface_spec_t), intent(in) :: spec
+      !> The same with the element's node set
+      type(interface_spec_t), intent(inout) :: s
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: where, names
+      integer :: k, found
+      found = 0
+      names = ''
+      do k = 1, size(body%node_sets)
+         if (body%node_sets(k)%name == trim(spec%name)) found = k
+         if (k > 1) names = names // ', '
+         names = names // body%node_sets(k)%name
+      end do
+      if (found == 0) then
+         if (size(body%node_sets) == 0) names = '(none)'
+         call fatal_error(error, FFRF_INPUT_ERROR, 'interface "' // trim(spec%name) // &
+            '": deck ''' // body%file_name // ''' has no RBE2 or RBE3 element ' // &
+            trim(spec%name) // '; an interface of a deck is named by the element id (' // &
+            'elements: ' // names // ')')
+         return
+      end if
+      associate (e => body%node_sets(found))
+         where = 'interface "' // trim(spec%name) // '" (' // mpc_name(e%rbe) // ' ' // &
+            e%origin // '): '
+         if (.not. allocated(e%nodes)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // e%off_body // '; name an ' // &
+               'element of this body')
+            return
+         end if
+         if (spec%mpc /= e%rbe) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // '&interface mpc = ''' // &
+               trim(mpc_name(spec%mpc)) // ''' but the element is an ' // mpc_name(e%rbe) // &
+               '; write mpc = ''' // mpc_name(e%rbe) // '''')
+            return
+         end if
+         if (spec%weighting /= WEIGHTING_UNIFORM .or. spec%virtual_node /= &
+            VIRTUAL_NODE_CENTROID) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'the weights and the ' // &
+               'virtual node come from the element (its weights, its reference grid); ' // &
+               'remove weighting, virtual_node and position from this &interface')
+            return
+         end if
+         s%nodes = e%nodes
+         if (e%rbe == MPC_RBE3) then
+            s%weighting = WEIGHTING_GIVEN
+            s%weights = e%weights
+         end if
+         s%virtual_node = VIRTUAL_NODE_POSITION
+         s%position = e%reference
+      end associate
+   end subroutine element_interface_spec
 
    !> Nodes, area, area centroid and weights of an interface on the physical surface spec%name.
    subroutine surface_interface(body, spec, iface, centroid, error)

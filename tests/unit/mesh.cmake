@@ -22,3 +22,4 @@ ffrf_test_mesh(two_blocks_o2_41 two_blocks -order 2 -format msh41)
 ffrf_test_mesh(surface_only_41 surface_only -order 1 -format msh41)
 
 ffrf_add_unit_suite(test_mesh_gmsh CHECKED FIXTURES "test_mesh;crank_lc8_mesh" LABELS mesh)
+ffrf_add_unit_suite(test_mesh_bulk_data CHECKED LABELS mesh)

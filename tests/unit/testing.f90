@@ -9,7 +9,7 @@ module ffrf_testing
    implicit none
    private
    public :: unittest_t, new_unittest, run_suite, check_close, check, test_input_dir, test_mesh_dir
-   public :: report
+   public :: report, test_data_dir
 
    abstract interface
       subroutine test_procedure(error)
@@ -117,6 +117,12 @@ contains
       character(len=:), allocatable :: dir
       dir = env_or('FFRF_MESH_DIR', 'meshes')
    end function test_mesh_dir
+
+   !> The hand-written test data (tests/data): $FFRF_TEST_DATA_DIR, else relative to the build.
+   function test_data_dir() result(dir)
+      character(len=:), allocatable :: dir
+      dir = env_or('FFRF_TEST_DATA_DIR', 'tests/data')
+   end function test_data_dir
 
    function env_or(name, default) result(value)
       character(len=*), intent(in) :: name, default
