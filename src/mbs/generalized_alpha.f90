@@ -112,6 +112,7 @@ module ffrf_mbs_generalized_alpha
    use ffrf_mbs_dae_system, only: dae_system_t
    use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_complete, &
       kkt_factor, kkt_solve, kkt_sparse_t
+   use ffrf_la_block_sparse, only: block_sparse_t
    implicit none
    private
    public :: galpha_settings_t, galpha_stats_t, galpha_integrator_t
@@ -281,6 +282,12 @@ module ffrf_mbs_generalized_alpha
       !> and the factorisations that have used them since they were computed
       real(dp), allocatable, private :: tangent_K(:, :), tangent_C(:, :)
       integer, private :: tangent_uses = huge(1)
+      !> The sparse path (order >= settings%sparse_threshold): the kept tangents block-sparse
+      !> (system%tangents_sparse), whether they are valid, and the work matrix M/c + gamma h C_t +
+      !> beta h^2 K_t; nothing n x n is formed, as
+      !> docs/performance_threads.md "The iteration matrix: dense or sparse LU" describes
+      type(block_sparse_t), private :: sparse_K, sparse_C, sparse_A
+      logical, private :: sparse_tangent = .false.
       !> Step the round-off floors were computed for (s); negative: none
       real(dp), private :: h_floor = -1.0_dp
       !> Multipliers of the last accepted steps of equal size (nc x 4, newest last), how many
@@ -318,6 +325,10 @@ module ffrf_mbs_generalized_alpha
    type :: trial_t
       real(dp), allocatable :: q(:), v(:), qdd(:), lambda(:), a_base(:)
       real(dp), allocatable :: M(:, :), Phi_q(:, :), r_q(:), phi(:)
+      !> On the sparse path M and Phi_q block-sparse instead (system%mass_sparse,
+      !> system%constraints_and_jacobian_sparse)
+      logical :: sparse = .false.
+      type(block_sparse_t) :: M_sparse, Phi_sparse
       real(dp) :: force_scale = 0.0_dp
    end type trial_t
 
@@ -394,6 +405,58 @@ module ffrf_mbs_generalized_alpha
          real(dp), intent(in) :: x(:)
          real(dp) :: largest
       end function max_abs
+
+      ! the linear algebra of the iteration matrix (generalized_alpha_linear.f90)
+      !> The sparse path of factor: A = beta h^2 K_t + M/c + gamma h C_t block-sparse, the
+      !> constraint rows scaled as kkt_complete does (to the largest |A_ii|), both constraint
+      !> blocks and the zero diagonal of the lower-right block as triplets for MUMPS. O(entries).
+      module subroutine sparse_assemble(self, h, c_af, trial, singular, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         real(dp), intent(in) :: h, c_af
+         type(trial_t), intent(in) :: trial
+         logical, intent(out) :: singular
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine sparse_assemble
+
+      !> Round-off floors of the residual and of the Newton increment (attainable accuracy). The
+      !> residual cannot be evaluated more accurately than the rounding of the state allows: q is
+      !> known to u_i = eps |q_i|, which changes r_q by |K_t| u (K_t = d(M q'' + Phi_q^T lambda -
+      !> f)/dq: a stiff element between coordinates of magnitude |q| leaves k eps |q|) and Phi by
+      !> |Phi_q| u, and each term of r_q is rounded to eps (|M| |q''| + |Phi_q^T| |lambda| + |f|).
+      !> (q'' and q' are stored apart from q and move by sub-ulp amounts of q, so M/c and C_t add
+      !> nothing.) Newton maps this residual noise into increments S^-1 [beta h^2 noise_r;
+      !> noise_Phi]: for constraint rows whose multipliers are statically indeterminate reactions
+      !> fixed by a stiff element (rows independent only through stiff modal coordinates) these
+      !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
+      !> converging. The increment floor is estimated by two solves with the noise vector under two
+      !> sign patterns (round-off has no preferred sign).
+      module subroutine noise_floor(self, h, trial, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         !> Step (s)
+         real(dp), intent(in) :: h
+         !> The trial state; the tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at it is the kept
+         !> one (tangent_K, or sparse_K on the sparse path)
+         type(trial_t), intent(in) :: trial
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine noise_floor
+
+      !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
+      !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
+      !> kept triplets when the factors are missing).
+      module subroutine solve_iteration(self, x, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         !> Right-hand side on entry, solution on exit
+         real(dp), intent(inout) :: x(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine solve_iteration
+
+      !> M q'' and Phi_q^T lambda at a trial (absolute: |M| |q''| and |Phi_q|^T |lambda|), from the
+      !> dense or the block-sparse matrices.
+      module subroutine trial_products(trial, absolute, inertia, reaction)
+         type(trial_t), intent(in) :: trial
+         logical, intent(in) :: absolute
+         real(dp), intent(out) :: inertia(:), reaction(:)
+      end subroutine trial_products
    end interface
 
 contains

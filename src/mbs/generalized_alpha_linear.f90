@@ -1,0 +1,185 @@
+!> The linear algebra of the generalized-alpha iteration matrix (ffrf_mbs_generalized_alpha,
+!> a submodule of the step): its sparse assembly (block-sparse, for MUMPS), the round-off floors of
+!> the convergence tests, the solves with its factors, the products M q'' and Phi_q^T lambda of
+!> a trial from the dense or the block-sparse matrices.
+submodule (ffrf_mbs_generalized_alpha) ffrf_mbs_generalized_alpha_linear
+   implicit none
+
+contains
+
+   !> The sparse path of factor: A = beta h^2 K_t + M/c + gamma h C_t block-sparse, the
+   !> constraint rows scaled as kkt_complete does (to the largest |A_ii|), both constraint
+   !> blocks and the zero diagonal of the lower-right block as triplets for MUMPS. O(entries).
+   module subroutine sparse_assemble(self, h, c_af, trial, singular, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      real(dp), intent(in) :: h, c_af
+      type(trial_t), intent(in) :: trial
+      logical, intent(out) :: singular
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: irn(:), jcn(:)
+      real(dp), allocatable :: values(:), row_max(:)
+      integer, allocatable :: keep_row(:)
+      real(dp) :: reference
+      integer :: n, nr, i, k, capacity
+      n = self%n
+      nr = size(self%active)
+      associate (A => self%sparse_A, Phi => trial%Phi_sparse)
+         if (.not. A%same_groups(self%sparse_K%row_start, self%sparse_K%col_start)) &
+            call A%init(self%sparse_K%row_start, self%sparse_K%col_start)
+         call A%combine(self%beta * h**2, self%sparse_K, 1.0_dp / c_af, trial%M_sparse, &
+            self%gamma * h, self%sparse_C)
+         reference = 0.0_dp
+         if (n > 0) reference = maxval(abs(A%diagonal()))
+         if (reference <= 0.0_dp) reference = 1.0_dp
+         if (allocated(self%row_scale)) then
+            if (size(self%row_scale) /= nr) deallocate (self%row_scale)
+         end if
+         if (.not. allocated(self%row_scale)) allocate (self%row_scale(nr))
+         allocate (keep_row(self%nc))
+         keep_row = 0
+         if (self%nc > 0) then
+            row_max = Phi%row_abs_max()
+            do i = 1, nr
+               keep_row(self%active(i)) = i
+               self%row_scale(i) = 1.0_dp
+               if (row_max(self%active(i)) > 0.0_dp) self%row_scale(i) = reference / &
+                  row_max(self%active(i))
+            end do
+         end if
+         capacity = A%entries() + nr
+         if (self%nc > 0) capacity = capacity + 2 * Phi%entries()
+         allocate (irn(capacity), jcn(capacity), values(capacity))
+         k = 0
+         call A%triplets(0, 0, irn, jcn, values, k)
+         if (self%nc > 0) then
+            call Phi%triplets(n, 0, irn, jcn, values, k, keep_row, self%row_scale)
+            call Phi%triplets(n, 0, irn, jcn, values, k, keep_row, self%row_scale, &
+               transposed=.true.)
+         end if
+         do i = 1, nr
+            irn(k + i) = int(n + i, ip)
+            jcn(k + i) = int(n + i, ip)
+            values(k + i) = 0.0_dp
+         end do
+         k = k + nr
+      end associate
+      call self%sparse%factor(n + nr, irn(:k), jcn(:k), values(:k), singular, error)
+   end subroutine sparse_assemble
+
+
+   !> Round-off floors of the residual and of the Newton increment (attainable accuracy). The
+   !> residual cannot be evaluated more accurately than the rounding of the state allows: q is
+   !> known to u_i = eps |q_i|, which changes r_q by |K_t| u (K_t = d(M q'' + Phi_q^T lambda -
+   !> f)/dq: a stiff element between coordinates of magnitude |q| leaves k eps |q|) and Phi by
+   !> |Phi_q| u, and each term of r_q is rounded to eps (|M| |q''| + |Phi_q^T| |lambda| + |f|).
+   !> (q'' and q' are stored apart from q and move by sub-ulp amounts of q, so M/c and C_t add
+   !> nothing.) Newton maps this residual noise into increments S^-1 [beta h^2 noise_r;
+   !> noise_Phi]: for constraint rows whose multipliers are statically indeterminate reactions
+   !> fixed by a stiff element (rows independent only through stiff modal coordinates) these
+   !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
+   !> converging. The increment floor is estimated by two solves with the noise vector under two
+   !> sign patterns (round-off has no preferred sign).
+   module subroutine noise_floor(self, h, trial, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      !> Step (s)
+      real(dp), intent(in) :: h
+      !> The trial state; the tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at it is the kept
+      !> one (tangent_K, or sparse_K on the sparse path)
+      type(trial_t), intent(in) :: trial
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: u(:), noise(:), x(:), terms(:), size_inertia(:), &
+         size_reaction(:), inertia(:), reaction(:), all_rows(:)
+      real(dp) :: bh2, signum
+      integer :: n, nr, i, pattern
+      n = self%n
+      nr = size(self%active)
+      bh2 = self%beta * h**2
+      allocate (u(n), terms(n), noise(n + nr), x(n + nr), size_inertia(n), size_reaction(n), &
+         inertia(n), reaction(n))
+      u = epsilon(1.0_dp) * abs(trial%q)
+      call trial_products(trial, .true., size_inertia, size_reaction)
+      call trial_products(trial, .false., inertia, reaction)
+      terms = size_inertia + size_reaction + abs(inertia + reaction - trial%r_q)
+      if (trial%sparse) then
+         call self%sparse_K%matvec(u, x(:n), absolute=.true.)
+         self%residual_floor = x(:n) + epsilon(1.0_dp) * terms
+         allocate (all_rows(self%nc))
+         if (self%nc > 0) call trial%Phi_sparse%matvec(u, all_rows, absolute=.true.)
+         self%constraint_floor = all_rows(self%active)
+      else
+         self%residual_floor = matmul(abs(self%tangent_K), u) + epsilon(1.0_dp) * terms
+         self%constraint_floor = matmul(abs(trial%Phi_q(self%active, :)), u)
+      end if
+      noise(:n) = bh2 * self%residual_floor
+      if (nr > 0) noise(n + 1:) = self%row_scale * self%constraint_floor
+      self%increment_floor = [(0.0_dp, i=1, n + nr)]
+      do pattern = 1, 2
+         do i = 1, n + nr
+            ! pattern 1: alternating signs; pattern 2: signs of sin(i^2) (no period)
+            if (pattern == 1) then
+               signum = merge(1.0_dp, -1.0_dp, mod(i, 2) == 0)
+            else
+               signum = merge(1.0_dp, -1.0_dp, sin(real(i, dp)**2) >= 0.0_dp)
+            end if
+            x(i) = signum * noise(i)
+         end do
+         call solve_iteration(self, x, error)
+         if (allocated(error)) return
+         self%increment_floor = max(self%increment_floor, abs(x))
+      end do
+      if (nr > 0) self%increment_floor(n + 1:) = self%row_scale * &
+         self%increment_floor(n + 1:) / bh2
+      self%h_floor = h
+   end subroutine noise_floor
+
+
+   !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
+   !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
+   !> kept triplets when the factors are missing).
+   module subroutine solve_iteration(self, x, error)
+      type(galpha_integrator_t), intent(inout) :: self
+      !> Right-hand side on entry, solution on exit
+      real(dp), intent(inout) :: x(:)
+      type(error_t), allocatable, intent(out) :: error
+      logical :: singular
+      if (size(x) < self%settings%sparse_threshold) then
+         call kkt_solve(self%lu, self%pivots, x)
+         return
+      end if
+      if (.not. associated(self%sparse)) allocate (self%sparse)
+      if (.not. self%sparse%is_factorised()) then
+         ! after import_state (factor is called first there: h_factored < 0); a guard
+         call self%sparse%refactor(singular, error)
+         if (.not. allocated(error) .and. singular) call fatal_error(error, &
+            FFRF_NUMERIC_ERROR, 'the restored iteration matrix is singular')
+         if (allocated(error)) return
+      end if
+      call self%sparse%solve(x, error)
+   end subroutine solve_iteration
+
+
+   !> M q'' and Phi_q^T lambda at a trial (absolute: |M| |q''| and |Phi_q|^T |lambda|), from the
+   !> dense or the block-sparse matrices.
+   module subroutine trial_products(trial, absolute, inertia, reaction)
+      type(trial_t), intent(in) :: trial
+      logical, intent(in) :: absolute
+      real(dp), intent(out) :: inertia(:), reaction(:)
+      if (trial%sparse) then
+         if (absolute) then
+            call trial%M_sparse%matvec(abs(trial%qdd), inertia, absolute=.true.)
+            call trial%Phi_sparse%matvec(abs(trial%lambda), reaction, transposed=.true., &
+               absolute=.true.)
+         else
+            call trial%M_sparse%matvec(trial%qdd, inertia)
+            call trial%Phi_sparse%matvec(trial%lambda, reaction, transposed=.true.)
+         end if
+      else if (absolute) then
+         inertia = matmul(abs(trial%M), abs(trial%qdd))
+         reaction = matmul(abs(trial%lambda), abs(trial%Phi_q))
+      else
+         inertia = matmul(trial%M, trial%qdd)
+         reaction = matmul(trial%lambda, trial%Phi_q)
+      end if
+   end subroutine trial_products
+
+end submodule ffrf_mbs_generalized_alpha_linear
