@@ -33,6 +33,9 @@ module ffrf_la_block_sparse
       integer :: used = 0
       !> Pattern changes (a block added) since init
       integer :: version = 0
+      !> The blocks in the order they were added: row group, column group, offset in values
+      integer :: num_blocks = 0
+      integer, allocatable :: block_row(:), block_col(:), block_start(:)
    contains
       !> Set the row and column groups; no blocks
       procedure :: init => block_sparse_init
@@ -83,7 +86,8 @@ contains
       do g = 1, size(col_start) - 1
          self%col_group(col_start(g):col_start(g + 1) - 1) = g
       end do
-      allocate (self%blocks(size(row_start) - 1), self%values(0))
+      allocate (self%blocks(size(row_start) - 1), self%values(0), self%block_row(8), &
+         self%block_col(8), self%block_start(8))
    end subroutine block_sparse_init
 
    !> Whether the row and column groups are these.
@@ -107,7 +111,6 @@ contains
    integer function block_offset(self, g, h) result(offset)
       class(block_sparse_t), intent(inout) :: self
       integer, intent(in) :: g, h
-      integer, allocatable :: grown(:)
       real(dp), allocatable :: values(:)
       integer :: i, length, count
       count = self%blocks(g)%count
@@ -121,12 +124,8 @@ contains
       if (.not. allocated(self%blocks(g)%group)) allocate (self%blocks(g)%group(4), &
          self%blocks(g)%offset(4))
       if (count == size(self%blocks(g)%group)) then
-         allocate (grown(2 * count))
-         grown(:count) = self%blocks(g)%group(:count)
-         call move_alloc(grown, self%blocks(g)%group)
-         allocate (grown(2 * count))
-         grown(:count) = self%blocks(g)%offset(:count)
-         call move_alloc(grown, self%blocks(g)%offset)
+         call grow(self%blocks(g)%group)
+         call grow(self%blocks(g)%offset)
       end if
       length = (self%row_start(g + 1) - self%row_start(g)) * &
          (self%col_start(h + 1) - self%col_start(h))
@@ -142,6 +141,24 @@ contains
       self%blocks(g)%group(count + 1) = h
       self%blocks(g)%offset(count + 1) = offset
       self%version = self%version + 1
+      if (self%num_blocks == size(self%block_row)) then
+         call grow(self%block_row)
+         call grow(self%block_col)
+         call grow(self%block_start)
+      end if
+      self%num_blocks = self%num_blocks + 1
+      self%block_row(self%num_blocks) = g
+      self%block_col(self%num_blocks) = h
+      self%block_start(self%num_blocks) = offset
+   contains
+      !> Twice the room, the entries kept.
+      subroutine grow(list)
+         integer, allocatable, intent(inout) :: list(:)
+         integer, allocatable :: longer(:)
+         allocate (longer(2 * size(list)))
+         longer(:size(list)) = list
+         call move_alloc(longer, list)
+      end subroutine grow
    end function block_offset
 
    !> A(rows(i), cols(j)) += B(i, j), each entry in its block (created as needed).
@@ -187,43 +204,50 @@ contains
       call self%add([(r0 + i, i=1, size(B, 1))], [(c0 + i, i=1, size(B, 2))], B)
    end subroutine block_sparse_add_block
 
-   !> self = a X + b Y + c Z (b and c optional), the pattern the union of theirs; entry by entry
-   !> the same expression as the dense a X + b Y + c Z. X, Y, Z have the groups of self.
+   !> Where block b (order of addition) sits: rows r0 + 1 .. r0 + height, columns c0 + 1 ..
+   !> c0 + width, values offset + 1 .. offset + height width (column-major).
+   pure function extent(self, b) result(e)
+      type(block_sparse_t), intent(in) :: self
+      integer, intent(in) :: b
+      !> r0, c0, height, width, offset
+      integer :: e(5)
+      associate (g => self%block_row(b), h => self%block_col(b))
+         e = [self%row_start(g) - 1, self%col_start(h) - 1, self%row_start(g + 1) - &
+            self%row_start(g), self%col_start(h + 1) - self%col_start(h), self%block_start(b)]
+      end associate
+   end function extent
+
+   !> self = a X + b Y + c Z, the pattern the union of theirs; entry by entry the same
+   !> expression as the dense a X + b Y + c Z. X, Y, Z have the groups of self.
    subroutine block_sparse_combine(self, a, X, b, Y, c, Z)
       class(block_sparse_t), intent(inout) :: self
       real(dp), intent(in) :: a, b, c
       type(block_sparse_t), intent(in) :: X, Y, Z
-      integer :: g, i, o, length
+      integer :: k, o
       ! the union of the patterns first (zeros), then the values entry by entry
-      call make_room(X)
-      call make_room(Y)
-      call make_room(Z)
+      do k = 1, X%num_blocks
+         o = block_offset(self, X%block_row(k), X%block_col(k))
+      end do
+      do k = 1, Y%num_blocks
+         o = block_offset(self, Y%block_row(k), Y%block_col(k))
+      end do
+      do k = 1, Z%num_blocks
+         o = block_offset(self, Z%block_row(k), Z%block_col(k))
+      end do
       call self%zero()
       call scaled_into(X, a)
       call scaled_into(Y, b)
       call scaled_into(Z, c)
    contains
-      subroutine make_room(S)
-         type(block_sparse_t), intent(in) :: S
-         do g = 1, size(S%blocks)
-            do i = 1, S%blocks(g)%count
-               o = block_offset(self, g, S%blocks(g)%group(i))
-            end do
-         end do
-      end subroutine make_room
       subroutine scaled_into(S, factor)
          type(block_sparse_t), intent(in) :: S
          real(dp), intent(in) :: factor
-         integer :: h
-         do g = 1, size(S%blocks)
-            do i = 1, S%blocks(g)%count
-               h = S%blocks(g)%group(i)
-               length = (S%row_start(g + 1) - S%row_start(g)) * (S%col_start(h + 1) - &
-                  S%col_start(h))
-               o = block_offset(self, g, h)
-               self%values(o + 1:o + length) = self%values(o + 1:o + length) + &
-                  factor * S%values(S%blocks(g)%offset(i) + 1:S%blocks(g)%offset(i) + length)
-            end do
+         integer :: e(5)
+         do k = 1, S%num_blocks
+            e = extent(S, k)
+            o = block_offset(self, S%block_row(k), S%block_col(k))
+            self%values(o + 1:o + e(3) * e(4)) = self%values(o + 1:o + e(3) * e(4)) + &
+               factor * S%values(e(5) + 1:e(5) + e(3) * e(4))
          end do
       end subroutine scaled_into
    end subroutine block_sparse_combine
@@ -235,31 +259,24 @@ contains
       real(dp), intent(out) :: y(:)
       logical, intent(in), optional :: transposed, absolute
       logical :: trans, magnitude
-      integer :: g, i, h, r0, c0, height, width, ii, jj, o
+      integer :: k, e(5), ii, jj
       real(dp) :: value
       trans = .false.
       magnitude = .false.
       if (present(transposed)) trans = transposed
       if (present(absolute)) magnitude = absolute
       y = 0.0_dp
-      do g = 1, size(self%blocks)
-         r0 = self%row_start(g) - 1
-         height = self%row_start(g + 1) - self%row_start(g)
-         do i = 1, self%blocks(g)%count
-            h = self%blocks(g)%group(i)
-            c0 = self%col_start(h) - 1
-            width = self%col_start(h + 1) - self%col_start(h)
-            o = self%blocks(g)%offset(i)
-            do jj = 1, width
-               do ii = 1, height
-                  value = self%values(o + ii + (jj - 1) * height)
-                  if (magnitude) value = abs(value)
-                  if (trans) then
-                     y(c0 + jj) = y(c0 + jj) + value * x(r0 + ii)
-                  else
-                     y(r0 + ii) = y(r0 + ii) + value * x(c0 + jj)
-                  end if
-               end do
+      do k = 1, self%num_blocks
+         e = extent(self, k)
+         do jj = 1, e(4)
+            do ii = 1, e(3)
+               value = self%values(e(5) + ii + (jj - 1) * e(3))
+               if (magnitude) value = abs(value)
+               if (trans) then
+                  y(e(2) + jj) = y(e(2) + jj) + value * x(e(1) + ii)
+               else
+                  y(e(1) + ii) = y(e(1) + ii) + value * x(e(2) + jj)
+               end if
             end do
          end do
       end do
@@ -269,18 +286,12 @@ contains
    subroutine block_sparse_to_dense(self, A)
       class(block_sparse_t), intent(in) :: self
       real(dp), intent(out) :: A(:, :)
-      integer :: g, i, h, height, width, o
+      integer :: k, e(5)
       A = 0.0_dp
-      do g = 1, size(self%blocks)
-         height = self%row_start(g + 1) - self%row_start(g)
-         do i = 1, self%blocks(g)%count
-            h = self%blocks(g)%group(i)
-            width = self%col_start(h + 1) - self%col_start(h)
-            o = self%blocks(g)%offset(i)
-            A(self%row_start(g):self%row_start(g + 1) - 1, self%col_start(h): &
-               self%col_start(h + 1) - 1) = reshape(self%values(o + 1:o + height * width), &
-               [height, width])
-         end do
+      do k = 1, self%num_blocks
+         e = extent(self, k)
+         A(e(1) + 1:e(1) + e(3), e(2) + 1:e(2) + e(4)) = reshape(self%values(e(5) + 1:e(5) + &
+            e(3) * e(4)), [e(3), e(4)])
       end do
    end subroutine block_sparse_to_dense
 
@@ -288,18 +299,12 @@ contains
    function block_sparse_diagonal(self) result(d)
       class(block_sparse_t), intent(in) :: self
       real(dp) :: d(self%num_rows)
-      integer :: g, i, h, height, o, r
+      integer :: k, e(5), r
       d = 0.0_dp
-      do g = 1, size(self%blocks)
-         height = self%row_start(g + 1) - self%row_start(g)
-         do i = 1, self%blocks(g)%count
-            h = self%blocks(g)%group(i)
-            o = self%blocks(g)%offset(i)
-            do r = max(self%row_start(g), self%col_start(h)), &
-               min(self%row_start(g + 1), self%col_start(h + 1)) - 1
-               d(r) = self%values(o + r - self%row_start(g) + 1 + (r - self%col_start(h)) * &
-                  height)
-            end do
+      do k = 1, self%num_blocks
+         e = extent(self, k)
+         do r = max(e(1), e(2)) + 1, min(e(1) + e(3), e(2) + e(4))
+            d(r) = self%values(e(5) + r - e(1) + (r - e(2) - 1) * e(3))
          end do
       end do
    end function block_sparse_diagonal
@@ -308,20 +313,13 @@ contains
    function block_sparse_row_abs_max(self) result(m)
       class(block_sparse_t), intent(in) :: self
       real(dp) :: m(self%num_rows)
-      integer :: g, i, h, height, width, o, ii, jj
+      integer :: k, e(5), jj
       m = 0.0_dp
-      do g = 1, size(self%blocks)
-         height = self%row_start(g + 1) - self%row_start(g)
-         do i = 1, self%blocks(g)%count
-            h = self%blocks(g)%group(i)
-            width = self%col_start(h + 1) - self%col_start(h)
-            o = self%blocks(g)%offset(i)
-            do jj = 1, width
-               do ii = 1, height
-                  m(self%row_start(g) + ii - 1) = max(m(self%row_start(g) + ii - 1), &
-                     abs(self%values(o + ii + (jj - 1) * height)))
-               end do
-            end do
+      do k = 1, self%num_blocks
+         e = extent(self, k)
+         do jj = 1, e(4)
+            m(e(1) + 1:e(1) + e(3)) = max(m(e(1) + 1:e(1) + e(3)), &
+               abs(self%values(e(5) + (jj - 1) * e(3) + 1:e(5) + jj * e(3))))
          end do
       end do
    end function block_sparse_row_abs_max
@@ -332,10 +330,10 @@ contains
       count = self%used
    end function block_sparse_entries
 
-   !> The entries of the rows `keep` (all rows if absent; a row not kept is skipped, the kept
-   !> ones renumbered 1, 2, ... in their order) as triplets at positions k + 1, ...: row
-   !> r0 + (new row), column c0 + column, value rscale(new row) * A (rscale absent: 1), or
-   !> transposed (row and column exchanged). Entries whose row is not kept are left out.
+   !> The entries of the rows `keep_row` keeps (all rows if absent; keep_row(i) is the new
+   !> number of row i, 0: left out) as triplets at positions k + 1, ...: row r0 + (new row),
+   !> column c0 + column, value rscale(new row) * A (rscale absent: 1), or transposed (row and
+   !> column exchanged).
    subroutine block_sparse_triplets(self, r0, c0, irn, jcn, values, k, keep_row, rscale, &
       transposed)
       class(block_sparse_t), intent(in) :: self
@@ -347,35 +345,30 @@ contains
       integer, intent(in), optional :: keep_row(:)
       real(dp), intent(in), optional :: rscale(:)
       logical, intent(in), optional :: transposed
-      integer :: g, i, h, height, width, o, ii, jj, row, col
+      integer :: b, e(5), ii, jj, row, col
       real(dp) :: factor
       logical :: trans
       trans = .false.
       if (present(transposed)) trans = transposed
-      do g = 1, size(self%blocks)
-         height = self%row_start(g + 1) - self%row_start(g)
-         do i = 1, self%blocks(g)%count
-            h = self%blocks(g)%group(i)
-            width = self%col_start(h + 1) - self%col_start(h)
-            o = self%blocks(g)%offset(i)
-            do jj = 1, width
-               col = self%col_start(h) + jj - 1
-               do ii = 1, height
-                  row = self%row_start(g) + ii - 1
-                  if (present(keep_row)) row = keep_row(row)
-                  if (row == 0) cycle
-                  factor = 1.0_dp
-                  if (present(rscale)) factor = rscale(row)
-                  k = k + 1
-                  if (trans) then
-                     irn(k) = c0 + col
-                     jcn(k) = r0 + row
-                  else
-                     irn(k) = r0 + row
-                     jcn(k) = c0 + col
-                  end if
-                  values(k) = factor * self%values(o + ii + (jj - 1) * height)
-               end do
+      do b = 1, self%num_blocks
+         e = extent(self, b)
+         do jj = 1, e(4)
+            col = e(2) + jj
+            do ii = 1, e(3)
+               row = e(1) + ii
+               if (present(keep_row)) row = keep_row(row)
+               if (row == 0) cycle
+               factor = 1.0_dp
+               if (present(rscale)) factor = rscale(row)
+               k = k + 1
+               if (trans) then
+                  irn(k) = c0 + col
+                  jcn(k) = r0 + row
+               else
+                  irn(k) = r0 + row
+                  jcn(k) = c0 + col
+               end if
+               values(k) = factor * self%values(e(5) + ii + (jj - 1) * e(3))
             end do
          end do
       end do

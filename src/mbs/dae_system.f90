@@ -380,12 +380,9 @@ contains
 
    !> M(q) from `mass`, as one block.
    subroutine dae_mass_sparse(self, q, M, error)
-      !> The system
       class(dae_system_t), intent(inout) :: self
-      !> Generalized coordinates, n
-      real(dp), intent(in) :: q(:)
-      !> Mass matrix, n x n
-      type(block_sparse_t), intent(inout) :: M
+      real(dp), intent(in) :: q(:)                 !< coordinates, n
+      type(block_sparse_t), intent(inout) :: M     !< n x n
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: dense(:, :)
       allocate (dense(size(q), size(q)))
@@ -395,16 +392,10 @@ contains
 
    !> Phi and Phi_q from `constraints_and_jacobian`, Phi_q as one block.
    subroutine dae_constraints_and_jacobian_sparse(self, q, t, phi, Phi_q, error)
-      !> The system
       class(dae_system_t), intent(inout) :: self
-      !> Coordinates, n
-      real(dp), intent(in) :: q(:)
-      !> Time (s)
-      real(dp), intent(in) :: t
-      !> Phi, nc
-      real(dp), intent(out) :: phi(:)
-      !> Phi_q, nc x n
-      type(block_sparse_t), intent(inout) :: Phi_q
+      real(dp), intent(in) :: q(:), t              !< coordinates (n), time (s)
+      real(dp), intent(out) :: phi(:)              !< Phi, nc
+      type(block_sparse_t), intent(inout) :: Phi_q !< nc x n
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: dense(:, :)
       allocate (dense(size(phi), size(q)))
@@ -415,14 +406,9 @@ contains
    !> K = stiffness + mass_stiffness(a) + constraint_stiffness(lambda) and C = damping, dense,
    !> as one block each.
    subroutine dae_tangents_sparse(self, q, v, a, t, lambda, K, C, error)
-      !> The system
       class(dae_system_t), intent(inout) :: self
-      !> Coordinates, velocities, accelerations q'', n
-      real(dp), intent(in) :: q(:), v(:), a(:)
-      !> Time (s)
-      real(dp), intent(in) :: t
-      !> Multipliers, nc
-      real(dp), intent(in) :: lambda(:)
+      !> Coordinates, velocities, accelerations q'' (n), time (s), multipliers (nc)
+      real(dp), intent(in) :: q(:), v(:), a(:), t, lambda(:)
       !> d(M a + Phi_q^T lambda - f)/dq and -df/dq', n x n
       type(block_sparse_t), intent(inout) :: K, C
       type(error_t), allocatable, intent(out) :: error

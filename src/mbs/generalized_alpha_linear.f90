@@ -7,15 +7,8 @@ submodule (ffrf_mbs_generalized_alpha) ffrf_mbs_generalized_alpha_linear
 
 contains
 
-   !> The sparse path of factor: A = beta h^2 K_t + M/c + gamma h C_t block-sparse, the
-   !> constraint rows scaled as kkt_complete does (to the largest |A_ii|), both constraint
-   !> blocks and the zero diagonal of the lower-right block as triplets for MUMPS. O(entries).
-   module subroutine sparse_assemble(self, h, c_af, trial, singular, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      real(dp), intent(in) :: h, c_af
-      type(trial_t), intent(in) :: trial
-      logical, intent(out) :: singular
-      type(error_t), allocatable, intent(out) :: error
+   !> (generalized_alpha.f90, interface)
+   module procedure sparse_assemble
       integer(ip), allocatable :: irn(:), jcn(:)
       real(dp), allocatable :: values(:), row_max(:)
       integer, allocatable :: keep_row(:)
@@ -64,29 +57,10 @@ contains
          k = k + nr
       end associate
       call self%sparse%factor(n + nr, irn(:k), jcn(:k), values(:k), singular, error)
-   end subroutine sparse_assemble
+   end procedure sparse_assemble
 
-
-   !> Round-off floors of the residual and of the Newton increment (attainable accuracy). The
-   !> residual cannot be evaluated more accurately than the rounding of the state allows: q is
-   !> known to u_i = eps |q_i|, which changes r_q by |K_t| u (K_t = d(M q'' + Phi_q^T lambda -
-   !> f)/dq: a stiff element between coordinates of magnitude |q| leaves k eps |q|) and Phi by
-   !> |Phi_q| u, and each term of r_q is rounded to eps (|M| |q''| + |Phi_q^T| |lambda| + |f|).
-   !> (q'' and q' are stored apart from q and move by sub-ulp amounts of q, so M/c and C_t add
-   !> nothing.) Newton maps this residual noise into increments S^-1 [beta h^2 noise_r;
-   !> noise_Phi]: for constraint rows whose multipliers are statically indeterminate reactions
-   !> fixed by a stiff element (rows independent only through stiff modal coordinates) these
-   !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
-   !> converging. The increment floor is estimated by two solves with the noise vector under two
-   !> sign patterns (round-off has no preferred sign).
-   module subroutine noise_floor(self, h, trial, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      !> Step (s)
-      real(dp), intent(in) :: h
-      !> The trial state; the tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at it is the kept
-      !> one (tangent_K, or sparse_K on the sparse path)
-      type(trial_t), intent(in) :: trial
-      type(error_t), allocatable, intent(out) :: error
+   !> (generalized_alpha.f90, interface)
+   module procedure noise_floor
       real(dp), allocatable :: u(:), noise(:), x(:), terms(:), size_inertia(:), &
          size_reaction(:), inertia(:), reaction(:), all_rows(:)
       real(dp) :: bh2, signum
@@ -130,17 +104,10 @@ contains
       if (nr > 0) self%increment_floor(n + 1:) = self%row_scale * &
          self%increment_floor(n + 1:) / bh2
       self%h_floor = h
-   end subroutine noise_floor
+   end procedure noise_floor
 
-
-   !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
-   !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
-   !> kept triplets when the factors are missing).
-   module subroutine solve_iteration(self, x, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      !> Right-hand side on entry, solution on exit
-      real(dp), intent(inout) :: x(:)
-      type(error_t), allocatable, intent(out) :: error
+   !> (generalized_alpha.f90, interface)
+   module procedure solve_iteration
       logical :: singular
       if (size(x) < self%settings%sparse_threshold) then
          call kkt_solve(self%lu, self%pivots, x)
@@ -155,15 +122,10 @@ contains
          if (allocated(error)) return
       end if
       call self%sparse%solve(x, error)
-   end subroutine solve_iteration
+   end procedure solve_iteration
 
-
-   !> M q'' and Phi_q^T lambda at a trial (absolute: |M| |q''| and |Phi_q|^T |lambda|), from the
-   !> dense or the block-sparse matrices.
-   module subroutine trial_products(trial, absolute, inertia, reaction)
-      type(trial_t), intent(in) :: trial
-      logical, intent(in) :: absolute
-      real(dp), intent(out) :: inertia(:), reaction(:)
+   !> (generalized_alpha.f90, interface)
+   module procedure trial_products
       if (trial%sparse) then
          if (absolute) then
             call trial%M_sparse%matvec(abs(trial%qdd), inertia, absolute=.true.)
@@ -180,6 +142,6 @@ contains
          inertia = matmul(trial%M, trial%qdd)
          reaction = matmul(trial%lambda, trial%Phi_q)
       end if
-   end subroutine trial_products
+   end procedure trial_products
 
 end submodule ffrf_mbs_generalized_alpha_linear

@@ -830,41 +830,27 @@ module ffrf_mbs_mechanism
 
       !> M = blockdiag(M_b(q_b)), block-sparse by body (block_groups).
       module subroutine mechanism_mass_sparse(self, q, M, error)
-         !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Coordinates, n
-         real(dp), intent(in) :: q(:)
-         !> Mass matrix, n x n
-         type(block_sparse_t), intent(inout) :: M
+         real(dp), intent(in) :: q(:)                 !< coordinates, n
+         type(block_sparse_t), intent(inout) :: M     !< n x n
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_mass_sparse
 
       !> Phi and Phi_q, Phi_q block-sparse (one row group per row, the bodies as column groups).
       module subroutine mechanism_constraints_and_jacobian_sparse(self, q, t, phi, Phi_q, error)
-         !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Coordinates, n
-         real(dp), intent(in) :: q(:)
-         !> Time (s)
-         real(dp), intent(in) :: t
-         !> Phi, nc
-         real(dp), intent(out) :: phi(:)
-         !> Phi_q, nc x n
-         type(block_sparse_t), intent(inout) :: Phi_q
+         real(dp), intent(in) :: q(:), t              !< coordinates (n), time (s)
+         real(dp), intent(out) :: phi(:)              !< Phi, nc
+         type(block_sparse_t), intent(inout) :: Phi_q !< nc x n
          type(error_t), allocatable, intent(out) :: error
       end subroutine mechanism_constraints_and_jacobian_sparse
 
       !> K = -df/dq + d(M a)/dq + d(Phi_q^T lambda)/dq and C = -df/dq', block-sparse by body
       !> (the same blocks as the dense tangents; differences if .not. analytic_tangents).
       module subroutine mechanism_tangents_sparse(self, q, v, a, t, lambda, K, C, error)
-         !> The mechanism
          class(mechanism_t), intent(inout) :: self
-         !> Coordinates, velocities, accelerations, n
-         real(dp), intent(in) :: q(:), v(:), a(:)
-         !> Time (s)
-         real(dp), intent(in) :: t
-         !> Multipliers, nc
-         real(dp), intent(in) :: lambda(:)
+         !> Coordinates, velocities, accelerations (n), time (s), multipliers (nc)
+         real(dp), intent(in) :: q(:), v(:), a(:), t, lambda(:)
          !> The tangents, n x n
          type(block_sparse_t), intent(inout) :: K, C
          type(error_t), allocatable, intent(out) :: error
