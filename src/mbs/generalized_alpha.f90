@@ -304,9 +304,9 @@ module ffrf_mbs_generalized_alpha
       !> Whether the next step may start on the current factors (GALPHA_NEWTON_ADAPTIVE)
       logical, private :: reuse_factors = .false.
       !> Sparse LU of the iteration matrix when its order reaches settings%sparse_threshold
-      !> (then `lu` keeps the assembled matrix, not factors). A pointer: copies of the
-      !> integrator (the output's state before the last step) share it and never solve with
-      !> it; after import_state it is factorised again from `lu` at the first solve.
+      !> (then `lu` is not used: the matrix goes to MUMPS as triplets). A pointer: copies of
+      !> the integrator (the output's state before the last step) share it and never solve
+      !> with it; after import_state the next step factorises anew.
       type(kkt_sparse_t), pointer, private :: sparse => null()
    contains
       !> Check settings, detect redundant rows, make the start consistent
