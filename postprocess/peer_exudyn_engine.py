@@ -218,6 +218,39 @@ def rbe3_virtual_shapes(body, interface):
 
 # ---------------------------------------------------------------------------------------------
 # Exudyn model
+def add_reduced_body(exu, mbs, cms, position, basis, positions, damping=None):
+    """An ObjectFFRFreducedOrder at rest at `position` (Euler-parameter node, modal node) from
+    the reduced terms of `cms` (ObjectFFRFreducedOrderInterface: every inertia term from the
+    whole mesh), with the mode rows `basis` at the mesh points `positions` the markers use and
+    an optional modal damping matrix: (object, rigid node, modal node)."""
+    import exudyn.itemInterface as eii
+    node_rigid = mbs.AddNode(eii.NodeRigidBodyEP(
+        referenceCoordinates=list(position) + [1.0, 0.0, 0.0, 0.0], initialVelocities=[0.0] * 7))
+    num_modes = cms.nModes
+    node_modal = mbs.AddNode(eii.NodeGenericODE2(numberOfODE2Coordinates=num_modes,
+                                                 referenceCoordinates=[0.0] * num_modes,
+                                                 initialCoordinates=[0.0] * num_modes,
+                                                 initialCoordinates_t=[0.0] * num_modes))
+    kmc = exu.MatrixContainer()
+    kmc.SetWithDenseMatrix(cms.stiffnessMatrixReduced, useDenseMatrix=False)
+    mmc = exu.MatrixContainer()
+    mmc.SetWithDenseMatrix(cms.massMatrixReduced, useDenseMatrix=False)
+    dmc = []
+    if damping is not None:
+        dmc = exu.MatrixContainer()
+        dmc.SetWithDenseMatrix(damping, useDenseMatrix=False)
+    obj = mbs.AddObject(eii.ObjectFFRFreducedOrder(
+        nodeNumbers=[node_rigid, node_modal], stiffnessMatrixReduced=kmc,
+        massMatrixReduced=mmc, dampingMatrixReduced=dmc, modeBasis=basis,
+        referencePositions=positions, mass=cms.totalMass, inertia=cms.inertiaLocal,
+        centerOfMass=cms.chiU, mPsiTildePsi=cms.mPsiTildePsi,
+        mPsiTildePsiTilde=cms.mPsiTildePsiTilde, mPhitTPsi=cms.mPhitTPsi,
+        mPhitTPsiTilde=cms.mPhitTPsiTilde, mXRefTildePsi=cms.mXRefTildePsi,
+        mXRefTildePsiTilde=cms.mXRefTildePsiTilde, computeFFRFterms=True,
+        visualization=eii.VObjectFFRFreducedOrder(show=False)))
+    return obj, node_rigid, node_modal
+
+
 def build(case, exu, marker="virtual", full_basis=False):
     import exudyn.itemInterface as eii
     from exudyn.FEM import FEMinterface, ObjectFFRFreducedOrderInterface
@@ -237,25 +270,10 @@ def build(case, exu, marker="virtual", full_basis=False):
         fem.modeBasis = {"matrix": body["psi"], "type": "NormalModes"}
         cms = ObjectFFRFreducedOrderInterface(fem, roundMassMatrix=0.0, roundStiffnessMatrix=0.0)
         body["cms"] = cms
-        # the body's rigid-body mass properties as Exudyn computes them (about the body origin)
-        node_rigid = mbs.AddNode(eii.NodeRigidBodyEP(
-            referenceCoordinates=list(body["position"]) + [1.0, 0.0, 0.0, 0.0],
-            initialVelocities=[0.0] * 7))
-        num_modes = cms.nModes
-        node_modal = mbs.AddNode(eii.NodeGenericODE2(numberOfODE2Coordinates=num_modes,
-                                                     referenceCoordinates=[0.0] * num_modes,
-                                                     initialCoordinates=[0.0] * num_modes,
-                                                     initialCoordinates_t=[0.0] * num_modes))
-        kmc = exu.MatrixContainer()
-        kmc.SetWithDenseMatrix(cms.stiffnessMatrixReduced, useDenseMatrix=False)
-        mmc = exu.MatrixContainer()
-        mmc.SetWithDenseMatrix(cms.massMatrixReduced, useDenseMatrix=False)
         # modal damping xi in every mode: D = 2 xi omega (the modes are mass-normalised)
-        dmc = []
+        damping = None
         if body["damping"] > 0.0:
-            omega = 2.0 * math.pi * body["freq"]
-            dmc = exu.MatrixContainer()
-            dmc.SetWithDenseMatrix(np.diag(2.0 * body["damping"] * omega), useDenseMatrix=False)
+            damping = np.diag(2.0 * body["damping"] * 2.0 * math.pi * body["freq"])
         # Interface markers (Exudyn MarkerSuperElementRigid: the weighted rigid fit of its mesh
         # nodes, offset to ffrf's virtual node). marker = 'nodes': on the interface node sets
         # with ffrf's weights, as the RBE3 itself; Exudyn evaluates the fit over all of them at
@@ -284,15 +302,8 @@ def build(case, exu, marker="virtual", full_basis=False):
                     position_rows.append(i["virtual_node"] + d)
             basis = np.vstack(basis_rows)
             positions = np.concatenate(position_rows)
-        obj = mbs.AddObject(eii.ObjectFFRFreducedOrder(
-            nodeNumbers=[node_rigid, node_modal], stiffnessMatrixReduced=kmc,
-            massMatrixReduced=mmc, dampingMatrixReduced=dmc, modeBasis=basis,
-            referencePositions=positions, mass=cms.totalMass, inertia=cms.inertiaLocal,
-            centerOfMass=cms.chiU, mPsiTildePsi=cms.mPsiTildePsi,
-            mPsiTildePsiTilde=cms.mPsiTildePsiTilde, mPhitTPsi=cms.mPhitTPsi,
-            mPhitTPsiTilde=cms.mPhitTPsiTilde, mXRefTildePsi=cms.mXRefTildePsi,
-            mXRefTildePsiTilde=cms.mXRefTildePsiTilde, computeFFRFterms=True,
-            visualization=eii.VObjectFFRFreducedOrder(show=False)))
+        obj, node_rigid, node_modal = add_reduced_body(exu, mbs, cms, body["position"], basis,
+                                                       positions, damping)
         info[b] = {"object": obj, "node_rigid": node_rigid, "node_modal": node_modal}
         for k, (name, i) in enumerate(body["interfaces"].items()):
             if marker == "nodes":
@@ -404,27 +415,36 @@ def build(case, exu, marker="virtual", full_basis=False):
     return info
 
 
-def simulate(case, exu, info, solver, t_end, rho_inf):
-    mbs = info["mbs"]
+def simulation_settings(exu, h, t_end, rho_inf, relative_tolerance=1e-10,
+                        absolute_tolerance=1e-12):
+    """Exudyn's settings of a fixed-step run (h, t_end) with sensors at every step: modified
+    Newton to the tolerances, dense solver, generalized-alpha index 3 with rho_inf (the solver
+    type is the caller's)."""
     ss = exu.SimulationSettings()
     ti = ss.timeIntegration
     ti.endTime = t_end
-    ti.numberOfSteps = int(round(t_end / case.h))
+    ti.numberOfSteps = int(round(t_end / h))
     ti.verboseMode = 0
     ti.adaptiveStep = False
     ti.newton.useModifiedNewton = True
-    ti.newton.relativeTolerance = 1e-10
-    ti.newton.absoluteTolerance = 1e-12
+    ti.newton.relativeTolerance = relative_tolerance
+    ti.newton.absoluteTolerance = absolute_tolerance
     ti.generalizedAlpha.computeInitialAccelerations = True
+    ti.generalizedAlpha.spectralRadius = rho_inf
+    ti.generalizedAlpha.useIndex2Constraints = False
+    ti.generalizedAlpha.useNewmark = False
     ss.solutionSettings.writeSolutionToFile = False
-    ss.solutionSettings.sensorsWritePeriod = case.h
+    ss.solutionSettings.sensorsWritePeriod = h
     ss.linearSolverType = exu.LinearSolverType.EXUdense
     ss.displayStatistics = False
     ss.displayComputationTime = False
+    return ss
+
+
+def simulate(case, exu, info, solver, t_end, rho_inf):
+    mbs = info["mbs"]
+    ss = simulation_settings(exu, case.h, t_end, rho_inf)
     if solver == "alpha":
-        ti.generalizedAlpha.spectralRadius = rho_inf
-        ti.generalizedAlpha.useIndex2Constraints = False
-        ti.generalizedAlpha.useNewmark = False
         kind = exu.DynamicSolverType.GeneralizedAlpha
     else:
         kind = exu.DynamicSolverType.TrapezoidalIndex2

@@ -6,8 +6,9 @@
 !> modes of a body with &body modes_file (read and checked against the body's fingerprint by the
 !> run's own check, check_stored_modes). Meant for quick validation, e.g. by a fuzzer: no results
 !> file is written and no matrix is assembled. What a mechanism run would refuse only after the
-!> modes is refused here too: rho_inf = 1 (generalized-alpha refuses it with constraints, and
-!> every mechanism has its joints and Euler rows: ffrf_mbs_generalized_alpha). Gravity is
+!> modes is refused here too: rho_inf = 1 with the default index-3 constraints (generalized-alpha
+!> refuses it with constraints, and every mechanism has its joints and Euler rows:
+!> ffrf_mbs_generalized_alpha; constraints = 'index2' accepts it, theory.md 4.6). Gravity is
 !> accepted on every body kind (rigid and flexible, docs/theory.md 3.6), so there is nothing
 !> about it to refuse.
 module ffrf_app_check_case
@@ -29,6 +30,7 @@ module ffrf_app_check_case
    use ffrf_app_mechanism_builder, only: make_pressure_model, check_joint_frames
    use ffrf_app_body_modes, only: check_stored_modes
    use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
+   use ffrf_mbs_generalized_alpha, only: GALPHA_INDEX3
    implicit none
    private
    public :: check_case
@@ -63,12 +65,13 @@ contains
          return
       end if
       ! as galpha_init at the run's start, after the modes: a mechanism always has constraints
-      if (case%is_mechanism .and. model%mechanism%integrator%rho_inf >= 1.0_dp) then
+      if (case%is_mechanism .and. model%mechanism%integrator%rho_inf >= 1.0_dp .and. &
+         model%mechanism%integrator%constraints == GALPHA_INDEX3) then
          call fatal_error(error, FFRF_INPUT_ERROR, case%file_name // ': &integrator rho_inf = ' &
             // to_str(model%mechanism%integrator%rho_inf) // ': generalized-alpha without ' // &
             'numerical damping is unstable with the index-3 constraints of a mechanism (its ' // &
             'joints and Euler rows; the run refuses it after computing the modes); use ' // &
-            'rho_inf < 1, typically 0.6 to 0.9')
+            'rho_inf < 1, typically 0.6 to 0.9, or constraints = ''index2''')
          return
       end if
       ! as build_mechanism: the joint frames of two oriented markers, in the given poses

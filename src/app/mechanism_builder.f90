@@ -69,6 +69,8 @@ module ffrf_app_mechanism_builder
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_auto_model, only: model_choice_t, start_model_selection, selects_body, &
       select_body_model, select_step
+   use ffrf_app_scene_model, only: scene_record_t
+   use ffrf_app_scene_choice, only: scene_body_model, scene_step
    implicit none
    private
    public :: built_body_t, build_mechanism, frame_from_axis, make_pressure_model
@@ -289,7 +291,7 @@ contains
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
    !> model when a &load of type pressure exists (has_pressure).
    subroutine build_mechanism(case, resolved, mesh_dir, log, times, mech, bodies, q, v, &
-         pressure, has_pressure, error, choice, sensors)
+         pressure, has_pressure, error, choice, sensors, record)
       type(case_input_t), intent(in) :: case
       !> The case resolved once (build_model): bodies, interfaces as marker handles, modes,
       !> joints, loads
@@ -310,6 +312,8 @@ contains
       !> The sensors of the case (&sensor, input order), then an engine case's crank sensors
       !> (ffrf_app_engine_crank_sensors)
       type(sensor_t), allocatable, intent(out), optional :: sensors(:)
+      !> A scene without a crank: the automatic model's rigid pre-run (ffrf_app_scene_prerun)
+      type(scene_record_t), intent(in), optional :: record
       type(model_choice_t) :: model
       integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
@@ -328,7 +332,7 @@ contains
          call make_pressure_model(case, pressure, error)
          if (allocated(error)) return
       end if
-      call start_model_selection(case, resolved, pressure, has_pressure, log, model)
+      call start_model_selection(case, resolved, pressure, has_pressure, log, model, record)
 
       do k = 1, nb
          bodies(k)%meshed = resolved%bodies(k)%meshed
@@ -347,7 +351,11 @@ contains
          call group_context(error, 'body', case%bodies(k)%name)
          if (allocated(error)) return
       end do
-      call select_step(resolved, log, model)
+      if (model%scene) then
+         call scene_step(case, resolved, log, model)
+      else
+         call select_step(resolved, log, model)
+      end if
       if (present(choice)) choice = model
       call add_joints(resolved, bodies, ground_index, ends, mech, error)
       if (.not. allocated(error)) call add_loads(resolved, bodies, ends, mech, pressure, error)

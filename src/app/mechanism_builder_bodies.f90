@@ -35,8 +35,13 @@ contains
                      'stiffening)')
                   return
                end if
-               call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
-                  built%modes, mass_matrix, error)
+               if (model%scene) then
+                  call scene_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                     built%modes, mass_matrix, error)
+               else
+                  call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
+                     built%modes, mass_matrix, error)
+               end if
             else if (resolved%body%geometric_stiffness) then
                ! K too, for the static solutions of the geometric stiffness (no reassembly)
                call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
@@ -89,13 +94,14 @@ contains
          if (allocated(error)) return
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
-            to_str(flexible%num_markers) // ' interface marker(s)' // &
+            to_str(flexible%num_markers - size(list%points)) // ' interface marker(s)' // &
             trim(merge(', geometric stiffness', '                     ', &
             allocated(flexible%geometric_stiffness))) // mesh_point_count(size(list%points)))
       end associate
    end procedure add_body
 
-   !> ', n at mesh points' for the log when a flexible body has n > 0 node or group markers.
+   !> ', n at mesh points' for the log when a flexible body has n > 0 node or group markers (the
+   !> interface markers are counted without them, issue 24).
    pure function mesh_point_count(n) result(text)
       integer, intent(in) :: n
       character(len=:), allocatable :: text

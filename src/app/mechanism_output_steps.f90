@@ -14,6 +14,7 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_steps
    use ffrf_app_engine_crank_log, only: crank_progress
    use ffrf_mbs_reaction_split, only: TOLERANCE_FACTOR
    use ffrf_app_engine_auto_model, only: write_model_choice
+   use ffrf_app_scene_choice, only: write_scene_choice
    use ffrf_app_restart_fingerprint, only: input_entries
    implicit none
 
@@ -89,6 +90,8 @@ contains
          call open_results(self%results, self%temp_file, case, resolved, echo, mech, bodies, &
             integrator, self%sensors, error)
          if (.not. allocated(error)) call write_model_choice(self%results, case, choice, error)
+         if (.not. allocated(error) .and. choice%scene) call write_scene_choice(self%results, &
+            choice, error)
          if (.not. allocated(error) .and. self%restarting) then
             call self%results%append_from(self%source, self%restart%num_steps, error)
             if (.not. allocated(error)) call history_from(self%source, self%restart%num_steps, &

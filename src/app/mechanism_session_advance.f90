@@ -11,6 +11,8 @@ submodule (ffrf_app_mechanism_session) ffrf_app_mechanism_session_advance
       end_single_blas
    use ffrf_app_mechanism_builder, only: build_mechanism
    use ffrf_model_model, only: build_model
+   use ffrf_app_scene_model, only: scene_record_t
+   use ffrf_app_scene_prerun, only: needs_scene_prerun, scene_prerun
    use ffrf_core_parallel, only: parallel_t, current_ranks
    implicit none
 
@@ -32,14 +34,25 @@ contains
       !> Started after the bodies are built (the caller's timer of the integration start)
       type(stage_timer_t), intent(inout), optional :: timer
       type(galpha_settings_t) :: settings
+      type(scene_record_t) :: record
       real(dp), allocatable :: q(:), v(:)
       character(len=:), allocatable :: case_file
       case_file = case%file_name
       call log_threads(log, case%mechanism%integrator%sparse_threshold)
       call build_model(case, self%resolved, error)
-      if (.not. allocated(error)) call build_mechanism(case, self%resolved, mesh_dir, log, &
-         times, self%mech, self%bodies, q, v, self%pressure, self%has_pressure, error, &
-         self%model, self%sensors)
+      if (.not. allocated(error)) then
+         if (needs_scene_prerun(case, self%resolved)) then
+            ! a scene without an engine: the automatic model's loads from a rigid pre-run
+            call scene_prerun(case, self%resolved, mesh_dir, log, times, record, error)
+            if (.not. allocated(error)) call build_mechanism(case, self%resolved, mesh_dir, &
+               log, times, self%mech, self%bodies, q, v, self%pressure, self%has_pressure, &
+               error, self%model, self%sensors, record)
+         else
+            call build_mechanism(case, self%resolved, mesh_dir, log, times, self%mech, &
+               self%bodies, q, v, self%pressure, self%has_pressure, error, self%model, &
+               self%sensors)
+         end if
+      end if
       if (allocated(error)) then
          call add_context(error, case_file)
          return

@@ -23,6 +23,8 @@ module ffrf_app_modal_run
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_modes_input, only: modes_spec_t
    use ffrf_app_body_modes, only: compute_body_modes_from_file
+   use ffrf_app_body_export, only: export_body, exports_matrices
+   use ffrf_la_sparse, only: csr_t
    use ffrf_model_model, only: model_t, build_model
    implicit none
    private
@@ -101,6 +103,7 @@ contains
          integer :: signal
          logical :: closed
          type(model_t) :: model
+         type(csr_t) :: mass_matrix, stiffness_matrix
 
          if (allocated(options%restart_file)) then
             if (len(options%restart_file) > 0) then
@@ -141,9 +144,16 @@ contains
                cycle
             end if
             associate (body => model%bodies(k))
-               call compute_body_modes_from_file(body%body, body%interfaces, &
-                  modes_of_run(body%modes, folder_of(results_file)), mesh_dir, log, times, &
-                  bodies(k), error)
+               if (exports_matrices(case%run%export)) then
+                  ! an export wants the FE matrices the modes come from (&run export)
+                  call compute_body_modes_from_file(body%body, body%interfaces, &
+                     modes_of_run(body%modes, folder_of(results_file)), mesh_dir, log, times, &
+                     bodies(k), error, mass_matrix, stiffness_matrix)
+               else
+                  call compute_body_modes_from_file(body%body, body%interfaces, &
+                     modes_of_run(body%modes, folder_of(results_file)), mesh_dir, log, times, &
+                     bodies(k), error)
+               end if
             end associate
             if (allocated(error)) then
                if (error%code == FFRF_INTERRUPTED) then
@@ -172,6 +182,9 @@ contains
                if (.not. allocated(error)) call log%info('output', 'mode shapes for gmsh ' // &
                   'written: ' // msh_file)
             end if
+            if (.not. allocated(error) .and. len_trim(case%run%export) > 0 .and. &
+               ranks%is_root()) call export_body(trim(case%run%export), results_file, &
+               bodies(k), mass_matrix, stiffness_matrix, log, error)
             call ranks%agree(error)
             if (allocated(error)) exit
             call times%add(bodies(k)%name // ': output', output_timer%seconds())

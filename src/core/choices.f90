@@ -8,14 +8,24 @@ module ffrf_core_choices
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    implicit none
    private
-   public :: choice_t, choice_words, choice_position, choice_name, choice_kind
+   public :: choice_t, choice_words, choice_position, choice_name, choice_kind, choice_kind_of
    public :: MPC_RBE2, MPC_RBE3, mpc_choices
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_choices
    public :: BASIS_NONE, BASIS_RC_NORMAL, BASIS_CRAIG_BAMPTON, basis_choices
+   public :: EXPORT_EXUDYN, export_choices
+   public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
+      SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
+      SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_SPRING, SENSOR_DRIVER, &
+      SENSOR_TORSION_SPRING, SENSOR_BUSHING, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED, &
+      sensor_choices, rotor_sensor_choices
+   public :: WEIGHTING_UNIFORM, WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN, &
+      weighting_choices, weighting_names
+   public :: TIME_CONSTANT, TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE, &
+      time_law_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
-      character(len=16) :: word = ''
+      character(len=20) :: word = ''
       integer :: kind = 0
    end type choice_t
 
@@ -44,6 +54,51 @@ module ffrf_core_choices
    type(choice_t), parameter :: basis_choices(*) = [choice_t('rc_normal', BASIS_RC_NORMAL), &
       choice_t('craig_bampton', BASIS_CRAIG_BAMPTON)]
 
+   !> Exports beside the results (&run export, a list of these words): 'exudyn', each flexible
+   !> body as a file Exudyn's FEMinterface.LoadFromFile loads (docs/results.md "Exudyn export")
+   integer, parameter :: EXPORT_EXUDYN = 1
+   type(choice_t), parameter :: export_choices(*) = [choice_t('exudyn', EXPORT_EXUDYN)]
+
+   !> RBE3 node weightings (&interface weighting, &marker weighting): every node weight 1
+   !> (Nastran's default), tributary areas, consistent areas int N_i dA (Tri6 corners ~0); given
+   !> (a node-set interface's own weights: no word, named in the mode fingerprint). The kinds
+   !> are re-exported by ffrf_mpc_interface, weighting_choices by ffrf_input_interface
+   integer, parameter :: WEIGHTING_UNIFORM = 1, WEIGHTING_AREA = 2, &
+      WEIGHTING_AREA_CONSISTENT = 3, WEIGHTING_GIVEN = 4
+   type(choice_t), parameter :: weighting_names(*) = [choice_t('uniform', WEIGHTING_UNIFORM), &
+      choice_t('area', WEIGHTING_AREA), choice_t('area_consistent', WEIGHTING_AREA_CONSISTENT), &
+      choice_t('given', WEIGHTING_GIVEN)]
+   !> The words a user may write: all but given
+   type(choice_t), parameter :: weighting_choices(*) = weighting_names(1:3)
+
+   !> Sensor kinds (&sensor type; src/mbs/sensors.f90 has their values and units). The rotor
+   !> kinds have no &sensor word: the engine adds them (rotor_sensor_choices names them).
+   integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
+      SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
+      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
+      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_DRIVER = 12, &
+      SENSOR_TORSION_SPRING = 13, SENSOR_BUSHING = 14, SENSOR_ROTOR_ANGLE = 15, &
+      SENSOR_ROTOR_SPEED = 16
+   type(choice_t), parameter :: sensor_choices(*) = [choice_t('position', SENSOR_POSITION), &
+      choice_t('velocity', SENSOR_VELOCITY), choice_t('acceleration', SENSOR_ACCELERATION), &
+      choice_t('orientation', SENSOR_ORIENTATION), &
+      choice_t('angular_velocity', SENSOR_ANGULAR_VELOCITY), &
+      choice_t('joint_coordinate', SENSOR_JOINT_COORDINATE), &
+      choice_t('reaction', SENSOR_REACTION), choice_t('energy', SENSOR_ENERGY), &
+      choice_t('node_displacement', SENSOR_NODE_DISPLACEMENT), &
+      choice_t('node_position', SENSOR_NODE_POSITION), choice_t('spring', SENSOR_SPRING), &
+      choice_t('driver', SENSOR_DRIVER), choice_t('torsion_spring', SENSOR_TORSION_SPRING), &
+      choice_t('bushing', SENSOR_BUSHING)]
+   type(choice_t), parameter :: rotor_sensor_choices(*) = [ &
+      choice_t('rotor_angle', SENSOR_ROTOR_ANGLE), choice_t('rotor_speed', SENSOR_ROTOR_SPEED)]
+
+   !> Time laws g(t) (&driver law, &load law; src/mbs/time_function.f90 evaluates them)
+   integer, parameter :: TIME_CONSTANT = 1, TIME_CONSTANT_SPEED = 2, TIME_RAMP = 3, &
+      TIME_SMOOTH_STEP = 4, TIME_TABLE = 5
+   type(choice_t), parameter :: time_law_choices(*) = [choice_t('constant', TIME_CONSTANT), &
+      choice_t('constant_speed', TIME_CONSTANT_SPEED), choice_t('ramp', TIME_RAMP), &
+      choice_t('smooth_step', TIME_SMOOTH_STEP), choice_t('table', TIME_TABLE)]
+
 contains
 
    !> The words of a table, in table order, as a ', '-separated list (key specs, messages).
@@ -66,6 +121,16 @@ contains
          end if
       end do
    end function choice_position
+
+   !> The kind of `word` (any case, blanks around it ignored) in the table; 0 when it holds none.
+   pure integer function choice_kind_of(table, word) result(kind)
+      type(choice_t), intent(in) :: table(:)
+      character(len=*), intent(in) :: word
+      associate (position => choice_position(table, word))
+         kind = 0
+         if (position > 0) kind = table(position)%kind
+      end associate
+   end function choice_kind_of
 
    !> The word of kind `kind` (`missing`, default 'unknown', for a value no row holds).
    pure function choice_name(table, kind, missing) result(name)

@@ -15,6 +15,8 @@ module ffrf_core_hash
 
    integer(i8), parameter :: FNV_PRIME = 16777619_i8
    integer(i8), parameter :: MASK32 = 4294967295_i8
+   !> Mold of transfer() to bytes
+   integer(int8), parameter :: BYTE(1) = 0_int8
 
    !> A running hash: add bytes, text, integers and reals in any order, then hex().
    type :: hash_t
@@ -48,49 +50,50 @@ contains
       self%state = [a, b]
    end subroutine hash_add_bytes
 
+   !> Add the sizes (8-byte integers), then the bytes: the common step of the typed adds.
+   pure subroutine add_sized(self, sizes, bytes)
+      class(hash_t), intent(inout) :: self
+      !> Length, count or shape of the value
+      integer(i8), intent(in) :: sizes(:)
+      !> The value's bytes (empty for an empty value)
+      integer(int8), intent(in) :: bytes(:)
+      call self%add_bytes(transfer(sizes, BYTE))
+      call self%add_bytes(bytes)
+   end subroutine add_sized
+
    !> Add a text, with its length first (so that 'ab' + 'c' differs from 'a' + 'bc').
    pure subroutine hash_add_text(self, text)
       class(hash_t), intent(inout) :: self
       character(len=*), intent(in) :: text
-      integer(int8), parameter :: mold(1) = 0_int8
-      call self%add_bytes(transfer(int(len(text), i8), mold))
-      if (len(text) > 0) call self%add_bytes(transfer(text, mold))
+      call add_sized(self, [int(len(text), i8)], transfer(text, BYTE))
    end subroutine hash_add_text
 
    !> Add the bytes of reals (with the count first).
    pure subroutine hash_add_reals(self, values)
       class(hash_t), intent(inout) :: self
       real(dp), intent(in) :: values(:)
-      integer(int8), parameter :: mold(1) = 0_int8
-      call self%add_bytes(transfer(int(size(values), i8), mold))
-      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
+      call add_sized(self, [int(size(values), i8)], transfer(values, BYTE))
    end subroutine hash_add_reals
 
    !> Add the bytes of a real matrix (its two sizes first).
    pure subroutine hash_add_reals_2d(self, values)
       class(hash_t), intent(inout) :: self
       real(dp), intent(in) :: values(:, :)
-      integer(int8), parameter :: mold(1) = 0_int8
-      call self%add_bytes(transfer(int(shape(values), i8), mold))
-      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
+      call add_sized(self, int(shape(values), i8), transfer(values, BYTE))
    end subroutine hash_add_reals_2d
 
    !> Add integers (with the count first).
    pure subroutine hash_add_ints(self, values)
       class(hash_t), intent(inout) :: self
       integer(ip), intent(in) :: values(:)
-      integer(int8), parameter :: mold(1) = 0_int8
-      call self%add_bytes(transfer(int(size(values), i8), mold))
-      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
+      call add_sized(self, [int(size(values), i8)], transfer(values, BYTE))
    end subroutine hash_add_ints
 
    !> Add an integer matrix (its two sizes first).
    pure subroutine hash_add_ints_2d(self, values)
       class(hash_t), intent(inout) :: self
       integer(ip), intent(in) :: values(:, :)
-      integer(int8), parameter :: mold(1) = 0_int8
-      call self%add_bytes(transfer(int(shape(values), i8), mold))
-      if (size(values) > 0) call self%add_bytes(transfer(values, mold))
+      call add_sized(self, int(shape(values), i8), transfer(values, BYTE))
    end subroutine hash_add_ints_2d
 
    !> The hash as 16 lower-case hexadecimal digits.

@@ -3,7 +3,7 @@
 module ffrf_core_paths
    implicit none
    private
-   public :: folder_of, join_path, insert_suffix
+   public :: folder_of, join_path, insert_suffix, stem_of
 
 contains
 
@@ -33,13 +33,22 @@ contains
    pure function insert_suffix(path, suffix) result(new_path)
       character(len=*), intent(in) :: path, suffix
       character(len=:), allocatable :: new_path
+      character(len=:), allocatable :: stem
+      stem = stem_of(path)
+      new_path = stem // suffix // path(len(stem) + 1:)
+   end function insert_suffix
+
+   !> "a/b.msh" -> "a/b"; a path whose last part has no '.' is its own stem.
+   pure function stem_of(path) result(stem)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: stem
       integer :: dot
       dot = index(path, '.', back=.true.)
       if (dot > index(path, '/', back=.true.)) then
-         new_path = path(:dot - 1) // suffix // path(dot:)
+         stem = path(:dot - 1)
       else
-         new_path = path // suffix
+         stem = path
       end if
-   end function insert_suffix
+   end function stem_of
 
 end module ffrf_core_paths

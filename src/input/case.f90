@@ -14,7 +14,7 @@ module ffrf_input_case
    use ffrf_input_modes, only: modes_input_t
    use ffrf_input_interface, only: interface_input_t
    use ffrf_input_nml_source, only: nml_source_t, group_spec_t, key_spec_t, read_case_text
-   use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys
+   use ffrf_input_nml_run, only: run_input_t, read_run_group, run_keys, check_export
    use ffrf_input_nml_output, only: output_input_t, read_output_group, output_keys, &
       check_history_names
    use ffrf_input_nml_body, only: read_body_groups, body_keys
@@ -22,7 +22,7 @@ module ffrf_input_case
    use ffrf_input_nml_modes, only: read_modes_group, modes_keys
    use ffrf_input_nml_mechanism, only: read_mechanism_groups, mechanism_keys, marker_keys, &
       joint_keys, load_keys, pressure_keys, integrator_keys, model_keys, spring_keys, driver_keys, &
-      torsion_spring_keys, bushing_keys, jacobian_choices
+      torsion_spring_keys, bushing_keys, jacobian_choices, constraints_choices
    use ffrf_core_choices, only: choice_name
    use ffrf_input_nml_sensor, only: read_sensor_groups, sensor_keys
    use ffrf_input_overrides, only: override_t, apply_overrides, overrides_echo, overrides_set
@@ -310,6 +310,8 @@ contains
       call check_output_path(src%where('run', 1, 'output'), case%run%output, error)
       if (.not. allocated(error)) call check_output_path(src%where('run', 1, &
          'mode_shapes_msh'), case%run%mode_shapes_msh, error)
+      if (.not. allocated(error)) call check_export(src%where('run', 1, 'export'), &
+         case%run%export, error)
       if (allocated(error)) return
       if (len_trim(case%run%output) == 0) case%run%output = case%name // '.h5'
       if (len_trim(case%run%mode_shapes_msh) == 0 .and. overrides_set(overrides, 'run', &

@@ -93,7 +93,7 @@ contains
    end subroutine check_joint_axis
 
    module procedure check_mechanism_names
-      integer :: k, j
+      integer :: k
       associate (mech => case%mechanism)
          do k = 1, size(case%interfaces)
             if (case%motions(body_index(case, case%interfaces(k)%body))%type == 'rigid') then
@@ -180,41 +180,21 @@ contains
          end do
          do k = 1, driver_count(mech)
             associate (x => mech%drivers(k))
-               j = findloc(mech%joints%name, x%joint, dim=1)
-               if (j == 0) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
-                     ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
-                     '" is not a &joint of this case (joints: ' // &
-                     join_words(mech%joints%name, ', ') // ')')
-               else if (mech%joints(j)%type /= 'revolute' .and. &
-                  mech%joints(j)%type /= 'prismatic') then
-                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
-                     ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
-                     '" is ' // trim(mech%joints(j)%type) // '; a driver needs a revolute ' // &
-                     'or prismatic joint')
-               else if (count(mech%drivers(:k)%joint == x%joint) > 1) then
+               call check_element_joint('driver', 'driver', k, x%name, x%joint, 'revolute', &
+                  'prismatic', error)
+               if (allocated(error)) return
+               if (count(mech%drivers(:k)%joint == x%joint) > 1) then
                   call fatal_error(error, FFRF_INPUT_ERROR, src%at('driver', k, 'joint') // &
                      ': &driver "' // trim(x%name) // '": joint "' // trim(x%joint) // &
                      '" has a driver already; one driver per joint')
+                  return
                end if
-               if (allocated(error)) return
             end associate
          end do
          do k = 1, size(element_names(mech, 'torsion_spring'))
             associate (x => mech%torsion_springs(k))
-               j = findloc(mech%joints%name, x%joint, dim=1)
-               if (j == 0) then
-                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('torsion_spring', k, &
-                     'joint') // ': &torsion_spring "' // trim(x%name) // '": joint "' // &
-                     trim(x%joint) // '" is not a &joint of this case (joints: ' // &
-                     join_words(mech%joints%name, ', ') // ')')
-               else if (mech%joints(j)%type /= 'revolute' .and. &
-                  mech%joints(j)%type /= 'cylindrical') then
-                  call fatal_error(error, FFRF_INPUT_ERROR, src%at('torsion_spring', k, &
-                     'joint') // ': &torsion_spring "' // trim(x%name) // '": joint "' // &
-                     trim(x%joint) // '" is ' // trim(mech%joints(j)%type) // &
-                     '; a torsion spring needs a revolute or cylindrical joint')
-               end if
+               call check_element_joint('torsion_spring', 'torsion spring', k, x%name, &
+                  x%joint, 'revolute', 'cylindrical', error)
                if (allocated(error)) return
             end associate
          end do
@@ -240,6 +220,30 @@ contains
       end associate
 
    contains
+
+      !> The joint of &group k "name" is a &joint of the case of type type_a or type_b (a `what`
+      !> needs one of them).
+      subroutine check_element_joint(group, what, k, name, joint, type_a, type_b, error)
+         character(len=*), intent(in) :: group, what
+         integer, intent(in) :: k
+         character(len=*), intent(in) :: name, joint, type_a, type_b
+         type(error_t), allocatable, intent(out) :: error
+         integer :: j
+         associate (joints => case%mechanism%joints)
+            j = findloc(joints%name, joint, dim=1)
+            if (j == 0) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at(group, k, 'joint') // ': &' // &
+                  group // ' "' // trim(name) // '": joint "' // trim(joint) // &
+                  '" is not a &joint of this case (joints: ' // join_words(joints%name, ', ') // &
+                  ')')
+            else if (joints(j)%type /= type_a .and. joints(j)%type /= type_b) then
+               call fatal_error(error, FFRF_INPUT_ERROR, src%at(group, k, 'joint') // ': &' // &
+                  group // ' "' // trim(name) // '": joint "' // trim(joint) // '" is ' // &
+                  trim(joints(j)%type) // '; a ' // what // ' needs a ' // type_a // ' or ' // &
+                  type_b // ' joint')
+            end if
+         end associate
+      end subroutine check_element_joint
 
       !> A &marker on a flexible body places itself on its mesh: node or group (not both: the
       !> reader), named apart from the body's interfaces.

@@ -12,7 +12,11 @@ contains
       text = '&run title = ''' // nml_string(case%run%title) // ''', output = ''' // &
          nml_string(case%run%output) // ''', mode_shapes_msh = ''' // &
          msh_name(case%run%mode_shapes_msh) // &
-         ''', log_level = ''' // nml_string(case%run%log_level) // ''' /' // nl
+         ''', log_level = ''' // nml_string(case%run%log_level) // ''''
+      ! new key: echoed only when given, so that the echo of a case without it stays as it was
+      if (len_trim(case%run%export) > 0) text = text // ', export = ''' // &
+         nml_string(case%run%export) // ''''
+      text = text // ' /' // nl
       do k = 1, size(case%bodies)
          associate (b => case%bodies(k))
             text = text // '&body name = ''' // nml_string(b%name) // ''', mesh_file = ''' // &
@@ -257,6 +261,10 @@ contains
          ! The linear solver's switch only when set (the default's results are every run's)
          if (s%sparse_threshold /= default_settings%sparse_threshold) text = text // &
             ', sparse_threshold = ' // to_str(s%sparse_threshold)
+         ! The constraint formulation only when set (index3, the default, is every run's)
+         if (s%constraints /= default_settings%constraints) text = text // &
+            ', constraints = ''' // choice_name(constraints_choices, s%constraints, 'index3') &
+            // ''''
          ! Energy watch keys only when set (the default watch is in every run)
          if (mech%energy_watch%mode /= default_watch%mode) text = text // &
             ', energy_watch = ''' // energy_watch_word(mech%energy_watch%mode) // ''''
@@ -269,7 +277,10 @@ contains
             ''', speed_tolerance = ' // to_str(mech%model%speed_tolerance, 6) // &
             ', force_tolerance = ' // to_str(mech%model%force_tolerance, 6) // &
             ', candidate_modes = ' // to_str(mech%model%candidate_modes) // &
-            ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6) // ' /' // nl
+            ', resonance_floor = ' // to_str(mech%model%resonance_floor, 6)
+         if (len_trim(mech%model%targets) > 0) text = text // ', targets = ''' // &
+            nml_string(trim(mech%model%targets)) // ''''
+         text = text // ' /' // nl
       end associate
    end function mechanism_echo
 

@@ -4,9 +4,9 @@ module ffrf_input_interface
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_lower
-   use ffrf_core_choices, only: choice_t, mpc_choices
-   use ffrf_mpc_interface, only: DOF_NAMES, WEIGHTING_UNIFORM, &
-      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
+   use ffrf_core_choices, only: choice_t, mpc_choices, weighting_choices
+   use ffrf_mpc_interface, only: DOF_NAMES, WEIGHTING_UNIFORM, VIRTUAL_NODE_CENTROID, &
+      VIRTUAL_NODE_POSITION
    implicit none
    private
    public :: interface_input_t, parse_dofs
@@ -14,10 +14,8 @@ module ffrf_input_interface
 
    !> The &interface choice tables: words (any case), kinds of ffrf_mpc_interface, names in
    !> messages (docs/developer.md "One table per choice"); the key specs (interface_keys) take
-   !> their words from here, the model (ffrf_model_specs) their kinds; mpc_choices is that of
-   !> ffrf_core_choices (the numerics name their MPC kinds with it)
-   type(choice_t), parameter :: weighting_choices(*) = [choice_t('uniform', WEIGHTING_UNIFORM), &
-      choice_t('area', WEIGHTING_AREA), choice_t('area_consistent', WEIGHTING_AREA_CONSISTENT)]
+   !> their words from here, the model (ffrf_model_specs) their kinds; mpc_choices and
+   !> weighting_choices are those of ffrf_core_choices (the numerics name their kinds with them)
    type(choice_t), parameter :: virtual_node_choices(*) = [ &
       choice_t('centroid', VIRTUAL_NODE_CENTROID), choice_t('position', VIRTUAL_NODE_POSITION)]
 

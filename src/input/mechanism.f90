@@ -9,7 +9,7 @@ module ffrf_input_mechanism
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    use ffrf_mbs_time_function, only: time_function_t, new_time_function
-   use ffrf_core_error, only: error_t
+   use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
@@ -18,7 +18,7 @@ module ffrf_input_mechanism
    public :: load_choices, selection_choices, body_type_choices, quantity_choices
    public :: BODY_FLEXIBLE, BODY_RIGID, DRIVER_COORDINATE, DRIVER_RATE
    public :: LOAD_PRESSURE, LOAD_STARTER, LOAD_DRAG, LOAD_CONSTANT_FORCE, LOAD_CONSTANT_TORQUE
-   public :: SELECTION_MANUAL, SELECTION_AUTO
+   public :: SELECTION_MANUAL, SELECTION_AUTO, parse_targets
 
    !> Name of the ground body in &marker and &joint (it needs no &body group)
    character(len=*), parameter :: GROUND_NAME = 'ground'
@@ -256,6 +256,9 @@ module ffrf_input_mechanism
       integer :: candidate_modes = 20
       !> Floor of |1 - r^2| in a mode's forced response (ffrf_app_engine_model_selection, 2)
       real(dp) :: resonance_floor = 0.1_dp
+      !> Targets of a scene without a crank: pairs "<&sensor name> <relative tolerance of its
+      !> peak>" separated by blanks (ffrf_app_scene_model; '': none)
+      character(len=512) :: targets = ''
       !> .true. when &integrator gives h (set by the reader, not a namelist key)
       logical :: h_given = .false.
    end type model_input_t
@@ -308,5 +311,44 @@ contains
          final=given%final, speed=given%speed, t_start=given%t_start, duration=given%duration, &
          times=times, values=values, interpolation=given%interpolation, beyond=given%beyond)
    end subroutine law_function
+
+   !> The pairs of &model targets (docs/mechanisms.md "Targets on sensors"): a sensor name and
+   !> the relative tolerance of its peak, in (0, 1), separated by blanks ('': no pairs).
+   subroutine parse_targets(text, names, tolerances, error)
+      character(len=*), intent(in) :: text
+      character(len=64), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: tolerances(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=64), allocatable :: words(:)
+      character(len=64) :: word
+      real(dp) :: value
+      integer :: first, last, stat, k
+      allocate (words(0), names(0), tolerances(0))
+      last = 0
+      do
+         first = verify(text(last + 1:), ' ') + last
+         if (first == last) exit
+         last = scan(text(first:), ' ') + first - 2
+         if (last < first) last = len_trim(text)
+         word = text(first:last)
+         words = [words, word]
+      end do
+      if (modulo(size(words), 2) /= 0) then
+         call fatal_error(error, FFRF_INPUT_ERROR, '&model targets = ''' // trim(text) // &
+            ''': give pairs of a &sensor name and a relative tolerance, e.g. ''tip 1e-2''')
+         return
+      end if
+      do k = 1, size(words), 2
+         read (words(k + 1), *, iostat=stat) value
+         if (stat /= 0 .or. .not. (value > 0.0_dp .and. value < 1.0_dp)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&model targets: the tolerance of "' // &
+               trim(words(k)) // '" is "' // trim(words(k + 1)) // '", must be a number in ' // &
+               '(0, 1) (a relative error of the sensor''s peak)')
+            return
+         end if
+         names = [names, words(k)]
+         tolerances = [tolerances, value]
+      end do
+   end subroutine parse_targets
 
 end module ffrf_input_mechanism

@@ -27,7 +27,8 @@
 !>   &integrator  h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, min_step,
 !>                rank_rtol, jacobian ('adaptive', 'step', 'full'), tangent_reuse,
 !>                checkpoint_seconds, checkpoint_steps, energy_watch ('off', 'warn', 'stop'),
-!>                energy_watch_tolerance, energy_watch_window [s], sparse_threshold
+!>                energy_watch_tolerance, energy_watch_window [s], sparse_threshold,
+!>                constraints ('index3', 'index2')
 !>                                                                            (optional, single)
 !>   &model       selection ('auto', 'manual'), speed_tolerance, force_tolerance,
 !>                candidate_modes, resonance_floor                            (optional, single)
@@ -103,14 +104,15 @@ module ffrf_input_nml_mechanism
    use ffrf_input_nml_source, only: key_spec_t, real_key, integer_key, string_key, choice_key, &
       nml_source_t
    use ffrf_input_mechanism, only: mechanism_case_input_t, mechanism_input_t, &
-      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, &
+      marker_input_t, joint_input_t, load_input_t, model_input_t, spring_input_t, parse_targets, &
       torsion_spring_input_t, bushing_input_t, &
       driver_input_t, time_law_input_t, law_function, load_choices, selection_choices, &
       quantity_choices
-   use ffrf_mbs_time_function, only: time_function_t, time_function_words, max_table_points
+   use ffrf_mbs_time_function, only: time_function_t, time_law_choices, max_table_points
    use ffrf_input_pressure, only: pressure_input_t
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
-      GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
+      GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE, GALPHA_INDEX3, &
+      GALPHA_INDEX2
    use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
    use ffrf_mbs_joints, only: joint_choices
    use ffrf_mbs_rotation, only: check_rotation
@@ -121,12 +123,16 @@ module ffrf_input_nml_mechanism
    public :: read_mechanism_groups
    public :: mechanism_keys, marker_keys, joint_keys, load_keys, pressure_keys, integrator_keys, &
       model_keys, spring_keys, driver_keys, torsion_spring_keys, bushing_keys
-   public :: jacobian_choices
+   public :: jacobian_choices, constraints_choices
 
    !> The &integrator jacobian table (GALPHA_NEWTON_* of ffrf_mbs_generalized_alpha)
    type(choice_t), parameter :: jacobian_choices(*) = [ &
       choice_t('adaptive', GALPHA_NEWTON_ADAPTIVE), choice_t('step', GALPHA_NEWTON_STEP), &
       choice_t('full', GALPHA_NEWTON_FULL)]
+   !> The &integrator constraints table (GALPHA_INDEX* of ffrf_mbs_generalized_alpha):
+   !> index-3 constraints, or the stabilized index-2 formulation (theory.md 4.6)
+   type(choice_t), parameter :: constraints_choices(*) = [ &
+      choice_t('index3', GALPHA_INDEX3), choice_t('index2', GALPHA_INDEX2)]
 
    interface
       !> &model: automatic model selection and its error targets.
@@ -263,7 +269,7 @@ contains
       times%max_count = max_table_points
       values = real_key('table_value', -1.0e12_dp, 1.0e12_dp, '')
       values%max_count = max_table_points
-      keys = [choice_key('law', 16, time_function_words), &
+      keys = [choice_key('law', 16, choice_words(time_law_choices)), &
          real_key('initial', -1.0e12_dp, 1.0e12_dp, ''), &
          real_key('final', -1.0e12_dp, 1.0e12_dp, ''), &
          real_key('speed', -1.0e12_dp, 1.0e12_dp, '1/s'), &
@@ -312,6 +318,7 @@ contains
          real_key('min_step', 0.0_dp, 10.0_dp, 's', lower_open=.true.), &
          real_key('rank_rtol', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          choice_key('jacobian', 16, choice_words(jacobian_choices)), &
+         choice_key('constraints', 16, choice_words(constraints_choices)), &
          integer_key('tangent_reuse', 0_i8, 1000000_i8), &
          integer_key('sparse_threshold', 1_i8, int(huge(1), i8)), &
          integer_key('max_steps', 1_i8, 1000000000000_i8, in_namelist=.false.), &
@@ -329,7 +336,8 @@ contains
          real_key('speed_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          real_key('force_tolerance', 0.0_dp, 1.0_dp, '', lower_open=.true., upper_open=.true.), &
          integer_key('candidate_modes', 1_i8, 200_i8), &
-         real_key('resonance_floor', 0.0_dp, 1.0_dp, '', lower_open=.true.)]
+         real_key('resonance_floor', 0.0_dp, 1.0_dp, '', lower_open=.true.), &
+         string_key('targets', 512)]
    end function model_keys
 
    !> Read every mechanism group of the open case file.

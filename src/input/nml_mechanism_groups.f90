@@ -8,22 +8,25 @@ contains
    module procedure read_model_group
       integer :: stat
       character(len=512) :: msg
+      character(len=64), allocatable :: names(:)
+      real(dp), allocatable :: tolerances(:)
       rewind (unit)
       call read_model(input%selection, input%speed_tolerance, input%force_tolerance, &
-         input%candidate_modes, input%resonance_floor)
+         input%candidate_modes, input%resonance_floor, input%targets)
       if (is_iostat_end(stat)) return
       call read_status(src, 'model', 0, stat, msg, error)
+      if (.not. allocated(error)) call parse_targets(input%targets, names, tolerances, error)
       ! selection's word and the ranges were checked by the key spec (model_keys)
       input%selection = to_lower(input%selection)
    contains
       !> The namelist read of &model into its fields (absent keys keep their values).
       subroutine read_model(selection, speed_tolerance, force_tolerance, candidate_modes, &
-            resonance_floor)
-         character(len=*), intent(inout) :: selection
+            resonance_floor, targets)
+         character(len=*), intent(inout) :: selection, targets
          real(dp), intent(inout) :: speed_tolerance, force_tolerance, resonance_floor
          integer, intent(inout) :: candidate_modes
          namelist /model/ selection, speed_tolerance, force_tolerance, candidate_modes, &
-            resonance_floor
+            resonance_floor, targets
          read (unit, nml=model, iostat=stat, iomsg=msg)
       end subroutine read_model
    end procedure read_model_group
@@ -73,7 +76,7 @@ contains
    contains
       !> &marker k: the namelist read into its fields (absent keys keep their defaults), then
       !> its rules: body and name, given once, an orientation that is a rotation, a mesh point
-      !> (node or group) that is not also given a position.
+      !> (node or group) that is not also given a position, no weighting at a node.
       subroutine read_marker(body, name, position, orientation, node, group, weighting)
          character(len=*), intent(inout) :: body, name, group, weighting
          real(dp), intent(inout) :: position(3), orientation(9)
@@ -93,6 +96,12 @@ contains
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'group') // &
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives node ' // &
                'and group; give one (a mesh node, or the centre of a physical group)')
+         else if (node > 0 .and. src%has_key('marker', k, 'weighting')) then
+            ! (issue 24) the RBE3 weights of a group's point mean nothing at a single node
+            call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'weighting') // &
+               ': marker "' // trim(name) // '" of body "' // trim(body) // '" is at node ' // &
+               to_str(node) // ', where weighting (the RBE3 weights of a group marker) means ' &
+               // 'nothing; drop weighting')
          else if ((node > 0 .or. len_trim(group) > 0) .and. any(position /= 0.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, src%where('marker', k, 'position') // &
                ': marker "' // trim(name) // '" of body "' // trim(body) // '" gives a ' // &
@@ -192,11 +201,12 @@ contains
    end procedure read_pressure_group
 
    module procedure read_integrator_group
-      character(len=16) :: jacobian, energy_watch
+      character(len=16) :: jacobian, energy_watch, constraints
       integer :: stat
       character(len=512) :: msg
       energy_watch = energy_watch_word(watch%mode)
       jacobian = choice_name(jacobian_choices, settings%jacobian, 'step')
+      constraints = choice_name(constraints_choices, settings%constraints, 'index3')
       rewind (unit)
       call read_integrator(settings%h, settings%t_end, settings%rho_inf, settings%newton_atol, &
          settings%newton_rtol, settings%max_iterations, settings%min_step, settings%rank_rtol, &
@@ -208,6 +218,8 @@ contains
       ! the words of energy_watch and jacobian were checked by the key spec (integrator_keys)
       watch%mode = energy_watch_kind(to_lower(energy_watch))
       settings%jacobian = jacobian_choices(choice_position(jacobian_choices, jacobian))%kind
+      settings%constraints = constraints_choices(choice_position(constraints_choices, &
+         constraints))%kind
       if (.not. (settings%min_step <= settings%h)) then
          call fatal_error(error, FFRF_INPUT_ERROR, src%where('integrator', 1, 'min_step') // &
             ': must not exceed h = ' // to_str(settings%h) // ' s')
@@ -229,7 +241,7 @@ contains
          namelist /integrator/ h, t_end, rho_inf, newton_atol, newton_rtol, max_iterations, &
             min_step, rank_rtol, jacobian, tangent_reuse, checkpoint_seconds, &
             checkpoint_steps, energy_watch, energy_watch_tolerance, energy_watch_window, &
-            sparse_threshold
+            sparse_threshold, constraints
          read (unit, nml=integrator, iostat=stat, iomsg=msg)
       end subroutine read_integrator
    end procedure read_integrator_group

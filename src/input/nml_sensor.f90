@@ -20,8 +20,9 @@ module ffrf_input_nml_sensor
    use ffrf_input_nml_source, only: key_spec_t, string_key, choice_key, integer_key, &
       nml_source_t
    use ffrf_input_mechanism, only: sensor_input_t
-   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words, sensor_needs_marker, &
-      sensor_needs_joint, sensor_needs_body, sensor_needs_node, sensor_needs_spring
+   use ffrf_core_choices, only: choice_words
+   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_choices, sensor_needs, NEEDS_MARKER, &
+      NEEDS_JOINT, NEEDS_BODY, NEEDS_NODE, NEEDS_SPRING
    implicit none
    private
    public :: read_sensor_groups, sensor_keys
@@ -31,7 +32,7 @@ contains
    !> Keys of &sensor (module header).
    function sensor_keys() result(keys)
       type(key_spec_t), allocatable :: keys(:)
-      keys = [string_key('name', 64), choice_key('type', 20, sensor_words), &
+      keys = [string_key('name', 64), choice_key('type', 20, choice_words(sensor_choices)), &
          string_key('body', 64), string_key('marker', 64), string_key('joint', 64), &
          integer_key('node', 1_i8, int(huge(1), i8)), string_key('spring', 64)]
    end function sensor_keys
@@ -60,7 +61,7 @@ contains
             if (kind == 0) then
                ! a word given was checked by the key spec (sensor_keys); here only its absence
                call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, '') // &
-                  ': type is missing; give one of ' // sensor_words)
+                  ': type is missing; give one of ' // choice_words(sensor_choices))
             else if (any(sensors(:k - 1)%name == s%name)) then
                call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
                   ': sensor "' // trim(s%name) // '" is given twice; sensor names must be ' // &
@@ -69,21 +70,21 @@ contains
                call fatal_error(error, FFRF_INPUT_ERROR, src%where('sensor', k, 'name') // &
                   ': name = ''' // trim(s%name) // ''' holds a "/" or "."; a sensor name is ' // &
                   'one word of the results file (/sensors/<name>)')
-            else if (sensor_needs_marker(kind) .and. (len_trim(s%body) == 0 .or. &
+            else if (sensor_needs(kind, NEEDS_MARKER) .and. (len_trim(s%body) == 0 .or. &
                len_trim(s%marker) == 0)) then
                call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
                   trim(s%type) // ''' needs body and marker (a &marker point, or an ' // &
                   '&interface of a flexible body)')
-            else if (sensor_needs_joint(kind) .and. len_trim(s%joint) == 0) then
+            else if (sensor_needs(kind, NEEDS_JOINT) .and. len_trim(s%joint) == 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
                   trim(s%type) // ''' needs joint = ''<a &joint name>''')
-            else if (sensor_needs_body(kind) .and. len_trim(s%body) == 0) then
+            else if (sensor_needs(kind, NEEDS_BODY) .and. len_trim(s%body) == 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
                   trim(s%type) // ''' needs body = ''<a &body name>''')
-            else if (sensor_needs_spring(kind) .and. len_trim(s%spring) == 0) then
+            else if (sensor_needs(kind, NEEDS_SPRING) .and. len_trim(s%spring) == 0) then
                call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
                   trim(s%type) // ''' needs spring = ''<a &' // trim(s%type) // ' name>''')
-            else if (sensor_needs_node(kind) .and. s%node < 1) then
+            else if (sensor_needs(kind, NEEDS_NODE) .and. s%node < 1) then
                call fatal_error(error, FFRF_INPUT_ERROR, where // ': type ''' // &
                   trim(s%type) // ''' needs node = <a node tag of the body''s mesh>')
             end if

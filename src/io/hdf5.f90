@@ -363,7 +363,7 @@ module ffrf_io_hdf5
       ! ------------------------------------------------------------------ attributes
 
       !> Set (or replace) a string attribute of the group or dataset at `path` ('/' = root).
-      module subroutine set_attribute_string(self, path, name, value, error)
+      module subroutine set_attribute_string(self, path, name, value, error, variable)
          class(h5_file_t), intent(inout) :: self
          !> Absolute path of an existing group or dataset
          character(len=*), intent(in) :: path
@@ -372,6 +372,11 @@ module ffrf_io_hdf5
          !> Text
          character(len=*), intent(in) :: value
          type(error_t), allocatable, intent(out) :: error
+         !> .true.: a variable-length UTF-8 string (what h5py writes for a Python str and reads
+         !> back as str, for readers that compare it with one: Exudyn's LoadDictFromHDF5,
+         !> docs/results.md "Exudyn export"), and a missing `path` becomes a group (with its
+         !> parents); default .false.: fixed-length, NUL-padded
+         logical, intent(in), optional :: variable
       end subroutine set_attribute_string
 
       !> Set (or replace) a real scalar attribute.

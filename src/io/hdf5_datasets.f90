@@ -1,6 +1,8 @@
 !> ffrf_io_hdf5: whole datasets (reals, integers, strings; rank 0 to 2) and scalar attributes,
 !> written and read.
 submodule (ffrf_io_hdf5:ffrf_io_hdf5_internals) ffrf_io_hdf5_datasets
+   use, intrinsic :: iso_c_binding, only: c_null_char
+   use hdf5, only: H5T_STRING, h5tset_cset_f, H5T_CSET_UTF8_F
    implicit none
 
 contains
@@ -375,14 +377,40 @@ contains
       call enter_serial_section(SECTION_HDF5)
       section: block
          character(kind=c_char, len=1), allocatable, target :: bytes(:)
-         integer(hid_t) :: string_type
+         character(kind=c_char, len=:), allocatable, target :: text
+         type(c_ptr), target :: pointer
+         type(c_ptr) :: buffer
+         integer(hid_t) :: string_type, group
          integer :: hdferr
-         call packed_strings([value], len(value), .false., bytes, string_type, hdferr)
+         logical :: vlen
+         vlen = .false.
+         if (present(variable)) vlen = variable
+         if (vlen) then
+            ! h5awrite_f of a variable-length string takes the address of a char* to the text
+            if (.not. self%exists(path)) then
+               call prepare_dataset(self, path, error)
+               if (allocated(error)) exit section
+               call h5gcreate_f(self%id, path, group, hdferr)
+               if (hdferr < 0) then
+                  call fail(self, error, path, 'cannot create the group')
+                  exit section
+               end if
+               call h5gclose_f(group, hdferr)
+            end if
+            text = value // c_null_char
+            pointer = c_loc(text)
+            buffer = c_loc(pointer)
+            call h5tcopy_f(H5T_STRING, string_type, hdferr)
+            if (hdferr >= 0) call h5tset_cset_f(string_type, H5T_CSET_UTF8_F, hdferr)
+         else
+            call packed_strings([value], len(value), .false., bytes, string_type, hdferr)
+            buffer = c_loc(bytes)
+         end if
          if (hdferr < 0) then
             call fail(self, error, path, 'cannot make a string type for attribute ' // name)
             exit section
          end if
-         call put_attribute(self, path, name, string_type, c_loc(bytes), error)
+         call put_attribute(self, path, name, string_type, buffer, error)
          call h5tclose_f(string_type, hdferr)
       end block section
       call leave_serial_section(SECTION_HDF5)

@@ -14,6 +14,7 @@ module ffrf_io_modes_file
    use ffrf_core_strings, only: to_str
    use ffrf_core_posix, only: check_input_file
    use ffrf_io_hdf5, only: h5_file_t, H5_READ_ONLY
+   use ffrf_io_schema, only: check_schema_version
    use ffrf_modes_fingerprint, only: modes_fingerprint_t, COMPONENT_NAMES, NUM_COMPONENTS
    implicit none
    private
@@ -101,6 +102,8 @@ contains
       end if
       root = '/bodies/' // body_name // '/modes'
       section: block
+         call check_schema_version(h5, where, error)
+         if (allocated(error)) exit section
          if (.not. h5%exists(root // '/shape')) then
             bodies = stored_bodies(h5)
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': no mode shapes of body "' // &

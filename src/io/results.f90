@@ -24,11 +24,13 @@ module ffrf_io_results
    use ffrf_modes_input, only: basis_name, BASIS_CRAIG_BAMPTON
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_io_modes_file, only: write_fingerprint
+   use ffrf_io_schema, only: RESULTS_SCHEMA_VERSION
    use ffrf_modes_shift_invert, only: eigen_result_t
    implicit none
    private
    public :: results_create, results_write_body, results_finish
    public :: output_lock_t, partial_name, commit_file, abandon_file, check_no_overwrite
+   public :: RESULTS_SCHEMA_VERSION
 
    !> The lock that keeps two runs off one output (module notes).
    type :: output_lock_t
@@ -106,7 +108,8 @@ contains
       call remove_file(temp, ignored)
    end subroutine abandon_file
 
-   !> Create the results file: status 'running', case name, input echo, build versions.
+   !> Create the results file: status 'running', schema version, case name, input echo, build
+   !> versions.
    subroutine results_create(file_name, case_name, title, echo, h5, error)
       !> Results file (truncated if it exists)
       character(len=*), intent(in) :: file_name
@@ -120,6 +123,8 @@ contains
       call h5%create(file_name, error)
       if (allocated(error)) return
       call h5%set_status('running', error)
+      if (.not. allocated(error)) call h5%set_attribute('/', 'schema_version', &
+         RESULTS_SCHEMA_VERSION, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'ffrf_version', FFRF_VERSION, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'case_name', case_name, error)
       if (.not. allocated(error)) call h5%set_attribute('/', 'title', title, error)

@@ -9,7 +9,7 @@ contains
       integer(ip), allocatable :: marker(:)
       real(dp), allocatable :: accumulator(:)
       integer(i8) :: total
-      integer(ip) :: i, ka, kb, j, row_start, count, stat
+      integer(ip) :: i, ka, row_start, count, stat
       if (A%num_cols /= B%num_rows) then
          call shape_error(error, 'csr_matmul', A, B, 'the inner dimensions must agree')
          return
@@ -22,16 +22,7 @@ contains
       total = 0
       C%row_ptr(1) = 1
       do i = 1, A%num_rows
-         count = 0
-         do ka = A%row_ptr(i), A%row_ptr(i + 1) - 1
-            do kb = B%row_ptr(A%col(ka)), B%row_ptr(A%col(ka) + 1) - 1
-               j = B%col(kb)
-               if (marker(j) /= i) then
-                  marker(j) = i
-                  count = count + 1
-               end if
-            end do
-         end do
+         call product_row(i, .false., count)
          total = total + count
          if (total > int(huge(0_ip), i8) - 1) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'csr_matmul: the product has more than ' // &
@@ -51,25 +42,37 @@ contains
       accumulator = 0.0_dp
       do i = 1, A%num_rows
          row_start = C%row_ptr(i)
+         call product_row(i, .true., count)
+         call sort_indices(C%col(row_start:row_start + count - 1))
+         do ka = row_start, row_start + count - 1
+            C%val(ka) = accumulator(C%col(ka))
+         end do
+      end do
+   contains
+      !> Row i of A B: the number of its distinct columns (marker(j) = i marks column j seen);
+      !> with fill, also its columns into C%col from C%row_ptr(i) on and its sums in accumulator.
+      subroutine product_row(i, fill, count)
+         integer(ip), intent(in) :: i
+         logical, intent(in) :: fill
+         integer(ip), intent(out) :: count
+         integer(ip) :: ka, kb, j
          count = 0
          do ka = A%row_ptr(i), A%row_ptr(i + 1) - 1
             do kb = B%row_ptr(A%col(ka)), B%row_ptr(A%col(ka) + 1) - 1
                j = B%col(kb)
                if (marker(j) /= i) then
                   marker(j) = i
-                  C%col(row_start + count) = j
+                  if (fill) then
+                     C%col(C%row_ptr(i) + count) = j
+                     accumulator(j) = A%val(ka)*B%val(kb)
+                  end if
                   count = count + 1
-                  accumulator(j) = A%val(ka)*B%val(kb)
-               else
+               else if (fill) then
                   accumulator(j) = accumulator(j) + A%val(ka)*B%val(kb)
                end if
             end do
          end do
-         call sort_indices(C%col(row_start:row_start + count - 1))
-         do ka = row_start, row_start + count - 1
-            C%val(ka) = accumulator(C%col(ka))
-         end do
-      end do
+      end subroutine product_row
    end procedure csr_matmul
 
    module procedure csr_add

@@ -56,7 +56,8 @@
 !> leaves the low modes almost untouched (1 - |lambda_1| = O(Omega^4)). With rho_inf = 1
 !> (trapezoidal rule) |lambda_1| = 1 and a linear system keeps its quadratic energy to round-off,
 !> but the spurious root is -1 (undamped), and the integrator refuses rho_inf = 1 for any
-!> mechanism with a free body (its Euler row is a constraint). For the nonlinear rigid rotation
+!> mechanism with a free body (its Euler row is a constraint) unless its constraints are
+!> stabilized index 2 (theory.md 4.6). For the nonlinear rigid rotation
 !> with Euler parameters the scheme conserves neither energy nor angular momentum; both drift by
 !> O(h^2) over a fixed interval (tests/unit/test_mbs_energy.f90: D / T_0 = 4.7e-10 and
 !> |L - L_0| / |L_0| = 6.8e-10 for a tumbling rigid body, 2 s, h = 2e-4 s, rho_inf = 0.8).

@@ -59,7 +59,8 @@ module ffrf_mbs_flexible_body
    use ffrf_fe_geometric_stiffness, only: centrifugal_products, centrifugal_product_jacobian, &
       NUM_CENTRIFUGAL_CASES
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
-      rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent, check_rotation
+      rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent, check_rotation, &
+      euler_hessian
    use ffrf_mbs_body, only: body_t
    implicit none
    private

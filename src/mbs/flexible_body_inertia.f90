@@ -156,10 +156,7 @@ contains
       integer :: m, nc, j, l
       m = self%num_modes
       nc = self%num_coordinates
-      A = euler_rotation(q(4:7))
-      G_bar = euler_g_bar(q(4:7))
-      G_dot = euler_g_bar(v(4:7))
-      omega = matmul(G_bar, v(4:7))
+      call rotation_rates(q, v, A, G_bar, G_dot, omega)
       w_skew = skew3(omega)
       associate (zeta => q(8:nc), zeta_dot => v(8:nc))
          S = first_moment_skew(self, zeta)
@@ -235,16 +232,24 @@ contains
       B(2:4, 2:4) = -2.0_dp * skew3(p)
    end procedure g_bar_transpose_derivative
 
+   !> The rotation terms at coordinates q and a rate x (velocities v or accelerations a): A(theta),
+   !> G_bar(theta), G_bar(x_theta) and the body-frame rate G_bar x_theta (omega or alpha).
+   pure subroutine rotation_rates(q, x, A, G_bar, G_x, rate)
+      real(dp), intent(in) :: q(:), x(:)
+      real(dp), intent(out) :: A(3, 3), G_bar(3, 4), G_x(3, 4), rate(3)
+      A = euler_rotation(q(4:7))
+      G_bar = euler_g_bar(q(4:7))
+      G_x = euler_g_bar(x(4:7))
+      rate = matmul(G_bar, x(4:7))
+   end subroutine rotation_rates
+
    module procedure flexible_body_mass_stiffness
       real(dp) :: rot(3, 3), G_bar(3, 4), G_a(3, 4), S(3, 3), inertia(3, 3), alpha(3), p(3)
       real(dp) :: H(3, self%num_modes), y(3), dy(3, 4), D(3, 3)
       integer :: m, nc, j, l
       m = self%num_modes
       nc = self%num_coordinates
-      rot = euler_rotation(q(4:7))
-      G_bar = euler_g_bar(q(4:7))
-      G_a = euler_g_bar(a(4:7))
-      alpha = matmul(G_bar, a(4:7))
+      call rotation_rates(q, a, rot, G_bar, G_a, alpha)
       y = matmul(transpose(rot), a(1:3))
       dy = transposed_rotation_derivative(q(4:7), a(1:3))
       associate (zeta => q(8:nc), a_z => a(8:nc))

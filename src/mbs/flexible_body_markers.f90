@@ -2,6 +2,8 @@
 !> frame (times a marker's constant C), its velocity, Jacobians, Hessian and generalized forces.
 submodule (ffrf_mbs_flexible_body) ffrf_mbs_flexible_body_markers
    implicit none
+   !> marker_part's parts: the rows of a virtual node's translations and of its rotations
+   integer, parameter :: MARKER_POSITION = 0, MARKER_ROTATION = 3
 
 contains
 
@@ -21,16 +23,16 @@ contains
       end if
       m = self%num_modes
       A = euler_rotation(q(4:7))
-      phi = marker_rotation_vector(self, q, k)
+      phi = marker_part(self, q, k, MARKER_ROTATION)
       E = rotation_vector_matrix(phi)
-      b_p = marker_local(self, q, k)
+      b_p = marker_part(self, q, k, MARKER_POSITION)
       H = 0.0_dp
       ! theta-theta
       X = matmul(W, transpose(E))
       do j = 1, 3
          X(:, j) = X(:, j) + w_position * b_p(j)
       end do
-      H(4:7, 4:7) = euler_quadratic_hessian(X)
+      H(4:7, 4:7) = euler_hessian(X)
       ! theta-zeta, mode by mode (3-vectors, no m-sized temporaries)
       T = rotation_vector_tangent(phi)
       Z = theta_gradient_matrix(q(4:7), w_position)
@@ -97,18 +99,6 @@ contains
       end do
    end function theta_gradient_matrix
 
-   !> Hessian in theta of sum w^T A(theta) b, from X = sum w b^T (4 x 4; A + I = 2 e0^2 I
-   !> + 2 e e^T + 2 e0 e~ is a quadratic form): H_00 = 4 tr X, H_ee = 2 (X + X^T),
-   !> H_0e = 2 sum b x w.
-   pure function euler_quadratic_hessian(X) result(H)
-      real(dp), intent(in) :: X(3, 3)
-      real(dp) :: H(4, 4)
-      H(1, 1) = 4.0_dp * (X(1, 1) + X(2, 2) + X(3, 3))
-      H(2:4, 1) = 2.0_dp * [X(3, 2) - X(2, 3), X(1, 3) - X(3, 1), X(2, 1) - X(1, 2)]
-      H(1, 2:4) = H(2:4, 1)
-      H(2:4, 2:4) = 2.0_dp * (X + transpose(X))
-   end function euler_quadratic_hessian
-
    module procedure flexible_body_marker_force_tangent
       real(dp) :: A(3, 3), G_bar(3, 4), u(3), y(3), n(3), p(3), dy(3, 4), dn(3, 4), phi(3)
       real(dp) :: psi_r(3, self%num_modes), delta, t_plus(3), t_minus(3), shifted(3), dt(3, 3)
@@ -119,7 +109,7 @@ contains
       nc = self%num_coordinates
       A = euler_rotation(q(4:7))
       G_bar = euler_g_bar(q(4:7))
-      u = marker_local(self, q, k)
+      u = marker_part(self, q, k, MARKER_POSITION)
       y = matmul(transpose(A), force)
       n = matmul(transpose(A), moment)
       p = cross_product(u, y) + n
@@ -166,8 +156,8 @@ contains
       integer :: row
       row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
-      u = marker_local(self, q, k)
-      phi = marker_rotation_vector(self, q, k)
+      u = marker_part(self, q, k, MARKER_POSITION)
+      phi = marker_part(self, q, k, MARKER_ROTATION)
       E = rotation_vector_matrix(phi)
       if (self%framed(k)) E = matmul(E, self%marker_frame(:, :, k))
       position = q(1:3) + matmul(A, u)
@@ -194,86 +184,85 @@ contains
       end do
    end procedure flexible_body_marker_kinematics
 
-   !> Deformed position of virtual node k in the body frame, u_V = x_V + Psi_Vt zeta.
-   pure function marker_local(self, q, k) result(u)
+   !> Of virtual node k, in the body frame: its deformed position u_V = x_V + Psi_Vt zeta
+   !> (part MARKER_POSITION) or its elastic rotation vector phi = Psi_Vr zeta (part
+   !> MARKER_ROTATION, rad).
+   pure function marker_part(self, q, k, part) result(u)
       class(flexible_body_t), intent(in) :: self
       real(dp), intent(in) :: q(:)
       integer, intent(in) :: k
+      !> MARKER_POSITION or MARKER_ROTATION: the offset of its rows in the node's six
+      integer, intent(in) :: part
       real(dp) :: u(3)
       integer :: l
       integer :: row
-      row = 6 * self%marker_node(k)
-      u = self%virtual_xyz(:, self%marker_node(k))
+      row = 6 * (self%marker_node(k) - 1) + part
+      if (part == MARKER_POSITION) then
+         u = self%virtual_xyz(:, self%marker_node(k))
+      else
+         u = 0.0_dp
+      end if
       do l = 1, self%num_modes
-         u = u + q(7 + l) * self%virtual_shapes(row - 5:row - 3, l)
+         u = u + q(7 + l) * self%virtual_shapes(row + 1:row + 3, l)
       end do
-   end function marker_local
+   end function marker_part
 
-   !> Elastic rotation vector of virtual node k, phi = Psi_Vr zeta (body frame, rad).
-   pure function marker_rotation_vector(self, q, k) result(phi)
+   !> The mode shapes of virtual node k's translations (part MARKER_POSITION) or rotations
+   !> (part MARKER_ROTATION), 3 x num_modes.
+   pure function marker_shapes(self, k, part) result(shapes)
       class(flexible_body_t), intent(in) :: self
-      real(dp), intent(in) :: q(:)
       integer, intent(in) :: k
-      real(dp) :: phi(3)
-      integer :: l
+      !> MARKER_POSITION or MARKER_ROTATION: the offset of its rows in the node's six
+      integer, intent(in) :: part
+      real(dp) :: shapes(3, self%num_modes)
       integer :: row
-      row = 6 * self%marker_node(k)
-      phi = 0.0_dp
-      do l = 1, self%num_modes
-         phi = phi + q(7 + l) * self%virtual_shapes(row - 2:row, l)
-      end do
-   end function marker_rotation_vector
+      row = 6 * (self%marker_node(k) - 1) + part
+      shapes = self%virtual_shapes(row + 1:row + 3, :)
+   end function marker_shapes
 
    module procedure flexible_body_marker_position
       real(dp) :: A(3, 3), u(3)
       A = euler_rotation(q(4:7))
-      u = marker_local(self, q, k)
+      u = marker_part(self, q, k, MARKER_POSITION)
       r = q(1:3) + matmul(A, u)
    end procedure flexible_body_marker_position
 
    module procedure flexible_body_marker_orientation
       real(dp) :: A(3, 3), R(3, 3)
       A = euler_rotation(q(4:7))
-      R = rotation_vector_matrix(marker_rotation_vector(self, q, k))
+      R = rotation_vector_matrix(marker_part(self, q, k, MARKER_ROTATION))
       if (self%framed(k)) R = matmul(R, self%marker_frame(:, :, k))
       A_v = matmul(A, R)
    end procedure flexible_body_marker_orientation
 
    module procedure flexible_body_marker_velocity_jacobian
       real(dp) :: A(3, 3)
-      integer :: row
-      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       jac(:, 1:3) = identity3()
-      jac(:, 4:7) = -matmul(A, matmul(skew3(marker_local(self, q, k)), euler_g_bar(q(4:7))))
-      jac(:, 8:) = matmul(A, self%virtual_shapes(row - 5:row - 3, :))
+      jac(:, 4:7) = -matmul(A, matmul(skew3(marker_part(self, q, k, MARKER_POSITION)), &
+         euler_g_bar(q(4:7))))
+      jac(:, 8:) = matmul(A, marker_shapes(self, k, MARKER_POSITION))
    end procedure flexible_body_marker_velocity_jacobian
 
    module procedure flexible_body_marker_position_jacobian
-      integer :: row
-      row = 6 * self%marker_node(k)
       jac(:, 1:3) = identity3()
-      jac(:, 4:7) = rotated_vector_jacobian(q(4:7), marker_local(self, q, k))
-      jac(:, 8:) = matmul(euler_rotation(q(4:7)), self%virtual_shapes(row - 5:row - 3, :))
+      jac(:, 4:7) = rotated_vector_jacobian(q(4:7), marker_part(self, q, k, MARKER_POSITION))
+      jac(:, 8:) = matmul(euler_rotation(q(4:7)), marker_shapes(self, k, MARKER_POSITION))
    end procedure flexible_body_marker_position_jacobian
 
    module procedure flexible_body_marker_rotation_jacobian
       real(dp) :: A(3, 3)
-      integer :: row
-      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
       jac(:, 1:3) = 0.0_dp
       jac(:, 4:7) = matmul(A, euler_g_bar(q(4:7)))
-      jac(:, 8:) = matmul(matmul(A, rotation_vector_tangent(marker_rotation_vector(self, q, k))), &
-         self%virtual_shapes(row - 2:row, :))
+      jac(:, 8:) = matmul(matmul(A, rotation_vector_tangent(marker_part(self, q, k, &
+         MARKER_ROTATION))), marker_shapes(self, k, MARKER_ROTATION))
    end procedure flexible_body_marker_rotation_jacobian
 
    module procedure flexible_body_marker_axis_jacobian
       real(dp) :: A(3, 3), phi(3), b(3)
-      integer :: row
-      row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
-      phi = marker_rotation_vector(self, q, k)
+      phi = marker_part(self, q, k, MARKER_ROTATION)
       if (self%framed(k)) then
          b = matmul(rotation_vector_matrix(phi), matmul(self%marker_frame(:, :, k), axis))
       else
@@ -282,7 +271,7 @@ contains
       jac(:, 1:3) = 0.0_dp
       jac(:, 4:7) = rotated_vector_jacobian(q(4:7), b)
       jac(:, 8:) = -matmul(matmul(A, matmul(skew3(b), rotation_vector_tangent(phi))), &
-         self%virtual_shapes(row - 2:row, :))
+         marker_shapes(self, k, MARKER_ROTATION))
    end procedure flexible_body_marker_axis_jacobian
 
    module procedure flexible_body_marker_generalized_force
@@ -293,10 +282,10 @@ contains
       integer :: row
       row = 6 * self%marker_node(k)
       A = euler_rotation(q(4:7))
-      u = marker_local(self, q, k)
+      u = marker_part(self, q, k, MARKER_POSITION)
       y = matmul(force, A)
       n = matmul(moment, A)
-      T = rotation_vector_tangent(marker_rotation_vector(self, q, k))
+      T = rotation_vector_tangent(marker_part(self, q, k, MARKER_ROTATION))
       Tn = matmul(n, T)
       gen(1:3) = force
       gen(4:7) = matmul(cross_product(u, y) + n, euler_g_bar(q(4:7)))

@@ -6,8 +6,13 @@
 !> the BLAS on one thread (galpha_step; docs/performance_threads.md).
 !>
 !> - Parameters from the spectral radius at infinity rho_inf (Chung & Hulbert 1993; theory.md 4.1).
-!>   rho_inf = 1 (trapezoidal rule, no numerical damping) is REFUSED for a system with
-!>   constraints and accepted without them. Index-3 constraints need rho_inf < 1 (Cardona &
+!>   With the default index-3 constraints (settings%constraints = GALPHA_INDEX3), rho_inf = 1
+!>   (trapezoidal rule, no numerical damping) is REFUSED for a system with constraints and
+!>   accepted without them; the stabilized index-2 formulation (GALPHA_INDEX2, theory.md 4.6,
+!>   generalized_alpha_index2.f90) imposes Phi = 0 and Phi_q q' + Phi_t = 0 with a second
+!>   multiplier in the position update and accepts rho_inf = 1 (second order; an iteration
+!>   matrix of order n + 2 nr instead of n + nr, and every iteration evaluates the residual).
+!>   Index-3 constraints need rho_inf < 1 (Cardona &
 !>   Geradin 1989; theory.md 4.3), and the stable range of h shrinks as rho_inf -> 1: measured
 !>   on the 1 m Cartesian pendulum (theta0 = 1 rad, h = 1e-2 s) the multiplier grows from 18 N
 !>   to 1.5e4 N in 10 s with rho_inf = 0.99 and Newton fails near 8 s with rho_inf = 1, while
@@ -98,7 +103,8 @@
 !>
 !> Files: this module (types, settings checks); its submodules generalized_alpha_start.f90
 !> (init: the consistent start, redundant rows), generalized_alpha_step.f90 (step, run:
-!> Newton, factors, step control) and generalized_alpha_state.f90 (checkpoint state).
+!> Newton, factors, step control), generalized_alpha_state.f90 (checkpoint state) and
+!> generalized_alpha_index2.f90 (the stabilized index-2 blocks).
 module ffrf_mbs_generalized_alpha
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip, i8
@@ -119,6 +125,7 @@ module ffrf_mbs_generalized_alpha
    public :: chung_hulbert, check_galpha_settings
    public :: GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE
    public :: GALPHA_SPARSE_THRESHOLD
+   public :: GALPHA_INDEX3, GALPHA_INDEX2
 
    !> Safety factor on the round-off floors of the residual and the increment (noise_floor): the
    !> multiplier increments of the round-off cycle measured on the engine of
@@ -150,13 +157,23 @@ module ffrf_mbs_generalized_alpha
    !> matrices of order 56 to 82) stay far below: dense, bitwise as before.
    integer, parameter :: GALPHA_SPARSE_THRESHOLD = 800
 
+   !> Constraint formulation (settings%constraints): index 3, Phi(q, t) = 0 alone (default)
+   integer, parameter :: GALPHA_INDEX3 = 1
+   !> Constraint formulation: stabilized index 2 (Gear-Gupta-Leimkuhler), Phi = 0 and
+   !> Phi_q q' + Phi_t = 0 with a second multiplier nu in the position update (theory.md 4.6;
+   !> generalized_alpha_index2.f90)
+   integer, parameter :: GALPHA_INDEX2 = 2
+
    !> Layout tag of export_state (first integer), changed with the state's contents
    integer(i8), parameter :: STATE_LAYOUT = 20261125_i8
 
    !> Settings of a run (the &integrator namelist maps onto these).
    type :: galpha_settings_t
-      !> Spectral radius at infinity, in [0, 1]; 1 only for systems without constraints
+      !> Spectral radius at infinity, in [0, 1]; 1 only for systems without constraints or
+      !> with constraints = GALPHA_INDEX2
       real(dp) :: rho_inf = 0.8_dp
+      !> Constraint formulation: GALPHA_INDEX3 (default) or GALPHA_INDEX2 (theory.md 4.6)
+      integer :: constraints = GALPHA_INDEX3
       !> Time step (s); the nominal and largest step
       real(dp) :: h = 1.0e-3_dp
       !> Start time (s)
@@ -330,6 +347,16 @@ module ffrf_mbs_generalized_alpha
       logical :: sparse = .false.
       type(block_sparse_t) :: M_sparse, Phi_sparse
       real(dp) :: force_scale = 0.0_dp
+      !> Index 2 only (theory.md 4.6): the velocity constraints g = Phi_q q' + Phi_t (nc), the
+      !> direction of the position correction, B = Phi_q^T of the kept rows at the step's
+      !> predictor, each column divided by its largest entry (n x nr), and beta h / gamma, the
+      !> factor that turns g into a position-sized residual (s)
+      real(dp), allocatable :: g(:), B(:, :)
+      real(dp) :: velocity_scale = 0.0_dp
+      !> Index 2 on the sparse path: B = Phi_q(active, :)^T diag(B_scale), Phi_q at the predictor
+      !> block-sparse (all rows), B_scale (nr) the inverse largest entries
+      type(block_sparse_t) :: B_sparse
+      real(dp), allocatable :: B_scale(:)
    end type trial_t
 
    interface
@@ -399,6 +426,52 @@ module ffrf_mbs_generalized_alpha
          class(dae_system_t), intent(inout) :: system
          type(error_t), allocatable, intent(out) :: error
       end subroutine detect_redundant
+
+      !> Stop on the weak instability of index-3 generalized-alpha near rho_inf = 1: multipliers
+      !> alternating from step to step (generalized_alpha_state.f90).
+      module subroutine check_alternation(self, h, last, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         !> The step just accepted (s)
+         real(dp), intent(in) :: h
+         !> Whether it was the last, shortened step
+         logical, intent(in) :: last
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine check_alternation
+
+      !> Index 2: the position-correction direction B at the predictor and beta h / gamma
+      !> (generalized_alpha_index2.f90).
+      module subroutine index2_direction(self, h, trial)
+         type(galpha_integrator_t), intent(in) :: self
+         real(dp), intent(in) :: h
+         type(trial_t), intent(inout) :: trial
+      end subroutine index2_direction
+
+      !> Index 2: the blocks of nu in the scaled iteration matrix, around the index-3 matrix
+      !> already in self%lu(:n + nr, :n + nr).
+      module subroutine index2_blocks(self, h, trial)
+         type(galpha_integrator_t), intent(inout) :: self
+         real(dp), intent(in) :: h
+         type(trial_t), intent(in) :: trial
+      end subroutine index2_blocks
+
+      !> Index 2: the position increment dq = x + B z of a Newton solution [x; y; z].
+      module function index2_increment(self, trial, dx) result(dq)
+         type(galpha_integrator_t), intent(in) :: self
+         type(trial_t), intent(in) :: trial
+         real(dp), intent(in) :: dx(:)
+         real(dp) :: dq(self%n)
+      end function index2_increment
+
+      !> Index 2 on the sparse path: nu's columns of the scaled iteration matrix as triplets,
+      !> beta h^2 K_t B (rows 1..n) and S Phi_q B (the multiplier rows), the entries of
+      !> |K_t| |B| and |Phi_q| |B| that are not zero; one column of B at a time (O(nr entries)).
+      module subroutine index2_sparse_triplets(self, h, trial, irn, jcn, values)
+         type(galpha_integrator_t), intent(in) :: self
+         real(dp), intent(in) :: h
+         type(trial_t), intent(in) :: trial
+         integer(ip), allocatable, intent(out) :: irn(:), jcn(:)
+         real(dp), allocatable, intent(out) :: values(:)
+      end subroutine index2_sparse_triplets
 
       !> max |x_i|, 0 for an empty vector.
       pure module function max_abs(x) result(largest)
@@ -501,6 +574,9 @@ contains
          else if (s%max_iterations < 1) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'max_iterations = ' // &
                to_str(s%max_iterations) // ', must be at least 1')
+         else if (s%constraints /= GALPHA_INDEX3 .and. s%constraints /= GALPHA_INDEX2) then
+            call fatal_error(error, FFRF_INPUT_ERROR, where // 'constraints = ' // &
+               to_str(s%constraints) // ', must be 1 (index 3) or 2 (stabilized index 2)')
          else if (s%jacobian < GALPHA_NEWTON_FULL .or. s%jacobian > GALPHA_NEWTON_ADAPTIVE) then
             call fatal_error(error, FFRF_INPUT_ERROR, where // 'jacobian = ' // &
                to_str(s%jacobian) // ', must be 1 (full Newton), 2 (per step) or 3 (adaptive)')

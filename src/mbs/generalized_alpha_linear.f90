@@ -9,11 +9,11 @@ contains
 
    !> (generalized_alpha.f90, interface)
    module procedure sparse_assemble
-      integer(ip), allocatable :: irn(:), jcn(:)
-      real(dp), allocatable :: values(:), row_max(:)
+      integer(ip), allocatable :: irn(:), jcn(:), irn_nu(:), jcn_nu(:)
+      real(dp), allocatable :: values(:), row_max(:), values_nu(:)
       integer, allocatable :: keep_row(:)
       real(dp) :: reference
-      integer :: n, nr, i, k, capacity
+      integer :: n, nr, i, k, capacity, order
       n = self%n
       nr = size(self%active)
       associate (A => self%sparse_A, Phi => trial%Phi_sparse)
@@ -39,8 +39,12 @@ contains
                   row_max(self%active(i))
             end do
          end if
-         capacity = A%entries() + nr
-         if (self%nc > 0) capacity = capacity + 2 * Phi%entries()
+         ! Index 2 (theory.md 4.6): the velocity rows, a copy of S Phi_q's, the zero diagonal
+         ! of the nu rows besides the multipliers', then nu's columns (index2_sparse_triplets)
+         order = n + nr
+         if (allocated(trial%g)) order = n + 2 * nr
+         capacity = A%entries() + order - n
+         if (self%nc > 0) capacity = capacity + 3 * Phi%entries()
          allocate (irn(capacity), jcn(capacity), values(capacity))
          k = 0
          call A%triplets(0, 0, irn, jcn, values, k)
@@ -48,15 +52,23 @@ contains
             call Phi%triplets(n, 0, irn, jcn, values, k, keep_row, self%row_scale)
             call Phi%triplets(n, 0, irn, jcn, values, k, keep_row, self%row_scale, &
                transposed=.true.)
+            if (order > n + nr) call Phi%triplets(n + nr, 0, irn, jcn, values, k, keep_row, &
+               self%row_scale)
          end if
-         do i = 1, nr
+         do i = 1, order - n
             irn(k + i) = int(n + i, ip)
             jcn(k + i) = int(n + i, ip)
             values(k + i) = 0.0_dp
          end do
-         k = k + nr
+         k = k + order - n
       end associate
-      call self%sparse%factor(n + nr, irn(:k), jcn(:k), values(:k), singular, error)
+      if (order > n + nr) then
+         call index2_sparse_triplets(self, h, trial, irn_nu, jcn_nu, values_nu)
+         call self%sparse%factor(order, [irn(:k), irn_nu], [jcn(:k), jcn_nu], &
+            [values(:k), values_nu], singular, error)
+      else
+         call self%sparse%factor(order, irn(:k), jcn(:k), values(:k), singular, error)
+      end if
    end procedure sparse_assemble
 
    !> (generalized_alpha.f90, interface)
@@ -64,31 +76,46 @@ contains
       real(dp), allocatable :: u(:), noise(:), x(:), terms(:), size_inertia(:), &
          size_reaction(:), inertia(:), reaction(:), all_rows(:)
       real(dp) :: bh2, signum
-      integer :: n, nr, i, pattern
+      integer :: n, nr, i, pattern, order
       n = self%n
       nr = size(self%active)
       bh2 = self%beta * h**2
-      allocate (u(n), terms(n), noise(n + nr), x(n + nr), size_inertia(n), size_reaction(n), &
+      ! Index 2 (theory.md 4.6): the velocity rows and nu's columns
+      order = n + nr
+      if (allocated(trial%g)) order = n + 2 * nr
+      allocate (u(n), terms(n), noise(order), x(order), size_inertia(n), size_reaction(n), &
          inertia(n), reaction(n))
       u = epsilon(1.0_dp) * abs(trial%q)
       call trial_products(trial, .true., size_inertia, size_reaction)
       call trial_products(trial, .false., inertia, reaction)
       terms = size_inertia + size_reaction + abs(inertia + reaction - trial%r_q)
+      if (allocated(self%constraint_floor)) deallocate (self%constraint_floor)
+      allocate (self%constraint_floor(order - n))
+      ! Index 2: the floor of the velocity rows, |Phi_q| eps |q'| beta h / gamma, after Phi's
       if (trial%sparse) then
          call self%sparse_K%matvec(u, x(:n), absolute=.true.)
          self%residual_floor = x(:n) + epsilon(1.0_dp) * terms
          allocate (all_rows(self%nc))
          if (self%nc > 0) call trial%Phi_sparse%matvec(u, all_rows, absolute=.true.)
-         self%constraint_floor = all_rows(self%active)
+         self%constraint_floor(:nr) = all_rows(self%active)
+         if (order > n + nr) then
+            call trial%Phi_sparse%matvec(epsilon(1.0_dp) * abs(trial%v), all_rows, &
+               absolute=.true.)
+            self%constraint_floor(nr + 1:) = trial%velocity_scale * all_rows(self%active)
+         end if
       else
          self%residual_floor = matmul(abs(self%tangent_K), u) + epsilon(1.0_dp) * terms
-         self%constraint_floor = matmul(abs(trial%Phi_q(self%active, :)), u)
+         self%constraint_floor(:nr) = matmul(abs(trial%Phi_q(self%active, :)), u)
+         if (order > n + nr) self%constraint_floor(nr + 1:) = trial%velocity_scale * &
+            matmul(abs(trial%Phi_q(self%active, :)), epsilon(1.0_dp) * abs(trial%v))
       end if
       noise(:n) = bh2 * self%residual_floor
-      if (nr > 0) noise(n + 1:) = self%row_scale * self%constraint_floor
+      do i = 1, order - n
+         noise(n + i) = self%row_scale(mod(i - 1, nr) + 1) * self%constraint_floor(i)
+      end do
       self%increment_floor = [(0.0_dp, i=1, n + nr)]
       do pattern = 1, 2
-         do i = 1, n + nr
+         do i = 1, order
             ! pattern 1: alternating signs; pattern 2: signs of sin(i^2) (no period)
             if (pattern == 1) then
                signum = merge(1.0_dp, -1.0_dp, mod(i, 2) == 0)
@@ -99,7 +126,8 @@ contains
          end do
          call solve_iteration(self, x, error)
          if (allocated(error)) return
-         self%increment_floor = max(self%increment_floor, abs(x))
+         if (order > n + nr) x(:n) = index2_increment(self, trial, x)
+         self%increment_floor = max(self%increment_floor, abs(x(:n + nr)))
       end do
       if (nr > 0) self%increment_floor(n + 1:) = self%row_scale * &
          self%increment_floor(n + 1:) / bh2

@@ -28,11 +28,12 @@ contains
          self%notes = ''
          self%n = system%num_coordinates()
          self%nc = system%num_constraints()
-         if (settings%rho_inf >= 1.0_dp .and. self%nc > 0) then
+         if (settings%rho_inf >= 1.0_dp .and. self%nc > 0 .and. &
+            settings%constraints == GALPHA_INDEX3) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'generalized-alpha settings: rho_inf = 1 ' &
                // '(no numerical damping) is unstable with index-3 constraints (' // &
                to_str(self%nc) // ' constraint equations here): the multipliers grow without ' // &
-               'bound; use rho_inf < 1, typically 0.6 to 0.9')
+               'bound; use rho_inf < 1, typically 0.6 to 0.9, or constraints = ''index2''')
             return
          end if
          if (size(q0) /= self%n .or. size(v0) /= self%n) then

@@ -1,5 +1,6 @@
 !> The integrator's state as flat arrays for checkpoints (export_state) and its restore on
-!> restart (import_state): a restored run continues bit for bit.
+!> restart (import_state): a restored run continues bit for bit; the check of the multipliers'
+!> history (check_alternation).
 submodule (ffrf_mbs_generalized_alpha) ffrf_mbs_generalized_alpha_state
    implicit none
 
@@ -208,5 +209,58 @@ contains
       end subroutine get_int
 
    end procedure galpha_import_state
+
+   !> Weak instability of index-3 generalized-alpha near rho_inf = 1 (Cardona & Geradin 1989;
+   !> theory.md 4.3): the multipliers grow as an oscillation that alternates from step to step.
+   !> Its amplitude is the fourth difference (lambda_n - 4 lambda_n-1 + 6 lambda_n-2 -
+   !> 4 lambda_n-3 + lambda_n-4) / 16 over steps of equal size (exactly A for A (-1)^n, h^4
+   !> lambda''''/16 for a smooth history). Above settings%alternation_limit times the largest
+   !> |lambda| of the run (and above lambda_atol: round-off multipliers of free bodies' Euler
+   !> rows alternate at 1e-18) for alternation_window consecutive steps (a start-up or impact
+   !> transient decays by rho_inf per step: 0.8**20 = 1 %; on the flexible engine's first steps
+   !> it reaches 0.44 of the small multipliers so far) the integration stops with
+   !> FFRF_NUMERIC_ERROR naming rho_inf (the state of the step is kept). Measured
+   !> (test_stability_constraints): the 1 m pendulum at h = 1e-2 s reaches 0.25 of |lambda| at
+   !> 4-5 s with rho_inf = 0.99 and 0.999 (unchecked, 0.99 went on to lambda = 1400 times the
+   !> closed form) while healthy runs stay below 1e-4 (rigid engine, pendulum at 0.8); the
+   !> flexible reference engine (rotating link and conrod vibrating at 1.4-12 kHz, h = 1e-4 s) stays
+   !> near 0.03 of its largest reaction.
+   module procedure check_alternation
+      real(dp) :: alternating
+      if (self%nc == 0 .or. self%settings%alternation_limit <= 0.0_dp) return
+      if (.not. allocated(self%lambda_history)) allocate (self%lambda_history(self%nc, 4))
+      self%lambda_peak = max(self%lambda_peak, max_abs(self%lambda))
+      if (abs(h - self%settings%h) > 1.0e-10_dp * self%settings%h .or. last) then
+         self%history_count = 0
+         return
+      end if
+      if (self%history_count == 4) then
+         alternating = max_abs(self%lambda - 4.0_dp * self%lambda_history(:, 4) + 6.0_dp * &
+            self%lambda_history(:, 3) - 4.0_dp * self%lambda_history(:, 2) + &
+            self%lambda_history(:, 1)) / 16.0_dp
+         if (alternating > self%settings%alternation_limit * self%lambda_peak .and. &
+            alternating > self%settings%lambda_atol) then
+            self%alternation_steps = self%alternation_steps + 1
+         else
+            self%alternation_steps = 0
+         end if
+         if (self%alternation_steps >= alternation_window) then
+            call fatal_error(error, FFRF_NUMERIC_ERROR, 'generalized-alpha: the Lagrange ' // &
+               'multipliers alternate from step to step (' // to_str(alternation_window) // &
+               ' steps running) with an amplitude of ' // &
+               to_str(alternating, 3) // ', ' // to_str(alternating / self%lambda_peak, 3) // &
+               ' of the largest |lambda| so far, at t = ' // to_str(self%t, 12) // &
+               ' s: the weak instability of index-3 generalized-alpha near rho_inf = 1 ' // &
+               '(rho_inf = ' // to_str(self%settings%rho_inf) // ', h = ' // to_str(h) // &
+               ' s); lower rho_inf (0.8 is typical) or the step. The state at t = ' // &
+               to_str(self%t, 12) // ' s is kept')
+            return
+         end if
+         self%lambda_history(:, 1:3) = self%lambda_history(:, 2:4)
+      else
+         self%history_count = self%history_count + 1
+      end if
+      self%lambda_history(:, self%history_count) = self%lambda
+   end procedure check_alternation
 
 end submodule ffrf_mbs_generalized_alpha_state

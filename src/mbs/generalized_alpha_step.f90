@@ -91,65 +91,6 @@ contains
       self%stats%wall_seconds = self%stats%wall_seconds + wall_time() - start
    end subroutine step_once
 
-   !> Weak instability of index-3 generalized-alpha near rho_inf = 1 (Cardona & Geradin 1989;
-   !> theory.md 4.3): the multipliers grow as an oscillation that alternates from step to step.
-   !> Its amplitude is the fourth difference (lambda_n - 4 lambda_n-1 + 6 lambda_n-2 -
-   !> 4 lambda_n-3 + lambda_n-4) / 16 over steps of equal size (exactly A for A (-1)^n, h^4
-   !> lambda''''/16 for a smooth history). Above settings%alternation_limit times the largest
-   !> |lambda| of the run (and above lambda_atol: round-off multipliers of free bodies' Euler
-   !> rows alternate at 1e-18) for alternation_window consecutive steps (a start-up or impact
-   !> transient decays by rho_inf per step: 0.8**20 = 1 %; on the flexible engine's first steps
-   !> it reaches 0.44 of the small multipliers so far) the integration stops with
-   !> FFRF_NUMERIC_ERROR naming rho_inf (the state of the step is kept). Measured
-   !> (test_stability_constraints): the 1 m pendulum at h = 1e-2 s reaches 0.25 of |lambda| at
-   !> 4-5 s with rho_inf = 0.99 and 0.999 (unchecked, 0.99 went on to lambda = 1400 times the
-   !> closed form) while healthy runs stay below 1e-4 (rigid engine, pendulum at 0.8); the
-   !> flexible reference engine (rotating link and conrod vibrating at 1.4-12 kHz, h = 1e-4 s) stays
-   !> near 0.03 of its largest reaction.
-   subroutine check_alternation(self, h, last, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      !> The step just accepted (s)
-      real(dp), intent(in) :: h
-      !> Whether it was the last, shortened step
-      logical, intent(in) :: last
-      type(error_t), allocatable, intent(out) :: error
-      real(dp) :: alternating
-      if (self%nc == 0 .or. self%settings%alternation_limit <= 0.0_dp) return
-      if (.not. allocated(self%lambda_history)) allocate (self%lambda_history(self%nc, 4))
-      self%lambda_peak = max(self%lambda_peak, max_abs(self%lambda))
-      if (abs(h - self%settings%h) > 1.0e-10_dp * self%settings%h .or. last) then
-         self%history_count = 0
-         return
-      end if
-      if (self%history_count == 4) then
-         alternating = max_abs(self%lambda - 4.0_dp * self%lambda_history(:, 4) + 6.0_dp * &
-            self%lambda_history(:, 3) - 4.0_dp * self%lambda_history(:, 2) + &
-            self%lambda_history(:, 1)) / 16.0_dp
-         if (alternating > self%settings%alternation_limit * self%lambda_peak .and. &
-            alternating > self%settings%lambda_atol) then
-            self%alternation_steps = self%alternation_steps + 1
-         else
-            self%alternation_steps = 0
-         end if
-         if (self%alternation_steps >= alternation_window) then
-            call fatal_error(error, FFRF_NUMERIC_ERROR, 'generalized-alpha: the Lagrange ' // &
-               'multipliers alternate from step to step (' // to_str(alternation_window) // &
-               ' steps running) with an amplitude of ' // &
-               to_str(alternating, 3) // ', ' // to_str(alternating / self%lambda_peak, 3) // &
-               ' of the largest |lambda| so far, at t = ' // to_str(self%t, 12) // &
-               ' s: the weak instability of index-3 generalized-alpha near rho_inf = 1 ' // &
-               '(rho_inf = ' // to_str(self%settings%rho_inf) // ', h = ' // to_str(h) // &
-               ' s); lower rho_inf (0.8 is typical) or the step. The state at t = ' // &
-               to_str(self%t, 12) // ' s is kept')
-            return
-         end if
-         self%lambda_history(:, 1:3) = self%lambda_history(:, 2:4)
-      else
-         self%history_count = self%history_count + 1
-      end if
-      self%lambda_history(:, self%history_count) = self%lambda
-   end subroutine check_alternation
-
    !> Take the converged trial as the new state (theory.md 4.1, step 3 for a_{n+1}).
    subroutine commit(self, trial, h, last)
       type(galpha_integrator_t), intent(inout) :: self
@@ -201,9 +142,10 @@ contains
       real(dp) :: c_af, beta_p, gamma_p, bh2, t_new, increment, previous, rate, estimate, clock
       real(dp) :: remaining, previous_residual
       integer :: n, nr, iteration, age
-      logical :: need_factor, ok
+      logical :: need_factor, ok, index2
       n = self%n
       nr = size(self%active)
+      index2 = self%settings%constraints == GALPHA_INDEX2 .and. nr > 0
       converged = .false.
       used_old = .false.
       reason = ''
@@ -222,12 +164,18 @@ contains
          trial%q = self%q + h * self%v + h**2 * ((0.5_dp - self%beta) * self%a + self%beta * a_new)
          trial%v = self%v + h * ((1.0_dp - self%gamma) * self%a + self%gamma * a_new)
       end associate
-      trial%sparse = n + nr >= self%settings%sparse_threshold
+      ! Index 2: the velocity rows and nu's columns make the order n + 2 nr (theory.md 4.6)
+      trial%sparse = merge(n + 2 * nr, n + nr, index2) >= self%settings%sparse_threshold
       if (.not. allocated(trial%r_q)) allocate (trial%r_q(n), trial%phi(self%nc))
       if (.not. trial%sparse .and. .not. allocated(trial%M)) allocate (trial%M(n, n), &
          trial%Phi_q(self%nc, n))
+      if (index2 .and. .not. allocated(trial%g)) allocate (trial%g(self%nc))
+      if (index2 .and. .not. trial%sparse .and. .not. allocated(trial%B)) &
+         allocate (trial%B(n, nr))
       call evaluate(self, system, t_new, trial, 'at the predictor', reason, error)
       if (allocated(error) .or. len(reason) > 0) return
+      ! Index 2: the correction direction B = Phi_q^T at the predictor (theory.md 4.6)
+      if (index2) call index2_direction(self, h, trial)
       need_factor = fresh_start .or. self%h_factored < 0.0_dp .or. &
          abs(h - self%h_factored) > 1.0e-10_dp * h .or. &
          self%settings%jacobian /= GALPHA_NEWTON_ADAPTIVE .or. .not. self%reuse_factors
@@ -235,7 +183,7 @@ contains
       age = 0
       previous = huge(1.0_dp)
       previous_residual = huge(1.0_dp)
-      allocate (dx(n + nr))
+      allocate (dx(merge(n + 2 * nr, n + nr, index2)))
       do iteration = 1, self%settings%max_iterations
          if (need_factor) then
             ! A fresh tangent except at the predictor of a normal step (settings%tangent_reuse)
@@ -253,7 +201,10 @@ contains
          age = age + 1
          ! Scaled Newton system (theory.md 4.2): [dq; y] with dlambda = S y / (beta h^2).
          dx(:n) = -bh2 * trial%r_q
-         dx(n + 1:) = -self%row_scale * trial%phi(self%active)
+         dx(n + 1:n + nr) = -self%row_scale * trial%phi(self%active)
+         ! Index 2: the velocity rows, g beta h / gamma, scaled as Phi's (theory.md 4.6)
+         if (index2) dx(n + nr + 1:) = -self%row_scale * trial%velocity_scale * &
+            trial%g(self%active)
          clock = wall_time()
          call solve_iteration(self, dx, error)
          self%stats%solve_seconds = self%stats%solve_seconds + wall_time() - clock
@@ -263,11 +214,15 @@ contains
             reason = 'NaN or Inf in the Newton increment'
             return
          end if
-         trial%q = trial%q + dx(:n)
          trial%v = trial%v + gamma_p * dx(:n)
          trial%qdd = trial%qdd + beta_p * dx(:n)
-         trial%lambda(self%active) = trial%lambda(self%active) + self%row_scale * dx(n + 1:) / bh2
-         increment = increment_norm(self, trial, dx, bh2)
+         trial%lambda(self%active) = trial%lambda(self%active) + self%row_scale * &
+            dx(n + 1:n + nr) / bh2
+         ! Index 2: q moves by the Newmark part x and the correction B z (theory.md 4.6), and
+         ! the increment test sees that move
+         if (index2) dx(:n) = index2_increment(self, trial, dx)
+         trial%q = trial%q + dx(:n)
+         increment = increment_norm(self, trial, dx(:n + nr), bh2)
          ! Error of the iterate: the increment, or from the contraction rate theta the
          ! estimate theta/(1 - theta) ||dx|| of the remaining ones (Hairer & Wanner, IV.8).
          estimate = increment
@@ -276,7 +231,8 @@ contains
             rate = increment / max(previous, tiny(1.0_dp))
             if (rate < 1.0_dp) estimate = min(increment, rate / (1.0_dp - rate) * increment)
          end if
-         if (rate <= skip_rate) then
+         ! (not with index 2: the velocity constraints need Phi_q at the new iterate)
+         if (rate <= skip_rate .and. .not. index2) then
             ! Converged without evaluating the residual at the new iterate when the increment
             ! passes and so does the residual predicted there, the one at the iterate this
             ! increment started from times theta (Newton contracts the residual as it contracts
@@ -346,7 +302,7 @@ contains
       !> Set to 'NaN or Inf in the residual ' // where if the residual is not finite
       character(len=:), allocatable, intent(inout) :: reason
       type(error_t), allocatable, intent(out) :: error
-      real(dp) :: f(self%n), inertia(self%n), reaction(self%n), clock
+      real(dp) :: f(self%n), inertia(self%n), reaction(self%n), clock, rate(self%nc)
       clock = wall_time()
       if (trial%sparse) then
          call system%mass_sparse(trial%q, trial%M_sparse, error)
@@ -366,6 +322,17 @@ contains
       call trial_products(trial, .false., inertia, reaction)
       trial%r_q = inertia + reaction - f
       trial%force_scale = max(max_abs(inertia), max_abs(reaction), max_abs(f))
+      ! Index 2: the velocity constraints g = Phi_q q' + Phi_t (theory.md 4.6)
+      if (allocated(trial%g)) then
+         call system%constraint_rate(trial%q, t, rate, error)
+         if (allocated(error)) return
+         if (trial%sparse) then
+            call trial%Phi_sparse%matvec(trial%v, trial%g)
+            trial%g = trial%g + rate
+         else
+            trial%g = matmul(trial%Phi_q, trial%v) + rate
+         end if
+      end if
       self%stats%residual_evaluations = self%stats%residual_evaluations + 1
       self%stats%residual_seconds = self%stats%residual_seconds + wall_time() - clock
       if (.not. finite_trial(trial)) reason = 'NaN or Inf in the residual ' // where
@@ -389,10 +356,13 @@ contains
       real(dp), allocatable :: work(:, :)
       real(dp) :: c_af, clock
       integer(ip) :: info
-      integer :: n, nr
+      integer :: n, nr, order
       logical :: new_tangent, singular
       n = self%n
       nr = size(self%active)
+      ! Index 2: the velocity rows and nu's columns (theory.md 4.6)
+      order = n + nr
+      if (allocated(trial%g)) order = n + 2 * nr
       ok = .false.
       clock = wall_time()
       c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
@@ -436,9 +406,10 @@ contains
       clock = wall_time()
       self%stats%factorizations = self%stats%factorizations + 1
       self%h_factored = -1.0_dp
-      self%stats%matrix_order = n + nr
+      self%stats%matrix_order = order
       if (trial%sparse) then
-         ! Sparse LU (MUMPS) of the matrix assembled block-sparse
+         ! Sparse LU (MUMPS) of the matrix assembled block-sparse (index 2: with the velocity
+         ! rows and nu's columns, index2_sparse_triplets)
          if (.not. associated(self%sparse)) allocate (self%sparse)
          call sparse_assemble(self, h, c_af, trial, singular, error)
          self%stats%sparse_analyses = self%sparse%analyses
@@ -457,12 +428,19 @@ contains
          ! factorisations. (M is screened with the residual, the tangents when computed; a NaN
          ! that got through shows in the Newton increment.)
          if (allocated(self%lu)) then
-            if (size(self%lu, 1) /= n + nr) deallocate (self%lu, self%row_scale)
+            if (size(self%lu, 1) /= order) deallocate (self%lu, self%row_scale)
          end if
-         if (.not. allocated(self%lu)) allocate (self%lu(n + nr, n + nr), self%row_scale(nr))
+         if (.not. allocated(self%lu)) allocate (self%lu(order, order), self%row_scale(nr))
          self%lu(:n, :n) = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * &
             h * self%tangent_C
-         call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
+         if (order == n + nr) then
+            call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
+         else
+            ! Index 2: nu's blocks around the index-3 matrix (theory.md 4.6)
+            call kkt_complete(self%lu(:n + nr, :n + nr), trial%Phi_q, self%active, &
+               self%row_scale)
+            call index2_blocks(self, h, trial)
+         end if
          call kkt_factor(self%lu, self%pivots, info)
       end if
       if (info /= 0) then
@@ -521,9 +499,15 @@ contains
       type(galpha_integrator_t), intent(in) :: self
       type(trial_t), intent(in) :: trial
       real(dp) :: norm
+      integer :: nr
+      nr = size(self%active)
       norm = 0.0_dp
-      if (size(self%active) > 0) norm = maxval(abs(trial%phi(self%active)) / &
-         (self%settings%newton_atol + floor_factor * self%constraint_floor))
+      if (nr > 0) norm = maxval(abs(trial%phi(self%active)) / &
+         (self%settings%newton_atol + floor_factor * self%constraint_floor(:nr)))
+      ! Index 2: the velocity constraints as position-sized residuals (theory.md 4.6)
+      if (nr > 0 .and. allocated(trial%g)) norm = max(norm, maxval(trial%velocity_scale * &
+         abs(trial%g(self%active)) / (self%settings%newton_atol + floor_factor * &
+         self%constraint_floor(nr + 1:))))
    end function constraint_norm
 
    !> Whether the residual of a trial is finite.

@@ -5,7 +5,7 @@ submodule (ffrf_mbs_mechanism) ffrf_mbs_mechanism_tangents
    use ffrf_core_error, only: fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_finite, only: all_finite
-   use ffrf_mbs_rigid_body, only: euler_hessian
+   use ffrf_mbs_rotation, only: euler_hessian
    use ffrf_mbs_dae_system, only: dae_stiffness_fd, dae_damping_fd, dae_constraint_stiffness_fd, &
       dae_mass_stiffness_fd, dae_tangents_sparse
    use ffrf_mbs_joint_driver, only: driver_hessian

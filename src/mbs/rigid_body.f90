@@ -29,12 +29,12 @@ module ffrf_mbs_rigid_body
    use ffrf_core_strings, only: to_str
    use ffrf_la_dense, only: symmetric_eigen
    use ffrf_mbs_rotation, only: euler_rotation, euler_g_bar, skew3, identity3, &
-      rotated_vector_jacobian, cross3
+      rotated_vector_jacobian, cross3, euler_hessian
    use ffrf_mbs_body, only: body_t
    implicit none
    private
    public :: rigid_body_t, ground_t
-   public :: euler_hessian, point_load_tangent
+   public :: point_load_tangent
 
    !> Rigid body: q = [R; theta], mass, centre of mass, inertia about it, markers.
    type, extends(body_t) :: rigid_body_t
@@ -519,19 +519,6 @@ contains
          matmul(skew3(s), transposed_rotation_jacobian(theta, force)) + &
          transposed_rotation_jacobian(theta, moment))
    end function point_load_tangent
-
-   !> Hessian d^2(w^T A(theta) b)/dtheta^2 summed over terms, from X = sum w b^T (4 x 4): with
-   !> A + I = 2 e0^2 I + 2 e e^T + 2 e0 e~ quadratic in theta, w^T (A + I) b = 2 e0^2 w.b
-   !> + 2 (w.e)(e.b) + 2 e0 e.(b x w), hence H_00 = 4 tr X, H_ee = 2 (X + X^T),
-   !> H_0e = 2 sum b x w = 4 axial(X).
-   pure function euler_hessian(X) result(H)
-      real(dp), intent(in) :: X(3, 3)
-      real(dp) :: H(4, 4)
-      H(1, 1) = 4.0_dp * (X(1, 1) + X(2, 2) + X(3, 3))
-      H(2:4, 1) = 2.0_dp * [X(3, 2) - X(2, 3), X(1, 3) - X(3, 1), X(2, 1) - X(1, 2)]
-      H(1, 2:4) = H(2:4, 1)
-      H(2:4, 2:4) = 2.0_dp * (X + transpose(X))
-   end function euler_hessian
 
    !> B(p) = d(G_bar(theta)^T p)/dtheta = 2 [[0, -p^T], [p, -p~]] (4 x 4; G_bar linear).
    pure function g_bar_transpose_jacobian(p) result(B)

@@ -20,7 +20,8 @@ module ffrf_mbs_rotation
    use ffrf_core_strings, only: to_str
    implicit none
    private
-   public :: euler_rotation, euler_g_bar, euler_g, euler_constraint, euler_constraint_jacobian
+   public :: euler_rotation, euler_g_bar, euler_g, euler_hessian, euler_constraint, &
+      euler_constraint_jacobian
    public :: euler_from_rotation, euler_from_axis_angle, euler_normalized
    public :: rotated_vector_jacobian, rotation_vector_matrix, rotation_vector_tangent
    public :: frame_from_axis, rotation_defect, determinant3, check_rotation, ROTATION_TOLERANCE
@@ -107,6 +108,19 @@ contains
       G(:, 1) = -2.0_dp * theta(2:4)
       G(:, 2:4) = 2.0_dp * (theta(1) * identity3() + skew3(theta(2:4)))
    end function euler_g
+
+   !> Hessian d^2(w^T A(theta) b)/dtheta^2 summed over terms, from X = sum w b^T (4 x 4): with
+   !> A + I = 2 e0^2 I + 2 e e^T + 2 e0 e~ quadratic in theta, w^T (A + I) b = 2 e0^2 w.b
+   !> + 2 (w.e)(e.b) + 2 e0 e.(b x w), hence H_00 = 4 tr X, H_ee = 2 (X + X^T),
+   !> H_0e = 2 sum b x w = 4 axial(X).
+   pure function euler_hessian(X) result(H)
+      real(dp), intent(in) :: X(3, 3)
+      real(dp) :: H(4, 4)
+      H(1, 1) = 4.0_dp * (X(1, 1) + X(2, 2) + X(3, 3))
+      H(2:4, 1) = 2.0_dp * [X(3, 2) - X(2, 3), X(1, 3) - X(3, 1), X(2, 1) - X(1, 2)]
+      H(1, 2:4) = H(2:4, 1)
+      H(2:4, 2:4) = 2.0_dp * (X + transpose(X))
+   end function euler_hessian
 
    !> Normalisation constraint C_e = theta^T theta - 1.
    pure function euler_constraint(theta) result(c_e)

@@ -43,6 +43,11 @@ module ffrf_mbs_sensors
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_choices, only: choice_kind_of, choice_name, choice_words, sensor_choices, &
+      rotor_sensor_choices, SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, &
+      SENSOR_ORIENTATION, SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, &
+      SENSOR_ENERGY, SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_SPRING, &
+      SENSOR_DRIVER, SENSOR_TORSION_SPRING, SENSOR_BUSHING, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_joints, only: JOINT_REVOLUTE, JOINT_PRISMATIC
    use ffrf_mbs_rotation, only: euler_rotation
@@ -51,35 +56,26 @@ module ffrf_mbs_sensors
    use ffrf_mbs_bushing, only: bushing_state_t
    implicit none
    private
-   public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_words
-   public :: sensor_needs_marker, sensor_needs_joint, sensor_needs_body, sensor_needs_node
-   public :: sensor_needs_spring, SENSOR_SPRING, SENSOR_DRIVER, SENSOR_TORSION_SPRING, &
+   public :: sensor_t, sensor_kind_of, sensor_word, sensor_size, sensor_unit, sensor_choices
+   public :: sensor_needs, NEEDS_MARKER, NEEDS_JOINT, NEEDS_BODY, NEEDS_NODE, NEEDS_SPRING
+   public :: SENSOR_SPRING, SENSOR_DRIVER, SENSOR_TORSION_SPRING, &
       SENSOR_BUSHING
    public :: SENSOR_POSITION, SENSOR_VELOCITY, SENSOR_ACCELERATION, SENSOR_ORIENTATION, &
       SENSOR_ANGULAR_VELOCITY, SENSOR_JOINT_COORDINATE, SENSOR_REACTION, SENSOR_ENERGY, &
       SENSOR_NODE_DISPLACEMENT, SENSOR_NODE_POSITION, SENSOR_ROTOR_ANGLE, SENSOR_ROTOR_SPEED
 
-   integer, parameter :: SENSOR_POSITION = 1, SENSOR_VELOCITY = 2, SENSOR_ACCELERATION = 3, &
-      SENSOR_ORIENTATION = 4, SENSOR_ANGULAR_VELOCITY = 5, SENSOR_JOINT_COORDINATE = 6, &
-      SENSOR_REACTION = 7, SENSOR_ENERGY = 8, SENSOR_NODE_DISPLACEMENT = 9, &
-      SENSOR_NODE_POSITION = 10, SENSOR_SPRING = 11, SENSOR_DRIVER = 12, &
-      SENSOR_TORSION_SPRING = 13, SENSOR_BUSHING = 14, SENSOR_ROTOR_ANGLE = 15, &
-      SENSOR_ROTOR_SPEED = 16
-   !> Number of user words (the first kinds of the table)
-   integer, parameter :: NUM_WORDS = 14
-   !> The table (module header): word, number of values, unit, in the order of the kinds
-   character(len=*), parameter :: WORDS(16) = [character(len=17) :: 'position', 'velocity', &
-      'acceleration', 'orientation', 'angular_velocity', 'joint_coordinate', 'reaction', &
-      'energy', 'node_displacement', 'node_position', 'spring', 'driver', 'torsion_spring', &
-      'bushing', 'rotor_angle', 'rotor_speed']
+   !> What each kind is measured on (sensor_needs): a marker, a joint, a body (energy), a mesh
+   !> node of a body, a spring (&spring, &torsion_spring, &bushing); the rotor kinds on none
+   integer, parameter :: NEEDS_MARKER = 1, NEEDS_JOINT = 2, NEEDS_BODY = 3, NEEDS_NODE = 4, &
+      NEEDS_SPRING = 5
+   integer, parameter :: MEASURED_ON(16) = [NEEDS_MARKER, NEEDS_MARKER, NEEDS_MARKER, &
+      NEEDS_MARKER, NEEDS_MARKER, NEEDS_JOINT, NEEDS_JOINT, NEEDS_BODY, NEEDS_NODE, NEEDS_NODE, &
+      NEEDS_SPRING, NEEDS_JOINT, NEEDS_SPRING, NEEDS_SPRING, 0, 0]
+   !> Number of values and unit of each kind, in the order of the kinds (module header)
    integer, parameter :: SIZES(16) = [3, 3, 3, 9, 3, 1, 12, 2, 3, 3, 3, 3, 3, 12, 1, 1]
    character(len=*), parameter :: UNITS(16) = [character(len=15) :: 'm', 'm/s', 'm/s^2', '1', &
       'rad/s', 'rad', 'N, N m', 'J', 'm', 'm', 'm, m/s, N', 'rad, rad/s, N m', &
       'rad, rad/s, N m', 'm, rad, N, N m', 'rad', 'rad/s']
-   !> The words &sensor type accepts, ', '-separated
-   character(len=*), parameter :: sensor_words = 'position, velocity, acceleration, ' // &
-      'orientation, angular_velocity, joint_coordinate, reaction, energy, node_displacement, ' &
-      // 'node_position, spring, driver, torsion_spring, bushing'
 
    !> A sensor, resolved to mechanism indices.
    type :: sensor_t
@@ -109,21 +105,17 @@ module ffrf_mbs_sensors
 
 contains
 
-   !> The kind of a &sensor type word (a user word; 0 if none).
+   !> The kind of a &sensor type word (a user word, any case; 0 if none).
    pure integer function sensor_kind_of(word) result(kind)
       character(len=*), intent(in) :: word
-      do kind = 1, NUM_WORDS
-         if (trim(WORDS(kind)) == trim(adjustl(word))) return
-      end do
-      kind = 0
+      kind = choice_kind_of(sensor_choices, word)
    end function sensor_kind_of
 
    !> The word of a kind (the rotor kinds included).
    pure function sensor_word(kind) result(word)
       integer, intent(in) :: kind
       character(len=:), allocatable :: word
-      word = 'unknown'
-      if (kind >= 1 .and. kind <= size(WORDS)) word = trim(WORDS(kind))
+      word = choice_name([sensor_choices, rotor_sensor_choices], kind)
    end function sensor_word
 
    !> Number of values of a kind.
@@ -145,37 +137,16 @@ contains
       if (kind == SENSOR_DRIVER .and. joint_kind /= JOINT_REVOLUTE) unit = 'm, m/s, N'
    end function sensor_unit
 
-   !> .true. for the kinds measured at a marker of a body.
-   pure logical function sensor_needs_marker(kind)
-      integer, intent(in) :: kind
-      sensor_needs_marker = kind >= SENSOR_POSITION .and. kind <= SENSOR_ANGULAR_VELOCITY
-   end function sensor_needs_marker
-
-   !> .true. for the kinds of a joint.
-   pure logical function sensor_needs_joint(kind)
-      integer, intent(in) :: kind
-      sensor_needs_joint = kind == SENSOR_JOINT_COORDINATE .or. kind == SENSOR_REACTION .or. &
-         kind == SENSOR_DRIVER
-   end function sensor_needs_joint
-
-   !> .true. for the kinds of a spring.
-   pure logical function sensor_needs_spring(kind)
-      integer, intent(in) :: kind
-      sensor_needs_spring = kind == SENSOR_SPRING .or. kind == SENSOR_TORSION_SPRING .or. &
-         kind == SENSOR_BUSHING
-   end function sensor_needs_spring
-
-   !> .true. for the kinds of a body without a marker (energy, mesh nodes).
-   pure logical function sensor_needs_body(kind)
-      integer, intent(in) :: kind
-      sensor_needs_body = kind == SENSOR_ENERGY .or. sensor_needs_node(kind)
-   end function sensor_needs_body
-
-   !> .true. for the kinds of a mesh node of a body.
-   pure logical function sensor_needs_node(kind)
-      integer, intent(in) :: kind
-      sensor_needs_node = kind == SENSOR_NODE_DISPLACEMENT .or. kind == SENSOR_NODE_POSITION
-   end function sensor_needs_node
+   !> .true. when kind is measured on `what`: NEEDS_MARKER (a marker of a body), NEEDS_JOINT,
+   !> NEEDS_SPRING (a &spring, &torsion_spring or &bushing), NEEDS_NODE (a mesh node of a body)
+   !> or NEEDS_BODY (a body without a marker: energy and the node kinds).
+   pure logical function sensor_needs(kind, what)
+      integer, intent(in) :: kind, what
+      sensor_needs = .false.
+      if (kind < 1 .or. kind > size(MEASURED_ON)) return
+      sensor_needs = MEASURED_ON(kind) == what .or. &
+         (what == NEEDS_BODY .and. MEASURED_ON(kind) == NEEDS_NODE)
+   end function sensor_needs
 
    !> The sensor's values at the state (q, v, q'', lambda) of `mech` (module header).
    subroutine sensor_evaluate(self, mech, q, v, qdd, lambda, values, error)
@@ -193,7 +164,7 @@ contains
       type(bushing_state_t) :: bushing
       integer :: a, b, m
       allocate (values(sensor_size(self%kind)), source=0.0_dp)
-      if (sensor_needs_marker(self%kind) .or. sensor_needs_body(self%kind)) then
+      if (sensor_needs(self%kind, NEEDS_MARKER) .or. sensor_needs(self%kind, NEEDS_BODY)) then
          if (self%body < 1 .or. self%body > size(mech%bodies)) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
                '": the mechanism has no body ' // to_str(self%body))
@@ -203,7 +174,7 @@ contains
          vb = mech%body_coordinates(v, self%body)
          ab = mech%body_coordinates(qdd, self%body)
       end if
-      if (sensor_needs_marker(self%kind)) then
+      if (sensor_needs(self%kind, NEEDS_MARKER)) then
          if (self%marker < 1 .or. self%marker > mech%bodies(self%body)%body%num_markers) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
                '": body "' // mech%bodies(self%body)%name // '" has no marker ' // &
@@ -211,14 +182,14 @@ contains
             return
          end if
       end if
-      if (sensor_needs_joint(self%kind)) then
+      if (sensor_needs(self%kind, NEEDS_JOINT)) then
          if (self%joint < 1 .or. self%joint > size(mech%joints)) then
             call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
                '": the mechanism has no joint ' // to_str(self%joint))
             return
          end if
       end if
-      if (sensor_needs_spring(self%kind)) then
+      if (sensor_needs(self%kind, NEEDS_SPRING)) then
          m = 0
          if (self%kind == SENSOR_SPRING .and. allocated(mech%springs)) m = size(mech%springs)
          if (self%kind == SENSOR_TORSION_SPRING .and. allocated(mech%torsion_springs)) &
@@ -329,7 +300,8 @@ contains
          values(1) = mech%rotor_speed(q, v)
       case default
          call fatal_error(error, FFRF_INPUT_ERROR, 'sensor "' // trim(self%name) // &
-            '": unknown kind ' // to_str(self%kind) // '; the types are ' // sensor_words)
+            '": unknown kind ' // to_str(self%kind) // '; the types are ' // &
+            choice_words(sensor_choices))
       end select
    end subroutine sensor_evaluate
 

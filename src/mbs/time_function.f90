@@ -38,20 +38,14 @@ module ffrf_mbs_time_function
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_core_choices, only: choice_kind_of, choice_words, time_law_choices, TIME_CONSTANT, &
+      TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE
    implicit none
    private
-   public :: time_function_t, time_function_kind_of, time_function_words, new_time_function
+   public :: time_function_t, time_function_kind_of, time_law_choices, new_time_function
    public :: TIME_CONSTANT, TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE
    public :: max_table_points
 
-   integer, parameter :: TIME_CONSTANT = 1, TIME_CONSTANT_SPEED = 2, TIME_RAMP = 3, &
-      TIME_SMOOTH_STEP = 4, TIME_TABLE = 5
-   !> The words of the kinds, in the order of the kinds (module header)
-   character(len=*), parameter :: WORDS(5) = [character(len=14) :: 'constant', 'constant_speed', &
-      'ramp', 'smooth_step', 'table']
-   !> The words, ', '-separated, for messages and key specs
-   character(len=*), parameter :: time_function_words = 'constant, constant_speed, ramp, ' // &
-      'smooth_step, table'
    !> Largest number of table points
    integer, parameter :: max_table_points = 1000
    real(dp), parameter :: pi = acos(-1.0_dp)
@@ -82,13 +76,10 @@ module ffrf_mbs_time_function
 
 contains
 
-   !> The kind of a word (0 if none).
+   !> The kind of a law word (any case; 0 if none).
    pure integer function time_function_kind_of(word) result(kind)
       character(len=*), intent(in) :: word
-      do kind = 1, size(WORDS)
-         if (trim(WORDS(kind)) == trim(adjustl(word))) return
-      end do
-      kind = 0
+      kind = choice_kind_of(time_law_choices, word)
    end function time_function_kind_of
 
    !> A time function of `word` with its parameters, checked; `where` names the place in
@@ -106,7 +97,7 @@ contains
       fun%kind = time_function_kind_of(word)
       if (fun%kind == 0) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // ': law = ''' // trim(word) // &
-            ''', must be one of ' // time_function_words)
+            ''', must be one of ' // choice_words(time_law_choices))
          return
       end if
       if (present(initial)) fun%initial = initial

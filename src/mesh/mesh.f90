@@ -12,7 +12,7 @@ module ffrf_mesh_mesh
    implicit none
    private
    public :: physical_group_t, mesh_t, extract_body, dimension_word, element_type_name
-   public :: face_connected_parts
+   public :: face_connected_parts, boundary_faces
 
    !> A Gmsh physical group: a named set of geometric entities of one dimension.
    type :: physical_group_t
@@ -97,6 +97,15 @@ module ffrf_mesh_mesh
          !> Part of each tetrahedron, 1..num_parts in the order of their first tetrahedron
          integer(ip), allocatable, intent(out) :: part_of_tet(:)
       end subroutine face_connected_parts
+
+      !> The faces of the body's tetrahedra that no other tetrahedron shares (the body's
+      !> surface), each as (tetrahedron, local corner opposite the face), tetrahedra ascending.
+      module subroutine boundary_faces(body, faces)
+         !> The body's mesh
+         type(mesh_t), intent(in) :: body
+         !> (2, num_faces): tetrahedron index and the corner 1..4 the face does not hold
+         integer(ip), allocatable, intent(out) :: faces(:, :)
+      end subroutine boundary_faces
 
       !> The file name, or "(unnamed)" for a mesh not read from a file.
       module pure function file_of(mesh) result(name)

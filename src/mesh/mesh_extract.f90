@@ -348,37 +348,17 @@ contains
    !> connected part means parts that hinge on a node or an edge, each joint a motion without
    !> strain. O(tetrahedra x tetrahedra per node).
    module procedure face_connected_parts
-      integer(ip), allocatable :: start(:), list(:), fill(:), parent(:), part_of_root(:)
-      integer(ip) :: e, f, k, p, t, a, root, other, nt, corner(3)
+      integer(ip), allocatable :: start(:), list(:), parent(:), part_of_root(:)
+      integer(ip) :: e, f, p, t, root, other, nt, corner(3)
       nt = body%num_tets()
-      allocate (start(body%num_nodes + 1), source=0_ip)
-      do e = 1, nt
-         do k = 1, 4
-            start(body%tets(k, e) + 1) = start(body%tets(k, e) + 1) + 1
-         end do
-      end do
-      start(1) = 1
-      do k = 1, body%num_nodes
-         start(k + 1) = start(k + 1) + start(k)
-      end do
-      allocate (list(start(body%num_nodes + 1) - 1), fill(body%num_nodes))
-      fill = start(1:body%num_nodes)
-      do e = 1, nt
-         do k = 1, 4
-            a = body%tets(k, e)
-            list(fill(a)) = e
-            fill(a) = fill(a) + 1
-         end do
-      end do
+      call tets_of_nodes(body, start, list)
       parent = [(e, e=1, nt)]
       do e = 1, nt
          do f = 1, 4
             corner = body%tets(tet_faces(:, f), e)
             do p = start(corner(1)), start(corner(1) + 1) - 1
                t = list(p)
-               if (t == e) cycle
-               if (.not. (any(body%tets(1:4, t) == corner(2)) .and. &
-                          any(body%tets(1:4, t) == corner(3)))) cycle
+               if (.not. shares_face(body, t, e, corner)) cycle
                root = find_root(parent, e)
                other = find_root(parent, t)
                if (root /= other) parent(max(root, other)) = min(root, other)
@@ -397,6 +377,65 @@ contains
          part_of_tet(e) = part_of_root(root)
       end do
    end procedure face_connected_parts
+
+   module procedure boundary_faces
+      integer(ip), allocatable :: start(:), list(:)
+      integer(ip) :: e, f, p, n, corner(3)
+      logical :: shared
+      call tets_of_nodes(body, start, list)
+      allocate (faces(2, 4 * body%num_tets()))
+      n = 0
+      do e = 1, body%num_tets()
+         do f = 1, 4
+            corner = body%tets(tet_faces(:, f), e)
+            shared = .false.
+            do p = start(corner(1)), start(corner(1) + 1) - 1
+               shared = shares_face(body, list(p), e, corner)
+               if (shared) exit
+            end do
+            if (shared) cycle
+            n = n + 1
+            faces(:, n) = [e, int(f, ip)]
+         end do
+      end do
+      faces = faces(:, 1:n)
+   end procedure boundary_faces
+
+   !> The tetrahedra at each node as lists: those of node a are list(start(a):start(a + 1) - 1).
+   subroutine tets_of_nodes(body, start, list)
+      type(mesh_t), intent(in) :: body
+      integer(ip), allocatable, intent(out) :: start(:), list(:)
+      integer(ip), allocatable :: fill(:)
+      integer(ip) :: e, k, a
+      allocate (start(body%num_nodes + 1), source=0_ip)
+      do e = 1, body%num_tets()
+         do k = 1, 4
+            start(body%tets(k, e) + 1) = start(body%tets(k, e) + 1) + 1
+         end do
+      end do
+      start(1) = 1
+      do k = 1, body%num_nodes
+         start(k + 1) = start(k + 1) + start(k)
+      end do
+      allocate (list(start(body%num_nodes + 1) - 1), fill(body%num_nodes))
+      fill = start(1:body%num_nodes)
+      do e = 1, body%num_tets()
+         do k = 1, 4
+            a = body%tets(k, e)
+            list(fill(a)) = e
+            fill(a) = fill(a) + 1
+         end do
+      end do
+   end subroutine tets_of_nodes
+
+   !> Tetrahedron t (another than e) holds the three corners `corner` (corner(1) is known to be
+   !> one of its corners: t comes from that node's list).
+   pure logical function shares_face(body, t, e, corner)
+      type(mesh_t), intent(in) :: body
+      integer(ip), intent(in) :: t, e, corner(3)
+      shares_face = t /= e .and. any(body%tets(1:4, t) == corner(2)) .and. &
+         any(body%tets(1:4, t) == corner(3))
+   end function shares_face
 
    module procedure file_of
       if (allocated(mesh%file_name)) then

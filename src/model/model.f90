@@ -20,9 +20,9 @@ module ffrf_model_model
    use ffrf_mbs_bushing, only: bushing_t
    use ffrf_model_mechanism, only: mechanism_model_t, model_marker_t, model_load_t, &
       joint_kind_of, selection_of, LOAD_PRESSURE
-   use ffrf_core_choices, only: choice_kind
+   use ffrf_core_choices, only: choice_kind, choice_words
    use ffrf_model_specs, only: body_modes_spec, body_interface_specs, body_interface_indices
-   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_words
+   use ffrf_mbs_sensors, only: sensor_kind_of, sensor_choices
    use ffrf_input_interface, only: weighting_choices
    implicit none
    private
@@ -183,7 +183,8 @@ contains
                sensor%node = given%node
                sensor%kind = sensor_kind_of(given%type)
                if (sensor%kind == 0) call fatal_error(error, FFRF_INPUT_ERROR, 'type = "' // &
-                  trim(given%type) // '" is not a sensor type; use one of ' // sensor_words)
+                  trim(given%type) // '" is not a sensor type; use one of ' // &
+                  choice_words(sensor_choices))
                if (.not. allocated(error) .and. len_trim(given%marker) > 0) then
                   call resolve_end(given%body, given%marker, sensor%body, sensor%marker, error)
                else if (.not. allocated(error) .and. len_trim(given%body) > 0) then

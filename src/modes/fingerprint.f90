@@ -22,8 +22,8 @@ module ffrf_modes_fingerprint
    use ffrf_core_hash, only: hash_t
    use ffrf_core_strings, only: to_str
    use ffrf_mesh_mesh, only: mesh_t
-   use ffrf_mpc_interface, only: interface_t, mpc_name, dofs_text, WEIGHTING_UNIFORM, &
-      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN
+   use ffrf_core_choices, only: choice_name, weighting_names
+   use ffrf_mpc_interface, only: interface_t, mpc_name, dofs_text
    use ffrf_mpc_reduction, only: formulation_name
    use ffrf_modes_input, only: body_spec_t, modes_spec_t, basis_name
    implicit none
@@ -105,7 +105,8 @@ contains
             associate (f => interfaces(k))
                prefix = f%name // ': '
                call add(c, prefix // 'mpc', trim(mpc_name(f%mpc)))
-               call add(c, prefix // 'weighting', weighting_name(f%weighting))
+               call add(c, prefix // 'weighting', choice_name(weighting_names, f%weighting, &
+                  to_str(f%weighting)))
                call add(c, prefix // 'rc', dofs_text(f%rc, none='none'))
                call add(c, prefix // 'virtual node', '(' // exact_text(f%virtual_xyz(1)) // &
                   ', ' // exact_text(f%virtual_xyz(2)) // ', ' // &
@@ -276,23 +277,6 @@ contains
          if (stat == 0 .and. back == x) return
       end do
    end function exact_text
-
-   function weighting_name(weighting) result(name)
-      integer, intent(in) :: weighting
-      character(len=:), allocatable :: name
-      select case (weighting)
-      case (WEIGHTING_UNIFORM)
-         name = 'uniform'
-      case (WEIGHTING_AREA)
-         name = 'area'
-      case (WEIGHTING_AREA_CONSISTENT)
-         name = 'area_consistent'
-      case (WEIGHTING_GIVEN)
-         name = 'given'
-      case default
-         name = to_str(weighting)
-      end select
-   end function weighting_name
 
    subroutine add(list, label, value)
       type(entry_list_t), intent(inout) :: list

@@ -7,7 +7,9 @@ module ffrf_mpc_interface
    use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    !> The MPC kinds and their table (rigid spider q_B = F q_V, interpolation element q_V = G q_B)
-   use ffrf_core_choices, only: MPC_RBE2, MPC_RBE3, mpc_choices, choice_name
+   !> and the RBE3 weighting kinds
+   use ffrf_core_choices, only: MPC_RBE2, MPC_RBE3, mpc_choices, choice_name, WEIGHTING_UNIFORM, &
+      WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN
    use ffrf_mesh_mesh, only: mesh_t
    use ffrf_fe_surface, only: surface_area_centroid, nodal_area_weights, nodal_consistent_weights
    use ffrf_la_sparse, only: sort_indices
@@ -20,11 +22,6 @@ module ffrf_mpc_interface
    public :: WEIGHTING_UNIFORM, WEIGHTING_AREA, WEIGHTING_AREA_CONSISTENT, WEIGHTING_GIVEN
    public :: VIRTUAL_NODE_CENTROID, VIRTUAL_NODE_POSITION
 
-   integer, parameter :: WEIGHTING_UNIFORM = 1  !< RBE3 node weights all 1 (Nastran's default)
-   integer, parameter :: WEIGHTING_AREA = 2     !< RBE3 node weights: tributary areas
-   !> RBE3 node weights: consistent areas int N_i dA (Tri6 corners ~0)
-   integer, parameter :: WEIGHTING_AREA_CONSISTENT = 3
-   integer, parameter :: WEIGHTING_GIVEN = 4    !< RBE3 node weights given (node-set interface)
    !> virtual node at the face's area centroid (node set: the weighted centroid of its nodes)
    integer, parameter :: VIRTUAL_NODE_CENTROID = 1
    integer, parameter :: VIRTUAL_NODE_POSITION = 2  !< virtual node at a given position

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checks of postprocess/ffrf_results.py on the files make_sample.py wrote.
+"""Checks of postprocess/ffrf_results (the package) on the files make_sample.py wrote.
 
 References: the box's exterior has 2 triangles per hexahedron face on its boundary,
 4 (NX NY + NY NZ + NX NZ) in all (closed form); the outward orientation is checked by the

@@ -119,6 +119,8 @@ ffrf_error_case(marker_joint_at_point 2 "&joint \"hold\": marker \"P\" of the fl
   "${_held}\n&marker body = 'crank', name = 'P', group = 'B1' /\n&marker body = 'ground', name = 'q', position = 0, 0, 0 /\n&joint name = 'hold', type = 'spherical', body1 = 'ground', marker1 = 'q', body2 = 'crank', marker2 = 'P' /" --check)
 ffrf_error_case(marker_weighting_word 2 "marker_weighting_word\\.nml:5: &marker weighting = 'areas': not allowed. weighting is one of uniform, area, area_consistent"
   "${_held}\n&marker body = 'crank', name = 'P', group = 'B1', weighting = 'areas' /\n${_push}" --check)
+ffrf_error_case(marker_weighting_at_node 2 "marker_weighting_at_node\\.nml:5: &marker weighting = 'area': marker \"P\" of body \"crank\" is at node 5, where weighting .* means nothing; drop weighting"
+  "${_held}\n&marker body = 'crank', name = 'P', node = 5, weighting = 'area' /\n${_push}" --check)
 ffrf_error_case(marker_node_coarse_meshes 2 "marker_node_coarse_meshes\\.nml:5: &marker \"P\": body \"crank\" has coarse_meshes, whose node tags are other points"
   "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', coarse_meshes = 'crank_lc10.msh' /\n${_iface}\n&marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /\n&joint name = 'pin', type = 'fixed', body1 = 'ground', marker1 = 'pin', body2 = 'crank', marker2 = 'B2' /\n&marker body = 'crank', name = 'P', node = 5 /\n${_push}" --check)
 # Joint frames that disagree in the starting pose (issue 24): both markers of a joint carry a

@@ -73,3 +73,15 @@ add_test(NAME regression_mesh_markers
     $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${_flex}/mesh_markers ${_markers_args})
 set_tests_properties(regression_mesh_markers PROPERTIES LABELS "regression;mbs"
   FIXTURES_REQUIRED cantilever_mesh)
+# The [mechanism] log line counts interface markers apart from mesh-point markers (issue 24):
+# input/cantilever_tip_load.nml has one interface (root) and one group marker (tip_face), run
+# for one step. Under a second.
+file(MAKE_DIRECTORY "${_flex}/marker_log")
+add_test(NAME regression_mesh_marker_log
+  COMMAND ${CMAKE_COMMAND}
+    "-DCOMMAND=$<TARGET_FILE:ffrf>;${PROJECT_SOURCE_DIR}/input/cantilever_tip_load.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_flex}/marker_log;--set;integrator.t_end=1e-3"
+    -DWORKING_DIRECTORY=${_flex}/marker_log
+    "-DREGEX=bar: flexible \\(FFRF\\), [0-9]+ modes, mass [0-9.]+ kg, 1 interface marker\\(s\\), 1 at mesh points"
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_output.cmake)
+set_tests_properties(regression_mesh_marker_log PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED cantilever_mesh)

@@ -28,3 +28,10 @@ add_test(NAME error_check_rho_inf_one
     -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
 set_tests_properties(error_check_rho_inf_one PROPERTIES LABELS "regression;errors"
   FIXTURES_REQUIRED beam_lc6_mesh)
+# ... and accepts it with the stabilized index-2 constraints (docs/theory.md 4.6): exit 0
+add_test(NAME regression_check_rho_inf_one_index2
+  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/regression/gravity_double_pendulum.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_out} --check
+    --set integrator.rho_inf=1 --set integrator.constraints=index2)
+set_tests_properties(regression_check_rho_inf_one_index2 PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED beam_lc6_mesh)

@@ -19,6 +19,11 @@ endfunction()
 #    high-precision tolerance 1e-3 m, with order 2 between h and h/2 and the energy kept
 #    (tests/regression/check_iftomm_pendulum.py). About 2 s.
 add_iftomm_test(regression_iftomm_a01 check_iftomm_pendulum.py iftomm_a01_pendulum.nml)
+#  - regression_iftomm_a01_index2: the same with the stabilized index-2 constraints and no
+#    numerical damping (constraints = 'index2', rho_inf = 1; docs/theory.md 4.6), under the same
+#    tolerances: 1e-3 m, order 2 +- 0.2, energy 1e-4 m g L. About 2 s.
+add_iftomm_test(regression_iftomm_a01_index2 check_iftomm_pendulum.py iftomm_a01_pendulum.nml
+  integrator.constraints=index2 integrator.rho_inf=1)
 
 #  - regression_iftomm_a03: Andrews' squeezing mechanism (input/iftomm_a03_andrews.nml, 7 rigid
 #    bodies, 10 revolute joints of which 9 equations are redundant in 3D, a spring, a constant

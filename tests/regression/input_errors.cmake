@@ -99,6 +99,9 @@ ffrf_input_case(table_device 3 "&pressure table_file \"/dev/zero\" is a device. 
 # Outputs stay inside --output-dir (inputs may be absolute)
 ffrf_input_case(output_absolute 2 "output_absolute\\.nml:1: &run output = '/.*: an absolute path"
   "&run output = '${_in}/abs.h5' /\n${_crank}\n${_b2}")
+# &run export: words of export_choices only (src/core/choices.f90)
+ffrf_input_case(export_unknown 2 "export_unknown\\.nml:1: &run export = 'exudyn vtk': 'vtk' is no export; use blank-separated words of: exudyn"
+  "&run export = 'exudyn vtk' /\n${_crank}\n${_b2}")
 ffrf_input_case(output_parent 2 "output_parent\\.nml:1: &run mode_shapes_msh = '\\.\\./escape\\.msh': a '\\.\\.' component leaves the output folder"
   "&run mode_shapes_msh = '../escape.msh' /\n${_crank}\n${_b2}")
 

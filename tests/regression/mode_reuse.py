@@ -27,8 +27,12 @@ CASE_DIR holds engine_lc8_rc1.nml (tests/engine of the build). Any failure exits
 """
 import os
 import re
+import shutil
 import subprocess
 import sys
+
+import h5py
+import numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bitwise import digest_h5  # noqa: E402
@@ -144,6 +148,10 @@ def error_cases(work):
     with open(not_hdf5, 'w') as f:
         f.write('this is not an HDF5 file\n')
     crank_only = os.path.join(work, 'crank_modal.h5')
+    newer_schema = os.path.join(work, 'newer_schema.h5')
+    shutil.copyfile(source, newer_schema)
+    with h5py.File(newer_schema, 'r+') as f:
+        f.attrs['schema_version'] = numpy.bytes_('99.0')  # fixed-length, as ffrf writes it
     truncated = os.path.join(work, 'truncated.h5')
     with open(source, 'rb') as f, open(truncated, 'wb') as g:
         g.write(f.read()[:os.path.getsize(source) // 2])
@@ -155,6 +163,9 @@ def error_cases(work):
          r'file \(\.h5\) of an earlier run'),
         ('truncated file', [f'body[crank].modes_file={truncated}'], 3,
          r'&body "crank": modes_file ".*truncated\.h5": not readable as HDF5'),
+        ('newer results schema', [f'body[crank].modes_file={newer_schema}'], 2,
+         r'&body "crank": modes_file ".*newer_schema\.h5": results schema "99\.0", this ffrf '
+         r'reads up to 1\.x; use the ffrf that wrote the file'),
         ('no modes of the body', [f'body[conrod].modes_file={crank_only}'], 2,
          r'&body "conrod": modes_file ".*crank_modal\.h5": no mode shapes of body "conrod" in it '
          r'\(it holds the modes of "crank"\)'),

@@ -22,3 +22,27 @@ add_test(NAME peer_exudyn_engine_rc2
     -- --speed-tol 1e-3 --mean-speed-tol 5e-5 --strain-tol 2.5e-5)
 set_tests_properties(peer_exudyn_engine_rc2 PROPERTIES LABELS "regression;engine;peer"
   SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "exudyn_venv;crank_lc8_mesh;conrod_lc8_mesh")
+
+# The Exudyn export (issue 26; docs/results.md "Exudyn export"; tests/regression/exudyn_export.py)
+# checked by Exudyn itself: each body (lc 8 mm meshes) exported by a modal run loads with
+# FEMinterface.LoadFromFile; scipy's eigen-solution of the loaded M and K gives ffrf's free-free
+# frequencies (1e-8; measured 2.5e-10 crank, 1.0e-9 conrod), the mass, the Tet10 (C3D10) and
+# Trigs6 node orders, the outward surface, the node sets and the RC normal and Craig-Bampton
+# bases (Psi^T M Psi = I, Psi^T K Psi = diag(eigenValues), 1e-9; measured 2e-14) are checked;
+# and the conrod exported, hinged to the ground in Exudyn and driven by a torque, follows ffrf's
+# run of the same scene (angle 1e-10 rad, measured 4.9e-13). About 15 + 10 + 10 s of CPU.
+foreach(_body crank conrod)
+  add_test(NAME peer_exudyn_export_${_body}
+    COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/tests/regression/exudyn_export.py load
+      $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${PROJECT_SOURCE_DIR}/input
+      ${_peer}/export_${_body} --python ${PROJECT_BINARY_DIR}/exudyn_venv/bin/python
+      --body ${_body})
+  set_tests_properties(peer_exudyn_export_${_body} PROPERTIES LABELS "regression;peer"
+    SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "exudyn_venv;crank_lc8_mesh;conrod_lc8_mesh")
+endforeach()
+add_test(NAME peer_exudyn_export_hinge
+  COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/tests/regression/exudyn_export.py hinge
+    $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${PROJECT_SOURCE_DIR}/input
+    ${_peer}/export_hinge --python ${PROJECT_BINARY_DIR}/exudyn_venv/bin/python)
+set_tests_properties(peer_exudyn_export_hinge PROPERTIES LABELS "regression;peer"
+  SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "exudyn_venv;conrod_lc8_mesh")

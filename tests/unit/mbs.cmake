@@ -22,7 +22,9 @@ ffrf_add_unit_suite(test_mbs_reaction_split CHECKED LABELS mbs)
 # Uniform gravity on flexible bodies (issue 24, docs/theory.md 3.6): the generalized force
 # against the potential and point masses, its tangent, a cantilever's static sag against beam
 # theory (beam_lc6, beam_lc4 for the mesh part), a damped run to rest, a flexible double
-# pendulum's energy (beam_lc40). ~9 s (beam_lc4's modes: 6 s), checked ~22 s.
+# pendulum's energy (beam_lc40), and the same with rho_inf = 1 and the stabilized index-2
+# constraints over 2 s (theory.md 4.6; 0.8 s CPU, checked 2.5 s). ~10 s (beam_lc4's modes: 6 s),
+# checked ~25 s.
 ffrf_add_unit_suite(test_mbs_gravity CHECKED LABELS mbs FIXTURES "beam_lc6_mesh;beam_lc4_mesh;beam_lc40_mesh")
 # Sparse LU of the iteration matrix (MUMPS) against the dense LU on a chain's saddle-point
 # matrix, pattern growth, singular matrix; the integrator on a chain of point masses with both;

@@ -24,7 +24,9 @@
 !>   Newton tolerance: each step's iterate passes when the weighted RMS increment is <= 1, so a
 !>   coordinate may be off by sqrt(n) (newton_atol + newton_rtol |q|) per step, added over the
 !>   steps at most linearly (the scheme is stable): S sqrt(n) (atol + rtol max|q|) = 1.6e-5 m
-!>   (measured 5e-16 m; the last mass falls 0.2 m);
+!>   (measured 5e-16 m; the last mass falls 0.2 m); the same with the stabilized index-2
+!>   constraints and rho_inf = 1 (docs/theory.md 4.6: velocity rows and the columns of nu in the
+!>   iteration matrix, order n + 2 nr);
 !> - the steps run on one BLAS thread and the count is given back (issue 24): with OpenBLAS set to
 !>   2 threads before, the output hook sees 1 at every step and 2 is in place after the run (a
 !>   BLAS whose threads ffrf does not set: reported, not asserted).
@@ -34,7 +36,8 @@ module test_mbs_sparse_iteration
    use ffrf_core_strings, only: to_str
    use ffrf_mbs_galpha_linalg, only: kkt_matrix, kkt_factor, kkt_solve, kkt_sparse_t
    use ffrf_mbs_dae_system, only: dae_system_t
-   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t
+   use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, GALPHA_INDEX3, &
+      GALPHA_INDEX2
    use ffrf_la_blas_threads, only: set_blas_threads, blas_threads, blas_library_name
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
    implicit none
@@ -255,9 +258,10 @@ contains
       call sparse%free()
    end subroutine test_singular
 
-   !> Integrate the mass chain 200 steps of 1e-3 s from the horizontal at rest.
-   subroutine integrate_chain(sparse_threshold, system, q_end, order, error)
-      integer, intent(in) :: sparse_threshold
+   !> Integrate the mass chain 200 steps of 1e-3 s from the horizontal at rest, with the
+   !> constraint formulation `constraints` (GALPHA_INDEX2: rho_inf = 1).
+   subroutine integrate_chain(sparse_threshold, constraints, system, q_end, order, error)
+      integer, intent(in) :: sparse_threshold, constraints
       type(mass_chain_t), intent(inout) :: system
       real(dp), allocatable, intent(out) :: q_end(:)
       !> Order of the iteration matrix and whether the sparse LU was used
@@ -274,6 +278,8 @@ contains
       settings%h = 1.0e-3_dp
       settings%t_end = 0.2_dp
       settings%sparse_threshold = sparse_threshold
+      settings%constraints = constraints
+      if (constraints == GALPHA_INDEX2) settings%rho_inf = 1.0_dp
       call integrator%init(system, settings, q0, v0, error)
       if (allocated(error)) return
       call integrator%run(system, error)
@@ -288,24 +294,30 @@ contains
       type(mass_chain_t) :: sparse_chain, dense_chain
       real(dp), allocatable :: q_sparse(:), q_dense(:)
       real(dp) :: tolerance
-      integer :: order_sparse, order_dense
+      integer :: order_sparse, order_dense, form
       type(galpha_settings_t) :: defaults
-      call integrate_chain(1, sparse_chain, q_sparse, order_sparse, error)
-      if (allocated(error)) return
-      call integrate_chain(huge(1), dense_chain, q_dense, order_dense, error)
-      if (allocated(error)) return
-      call check(error, 'sparse run used MUMPS, dense run LAPACK (orders ' // &
-         to_str(order_sparse) // ', ' // to_str(order_dense) // '; negative: sparse)', &
-         order_sparse < 0 .and. order_dense > 0)
-      if (allocated(error)) return
-      tolerance = 200.0_dp * sqrt(real(size(q_dense), dp)) * (defaults%newton_atol + &
-         defaults%newton_rtol * maxval(abs(q_dense)))
-      call report('mass chain, 200 steps: max |q_sparse - q_dense| = ' // &
-         to_str(maxval(abs(q_sparse - q_dense)), 3) // ' m (tolerance ' // &
-         to_str(tolerance, 3) // ' m); the last mass fell ' // &
-         to_str(-q_dense(2 * num_masses), 3) // ' m')
-      call check_close(error, 'sparse against dense trajectory (m)', &
-         maxval(abs(q_sparse - q_dense)), 0.0_dp, atol=tolerance)
+      character(len=*), parameter :: names(2) = ['index 3', 'index 2']
+      ! index 3 (rho_inf = 0.8) and the stabilized index 2 (rho_inf = 1, theory.md 4.6, whose
+      ! iteration matrix has the velocity rows and nu's columns besides)
+      do form = GALPHA_INDEX3, GALPHA_INDEX2
+         call integrate_chain(1, form, sparse_chain, q_sparse, order_sparse, error)
+         if (allocated(error)) return
+         call integrate_chain(huge(1), form, dense_chain, q_dense, order_dense, error)
+         if (allocated(error)) return
+         call check(error, names(form) // ': sparse run used MUMPS, dense run LAPACK (orders ' &
+            // to_str(order_sparse) // ', ' // to_str(order_dense) // '; negative: sparse)', &
+            order_sparse < 0 .and. order_dense > 0)
+         if (allocated(error)) return
+         tolerance = 200.0_dp * sqrt(real(size(q_dense), dp)) * (defaults%newton_atol + &
+            defaults%newton_rtol * maxval(abs(q_dense)))
+         call report('mass chain, ' // names(form) // ', 200 steps: max |q_sparse - ' // &
+            'q_dense| = ' // to_str(maxval(abs(q_sparse - q_dense)), 3) // ' m (tolerance ' // &
+            to_str(tolerance, 3) // ' m); the last mass fell ' // &
+            to_str(-q_dense(2 * num_masses), 3) // ' m; order ' // to_str(order_dense))
+         call check_close(error, names(form) // ': sparse against dense trajectory (m)', &
+            maxval(abs(q_sparse - q_dense)), 0.0_dp, atol=tolerance)
+         if (allocated(error)) return
+      end do
    end subroutine test_integrator_chain
 
    subroutine test_blas_threads(error)
@@ -331,7 +343,7 @@ contains
          call set_blas_threads(before, used, error)
          return
       end if
-      call integrate_chain(huge(1), system, q_end, order, error)
+      call integrate_chain(huge(1), GALPHA_INDEX3, system, q_end, order, error)
       if (.not. allocated(error)) call check(error, 'one BLAS thread at every step (seen ' // &
          to_str(system%fewest_threads) // '..' // to_str(system%most_threads) // ')', &
          system%most_threads == 1 .and. system%fewest_threads == 1)

@@ -26,10 +26,14 @@ module ffrf_app_engine_auto_model
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_engine_model_selection, only: excitation_t, engine_excitation, body_selection_t, &
       mode_effect_t, select_modes, mesh_frequency_error, select_time_step, step_errors
+   use ffrf_app_scene_model, only: scene_record_t, scene_selection_t
    implicit none
    private
    public :: model_choice_t, start_model_selection, selects_body, select_body_model, &
       select_step, write_model_choice
+   ! for the scenes without a crank (ffrf_app_scene_choice)
+   public :: body_choice_t, grounded_interfaces, relative_shape, attached_masses, keep_modes, &
+      log_locks
 
    !> The choice for one flexible body.
    type :: body_choice_t
@@ -65,12 +69,18 @@ module ffrf_app_engine_auto_model
       !> Mass of each &body's coarsest mesh once known (kg; -1: not yet), so that a jointed
       !> body's mesh mass is computed once (attached_masses)
       real(dp), allocatable :: mesh_mass(:)
+      !> A scene without a crank (ffrf_app_scene_choice): the rigid pre-run's record and
+      !> targets, each body's choice (parallel to bodies), the step's errors per target
+      logical :: scene = .false.
+      type(scene_record_t) :: record
+      type(scene_selection_t), allocatable :: scene_bodies(:)
+      real(dp), allocatable :: scene_step_error(:)
    end type model_choice_t
 
 contains
 
    !> Decide whether the selection runs; if so, the excitation at the regime speed.
-   subroutine start_model_selection(case, model, pressure, has_pressure, log, choice)
+   subroutine start_model_selection(case, model, pressure, has_pressure, log, choice, record)
       type(case_input_t), intent(in) :: case
       !> The case resolved (selection, loads, rigid flags)
       type(model_t), intent(in) :: model
@@ -78,6 +88,8 @@ contains
       logical, intent(in) :: has_pressure
       type(logger_t), intent(in) :: log
       type(model_choice_t), intent(out) :: choice
+      !> A scene without a crank: the rigid pre-run's record (ffrf_app_scene_prerun)
+      type(scene_record_t), intent(in), optional :: record
       integer :: l, piston
       real(dp) :: drag, piston_mass
       allocate (choice%bodies(0))
@@ -98,9 +110,18 @@ contains
             end if
          end associate
       end do
-      if (model%mechanism%crank == 0) then
+      if (model%mechanism%crank == 0 .and. present(record)) then
+         ! a scene without an engine (ffrf_app_scene_choice): its log names no engine part
+         choice%active = .true.
+         choice%scene = .true.
+         choice%record = record
+         allocate (choice%scene_bodies(0))
+         allocate (choice%scene_step_error(size(record%names)), source=0.0_dp)
+         return
+      else if (model%mechanism%crank == 0) then
          ! a scene without an engine: its log and results name no engine part
-         choice%reason = 'it chooses for engine scenes only (docs/limits.md "Known limits")'
+         choice%reason = 'a scene without an engine needs &model targets on its sensors ' // &
+            'and a flexible body without num_modes (docs/mechanisms.md "Targets on sensors")'
       else if (.not. has_pressure) then
          choice%reason = 'not an engine (no pressure load)'
       else if (.not. (drag > 0.0_dp)) then
@@ -575,7 +596,8 @@ contains
       integer :: b
       call results%write_real(root // '/active', [merge(1.0_dp, 0.0_dp, choice%active)], '1', &
          error)
-      if (allocated(error) .or. .not. choice%active) return
+      ! a scene without an engine: ffrf_app_scene_choice writes the rest
+      if (allocated(error) .or. .not. choice%active .or. choice%scene) return
       call results%write_real(root // '/targets', [case%mechanism%model%speed_tolerance, &
          case%mechanism%model%force_tolerance], '1', error)
       if (.not. allocated(error)) call results%write_real(root // '/regime_speed_estimate', &

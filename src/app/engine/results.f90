@@ -1,10 +1,10 @@
 !> The results file of an engine run (HDF5): the time histories, written progressively so that a
 !> run killed at any point leaves a readable file with status 'running' and every step up to the
-!> last flush (issue 3, part 5). Schema (read by postprocess/ffrf_results.py, `read_engine`):
-!> root attributes status, case_name, title, ffrf_version; /input/namelist; /build/versions;
-!> /engine with attributes rc_set and mpc (also as the string datasets /engine/rc_set and
-!> /engine/mpc: a group needs a dataset to exist; an engine only: create's engine); growing
-!> series (one entry per sample: every step, or as &output asks)
+!> last flush (issue 3, part 5). Schema (read by postprocess/ffrf_results, `read_engine`):
+!> root attributes status, schema_version, case_name, title, ffrf_version; /input/namelist;
+!> /build/versions; /engine with attributes rc_set and mpc (also as the string datasets
+!> /engine/rc_set and /engine/mpc: a group needs a dataset to exist; an engine only: create's
+!> engine); growing series (one entry per sample: every step, or as &output asks)
 !> /time/{t [s], crank_angle [rad, unwrapped], crank_speed [rad/s], pressure [Pa]} (the crank
 !> series only when the run has a crank: create's has_crank; pressure only for an engine),
 !> /peaks/<series>/{min, max, t_min, t_max} (create's peaks: the extremes over each output

@@ -16,21 +16,81 @@ series the charts need, and `cycle_window` / `angle_mean` cut and average whole 
 
     run = ffrf_results.read_engine("engine_rc1.h5")       # allow_incomplete=True for a killed run
     theta_a, theta_b = ffrf_results.cycle_window(run.crank_angle, num_cycles=2)
+
+Any results file (modal, mechanism, engine, one task of a sweep) into numpy at once: `load`
+gives status, schema version, the input echo, every body's modes, the time histories, sensors
+and peaks, and every dataset of the file by path (docs/results.md "Python package"):
+
+    data = ffrf_results.load("slider_wheel.h5")
+    data.time["t"], data.sensors["slider_position"].values, data.datasets["energy/kinetic"]
+
+Every file carries the root attribute schema_version "MAJOR.MINOR" (files written before it
+have none and read as "0.x"); this reader reads SCHEMA_VERSION's major and every older one and
+refuses a newer major with SchemaError (docs/results.md "Schema version").
+
+Installed with `pip install ./postprocess`, which also gives the console scripts
+ffrf-plot-engine, ffrf-plot-modes, ffrf-plot-sensors, ffrf-engine-summary,
+ffrf-frequency-table and ffrf-gather (the modules of this package; postprocess/<name>.py are
+thin entry points to the same code).
 """
 import math
 import os
 import re
+import sys
 
 import h5py
 import numpy as np
 
-__all__ = ["ResultsError", "Results", "open_results", "text", "exterior_faces", "EngineRun",
-           "read_engine", "unique_labels", "ENGINE_CYCLE", "cycle_window", "window_samples",
-           "angle_mean"]
+__all__ = ["ResultsError", "SchemaError", "command_error", "SCHEMA_VERSION",
+           "schema_version_of", "Results", "open_results", "text", "exterior_faces", "Sensor", "ResultsData", "load",
+           "EngineRun", "read_engine", "unique_labels", "ENGINE_CYCLE", "cycle_window",
+           "window_samples", "angle_mean"]
+
+__version__ = "0.1.0"
+
+#: The results schema this reader knows (docs/results.md "Schema version"): it reads files of
+#: this major version and of every older one, and refuses a newer major (SchemaError).
+SCHEMA_VERSION = "1.0"
+#: What a file without the root attribute schema_version is: written before the attribute.
+SCHEMA_UNVERSIONED = "0.x"
 
 
 class ResultsError(Exception):
     """A results file that cannot be used: missing, failed run, missing dataset."""
+
+
+class SchemaError(ResultsError):
+    """A results file of a newer schema major version than this reader's, or with a
+    schema_version that is not MAJOR.MINOR."""
+
+
+def command_error(script, exc):
+    """What every console script does with a ResultsError (or SchemaError): one line on
+    standard error, exit code 2 (returned)."""
+    print(f"{script}: error: {exc}", file=sys.stderr)
+    return 2
+
+
+def schema_version_of(attrs, path="results file"):
+    """(version text, major) of a file's root attributes (h5py attrs or a dict): "0.x" and 0
+    when schema_version is absent. Raises SchemaError when it is not MAJOR.MINOR (two
+    non-negative integers) or its major is newer than SCHEMA_VERSION's."""
+    if "schema_version" not in attrs:
+        return SCHEMA_UNVERSIONED, 0
+    version = text(attrs["schema_version"]).strip()
+    match = re.fullmatch(r"(\d+)\.(\d+)", version)
+    if not match:
+        raise SchemaError(f"{path}: root attribute schema_version is '{version}', not "
+                          f"MAJOR.MINOR (e.g. '{SCHEMA_VERSION}'): not a file ffrf wrote, or "
+                          f"a damaged one")
+    major = int(match.group(1))
+    reader_major = int(SCHEMA_VERSION.split(".")[0])
+    if major > reader_major:
+        raise SchemaError(f"{path}: schema_version {version} is newer than this reader "
+                          f"(ffrf_results {__version__} reads schema {reader_major}.x and "
+                          f"older): install the reader of the ffrf that wrote the file "
+                          f"(pip install ./postprocess in its source tree)")
+    return version, major
 
 
 def text(value):
@@ -78,6 +138,12 @@ class Results:
             self.file = h5py.File(self.path, "r")
         except OSError as exc:
             raise ResultsError(f"{self.path}: cannot open as HDF5 ({exc})") from exc
+        try:
+            self.schema_version, self.schema_major = schema_version_of(self.file.attrs,
+                                                                       self.path)
+        except SchemaError:
+            self.file.close()
+            raise
         self.status = text(self.file.attrs.get("status", b"(no status attribute)"))
         if require_complete and self.status != "complete":
             self.file.close()
@@ -206,6 +272,98 @@ class Results:
 def open_results(path, require_complete=True):
     """Open a results file (context manager); see Results."""
     return Results(path, require_complete=require_complete)
+
+
+def _value(dataset):
+    """A dataset as numpy: strings decoded (str, or a list of str), numbers as arrays."""
+    value = dataset[()]
+    if dataset.dtype.kind in "SOU":
+        if np.ndim(value) == 0:
+            return text(value)
+        return [text(v) for v in np.asarray(value).ravel()]
+    return np.asarray(value)
+
+
+class Sensor:
+    """One sensor of /sensors (docs/sensors.md): values (num_samples, k) and its attributes
+    (type, units, body, marker, joint, ... as str)."""
+
+    def __init__(self, values, attrs):
+        self.values = values
+        self.attrs = attrs
+
+
+class ResultsData:
+    """Everything of one results file in memory (see load). Attributes:
+
+    path, status, complete (status == 'complete'), schema_version ('0.x' for a file without
+    it), case_name, title, attributes ({root attribute: value}), input (the resolved input
+    echo, /input/namelist, '' if absent); bodies ({body: {'frequencies' (Hz), 'shapes'
+    (num_modes, num_nodes, 3), 'coordinates', 'tets' (0-based), 'modal_coordinates'
+    (num_samples, num_modes)}}, each key only when the file has it); time ({name: (num_samples,)},
+    /time); sensors ({name: Sensor}); peaks ({series path: {min, max, t_min, t_max}});
+    datasets ({path without the leading '/': numpy array, or str / list of str for strings}:
+    every dataset of the file).
+    """
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    @property
+    def complete(self):
+        return self.status == "complete"
+
+
+def load(path, require_complete=False):
+    """Read a whole results file into a ResultsData (numpy arrays, strings decoded). A run
+    that did not complete is read as far as it got, unless require_complete (then
+    ResultsError). SchemaError for a newer schema major."""
+    with Results(path, require_complete=require_complete) as results:
+        datasets = {}
+
+        def visit(name, item):
+            if isinstance(item, h5py.Dataset):
+                datasets[name] = _value(item)
+
+        results.file.visititems(visit)
+        attributes = {key: (text(value) if isinstance(value, (bytes, np.bytes_, str))
+                            else value) for key, value in results.file.attrs.items()}
+        bodies = {}
+        for body in results.bodies():
+            entry = {}
+            prefix = f"bodies/{body}/"
+            for key, name in (("frequencies", "modes/frequency"), ("shapes", "modes/shape"),
+                              ("coordinates", "mesh/coordinates"), ("tets", "mesh/tets"),
+                              ("modal_coordinates", "modal_coordinates")):
+                if prefix + name in datasets:
+                    entry[key] = datasets[prefix + name]
+            if "frequencies" in entry:
+                entry["frequencies"] = np.atleast_1d(entry["frequencies"]).astype(float)
+            if "shapes" in entry:
+                entry["shapes"] = results.shapes(body)
+            if "tets" in entry:
+                entry["tets"] = results.tets(body)
+            bodies[body] = entry
+        time = {name[len("time/"):]: value for name, value in datasets.items()
+                if name.startswith("time/")}
+        sensors = {}
+        if "sensors" in results.file:
+            for name, item in results.file["sensors"].items():
+                values = np.asarray(item[()])
+                sensors[name] = Sensor(values[:, None] if values.ndim == 1 else values,
+                                       {k: text(v) for k, v in item.attrs.items()})
+        peaks = {}
+        for name in datasets:
+            if name.startswith("peaks/") and name.endswith("/min"):
+                series = name[len("peaks/"):-len("/min")]
+                peaks[series] = results.peaks(series)
+        return ResultsData(path=results.path, status=results.status,
+                           schema_version=results.schema_version,
+                           case_name=results.case_name,
+                           title=results.attribute("title", default=""),
+                           attributes=attributes, input=datasets.get("input/namelist", ""),
+                           bodies=bodies, time=time, sensors=sensors, peaks=peaks,
+                           datasets=datasets)
 
 
 # ---------------------------------------------------------------------------------------------
