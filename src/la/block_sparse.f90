@@ -62,6 +62,8 @@ module ffrf_la_block_sparse
       !> The entries held as triplets (1-based rows and columns, shifted by r0, c0; transposed
       !> if asked), scaled per row by rscale, from position k + 1 on; k is advanced
       procedure :: triplets => block_sparse_triplets
+      !> The entries of A X^T (X of the same column groups) as triplets, block pair by block pair
+      procedure :: product_triplets => block_sparse_product_triplets
    end type block_sparse_t
 
 contains
@@ -355,11 +357,9 @@ contains
          do jj = 1, e(4)
             col = e(2) + jj
             do ii = 1, e(3)
-               row = e(1) + ii
-               if (present(keep_row)) row = keep_row(row)
+               row = renumbered(e(1) + ii, keep_row)
                if (row == 0) cycle
-               factor = 1.0_dp
-               if (present(rscale)) factor = rscale(row)
+               factor = scale_at(row, rscale)
                k = k + 1
                if (trans) then
                   irn(k) = c0 + col
@@ -373,5 +373,90 @@ contains
          end do
       end do
    end subroutine block_sparse_triplets
+
+   !> The entries of A X^T (A this matrix, X with the same column groups) as triplets appended
+   !> at k + 1, ... (the arrays grow as needed): row r0 + keep_row(i) for row i of A, column
+   !> c0 + keep_col(j) for row j of X (absent: i, j; 0: left out), value rscale(new row)
+   !> cscale(new column) (A X^T)(i, j). One entry per row pair of each pair of blocks in one
+   !> column group, so a pair of rows meeting in several column groups gives several entries,
+   !> to be summed (as MUMPS does). O(sum over column groups of A's blocks x X's blocks there).
+   subroutine block_sparse_product_triplets(self, X, r0, c0, irn, jcn, values, k, keep_row, &
+      rscale, keep_col, cscale)
+      class(block_sparse_t), intent(in) :: self
+      type(block_sparse_t), intent(in) :: X
+      integer, intent(in) :: r0, c0
+      integer, allocatable, intent(inout) :: irn(:), jcn(:)
+      real(dp), allocatable, intent(inout) :: values(:)
+      integer, intent(inout) :: k
+      integer, intent(in), optional :: keep_row(:), keep_col(:)
+      real(dp), intent(in), optional :: rscale(:), cscale(:)
+      integer, allocatable :: first(:), list(:), fill(:), irn_new(:), jcn_new(:)
+      real(dp), allocatable :: values_new(:)
+      integer :: groups, b, xb, m, ii, jj, row, col, eA(5), eX(5)
+      real(dp) :: factor
+      ! X's blocks by column group
+      groups = size(X%col_start) - 1
+      allocate (first(groups + 1), fill(groups), list(X%num_blocks))
+      first = 0
+      do xb = 1, X%num_blocks
+         first(X%block_col(xb) + 1) = first(X%block_col(xb) + 1) + 1
+      end do
+      first(1) = 1
+      do m = 1, groups
+         first(m + 1) = first(m + 1) + first(m)
+      end do
+      fill = first(:groups)
+      do xb = 1, X%num_blocks
+         list(fill(X%block_col(xb))) = xb
+         fill(X%block_col(xb)) = fill(X%block_col(xb)) + 1
+      end do
+      do b = 1, self%num_blocks
+         eA = extent(self, b)
+         do m = first(self%block_col(b)), first(self%block_col(b) + 1) - 1
+            xb = list(m)
+            eX = extent(X, xb)
+            do jj = 1, eX(3)
+               col = renumbered(eX(1) + jj, keep_col)
+               if (col == 0) cycle
+               do ii = 1, eA(3)
+                  row = renumbered(eA(1) + ii, keep_row)
+                  if (row == 0) cycle
+                  factor = scale_at(row, rscale) * scale_at(col, cscale)
+                  if (k == size(irn)) then
+                     allocate (irn_new(2 * k + 16), jcn_new(2 * k + 16), values_new(2 * k + 16))
+                     irn_new(:k) = irn(:k)
+                     jcn_new(:k) = jcn(:k)
+                     values_new(:k) = values(:k)
+                     call move_alloc(irn_new, irn)
+                     call move_alloc(jcn_new, jcn)
+                     call move_alloc(values_new, values)
+                  end if
+                  k = k + 1
+                  irn(k) = r0 + row
+                  jcn(k) = c0 + col
+                  ! (A X^T)(i, j) over this column group: row ii of A's block, row jj of X's
+                  values(k) = factor * dot_product(self%values(eA(5) + ii:eA(5) + eA(3) * &
+                     eA(4):eA(3)), X%values(eX(5) + jj:eX(5) + eX(3) * eX(4):eX(3)))
+               end do
+            end do
+         end do
+      end do
+   end subroutine block_sparse_product_triplets
+
+   !> keep(i) (the new number of i, 0: left out), or i without keep.
+   pure integer function renumbered(i, keep) result(j)
+      integer, intent(in) :: i
+      integer, intent(in), optional :: keep(:)
+      j = i
+      if (present(keep)) j = keep(i)
+   end function renumbered
+
+   !> scale(i), or 1 without scale.
+   pure real(dp) function scale_at(i, scale) result(factor)
+      integer, intent(in) :: i
+      real(dp), intent(in), optional :: scale(:)
+      factor = 1.0_dp
+      if (present(scale)) factor = scale(i)
+   end function scale_at
 
 end module ffrf_la_block_sparse

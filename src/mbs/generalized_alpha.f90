@@ -463,8 +463,8 @@ module ffrf_mbs_generalized_alpha
       end function index2_increment
 
       !> Index 2 on the sparse path: nu's columns of the scaled iteration matrix as triplets,
-      !> beta h^2 K_t B (rows 1..n) and S Phi_q B (the multiplier rows), the entries of
-      !> |K_t| |B| and |Phi_q| |B| that are not zero; one column of B at a time (O(nr entries)).
+      !> beta h^2 K_t B (rows 1..n) and S Phi_q B (the multiplier rows), O(entries) from
+      !> B's blocks paired with K_t's and Phi_q's in each column group (product_triplets).
       module subroutine index2_sparse_triplets(self, h, trial, irn, jcn, values)
          type(galpha_integrator_t), intent(in) :: self
          real(dp), intent(in) :: h

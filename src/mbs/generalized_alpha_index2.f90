@@ -85,11 +85,29 @@ contains
       integer(ip), allocatable :: irn_new(:), jcn_new(:)
       real(dp), allocatable :: values_new(:)
       integer :: n, nr, i, j, k, column
+      integer, allocatable :: keep(:)
       n = self%n
       nr = size(self%active)
-      allocate (unit(self%nc), b(n), b_abs(n), y(n), y_abs(n), w(self%nc), w_abs(self%nc))
       allocate (irn(4 * (n + nr)), jcn(4 * (n + nr)), values(4 * (n + nr)))
       k = 0
+      if (all(self%sparse_K%col_start == trial%B_sparse%col_start) .and. &
+         all(trial%Phi_sparse%col_start == trial%B_sparse%col_start)) then
+         ! block pair by block pair (O(entries) on a chain): K_t B = K_t Phi_q(active, :)^T
+         ! diag(B_scale), S Phi_q B likewise with Phi_q of the iterate for the rows
+         allocate (keep(self%nc))
+         keep = 0
+         keep(self%active) = [(i, i=1, nr)]
+         call self%sparse_K%product_triplets(trial%B_sparse, 0, n + nr, irn, jcn, values, k, &
+            keep_col=keep, cscale=self%beta * h**2 * trial%B_scale)
+         call trial%Phi_sparse%product_triplets(trial%B_sparse, n, n + nr, irn, jcn, values, &
+            k, keep_row=keep, rscale=self%row_scale, keep_col=keep, cscale=trial%B_scale)
+         irn = irn(:k)
+         jcn = jcn(:k)
+         values = values(:k)
+         return
+      end if
+      ! otherwise one column of B at a time (nr products with K_t and Phi_q)
+      allocate (unit(self%nc), b(n), b_abs(n), y(n), y_abs(n), w(self%nc), w_abs(self%nc))
       do j = 1, nr
          ! column j of B: Phi_q(active(j), :) of the predictor times B_scale(j)
          unit = 0.0_dp
