@@ -81,6 +81,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=1, help="runs per row; the fastest kept")
     parser.add_argument("--solvers", action="store_true",
                         help="also the dense and the sparse LU forced, on one thread")
+    parser.add_argument("--sparse-only", action="store_true",
+                        help="only the sparse LU forced, on one thread (growth with N)")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     columns = ["links", "modes_per_link", "threads", "solver", "matrix_order", "solver_used",
@@ -93,6 +95,8 @@ def main():
     variants = [("1", "auto", None), ("default", "auto", None)]
     if args.solvers:
         variants += [("1", "dense", 10**9), ("1", "sparse", 1)]
+    if args.sparse_only:
+        variants = [("1", "sparse", 1)]
     for modes in args.modes:
         for links in args.links:
             # the variants of one chain interleaved, round after round (the load of a shared

@@ -20,9 +20,13 @@ module ffrf_mbs_dae_system
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_error, only: error_t, fatal_error, FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
+   use ffrf_la_block_sparse, only: block_sparse_t
    implicit none
    private
    public :: dae_system_t, fd_step
+   !> The dense defaults of the block-sparse interface (one block), public for overrides that
+   !> fall back to them
+   public :: dae_tangents_sparse
    !> The central-difference tangents, public so that a system with analytic overrides can keep
    !> them as a reference path (mechanism_t%analytic_tangents = .false.)
    public :: dae_stiffness_fd, dae_damping_fd, dae_constraint_stiffness_fd, dae_mass_stiffness_fd
@@ -58,6 +62,18 @@ module ffrf_mbs_dae_system
       !> Acceleration right-hand side g = -(Phi_q q')_q q' - 2 Phi_qt q' - Phi_tt, nc, so that
       !> Phi_q q'' = g on the motion (theory.md 4.3; default: central differences)
       procedure :: acceleration_rhs => dae_acceleration_rhs_fd
+      !> The sparse path of the iteration matrix, described in
+      !> docs/performance_threads.md "The iteration matrix: dense or sparse LU":
+      !> M, Phi_q and the tangents as block-sparse matrices, so
+      !> that nothing of size n x n is formed. The defaults call the dense procedures and hold
+      !> the result as one block (correct, not sparse); a system with structure overrides them.
+      !> M(q) block-sparse (default: `mass`)
+      procedure :: mass_sparse => dae_mass_sparse
+      !> Phi and Phi_q, Phi_q block-sparse (default: `constraints_and_jacobian`)
+      procedure :: constraints_and_jacobian_sparse => dae_constraints_and_jacobian_sparse
+      !> K = K_t + d(M a)/dq + d(Phi_q^T lambda)/dq and C = C_t, block-sparse (default:
+      !> `stiffness`, `mass_stiffness`, `constraint_stiffness`, `damping`)
+      procedure :: tangents_sparse => dae_tangents_sparse
       !> Hook called after every accepted step (and once at the start), for output; default none
       procedure :: accepted_step => dae_accepted_step_none
       !> Constraint rows the redundant-row search must keep (e.g. Euler-parameter
@@ -350,6 +366,68 @@ contains
       w_minus = matmul(jac, v) + rate
       g = -(w_plus - w_minus) / (2.0_dp * s)
    end subroutine dae_acceleration_rhs_fd
+
+   !> A dense matrix as one block of S (S set up with one row and one column group if its
+   !> groups differ).
+   subroutine dense_to_blocks(A, S)
+      real(dp), intent(in) :: A(:, :)
+      type(block_sparse_t), intent(inout) :: S
+      if (.not. S%same_groups([1, size(A, 1) + 1], [1, size(A, 2) + 1])) &
+         call S%init([1, size(A, 1) + 1], [1, size(A, 2) + 1])
+      call S%zero()
+      call S%add_block(0, 0, A)
+   end subroutine dense_to_blocks
+
+   !> M(q) from `mass`, as one block.
+   subroutine dae_mass_sparse(self, q, M, error)
+      class(dae_system_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:)                 !< coordinates, n
+      type(block_sparse_t), intent(inout) :: M     !< n x n
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: dense(:, :)
+      allocate (dense(size(q), size(q)))
+      call self%mass(q, dense, error)
+      if (.not. allocated(error)) call dense_to_blocks(dense, M)
+   end subroutine dae_mass_sparse
+
+   !> Phi and Phi_q from `constraints_and_jacobian`, Phi_q as one block.
+   subroutine dae_constraints_and_jacobian_sparse(self, q, t, phi, Phi_q, error)
+      class(dae_system_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:), t              !< coordinates (n), time (s)
+      real(dp), intent(out) :: phi(:)              !< Phi, nc
+      type(block_sparse_t), intent(inout) :: Phi_q !< nc x n
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: dense(:, :)
+      allocate (dense(size(phi), size(q)))
+      call self%constraints_and_jacobian(q, t, phi, dense, error)
+      if (.not. allocated(error)) call dense_to_blocks(dense, Phi_q)
+   end subroutine dae_constraints_and_jacobian_sparse
+
+   !> K = stiffness + mass_stiffness(a) + constraint_stiffness(lambda) and C = damping, dense,
+   !> as one block each.
+   subroutine dae_tangents_sparse(self, q, v, a, t, lambda, K, C, error)
+      class(dae_system_t), intent(inout) :: self
+      !> Coordinates, velocities, accelerations q'' (n), time (s), multipliers (nc)
+      real(dp), intent(in) :: q(:), v(:), a(:), t, lambda(:)
+      !> d(M a + Phi_q^T lambda - f)/dq and -df/dq', n x n
+      type(block_sparse_t), intent(inout) :: K, C
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: total(:, :), work(:, :)
+      allocate (total(size(q), size(q)), work(size(q), size(q)))
+      call self%stiffness(q, v, t, total, error)
+      if (allocated(error)) return
+      call self%mass_stiffness(q, a, work, error)
+      if (allocated(error)) return
+      total = total + work
+      if (size(lambda) > 0) then
+         call self%constraint_stiffness(q, t, lambda, work, error)
+         if (allocated(error)) return
+         total = total + work
+      end if
+      call dense_to_blocks(total, K)
+      call self%damping(q, v, t, work, error)
+      if (.not. allocated(error)) call dense_to_blocks(work, C)
+   end subroutine dae_tangents_sparse
 
    !> Default hook after an accepted step: no output, only a guard that the state handed to output
    !> is finite (the integrator already checks it; a system that writes output overrides this).

@@ -22,18 +22,18 @@ module ffrf_mbs_galpha_linalg
    !> gyroscopic and load tangents make it so), for mechanisms whose iteration matrix is large
    !> and sparse: a chain of flexible bodies has one dense block per body, coupled only through
    !> the rows of its joints, so the dense LU costs O(N^3) for N bodies and the sparse one
-   !> O(N). The matrix is assembled dense as for the dense path (kkt_complete); `factor` hands
-   !> its nonzero entries to MUMPS. The analysed pattern is kept while the nonzeros stay inside
-   !> it (an entry that turns zero stays in it, as a zero) and grows, with a new analysis
-   !> (METIS ordering, MUMPS JOB = 1), when an entry outside it turns nonzero. The diagonal is
-   !> always in the pattern. Do not copy a live one (MUMPS holds pointers): the integrator keeps
-   !> it behind a pointer.
+   !> O(N). The integrator assembles the matrix as triplets (block-sparse, never dense);
+   !> `factor` keeps MUMPS's analysis (METIS ordering, JOB = 1) while the triplets' rows and
+   !> columns are those analysed (the block pattern only grows: a new block of the system, or
+   !> another set of kept constraint rows, means a new analysis). Do not copy a live one
+   !> (MUMPS holds pointers): the integrator keeps it behind a pointer.
    type :: kkt_sparse_t
       !> The MUMPS instance (analysed, factorised)
       type(mumps_solver_t) :: solver
-      !> Entries in the analysed pattern (order x order)
-      logical, allocatable :: mask(:, :)
-      !> The pattern given to MUMPS (1-based row and column of each entry) and its values
+      !> Order of the analysed matrix
+      integer :: order = 0
+      !> The pattern given to MUMPS (1-based row and column of each entry; duplicates are
+      !> summed) and its values
       integer(ip), allocatable :: irn(:), jcn(:)
       real(dp), allocatable :: values(:)
       !> Analyses (pattern changes) and numerical factorisations so far
@@ -41,8 +41,10 @@ module ffrf_mbs_galpha_linalg
       !> Seconds in MUMPS's analyses and numerical factorisations (JOB = 1, 2)
       real(dp) :: mumps_seconds = 0.0_dp
    contains
-      !> Factorise the (assembled, equilibrated) iteration matrix
+      !> Factorise the (assembled, equilibrated) iteration matrix given as triplets
       procedure :: factor => kkt_sparse_factor
+      !> Factorise again the matrix of the last `factor` (after the factors were released)
+      procedure :: refactor => kkt_sparse_refactor
       !> Solve with the factors; the right-hand side is overwritten by the solution
       procedure :: solve => kkt_sparse_solve
       !> Whether factors are ready
@@ -307,70 +309,59 @@ contains
       call dgetrs('N', m, 1_ip, lu, m, pivots, rhs, m, info)
    end subroutine kkt_solve
 
-   !> Sparse LU factors (MUMPS) of the square matrix `kkt` (assembled dense: kkt_complete);
-   !> `kkt` is left unchanged. `singular` when MUMPS finds the matrix numerically singular
-   !> (INFOG(1) = -10; the dense path's dgetrf info > 0): the integrator then cuts the step.
-   subroutine kkt_sparse_factor(self, kkt, singular, error)
+   !> Sparse LU factors (MUMPS) of the square matrix of order m given by the triplets (irn,
+   !> jcn, values); analysed again only when the triplets' rows and columns differ from the
+   !> last ones. `singular` when MUMPS finds the matrix numerically singular (INFOG(1) = -10;
+   !> the dense path's dgetrf info > 0): the integrator then cuts the step.
+   subroutine kkt_sparse_factor(self, m, irn, jcn, values, singular, error)
       class(kkt_sparse_t), intent(inout) :: self
-      !> The iteration matrix, m x m
-      real(dp), intent(in) :: kkt(:, :)
+      !> Order
+      integer, intent(in) :: m
+      !> Rows, columns (1-based) and values of the entries (a position may repeat: summed)
+      integer(ip), intent(in) :: irn(:), jcn(:)
+      real(dp), intent(in) :: values(:)
       !> Whether MUMPS found it numerically singular
       logical, intent(out) :: singular
       type(error_t), allocatable, intent(out) :: error
-      integer :: m, i, j
-      integer(i8) :: k, nnz
-      logical :: grow
+      logical :: same
       singular = .false.
-      m = size(kkt, 1)
-      grow = .not. allocated(self%mask)
-      if (.not. grow) grow = size(self%mask, 1) /= m
-      if (grow) then
-         if (allocated(self%mask)) deallocate (self%mask)
-         allocate (self%mask(m, m))
-         self%mask = .false.
-         do i = 1, m
-            self%mask(i, i) = .true.
-         end do
-      end if
-      do j = 1, m
-         do i = 1, m
-            if (kkt(i, j) /= 0.0_dp .and. .not. self%mask(i, j)) then
-               self%mask(i, j) = .true.
-               grow = .true.
-            end if
-         end do
-      end do
-      if (grow) then
-         nnz = count(self%mask, kind=i8)
-         if (allocated(self%irn)) deallocate (self%irn, self%jcn, self%values)
-         allocate (self%irn(nnz), self%jcn(nnz), self%values(nnz))
-         k = 0
-         do j = 1, m
-            do i = 1, m
-               if (self%mask(i, j)) then
-                  k = k + 1
-                  self%irn(k) = int(i, ip)
-                  self%jcn(k) = int(j, ip)
-               end if
-            end do
-         end do
+      same = allocated(self%irn) .and. self%order == m
+      if (same) same = size(self%irn) == size(irn)
+      if (same) same = all(self%irn == irn) .and. all(self%jcn == jcn)
+      if (.not. same) then
+         self%irn = irn
+         self%jcn = jcn
+         self%order = m
          call self%solver%free()
          call self%solver%init(MUMPS_UNSYMMETRIC, error)
          if (.not. allocated(error)) call self%solver%analyse(int(m, ip), self%irn, self%jcn, &
             error=error)
          if (allocated(error)) then
             call add_context(error, 'sparse LU of the iteration matrix (order ' // &
-               to_str(m) // ', ' // to_str(nnz) // ' entries)')
-            deallocate (self%mask)
+               to_str(m) // ', ' // to_str(size(irn)) // ' entries)')
+            deallocate (self%irn)
             return
          end if
          self%analyses = self%analyses + 1
          self%mumps_seconds = self%mumps_seconds + self%solver%time_ordering + &
             self%solver%time_analysis
       end if
-      do k = 1, size(self%irn, kind=i8)
-         self%values(k) = kkt(self%irn(k), self%jcn(k))
-      end do
+      self%values = values
+      call self%refactor(singular, error)
+   end subroutine kkt_sparse_factor
+
+   !> Numerical factorisation of the values kept by the last `factor` (analysed pattern).
+   subroutine kkt_sparse_refactor(self, singular, error)
+      class(kkt_sparse_t), intent(inout) :: self
+      !> Whether MUMPS found it numerically singular
+      logical, intent(out) :: singular
+      type(error_t), allocatable, intent(out) :: error
+      singular = .false.
+      if (.not. allocated(self%values)) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, 'sparse LU of the iteration matrix: ' // &
+            'no matrix to factorise (internal: factor before solve)')
+         return
+      end if
       call self%solver%factorise(self%values, error)
       self%factorizations = self%factorizations + 1
       self%mumps_seconds = self%mumps_seconds + self%solver%time_factorisation
@@ -380,10 +371,10 @@ contains
             singular = .true.
          else
             call add_context(error, 'sparse LU of the iteration matrix (order ' // &
-               to_str(m) // ')')
+               to_str(self%order) // ')')
          end if
       end if
-   end subroutine kkt_sparse_factor
+   end subroutine kkt_sparse_refactor
 
    !> Solve with the factors of kkt_sparse_factor; the right-hand side is overwritten.
    subroutine kkt_sparse_solve(self, rhs, error)
@@ -406,8 +397,8 @@ contains
    subroutine kkt_sparse_free(self)
       class(kkt_sparse_t), intent(inout) :: self
       call self%solver%free()
-      if (allocated(self%mask)) deallocate (self%mask)
-      if (allocated(self%irn)) deallocate (self%irn, self%jcn, self%values)
+      if (allocated(self%irn)) deallocate (self%irn, self%jcn)
+      if (allocated(self%values)) deallocate (self%values)
    end subroutine kkt_sparse_free
 
 end module ffrf_mbs_galpha_linalg

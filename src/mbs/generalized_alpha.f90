@@ -118,6 +118,7 @@ module ffrf_mbs_generalized_alpha
    use ffrf_mbs_dae_system, only: dae_system_t
    use ffrf_mbs_galpha_linalg, only: find_redundant_rows, kkt_matrix, kkt_complete, &
       kkt_factor, kkt_solve, kkt_sparse_t
+   use ffrf_la_block_sparse, only: block_sparse_t
    implicit none
    private
    public :: galpha_settings_t, galpha_stats_t, galpha_integrator_t
@@ -298,6 +299,12 @@ module ffrf_mbs_generalized_alpha
       !> and the factorisations that have used them since they were computed
       real(dp), allocatable, private :: tangent_K(:, :), tangent_C(:, :)
       integer, private :: tangent_uses = huge(1)
+      !> The sparse path (order >= settings%sparse_threshold): the kept tangents block-sparse
+      !> (system%tangents_sparse), whether they are valid, and the work matrix M/c + gamma h C_t +
+      !> beta h^2 K_t; nothing n x n is formed, as
+      !> docs/performance_threads.md "The iteration matrix: dense or sparse LU" describes
+      type(block_sparse_t), private :: sparse_K, sparse_C, sparse_A
+      logical, private :: sparse_tangent = .false.
       !> Step the round-off floors were computed for (s); negative: none
       real(dp), private :: h_floor = -1.0_dp
       !> Multipliers of the last accepted steps of equal size (nc x 4, newest last), how many
@@ -314,9 +321,9 @@ module ffrf_mbs_generalized_alpha
       !> Whether the next step may start on the current factors (GALPHA_NEWTON_ADAPTIVE)
       logical, private :: reuse_factors = .false.
       !> Sparse LU of the iteration matrix when its order reaches settings%sparse_threshold
-      !> (then `lu` keeps the assembled matrix, not factors). A pointer: copies of the
-      !> integrator (the output's state before the last step) share it and never solve with
-      !> it; after import_state it is factorised again from `lu` at the first solve.
+      !> (then `lu` is not used: the matrix goes to MUMPS as triplets). A pointer: copies of
+      !> the integrator (the output's state before the last step) share it and never solve
+      !> with it; after import_state the next step factorises anew.
       type(kkt_sparse_t), pointer, private :: sparse => null()
    contains
       !> Check settings, detect redundant rows, make the start consistent
@@ -335,6 +342,10 @@ module ffrf_mbs_generalized_alpha
    type :: trial_t
       real(dp), allocatable :: q(:), v(:), qdd(:), lambda(:), a_base(:)
       real(dp), allocatable :: M(:, :), Phi_q(:, :), r_q(:), phi(:)
+      !> On the sparse path M and Phi_q block-sparse instead (system%mass_sparse,
+      !> system%constraints_and_jacobian_sparse)
+      logical :: sparse = .false.
+      type(block_sparse_t) :: M_sparse, Phi_sparse
       real(dp) :: force_scale = 0.0_dp
       !> Index 2 only (theory.md 4.6): the velocity constraints g = Phi_q q' + Phi_t (nc), the
       !> direction of the position correction, B = Phi_q^T of the kept rows at the step's
@@ -342,6 +353,10 @@ module ffrf_mbs_generalized_alpha
       !> factor that turns g into a position-sized residual (s)
       real(dp), allocatable :: g(:), B(:, :)
       real(dp) :: velocity_scale = 0.0_dp
+      !> Index 2 on the sparse path: B = Phi_q(active, :)^T diag(B_scale), Phi_q at the predictor
+      !> block-sparse (all rows), B_scale (nr) the inverse largest entries
+      type(block_sparse_t) :: B_sparse
+      real(dp), allocatable :: B_scale(:)
    end type trial_t
 
    interface
@@ -440,18 +455,81 @@ module ffrf_mbs_generalized_alpha
       end subroutine index2_blocks
 
       !> Index 2: the position increment dq = x + B z of a Newton solution [x; y; z].
-      pure module function index2_increment(self, trial, dx) result(dq)
+      module function index2_increment(self, trial, dx) result(dq)
          type(galpha_integrator_t), intent(in) :: self
          type(trial_t), intent(in) :: trial
          real(dp), intent(in) :: dx(:)
          real(dp) :: dq(self%n)
       end function index2_increment
 
+      !> Index 2 on the sparse path: nu's columns of the scaled iteration matrix as triplets,
+      !> beta h^2 K_t B (rows 1..n) and S Phi_q B (the multiplier rows), O(entries) from
+      !> B's blocks paired with K_t's and Phi_q's in each column group (product_triplets).
+      module subroutine index2_sparse_triplets(self, h, trial, irn, jcn, values)
+         type(galpha_integrator_t), intent(in) :: self
+         real(dp), intent(in) :: h
+         type(trial_t), intent(in) :: trial
+         integer(ip), allocatable, intent(out) :: irn(:), jcn(:)
+         real(dp), allocatable, intent(out) :: values(:)
+      end subroutine index2_sparse_triplets
+
       !> max |x_i|, 0 for an empty vector.
       pure module function max_abs(x) result(largest)
          real(dp), intent(in) :: x(:)
          real(dp) :: largest
       end function max_abs
+
+      ! the linear algebra of the iteration matrix (generalized_alpha_linear.f90)
+      !> The sparse path of factor: A = beta h^2 K_t + M/c + gamma h C_t block-sparse, the
+      !> constraint rows scaled as kkt_complete does (to the largest |A_ii|), both constraint
+      !> blocks and the zero diagonal of the lower-right block as triplets for MUMPS. O(entries).
+      module subroutine sparse_assemble(self, h, c_af, trial, singular, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         real(dp), intent(in) :: h, c_af
+         type(trial_t), intent(in) :: trial
+         logical, intent(out) :: singular
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine sparse_assemble
+
+      !> Round-off floors of the residual and of the Newton increment (attainable accuracy). The
+      !> residual cannot be evaluated more accurately than the rounding of the state allows: q is
+      !> known to u_i = eps |q_i|, which changes r_q by |K_t| u (K_t = d(M q'' + Phi_q^T lambda -
+      !> f)/dq: a stiff element between coordinates of magnitude |q| leaves k eps |q|) and Phi by
+      !> |Phi_q| u, and each term of r_q is rounded to eps (|M| |q''| + |Phi_q^T| |lambda| + |f|).
+      !> (q'' and q' are stored apart from q and move by sub-ulp amounts of q, so M/c and C_t add
+      !> nothing.) Newton maps this residual noise into increments S^-1 [beta h^2 noise_r;
+      !> noise_Phi]: for constraint rows whose multipliers are statically indeterminate reactions
+      !> fixed by a stiff element (rows independent only through stiff modal coordinates) these
+      !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
+      !> converging. The increment floor is estimated by two solves with the noise vector under two
+      !> sign patterns (round-off has no preferred sign).
+      module subroutine noise_floor(self, h, trial, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         !> Step (s)
+         real(dp), intent(in) :: h
+         !> The trial state; the tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at it is the kept
+         !> one (tangent_K, or sparse_K on the sparse path)
+         type(trial_t), intent(in) :: trial
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine noise_floor
+
+      !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
+      !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
+      !> kept triplets when the factors are missing).
+      module subroutine solve_iteration(self, x, error)
+         type(galpha_integrator_t), intent(inout) :: self
+         !> Right-hand side on entry, solution on exit
+         real(dp), intent(inout) :: x(:)
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine solve_iteration
+
+      !> M q'' and Phi_q^T lambda at a trial (absolute: |M| |q''| and |Phi_q|^T |lambda|), from the
+      !> dense or the block-sparse matrices.
+      module subroutine trial_products(trial, absolute, inertia, reaction)
+         type(trial_t), intent(in) :: trial
+         logical, intent(in) :: absolute
+         real(dp), intent(out) :: inertia(:), reaction(:)
+      end subroutine trial_products
    end interface
 
 contains

@@ -123,8 +123,10 @@ contains
       call get_1d(self%residual_floor)
       call get_1d(self%constraint_floor)
       call get_2d(self%lu)
-      ! sparse factors, if any, belong to another matrix: refactorised from lu at the next solve
+      ! sparse factors and tangents, if any, belong to another matrix (they are not in the
+      ! state): the sparse path starts the next step with a fresh tangent and factorisation
       if (associated(self%sparse)) call self%sparse%free()
+      self%sparse_tangent = .false.
       call get_2d(self%tangent_K)
       call get_2d(self%tangent_C)
       call get_2d(self%lambda_history)
@@ -146,6 +148,11 @@ contains
          end if
       end if
       if (ok) ok = r == size(reals) .and. k == size(ints)
+      ! the sparse path keeps no factors in the state: factorise at the next step
+      if (ok .and. allocated(self%active)) then
+         if (self%n + size(self%active) >= self%settings%sparse_threshold) &
+            self%h_factored = -1.0_dp
+      end if
       if (ok) ok = size(self%q) == self%n .and. size(self%v) == self%n .and. &
          size(self%lambda) == self%nc
       if (.not. ok) call fatal_error(error, FFRF_INPUT_ERROR, 'generalized-alpha restart ' // &

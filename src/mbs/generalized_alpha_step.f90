@@ -164,9 +164,14 @@ contains
          trial%q = self%q + h * self%v + h**2 * ((0.5_dp - self%beta) * self%a + self%beta * a_new)
          trial%v = self%v + h * ((1.0_dp - self%gamma) * self%a + self%gamma * a_new)
       end associate
-      if (.not. allocated(trial%M)) allocate (trial%M(n, n), trial%Phi_q(self%nc, n), &
-         trial%r_q(n), trial%phi(self%nc))
-      if (index2 .and. .not. allocated(trial%B)) allocate (trial%B(n, nr), trial%g(self%nc))
+      ! Index 2: the velocity rows and nu's columns make the order n + 2 nr (theory.md 4.6)
+      trial%sparse = merge(n + 2 * nr, n + nr, index2) >= self%settings%sparse_threshold
+      if (.not. allocated(trial%r_q)) allocate (trial%r_q(n), trial%phi(self%nc))
+      if (.not. trial%sparse .and. .not. allocated(trial%M)) allocate (trial%M(n, n), &
+         trial%Phi_q(self%nc, n))
+      if (index2 .and. .not. allocated(trial%g)) allocate (trial%g(self%nc))
+      if (index2 .and. .not. trial%sparse .and. .not. allocated(trial%B)) &
+         allocate (trial%B(n, nr))
       call evaluate(self, system, t_new, trial, 'at the predictor', reason, error)
       if (allocated(error) .or. len(reason) > 0) return
       ! Index 2: the correction direction B = Phi_q^T at the predictor (theory.md 4.6)
@@ -299,21 +304,34 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: f(self%n), inertia(self%n), reaction(self%n), clock, rate(self%nc)
       clock = wall_time()
-      call system%mass(trial%q, trial%M, error)
+      if (trial%sparse) then
+         call system%mass_sparse(trial%q, trial%M_sparse, error)
+      else
+         call system%mass(trial%q, trial%M, error)
+      end if
       if (allocated(error)) return
       call system%force(trial%q, trial%v, t, f, error)
       if (allocated(error)) return
-      call system%constraints_and_jacobian(trial%q, t, trial%phi, trial%Phi_q, error)
+      if (trial%sparse) then
+         call system%constraints_and_jacobian_sparse(trial%q, t, trial%phi, trial%Phi_sparse, &
+            error)
+      else
+         call system%constraints_and_jacobian(trial%q, t, trial%phi, trial%Phi_q, error)
+      end if
       if (allocated(error)) return
-      inertia = matmul(trial%M, trial%qdd)
-      reaction = matmul(trial%lambda, trial%Phi_q)
+      call trial_products(trial, .false., inertia, reaction)
       trial%r_q = inertia + reaction - f
       trial%force_scale = max(max_abs(inertia), max_abs(reaction), max_abs(f))
       ! Index 2: the velocity constraints g = Phi_q q' + Phi_t (theory.md 4.6)
-      if (allocated(trial%B)) then
+      if (allocated(trial%g)) then
          call system%constraint_rate(trial%q, t, rate, error)
          if (allocated(error)) return
-         trial%g = matmul(trial%Phi_q, trial%v) + rate
+         if (trial%sparse) then
+            call trial%Phi_sparse%matvec(trial%v, trial%g)
+            trial%g = trial%g + rate
+         else
+            trial%g = matmul(trial%Phi_q, trial%v) + rate
+         end if
       end if
       self%stats%residual_evaluations = self%stats%residual_evaluations + 1
       self%stats%residual_seconds = self%stats%residual_seconds + wall_time() - clock
@@ -324,7 +342,8 @@ contains
    !> 4.2): D_L S_t D_R = [[M/c + gamma h C_t + beta h^2 K_t, Phi_q^T], [Phi_q, 0]] with
    !> c = (1 - alpha_f)/(1 - alpha_m), K_t = d(M q'')/dq + d(Phi_q^T lambda)/dq - df/dq,
    !> C_t = -df/dq' (kept ones up to settings%tangent_reuse, module header), then the constraint
-   !> rows equilibrated (kkt_complete).
+   !> rows equilibrated (kkt_complete). From order settings%sparse_threshold on the same matrix
+   !> is assembled block-sparse (sparse_assemble) and factorised by MUMPS.
    subroutine factor(self, system, h, t, trial, fresh_tangent, ok, error)
       type(galpha_integrator_t), intent(inout) :: self
       class(dae_system_t), intent(inout) :: system
@@ -343,13 +362,26 @@ contains
       nr = size(self%active)
       ! Index 2: the velocity rows and nu's columns (theory.md 4.6)
       order = n + nr
-      if (allocated(trial%B)) order = n + 2 * nr
+      if (allocated(trial%g)) order = n + 2 * nr
       ok = .false.
       clock = wall_time()
       c_af = (1.0_dp - self%alpha_f) / (1.0_dp - self%alpha_m)
-      new_tangent = fresh_tangent .or. self%tangent_uses >= self%settings%tangent_reuse .or. &
-         .not. allocated(self%tangent_K)
-      if (new_tangent) then
+      new_tangent = fresh_tangent .or. self%tangent_uses >= self%settings%tangent_reuse
+      if (trial%sparse) then
+         new_tangent = new_tangent .or. .not. self%sparse_tangent
+      else
+         new_tangent = new_tangent .or. .not. allocated(self%tangent_K)
+      end if
+      if (new_tangent .and. trial%sparse) then
+         self%tangent_uses = huge(1)
+         self%sparse_tangent = .false.
+         call system%tangents_sparse(trial%q, trial%v, trial%qdd, t, trial%lambda, &
+            self%sparse_K, self%sparse_C, error)
+         if (allocated(error)) return
+         self%sparse_tangent = .true.
+         self%tangent_uses = 0
+         self%stats%tangents = self%stats%tangents + 1
+      else if (new_tangent) then
          if (.not. allocated(self%tangent_K)) allocate (self%tangent_K(n, n), &
             self%tangent_C(n, n))
          allocate (work(n, n))
@@ -374,26 +406,12 @@ contains
       clock = wall_time()
       self%stats%factorizations = self%stats%factorizations + 1
       self%h_factored = -1.0_dp
-      ! The iteration matrix is assembled in the factor storage, kept between factorisations.
-      ! (M is screened with the residual, the tangents when computed; a NaN that got through
-      ! shows in the Newton increment.)
-      if (allocated(self%lu)) then
-         if (size(self%lu, 1) /= order) deallocate (self%lu, self%row_scale)
-      end if
-      if (.not. allocated(self%lu)) allocate (self%lu(order, order), self%row_scale(nr))
-      self%lu(:n, :n) = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * h * &
-         self%tangent_C
-      if (order == n + nr) then
-         call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
-      else
-         call kkt_complete(self%lu(:n + nr, :n + nr), trial%Phi_q, self%active, self%row_scale)
-         call index2_blocks(self, h, trial)
-      end if
       self%stats%matrix_order = order
-      if (order >= self%settings%sparse_threshold) then
-         ! Sparse LU (MUMPS): lu keeps the assembled matrix
+      if (trial%sparse) then
+         ! Sparse LU (MUMPS) of the matrix assembled block-sparse (index 2: with the velocity
+         ! rows and nu's columns, index2_sparse_triplets)
          if (.not. associated(self%sparse)) allocate (self%sparse)
-         call self%sparse%factor(self%lu, singular, error)
+         call sparse_assemble(self, h, c_af, trial, singular, error)
          self%stats%sparse_analyses = self%sparse%analyses
          self%stats%sparse_factorizations = self%sparse%factorizations
          if (allocated(self%sparse%irn)) self%stats%sparse_entries = size(self%sparse%irn, &
@@ -406,6 +424,23 @@ contains
          end if
          info = merge(1_ip, 0_ip, singular)
       else
+         ! The iteration matrix is assembled in the factor storage, kept between
+         ! factorisations. (M is screened with the residual, the tangents when computed; a NaN
+         ! that got through shows in the Newton increment.)
+         if (allocated(self%lu)) then
+            if (size(self%lu, 1) /= order) deallocate (self%lu, self%row_scale)
+         end if
+         if (.not. allocated(self%lu)) allocate (self%lu(order, order), self%row_scale(nr))
+         self%lu(:n, :n) = self%beta * h**2 * self%tangent_K + trial%M / c_af + self%gamma * &
+            h * self%tangent_C
+         if (order == n + nr) then
+            call kkt_complete(self%lu, trial%Phi_q, self%active, self%row_scale)
+         else
+            ! Index 2: nu's blocks around the index-3 matrix (theory.md 4.6)
+            call kkt_complete(self%lu(:n + nr, :n + nr), trial%Phi_q, self%active, &
+               self%row_scale)
+            call index2_blocks(self, h, trial)
+         end if
          call kkt_factor(self%lu, self%pivots, info)
       end if
       if (info /= 0) then
@@ -413,104 +448,12 @@ contains
          return
       end if
       ! The floors are magnitudes: they are kept with the tangent they were computed from
-      if (new_tangent .or. self%h_floor /= h) call noise_floor(self, h, self%tangent_K, trial, &
-         error)
+      if (new_tangent .or. self%h_floor /= h) call noise_floor(self, h, trial, error)
       if (allocated(error)) return
       self%stats%factor_seconds = self%stats%factor_seconds + wall_time() - clock
       self%h_factored = h
       ok = .true.
    end subroutine factor
-
-   !> Round-off floors of the residual and of the Newton increment (attainable accuracy). The
-   !> residual cannot be evaluated more accurately than the rounding of the state allows: q is
-   !> known to u_i = eps |q_i|, which changes r_q by |K_t| u (K_t = d(M q'' + Phi_q^T lambda -
-   !> f)/dq: a stiff element between coordinates of magnitude |q| leaves k eps |q|) and Phi by
-   !> |Phi_q| u, and each term of r_q is rounded to eps (|M| |q''| + |Phi_q^T| |lambda| + |f|).
-   !> (q'' and q' are stored apart from q and move by sub-ulp amounts of q, so M/c and C_t add
-   !> nothing.) Newton maps this residual noise into increments S^-1 [beta h^2 noise_r;
-   !> noise_Phi]: for constraint rows whose multipliers are statically indeterminate reactions
-   !> fixed by a stiff element (rows independent only through stiff modal coordinates) these
-   !> are far above lambda_atol + rtol |lambda|, and the iterations cycle at that level without
-   !> converging. The increment floor is estimated by two solves with the noise vector under two
-   !> sign patterns (round-off has no preferred sign).
-   subroutine noise_floor(self, h, tangent, trial, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      !> Step (s)
-      real(dp), intent(in) :: h
-      !> Tangent K_t = d(M q'' + Phi_q^T lambda - f)/dq at the trial state, n x n
-      real(dp), intent(in) :: tangent(:, :)
-      type(trial_t), intent(in) :: trial
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: u(:), noise(:), x(:), terms(:)
-      real(dp) :: bh2, signum
-      integer :: n, nr, i, pattern, order
-      n = self%n
-      nr = size(self%active)
-      bh2 = self%beta * h**2
-      order = size(self%lu, 1)
-      allocate (u(n), terms(n), noise(order), x(order))
-      u = epsilon(1.0_dp) * abs(trial%q)
-      terms = matmul(abs(trial%M), abs(trial%qdd)) + matmul(abs(trial%lambda), &
-         abs(trial%Phi_q)) + abs(matmul(trial%M, trial%qdd) + matmul(trial%lambda, &
-         trial%Phi_q) - trial%r_q)
-      self%residual_floor = matmul(abs(tangent), u) + epsilon(1.0_dp) * terms
-      if (order == n + nr) then
-         self%constraint_floor = matmul(abs(trial%Phi_q(self%active, :)), u)
-      else
-         ! Index 2: the floor of the velocity rows, |Phi_q| eps |q'| beta h / gamma, after Phi's
-         if (allocated(self%constraint_floor)) deallocate (self%constraint_floor)
-         allocate (self%constraint_floor(2 * nr))
-         self%constraint_floor(:nr) = matmul(abs(trial%Phi_q(self%active, :)), u)
-         self%constraint_floor(nr + 1:) = trial%velocity_scale * &
-            matmul(abs(trial%Phi_q(self%active, :)), epsilon(1.0_dp) * abs(trial%v))
-      end if
-      noise(:n) = bh2 * self%residual_floor
-      do i = 1, order - n
-         noise(n + i) = self%row_scale(mod(i - 1, nr) + 1) * self%constraint_floor(i)
-      end do
-      self%increment_floor = [(0.0_dp, i=1, n + nr)]
-      do pattern = 1, 2
-         do i = 1, order
-            ! pattern 1: alternating signs; pattern 2: signs of sin(i^2) (no period)
-            if (pattern == 1) then
-               signum = merge(1.0_dp, -1.0_dp, mod(i, 2) == 0)
-            else
-               signum = merge(1.0_dp, -1.0_dp, sin(real(i, dp)**2) >= 0.0_dp)
-            end if
-            x(i) = signum * noise(i)
-         end do
-         call solve_iteration(self, x, error)
-         if (allocated(error)) return
-         if (order > n + nr) x(:n) = index2_increment(self, trial, x)
-         self%increment_floor = max(self%increment_floor, abs(x(:n + nr)))
-      end do
-      if (nr > 0) self%increment_floor(n + 1:) = self%row_scale * &
-         self%increment_floor(n + 1:) / bh2
-      self%h_floor = h
-   end subroutine noise_floor
-
-   !> Solve with the factors of the iteration matrix (factor): LAPACK's dgetrs on the dense LU,
-   !> or MUMPS when the order reaches settings%sparse_threshold (factorised again from the
-   !> assembled matrix in `lu` when the factors are missing: after import_state).
-   subroutine solve_iteration(self, x, error)
-      type(galpha_integrator_t), intent(inout) :: self
-      !> Right-hand side on entry, solution on exit
-      real(dp), intent(inout) :: x(:)
-      type(error_t), allocatable, intent(out) :: error
-      logical :: singular
-      if (size(x) < self%settings%sparse_threshold) then
-         call kkt_solve(self%lu, self%pivots, x)
-         return
-      end if
-      if (.not. associated(self%sparse)) allocate (self%sparse)
-      if (.not. self%sparse%is_factorised()) then
-         call self%sparse%factor(self%lu, singular, error)
-         if (.not. allocated(error) .and. singular) call fatal_error(error, &
-            FFRF_NUMERIC_ERROR, 'the restored iteration matrix is singular')
-         if (allocated(error)) return
-      end if
-      call self%sparse%solve(x, error)
-   end subroutine solve_iteration
 
    !> Weighted RMS of the increment (Arnold & Hante 2017): dq_i/(atol + rtol |q_i| + 10 e_i) and
    !> dlambda_j/(lambda_atol + rtol |lambda_j| + 10 e_j) over the kept rows, e the round-off
@@ -562,7 +505,7 @@ contains
       if (nr > 0) norm = maxval(abs(trial%phi(self%active)) / &
          (self%settings%newton_atol + floor_factor * self%constraint_floor(:nr)))
       ! Index 2: the velocity constraints as position-sized residuals (theory.md 4.6)
-      if (nr > 0 .and. allocated(trial%B)) norm = max(norm, maxval(trial%velocity_scale * &
+      if (nr > 0 .and. allocated(trial%g)) norm = max(norm, maxval(trial%velocity_scale * &
          abs(trial%g(self%active)) / (self%settings%newton_atol + floor_factor * &
          self%constraint_floor(nr + 1:))))
    end function constraint_norm

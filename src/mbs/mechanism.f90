@@ -74,6 +74,7 @@ module ffrf_mbs_mechanism
    use ffrf_core_kinds, only: dp
    use ffrf_core_error, only: error_t
    use ffrf_mbs_dae_system, only: dae_system_t
+   use ffrf_la_block_sparse, only: block_sparse_t
    use ffrf_mbs_body, only: body_t
    use ffrf_mbs_joints, only: joint_t
    use ffrf_mbs_mechanism_loads, only: load_t, drive_law_t
@@ -151,7 +152,11 @@ module ffrf_mbs_mechanism
       !> central differences over the whole mechanism (dae_system_t defaults, the reference)
       logical :: analytic_tangents = .true.
       !> -df/dq' computed with the last stiffness, for the damping call at the same state
-      real(dp), allocatable, private :: damping_cache(:, :), cache_q(:), cache_v(:)
+      !> (and K_t with it), block-sparse by body (block_groups)
+      type(block_sparse_t), private :: stiffness_cache, damping_cache
+      real(dp), allocatable, private :: cache_q(:), cache_v(:)
+      !> Work matrix of the dense interfaces (constraint and mass stiffness)
+      type(block_sparse_t), private :: work_blocks
       real(dp), private :: cache_t = 0.0_dp
    contains
       !> Add a body (copied); returns its mechanism index
@@ -231,6 +236,9 @@ module ffrf_mbs_mechanism
       procedure :: damping => mechanism_damping
       procedure :: constraint_stiffness => mechanism_constraint_stiffness
       procedure :: mass_stiffness => mechanism_mass_stiffness
+      procedure :: mass_sparse => mechanism_mass_sparse
+      procedure :: constraints_and_jacobian_sparse => mechanism_constraints_and_jacobian_sparse
+      procedure :: tangents_sparse => mechanism_tangents_sparse
    end type mechanism_t
 
    interface
@@ -383,7 +391,8 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:), v(:)
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
-         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+         real(dp), intent(inout), optional :: f(:)
+         type(block_sparse_t), intent(inout), optional :: K_t, C_t
       end subroutine add_applied_terms
 
       !> Add a copy of a bushing (bodies and markers as mechanism indices; ffrf_mbs_bushing).
@@ -424,7 +433,8 @@ module ffrf_mbs_mechanism
          real(dp), intent(in) :: q(:), v(:)
          real(dp), intent(in) :: t
          type(error_t), allocatable, intent(out) :: error
-         real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+         real(dp), intent(inout), optional :: f(:)
+         type(block_sparse_t), intent(inout), optional :: K_t, C_t
       end subroutine add_force_element_terms
 
       !> After an accepted step: each torsion spring's angle becomes its unwrapping reference.
@@ -817,6 +827,44 @@ module ffrf_mbs_mechanism
          !> Velocities to start from, n (e.g. the &body velocity keys)
          real(dp), intent(in), optional :: guess(:)
       end subroutine mechanism_initial_velocities
+
+      !> M = blockdiag(M_b(q_b)), block-sparse by body (block_groups).
+      module subroutine mechanism_mass_sparse(self, q, M, error)
+         class(mechanism_t), intent(inout) :: self
+         real(dp), intent(in) :: q(:)                 !< coordinates, n
+         type(block_sparse_t), intent(inout) :: M     !< n x n
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_mass_sparse
+
+      !> Phi and Phi_q, Phi_q block-sparse (one row group per row, the bodies as column groups).
+      module subroutine mechanism_constraints_and_jacobian_sparse(self, q, t, phi, Phi_q, error)
+         class(mechanism_t), intent(inout) :: self
+         real(dp), intent(in) :: q(:), t              !< coordinates (n), time (s)
+         real(dp), intent(out) :: phi(:)              !< Phi, nc
+         type(block_sparse_t), intent(inout) :: Phi_q !< nc x n
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_constraints_and_jacobian_sparse
+
+      !> K = -df/dq + d(M a)/dq + d(Phi_q^T lambda)/dq and C = -df/dq', block-sparse by body
+      !> (the same blocks as the dense tangents; differences if .not. analytic_tangents).
+      module subroutine mechanism_tangents_sparse(self, q, v, a, t, lambda, K, C, error)
+         class(mechanism_t), intent(inout) :: self
+         !> Coordinates, velocities, accelerations (n), time (s), multipliers (nc)
+         real(dp), intent(in) :: q(:), v(:), a(:), t, lambda(:)
+         !> The tangents, n x n
+         type(block_sparse_t), intent(inout) :: K, C
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine mechanism_tangents_sparse
+
+      !> S set up (if not already) as an n x n (rows = .false.) or nc x n block-sparse matrix
+      !> with the bodies as column groups (and as row groups when square; else one group per
+      !> row), all values zero.
+      module subroutine block_groups(self, S, constraint_rows)
+         type(mechanism_t), intent(in) :: self
+         type(block_sparse_t), intent(inout) :: S
+         !> Rows are the constraint rows
+         logical, intent(in) :: constraint_rows
+      end subroutine block_groups
 
       ! shared by the submodules (their bodies in mechanism_build.f90, mechanism_equations.f90)
       !> b is a body of the mechanism (1..number of bodies).

@@ -37,7 +37,8 @@ contains
       real(dp), intent(in) :: q(:), v(:)
       real(dp), intent(in) :: t
       type(error_t), allocatable, intent(out) :: error
-      real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      real(dp), intent(inout), optional :: f(:)
+      type(block_sparse_t), intent(inout), optional :: K_t, C_t
       real(dp), allocatable :: tangent(:, :), unit_force(:)
       real(dp) :: angle, speed, value, force(3), moment(3), theta(4), d_angle(4), d_speed_q(4)
       real(dp) :: d_speed_v(4), g_rows(3, 4), dm_da, dm_ds, radius2
@@ -78,14 +79,14 @@ contains
                call load%vectors(1.0_dp, force, moment)
                unit_force = body%marker_generalized_force(q(k + 1:k + nb), load%marker, force, &
                   moment)
-               K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
+               call K_t%add_block(k, k, -tangent)
                if (self%rotor > 0) then
                   call load%magnitude_rates(t, angle, speed, dm_da, dm_ds)
                   do j = 1, 4
-                     K_t(k + 1:k + nb, kc + 3 + j) = K_t(k + 1:k + nb, kc + 3 + j) - &
-                        unit_force * (dm_da * d_angle(j) + dm_ds * d_speed_q(j))
-                     C_t(k + 1:k + nb, kc + 3 + j) = C_t(k + 1:k + nb, kc + 3 + j) - &
-                        unit_force * dm_ds * d_speed_v(j)
+                     call K_t%add_block(k, kc + 2 + j, reshape(-(unit_force * (dm_da * &
+                        d_angle(j) + dm_ds * d_speed_q(j))), [nb, 1]))
+                     call C_t%add_block(k, kc + 2 + j, reshape(-(unit_force * dm_ds * &
+                        d_speed_v(j)), [nb, 1]))
                   end do
                end if
                deallocate (tangent, unit_force)
@@ -104,7 +105,8 @@ contains
       type(mechanism_t), intent(in) :: self
       real(dp), intent(in) :: q(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), intent(inout), optional :: f(:), K_t(:, :)
+      real(dp), intent(inout), optional :: f(:)
+      type(block_sparse_t), intent(inout), optional :: K_t
       real(dp), allocatable :: tangent(:, :)
       real(dp) :: A(3, 3), vector(3)
       integer :: b, k, nb
@@ -114,9 +116,8 @@ contains
          select type (body => self%bodies(b)%body)
          class is (rigid_body_t)
             if (present(K_t)) then
-               K_t(k + 4:k + 7, k + 4:k + 7) = K_t(k + 4:k + 7, k + 4:k + 7) - &
-                  point_load_tangent(q(k + 4:k + 7), body%center_of_mass, &
-                  body%mass * self%gravity, [0.0_dp, 0.0_dp, 0.0_dp])
+               call K_t%add_block(k + 3, k + 3, -point_load_tangent(q(k + 4:k + 7), &
+                  body%center_of_mass, body%mass * self%gravity, [0.0_dp, 0.0_dp, 0.0_dp]))
             else if (present(f)) then
                ! m g at the centre of mass chi: [m g; G_bar^T chi~ A^T m g]
                A = euler_rotation(q(k + 4:k + 7))
@@ -131,7 +132,7 @@ contains
                ! -dQ_g/dq, theory.md 3.6 (eq. 3.6c)
                allocate (tangent(nb, nb))
                call body%gravity_tangent(q(k + 1:k + nb), self%gravity, tangent)
-               K_t(k + 1:k + nb, k + 1:k + nb) = K_t(k + 1:k + nb, k + 1:k + nb) - tangent
+               call K_t%add_block(k, k, -tangent)
                deallocate (tangent)
             else if (present(f)) then
                ! -dV/dq of V = -g . (m R + A (m chi + M_PhitPsi zeta)), theory.md 3.6

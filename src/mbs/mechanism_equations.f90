@@ -99,6 +99,19 @@ contains
       end do
    end procedure mechanism_mass
 
+   !> M = blockdiag(M_b(q_b)), one block per body.
+   module procedure mechanism_mass_sparse
+      integer :: b, k, nb
+      call block_groups(self, M, .false.)
+      do b = 1, num_bodies(self)
+         call body_layout(self, b, k, nb)
+         if (nb == 0) cycle
+         call M%add_block(k, k, self%bodies(b)%body%mass_matrix(q(k + 1:k + nb)))
+      end do
+      if (.not. all_finite(M%values(:M%used))) call fatal_error(error, FFRF_NUMERIC_ERROR, &
+         'mechanism: mass matrix not finite (NaN coordinates?)')
+   end procedure mechanism_mass_sparse
+
    !> f = sum_b (f_v + Q_e) + applied loads + gravity.
    module procedure mechanism_force
       integer :: b, k, nb
@@ -143,35 +156,66 @@ contains
    !> Phi and Phi_q: one residual_jacobian call per joint, then the drive and Euler rows. Not
    !> checked for NaN here: the integrator checks the residual, which carries any NaN of Phi_q.
    module procedure mechanism_constraints_and_jacobian
+      call jacobian_rows(self, q, t, phi, error, dense=Phi_q)
+   end procedure mechanism_constraints_and_jacobian
+
+   !> Phi and Phi_q, Phi_q block-sparse: the same rows as the dense Phi_q.
+   module procedure mechanism_constraints_and_jacobian_sparse
+      call block_groups(self, Phi_q, .true.)
+      call jacobian_rows(self, q, t, phi, error, sparse=Phi_q)
+   end procedure mechanism_constraints_and_jacobian_sparse
+
+   !> Phi and Phi_q into a dense (nc x n, written in place) or a block-sparse matrix (zero on
+   !> entry, its groups set: block_groups).
+   subroutine jacobian_rows(self, q, t, phi, error, dense, sparse)
+      type(mechanism_t), intent(inout) :: self
+      real(dp), intent(in) :: q(:), t
+      real(dp), intent(out) :: phi(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(out), optional :: dense(:, :)
+      type(block_sparse_t), intent(inout), optional :: sparse
+      real(dp), allocatable :: ja(:, :), jb(:, :)
       integer :: j, ka, kb, na, nb, ne
-      Phi_q = 0.0_dp
+      if (present(dense)) dense = 0.0_dp
       do j = 1, num_joints(self)
          associate (jt => self%joints(j))
             ne = jt%joint%num_equations
             call pair_layout(self, jt%body_a, jt%body_b, ka, na, kb, nb)
-            ! The two bodies differ (add_joint), so their column blocks do not overlap: the
-            ! joint writes its blocks in place
-            call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
-               self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
-               phi(jt%offset + 1:jt%offset + ne), &
-               Phi_q(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
-               Phi_q(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
+            if (present(dense)) then
+               ! The two bodies differ (add_joint), so their column blocks do not overlap:
+               ! the joint writes its blocks in place
+               call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  phi(jt%offset + 1:jt%offset + ne), &
+                  dense(jt%offset + 1:jt%offset + ne, ka + 1:ka + na), &
+                  dense(jt%offset + 1:jt%offset + ne, kb + 1:kb + nb))
+            else
+               allocate (ja(ne, na), jb(ne, nb))
+               call jt%joint%residual_jacobian(self%bodies(jt%body_a)%body, q(ka + 1:ka + na), &
+                  self%bodies(jt%body_b)%body, q(kb + 1:kb + nb), &
+                  phi(jt%offset + 1:jt%offset + ne), ja, jb)
+               call sparse%add_block(jt%offset, ka, ja)
+               call sparse%add_block(jt%offset, kb, jb)
+               deallocate (ja, jb)
+            end if
          end associate
       end do
-      call driver_rows(self, q, t, phi, Phi_q)
-      call drive_and_euler_rows(self, q, t, phi, Phi_q)
+      call driver_rows(self, q, t, phi, dense, sparse=sparse)
+      call drive_and_euler_rows(self, q, t, phi, dense, sparse)
       if (.not. all_finite(phi)) call fatal_error(error, FFRF_NUMERIC_ERROR, &
          'mechanism: constraint residuals not finite at t = ' // to_str(t) // ' s')
-   end procedure mechanism_constraints_and_jacobian
+   end subroutine jacobian_rows
 
    !> The drivers' rows of Phi and, if present, of Phi_q (ffrf_mbs_joint_driver), their Phi_t
    !> (phi_t), and (Phi_q v)_q v + Phi_tt + 2 Phi_qt v (accel, with v; other entries untouched).
-   subroutine driver_rows(self, q, t, phi, Phi_q, v, phi_t, accel)
+   subroutine driver_rows(self, q, t, phi, Phi_q, v, phi_t, accel, sparse)
       type(mechanism_t), intent(in) :: self
       real(dp), intent(in) :: q(:)
       real(dp), intent(in) :: t
       real(dp), intent(inout), optional :: phi(:)
       real(dp), intent(inout), optional :: Phi_q(:, :)
+      !> Phi_q block-sparse (zero on entry), instead of Phi_q
+      type(block_sparse_t), intent(inout), optional :: sparse
       real(dp), intent(in), optional :: v(:)
       real(dp), intent(inout), optional :: phi_t(:), accel(:)
       real(dp), allocatable :: ja(:), jb(:), jaf(:), jbf(:), K_aa(:, :), K_ab(:, :), K_bb(:, :)
@@ -190,6 +234,9 @@ contains
             if (present(Phi_q)) then
                Phi_q(dr%row, ka + 1:ka + na) = ja
                Phi_q(dr%row, kb + 1:kb + nb) = jb
+            else if (present(sparse)) then
+               call sparse%add_block(dr%row - 1, ka, reshape(ja, [1, na]))
+               call sparse%add_block(dr%row - 1, kb, reshape(jb, [1, nb]))
             end if
             if (present(phi_t)) phi_t(dr%row) = f(2) * value_f
             ! Phi_tt + 2 Phi_qt v = f'' Phi_f + f'^2 Phi_ff + 2 f' (dPhi_q/df) v, and the
@@ -214,12 +261,14 @@ contains
 
    !> Drive row n . A(theta) e_x and Euler rows |theta|^2 - 1 of Phi and, if present, their rows
    !> n^T d(A e_x)/dtheta and 2 theta^T of Phi_q (other entries untouched).
-   subroutine drive_and_euler_rows(self, q, t, phi, Phi_q)
+   subroutine drive_and_euler_rows(self, q, t, phi, Phi_q, sparse)
       type(mechanism_t), intent(inout) :: self
       real(dp), intent(in) :: q(:)
       real(dp), intent(in) :: t
       real(dp), intent(inout) :: phi(:)
       real(dp), intent(inout), optional :: Phi_q(:, :)
+      !> Phi_q block-sparse (zero on entry), instead of Phi_q
+      type(block_sparse_t), intent(inout), optional :: sparse
       real(dp) :: f(3), normal(3)
       integer :: b, k
       if (self%drive_row > 0) then
@@ -229,6 +278,8 @@ contains
          phi(self%drive_row) = dot_product(normal, matmul(euler_rotation(q(k + 4:k + 7)), e_x))
          if (present(Phi_q)) Phi_q(self%drive_row, k + 4:k + 7) = matmul(normal, &
             rotated_vector_jacobian(q(k + 4:k + 7), e_x))
+         if (present(sparse)) call sparse%add_block(self%drive_row - 1, k + 3, &
+            reshape(matmul(normal, rotated_vector_jacobian(q(k + 4:k + 7), e_x)), [1, 4]))
       end if
       do b = 1, num_bodies(self)
          if (self%bodies(b)%euler_row == 0) cycle
@@ -236,6 +287,8 @@ contains
          phi(self%bodies(b)%euler_row) = dot_product(q(k + 4:k + 7), q(k + 4:k + 7)) - 1.0_dp
          if (present(Phi_q)) Phi_q(self%bodies(b)%euler_row, k + 4:k + 7) = 2.0_dp * &
             q(k + 4:k + 7)
+         if (present(sparse)) call sparse%add_block(self%bodies(b)%euler_row - 1, k + 3, &
+            reshape(2.0_dp * q(k + 4:k + 7), [1, 4]))
       end do
    end subroutine drive_and_euler_rows
 

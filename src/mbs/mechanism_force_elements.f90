@@ -137,7 +137,8 @@ contains
       real(dp), intent(in) :: q(:), v(:)
       real(dp), intent(in) :: t
       type(error_t), allocatable, intent(out) :: error
-      real(dp), intent(inout), optional :: f(:), K_t(:, :), C_t(:, :)
+      real(dp), intent(inout), optional :: f(:)
+      type(block_sparse_t), intent(inout), optional :: K_t, C_t
       real(dp), allocatable :: Q_e(:), K(:, :), C(:, :)
       integer, allocatable :: rows(:)
       integer :: s, na, ends(2)
@@ -150,7 +151,8 @@ contains
                call elements(s)%terms(body_a, q(rows(:na)), v(rows(:na)), body_b, &
                   q(rows(na + 1:)), v(rows(na + 1:)), t, error, K=K, C=C)
                if (allocated(error)) return
-               call add_pair_tangents(rows, K, C, K_t, C_t)
+               call K_t%add(rows, rows, K)
+               call C_t%add(rows, rows, C)
                deallocate (K, C)
             else if (present(f)) then
                allocate (Q_e(size(rows)))
@@ -163,14 +165,5 @@ contains
          end associate
       end do
    end subroutine add_elements
-
-   !> K_t(rows, rows) += K, C_t(rows, rows) += C.
-   pure subroutine add_pair_tangents(rows, K, C, K_t, C_t)
-      integer, intent(in) :: rows(:)
-      real(dp), intent(in) :: K(:, :), C(:, :)
-      real(dp), intent(inout) :: K_t(:, :), C_t(:, :)
-      K_t(rows, rows) = K_t(rows, rows) + K
-      C_t(rows, rows) = C_t(rows, rows) + C
-   end subroutine add_pair_tangents
 
 end submodule ffrf_mbs_mechanism_force_elements

@@ -14,7 +14,8 @@
 !>   here (diagonal 1.5 to 2.5 against off-diagonal row sums below 1.2 in every block, the
 !>   constraint rows equilibrated); measured 5.7e-16, so 1e-10 leaves five decades of margin;
 !> - a new nonzero outside the analysed pattern makes a new analysis and the same agreement; an
-!>   entry that turns zero keeps the pattern (no analysis) and the same agreement;
+!>   entry that turns zero kept in the triplets (the integrator's block pattern only grows)
+!>   keeps the analysis and the same agreement;
 !> - a singular matrix (a coordinate with neither inertia nor constraint) is reported as
 !>   singular, not as an error (the integrator then cuts the step).
 !> Through the integrator, on a planar chain of num_masses point masses on rigid rods under
@@ -26,6 +27,9 @@
 !>   (measured 5e-16 m; the last mass falls 0.2 m); the same with the stabilized index-2
 !>   constraints and rho_inf = 1 (docs/theory.md 4.6: velocity rows and the columns of nu in the
 !>   iteration matrix, order n + 2 nr);
+!> - block_sparse_t%product_triplets (nu's columns of the index-2 matrix on the sparse path): the
+!>   summed triplets of a kept, scaled A X^T over several column groups equal the dense product
+!>   exactly (small integers);
 !> - the steps run on one BLAS thread and the count is given back (issue 24): with OpenBLAS set to
 !>   2 threads before, the output hook sees 1 at every step and 2 is in place after the run (a
 !>   BLAS whose threads ffrf does not set: reported, not asserted).
@@ -39,6 +43,7 @@ module test_mbs_sparse_iteration
       GALPHA_INDEX2
    use ffrf_la_blas_threads, only: set_blas_threads, blas_threads, blas_library_name
    use ffrf_testing, only: unittest_t, new_unittest, check_close, check, report
+   use ffrf_la_block_sparse, only: block_sparse_t
    implicit none
    private
    public :: collect_mbs_sparse_iteration
@@ -74,8 +79,51 @@ contains
          new_unittest('pattern_grows_and_keeps', test_pattern), &
          new_unittest('singular_reported', test_singular), &
          new_unittest('integrator_chain_sparse_equals_dense', test_integrator_chain), &
-         new_unittest('steps_on_one_blas_thread', test_blas_threads)]
+         new_unittest('steps_on_one_blas_thread', test_blas_threads), &
+         new_unittest('block_product_triplets_equal_dense', test_product_triplets)]
    end subroutine collect_mbs_sparse_iteration
+
+   !> block_sparse_t%product_triplets (nu's columns of the index-2 matrix on the sparse path):
+   !> A (5 x 5, column groups 2 + 3, three blocks) times X^T (X 4 x 5, one row group per row,
+   !> four blocks), rows 2 and 4 of X kept as columns 1 and 2, rows 1, 3, 5 of A as 1, 2, 3 with
+   !> row and column scales, shifted by (1, 2): the summed triplets equal the dense
+   !> diag(rs) A(kept, :) X(kept, :)^T diag(cs) entry by entry (exact small integers).
+   subroutine test_product_triplets(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(block_sparse_t) :: A, X
+      real(dp) :: A_dense(5, 5), X_dense(4, 5), expected(4, 5), got(4, 5)
+      integer, allocatable :: irn(:), jcn(:)
+      real(dp), allocatable :: values(:)
+      integer :: k, i
+      call A%init([1, 3, 6], [1, 3, 6])
+      call A%add_block(0, 0, reshape([1.0_dp, 2.0_dp, 3.0_dp, 4.0_dp], [2, 2]))
+      call A%add_block(0, 2, reshape([(real(i, dp), i=5, 10)], [2, 3]))
+      call A%add_block(2, 2, reshape([(real(i - 20, dp), i=1, 9)], [3, 3]))
+      call X%init([1, 2, 3, 4, 5], [1, 3, 6])
+      call X%add_block(1, 0, reshape([2.0_dp, -1.0_dp], [1, 2]))
+      call X%add_block(1, 2, reshape([1.0_dp, 0.0_dp, 3.0_dp], [1, 3]))
+      call X%add_block(3, 2, reshape([-2.0_dp, 5.0_dp, 1.0_dp], [1, 3]))
+      call X%add_block(0, 0, reshape([7.0_dp, 7.0_dp], [1, 2]))
+      call A%to_dense(A_dense)
+      call X%to_dense(X_dense)
+      allocate (irn(2), jcn(2), values(2))
+      k = 0
+      call A%product_triplets(X, 1, 2, irn, jcn, values, k, keep_row=[1, 0, 2, 0, 3], &
+         rscale=[1.0_dp, 2.0_dp, 3.0_dp], keep_col=[0, 1, 0, 2], cscale=[10.0_dp, -1.0_dp])
+      got = 0.0_dp
+      do i = 1, k
+         got(irn(i), jcn(i)) = got(irn(i), jcn(i)) + values(i)
+      end do
+      expected = 0.0_dp
+      expected(2:4, 3:4) = matmul(A_dense([1, 3, 5], :), transpose(X_dense([2, 4], :)))
+      expected(2:4, 3) = 10.0_dp * expected(2:4, 3)
+      expected(2:4, 4) = -expected(2:4, 4)
+      expected(3, 3:4) = 2.0_dp * expected(3, 3:4)
+      expected(4, 3:4) = 3.0_dp * expected(4, 3:4)
+      call check(error, 'A X^T as triplets equals the dense product (max difference ' // &
+         to_str(maxval(abs(got - expected))) // ')', maxval(abs(got - expected)) == 0.0_dp &
+         .and. maxval(abs(expected)) > 0.0_dp)
+   end subroutine test_product_triplets
 
    !> The chain's upper-left block A (n x n) and constraint Jacobian Phi_q (nr x n).
    subroutine chain_system(A, Phi_q)
@@ -124,9 +172,10 @@ contains
    end function rhs_of
 
    !> Solve kkt x = b by both routes; compare (module header).
-   subroutine compare(kkt, sparse, what, error)
+   subroutine compare(kkt, sparse, pattern, what, error)
       real(dp), intent(in) :: kkt(:, :)
       type(kkt_sparse_t), intent(inout) :: sparse
+      logical, allocatable, intent(inout) :: pattern(:, :)
       character(len=*), intent(in) :: what
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: lu(:, :), x_dense(:), x_sparse(:), b(:)
@@ -142,7 +191,7 @@ contains
       if (allocated(error)) return
       x_dense = b
       call kkt_solve(lu, pivots, x_dense)
-      call sparse%factor(kkt, singular, error)
+      call factor_triplets(kkt, pattern, sparse, singular, error)
       if (allocated(error)) return
       call check(error, what // ': sparse LU not singular', .not. singular)
       if (allocated(error)) return
@@ -161,13 +210,49 @@ contains
          atol=1.0e-10_dp)
    end subroutine compare
 
+   !> The entries of kkt on `pattern` as triplets, factorised by `sparse`. The pattern grows
+   !> by kkt's nonzeros (and holds the diagonal), as the integrator's block pattern only grows:
+   !> an entry that turns zero stays in it, so the triplets' positions stay those analysed.
+   subroutine factor_triplets(kkt, pattern, sparse, singular, error)
+      real(dp), intent(in) :: kkt(:, :)
+      logical, allocatable, intent(inout) :: pattern(:, :)
+      type(kkt_sparse_t), intent(inout) :: sparse
+      logical, intent(out) :: singular
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: irn(:), jcn(:)
+      real(dp), allocatable :: values(:)
+      integer :: m, i, j, k
+      m = size(kkt, 1)
+      if (.not. allocated(pattern)) then
+         allocate (pattern(m, m))
+         pattern = .false.
+         do i = 1, m
+            pattern(i, i) = .true.
+         end do
+      end if
+      pattern = pattern .or. kkt /= 0.0_dp
+      allocate (irn(count(pattern)), jcn(count(pattern)), values(count(pattern)))
+      k = 0
+      do j = 1, m
+         do i = 1, m
+            if (.not. pattern(i, j)) cycle
+            k = k + 1
+            irn(k) = int(i, ip)
+            jcn(k) = int(j, ip)
+            values(k) = kkt(i, j)
+         end do
+      end do
+      call sparse%factor(m, irn, jcn, values, singular, error)
+   end subroutine factor_triplets
+
    subroutine test_chain(error)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: A(:, :), Phi_q(:, :), kkt(:, :), scale(:)
       type(kkt_sparse_t) :: sparse
+      logical, allocatable :: pattern(:, :)
       call chain_system(A, Phi_q)
       call kkt_matrix(A, Phi_q, kkt, scale)
-      call compare(kkt, sparse, 'chain', error)
+      call compare(kkt, sparse, pattern, 'chain', error)
       if (.not. allocated(error)) call check(error, 'one analysis', sparse%analyses == 1_i8)
       call sparse%free()
    end subroutine test_chain
@@ -176,17 +261,18 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: A(:, :), Phi_q(:, :), kkt(:, :), scale(:)
       type(kkt_sparse_t) :: sparse
+      logical, allocatable :: pattern(:, :)
       integer :: n
       call chain_system(A, Phi_q)
       n = size(A, 1)
       call kkt_matrix(A, Phi_q, kkt, scale)
-      call compare(kkt, sparse, 'first pattern', error)
+      call compare(kkt, sparse, pattern, 'first pattern', error)
       if (allocated(error)) return
       ! a coupling between body 1 and the last body appears: outside the pattern
       A(1, n) = 0.3_dp
       A(n, 1) = -0.2_dp
       call kkt_matrix(A, Phi_q, kkt, scale)
-      call compare(kkt, sparse, 'grown pattern', error)
+      call compare(kkt, sparse, pattern, 'grown pattern', error)
       if (.not. allocated(error)) call check(error, 'grown pattern: a second analysis (' // &
          to_str(sparse%analyses) // ')', sparse%analyses == 2_i8)
       if (allocated(error)) return
@@ -194,7 +280,7 @@ contains
       A(2, 1) = 0.0_dp
       A(1, n) = 0.0_dp
       call kkt_matrix(A, Phi_q, kkt, scale)
-      call compare(kkt, sparse, 'zeroed entries', error)
+      call compare(kkt, sparse, pattern, 'zeroed entries', error)
       if (.not. allocated(error)) call check(error, 'zeroed entries: no new analysis (' // &
          to_str(sparse%analyses) // ')', sparse%analyses == 2_i8)
       call sparse%free()
@@ -204,6 +290,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: A(:, :), Phi_q(:, :), kkt(:, :), scale(:)
       type(kkt_sparse_t) :: sparse
+      logical, allocatable :: pattern(:, :)
       logical :: singular
       integer :: n
       call chain_system(A, Phi_q)
@@ -212,7 +299,7 @@ contains
       A(n, :) = 0.0_dp
       A(:, n) = 0.0_dp
       call kkt_matrix(A, Phi_q, kkt, scale)
-      call sparse%factor(kkt, singular, error)
+      call factor_triplets(kkt, pattern, sparse, singular, error)
       if (allocated(error)) return
       call check(error, 'singular matrix reported as singular', singular)
       call sparse%free()

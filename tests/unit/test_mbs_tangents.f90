@@ -25,6 +25,9 @@
 !> wrong term shows at O(1): a slip in the flexible marker Hessian (b_p(j) written as b_p)
 !> gave 1.8e-2.
 !> The last test runs the engine with both paths and checks that no step is rejected.
+!> Each compared mechanism also checks the block-sparse interface of the sparse path (issue 24;
+!> compare_sparse): M, Phi, Phi_q and C_t equal to the dense ones, K within 1e-14 of the dense
+!> sum (measured 0 to 1.2e-16), the block products M a and Phi_q^T lambda within 1e-14 of matmul.
 !> Spring-dampers (ffrf_mbs_spring_damper): (4) a rigid body and the synthetic flexible crank
 !> joined to the ground and to each other by three springs with dampers (ground - rigid marker,
 !> rigid marker - flexible virtual node, flexible virtual node - ground), no joints: the springs'
@@ -72,6 +75,7 @@ module test_mbs_tangents
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, galpha_integrator_t, &
       GALPHA_NEWTON_FULL
    use ffrf_testing, only: unittest_t, new_unittest, check, report
+   use ffrf_la_block_sparse, only: block_sparse_t
    implicit none
    private
    public :: collect_mbs_tangents
@@ -239,6 +243,7 @@ contains
          if (allocated(error)) return
       end do
       mech%analytic_tangents = .true.
+      call compare_sparse(mech, what, q, v, lambda, a, t, error)
    contains
       subroutine tangent(which, matrix)
          integer, intent(in) :: which
@@ -255,6 +260,77 @@ contains
          end select
       end subroutine tangent
    end subroutine compare_tangents
+
+   !> The block-sparse interface of the sparse path (mass_sparse,
+   !> constraints_and_jacobian_sparse, tangents_sparse; issue 24) against the dense one at the
+   !> same state: M, Phi, Phi_q and C_t hold the same numbers (the same operations per entry:
+   !> asserted equal), K = K_t + d(M a)/dq + d(Phi_q^T lambda)/dq sums the same terms in
+   !> another order (asserted within 1e-14 of its scale: a few roundings of eps = 2.2e-16);
+   !> the products M a and Phi_q^T lambda of the block storage against matmul, same 1e-14.
+   subroutine compare_sparse(mech, what, q, v, lambda, a, t, error)
+      type(mechanism_t), intent(inout) :: mech
+      character(len=*), intent(in) :: what
+      real(dp), intent(in) :: q(:), v(:), lambda(:), a(:), t
+      type(error_t), allocatable, intent(out) :: error
+      type(block_sparse_t) :: M_s, jacobian_s, K_s, C_s
+      real(dp), allocatable :: dense(:, :), from_blocks(:, :), work(:, :), Phi_q(:, :), &
+         residual(:), residual_s(:), y(:)
+      real(dp) :: difference
+      integer :: n, nc
+      n = mech%num_coordinates()
+      nc = mech%num_constraints()
+      allocate (dense(n, n), from_blocks(n, n), work(n, n), Phi_q(nc, n), residual(nc), residual_s(nc), &
+         y(n))
+      call mech%mass(q, dense, error)
+      if (.not. allocated(error)) call mech%mass_sparse(q, M_s, error)
+      if (allocated(error)) return
+      call M_s%to_dense(from_blocks)
+      call check(error, what // ': block-sparse M equals the dense M', &
+         all(from_blocks == dense))
+      if (allocated(error)) return
+      call M_s%matvec(a, y)
+      difference = maxval(abs(y - matmul(dense, a))) / maxval(abs(matmul(abs(dense), abs(a))))
+      call check(error, what // ': block-sparse M a against matmul, ' // to_str(difference, 3), &
+         difference <= 1.0e-14_dp)
+      if (allocated(error)) return
+      call mech%constraints_and_jacobian(q, t, residual, Phi_q, error)
+      if (.not. allocated(error)) call mech%constraints_and_jacobian_sparse(q, t, residual_s, jacobian_s, &
+         error)
+      if (allocated(error)) return
+      deallocate (from_blocks)
+      allocate (from_blocks(nc, n))
+      call jacobian_s%to_dense(from_blocks)
+      call check(error, what // ': block-sparse Phi_q and Phi equal the dense ones', &
+         all(from_blocks == Phi_q) .and. all(residual_s == residual))
+      if (allocated(error)) return
+      call jacobian_s%matvec(lambda, y, transposed=.true.)
+      difference = maxval(abs(y - matmul(lambda, Phi_q))) / maxval(abs(matmul(abs(lambda), &
+         abs(Phi_q))))
+      call check(error, what // ': block-sparse Phi_q^T lambda against matmul, ' // &
+         to_str(difference, 3), difference <= 1.0e-14_dp)
+      if (allocated(error)) return
+      deallocate (from_blocks)
+      allocate (from_blocks(n, n))
+      call mech%tangents_sparse(q, v, a, t, lambda, K_s, C_s, error)
+      if (.not. allocated(error)) call mech%stiffness(q, v, t, dense, error)
+      if (.not. allocated(error)) call mech%mass_stiffness(q, a, work, error)
+      if (allocated(error)) return
+      dense = dense + work
+      call mech%constraint_stiffness(q, t, lambda, work, error)
+      if (allocated(error)) return
+      dense = dense + work
+      call K_s%to_dense(from_blocks)
+      difference = maxval(abs(from_blocks - dense)) / maxval(abs(dense))
+      call report(what // ': block-sparse K against the dense sum, ' // to_str(difference, 3))
+      call check(error, what // ': block-sparse K within 1e-14 of the dense sum, ' // &
+         to_str(difference, 3), difference <= 1.0e-14_dp)
+      if (allocated(error)) return
+      call mech%damping(q, v, t, dense, error)
+      if (allocated(error)) return
+      call C_s%to_dense(from_blocks)
+      call check(error, what // ': block-sparse C_t equals the dense one', &
+         all(from_blocks == dense))
+   end subroutine compare_sparse
 
    !> Engine with a rigid crank (crank m = 2.92 kg, chi = (0, 0.0175, 0), J_c = diag(4.0, 1.5,
    !> 3.5) 1e-3 kg m^2 as test_mbs_mechanism), gravity (0, -9.81, 0) and a polynomial drive of
