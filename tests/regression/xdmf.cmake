@@ -8,7 +8,8 @@
 #    frames), --set run.export=xdmf; the frames also against the Gmsh animations;
 #  - xdmf_export_bogus: --set run.export=bogus: exit 2, one line listing the export words;
 #  - capi_export: ffrf_case_set_export (test_capi_export.c), its XDMF read back by
-#    capi_export_xdmf.
+#    capi_export_xdmf; capi_export_fortran: ffrf_case_t%set_export with 'xdmf exudyn'
+#    (test_export_fortran.f90), its XDMF read back by capi_export_fortran_xdmf.
 # Each run takes seconds (crank ~10 s, engine ~7 s, beam ~2 s on one core).
 set(_xdmf_out "${PROJECT_BINARY_DIR}/tests/xdmf")
 file(MAKE_DIRECTORY "${_xdmf_out}" "${_xdmf_out}/capi")
@@ -62,3 +63,17 @@ add_test(NAME capi_export_xdmf COMMAND ${_xdmf_check}
   ${_xdmf_out}/capi/xdmf_beam_tet4_plain.xdmf --bodies 1)
 set_tests_properties(capi_export_xdmf PROPERTIES LABELS "capi;xdmf;postprocess"
   FIXTURES_REQUIRED capi_export)
+
+# the same through the Fortran API, both exports (test_export_fortran.f90), its XDMF read back
+file(MAKE_DIRECTORY "${_xdmf_out}/fortran")
+add_executable(test_export_fortran capi/test_export_fortran.f90)
+target_link_libraries(test_export_fortran PRIVATE ffrf::ffrf)
+target_link_options(test_export_fortran PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
+add_test(NAME capi_export_fortran COMMAND test_export_fortran
+  ${_xdmf_out}/xdmf_beam_tet4_plain.nml ${PROJECT_BINARY_DIR}/meshes ${_xdmf_out}/fortran)
+set_tests_properties(capi_export_fortran PROPERTIES LABELS "capi;xdmf" ENVIRONMENT
+  OPENBLAS_NUM_THREADS=1 FIXTURES_REQUIRED beam_tet4_mesh FIXTURES_SETUP capi_export_fortran)
+add_test(NAME capi_export_fortran_xdmf COMMAND ${_xdmf_check}
+  ${_xdmf_out}/fortran/xdmf_beam_tet4_plain.xdmf --bodies 1)
+set_tests_properties(capi_export_fortran_xdmf PROPERTIES LABELS "capi;xdmf;postprocess"
+  FIXTURES_REQUIRED capi_export_fortran)
