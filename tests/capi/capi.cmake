@@ -124,7 +124,10 @@ add_test(NAME capi_pose_driver
     $<TARGET_FILE:test_capi_pose> "${CMAKE_CURRENT_SOURCE_DIR}/capi/pose_pendulum.nml"
     "${PROJECT_BINARY_DIR}/meshes" "${_capi_out}/pose")
 set_tests_properties(capi_pose_driver PROPERTIES LABELS "capi;regression")
+add_library(ffrf_api_checks OBJECT capi/api_checks.f90)
+target_link_libraries(ffrf_api_checks PRIVATE ffrf::ffrf)
 add_executable(test_pose_fortran capi/test_pose_fortran.f90)
+target_link_libraries(test_pose_fortran PRIVATE ffrf_api_checks)
 target_link_libraries(test_pose_fortran PRIVATE ffrf::ffrf)
 target_link_options(test_pose_fortran PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
 add_test(NAME capi_pose_fortran COMMAND test_pose_fortran

@@ -9,6 +9,7 @@
 !>  - a call after the run is refused (FFRF_BAD_CALL).
 program test_export_fortran
    use ffrf, only: ffrf_case_t, error_t, FFRF_BAD_CALL, FFRF_INPUT_ERROR
+   use api_checks, only: expect
    implicit none
    type(ffrf_case_t) :: api
    type(error_t), allocatable :: error
@@ -22,17 +23,17 @@ program test_export_fortran
    stem = trim(out_dir) // '/xdmf_beam_tet4_plain'
 
    call api%open(trim(case_file), error, mesh_dir=trim(mesh_dir), output_dir=trim(out_dir))
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call api%set_export('xdmf vtk', error)
-   call expect(FFRF_INPUT_ERROR, 'export = "vtk" is not an export format')
+   call expect(error, failures, FFRF_INPUT_ERROR, 'export = "vtk" is not an export format')
    call api%set_export('xdmf exudyn', error)
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call api%run(error)
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call expect_file(stem // '.xdmf')
    call expect_file(stem // '_beam.exudyn.hdf5')
    call api%set_export('xdmf', error)
-   call expect(FFRF_BAD_CALL, '')
+   call expect(error, failures, FFRF_BAD_CALL, '')
    call api%close()
    if (failures > 0) then
       print '(i0, a)', failures, ' failures'
@@ -40,24 +41,6 @@ program test_export_fortran
    end if
    print '(a)', 'fortran export: all checks passed'
 contains
-   !> The last call gave code `code` (0: no error) with `fragment` in its message.
-   subroutine expect(code, fragment)
-      integer, intent(in) :: code
-      character(len=*), intent(in) :: fragment
-      if (code == 0) then
-         if (allocated(error)) then
-            print '(a)', 'FAIL: unexpected error: ' // error%message
-            failures = failures + 1
-         end if
-      else if (.not. allocated(error)) then
-         print '(a, i0)', 'FAIL: no error; expected code ', code
-         failures = failures + 1
-      else if (error%code /= code .or. index(error%message, fragment) == 0) then
-         print '(a, i0, a)', 'FAIL: code ', error%code, ', message "' // error%message // &
-            '"; expected "' // fragment // '"'
-         failures = failures + 1
-      end if
-   end subroutine expect
 
    !> The run wrote `path`.
    subroutine expect_file(path)

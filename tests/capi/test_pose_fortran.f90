@@ -10,6 +10,7 @@
 !>    (FFRF_BAD_CALL).
 program test_pose_fortran
    use ffrf, only: ffrf_case_t, error_t, dp, FFRF_BAD_CALL, FFRF_INPUT_ERROR
+   use api_checks, only: expect
    implicit none
    type(ffrf_case_t) :: api, nml
    type(error_t), allocatable :: error
@@ -26,28 +27,28 @@ program test_pose_fortran
    call get_command_argument(3, mesh_dir)
 
    call api%open(trim(free_case), error, mesh_dir=trim(mesh_dir))
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call api%set_pose(2, error, position=[0.3_dp, 0.0_dp, -0.4_dp])
-   call expect(FFRF_BAD_CALL, 'body 1 does not exist')
+   call expect(error, failures, FFRF_BAD_CALL, 'body 1 does not exist')
    bent = A
    bent(1, 1) = 0.6_dp + 1.0e-6_dp
    call api%set_pose(1, error, orientation=bent)
-   call expect(FFRF_INPUT_ERROR, '"rod": the orientation is not orthonormal')
+   call expect(error, failures, FFRF_INPUT_ERROR, '"rod": the orientation is not orthonormal')
    call api%set_pose(1, error, orientation=-A)
-   call expect(FFRF_INPUT_ERROR, '"rod": the orientation has det = -1')
+   call expect(error, failures, FFRF_INPUT_ERROR, '"rod": the orientation has det = -1')
    call api%set_pose(1, error, velocity=[-0.8_dp, 0.0_dp, -0.6_dp], &
       angular_velocity=[0.0_dp, 2.0_dp, 0.0_dp])
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call api%set_pose(1, error, position=[0.3_dp, 0.0_dp, -0.4_dp], orientation=A)
-   call expect(0, '')
+   call expect(error, failures, 0, '')
    call nml%open(trim(posed_case), error, mesh_dir=trim(mesh_dir))
-   call expect(0, '')
+   call expect(error, failures, 0, '')
 
    do k = 0, 5
       call api%advance(0.1_dp * k, error)
-      call expect(0, '')
+      call expect(error, failures, 0, '')
       call nml%advance(0.1_dp * k, error)
-      call expect(0, '')
+      call expect(error, failures, 0, '')
       call api%body_state(1, q1, v1, error)
       call nml%body_state(1, q2, v2, error)
       call api%sensor_values(1, s1, error)
@@ -69,7 +70,7 @@ program test_pose_fortran
       failures = failures + 1
    end if
    call api%set_pose(1, error, position=[0.3_dp, 0.0_dp, -0.4_dp])
-   call expect(FFRF_BAD_CALL, 'the motion has started')
+   call expect(error, failures, FFRF_BAD_CALL, 'the motion has started')
    call api%close()
    call nml%close()
    if (failures > 0) then
@@ -77,23 +78,4 @@ program test_pose_fortran
       error stop 1
    end if
    print '(a)', 'fortran pose: all checks passed'
-contains
-   !> The last call gave code `code` (0: no error) with `fragment` in its message.
-   subroutine expect(code, fragment)
-      integer, intent(in) :: code
-      character(len=*), intent(in) :: fragment
-      if (code == 0) then
-         if (allocated(error)) then
-            print '(a)', 'FAIL: unexpected error: ' // error%message
-            failures = failures + 1
-         end if
-      else if (.not. allocated(error)) then
-         print '(a, i0)', 'FAIL: no error; expected code ', code
-         failures = failures + 1
-      else if (error%code /= code .or. index(error%message, fragment) == 0) then
-         print '(a, i0, a)', 'FAIL: code ', error%code, ', message "' // error%message // &
-            '"; expected "' // fragment // '"'
-         failures = failures + 1
-      end if
-   end subroutine expect
 end program test_pose_fortran

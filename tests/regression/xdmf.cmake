@@ -67,6 +67,7 @@ set_tests_properties(capi_export_xdmf PROPERTIES LABELS "capi;xdmf;postprocess"
 # the same through the Fortran API, both exports (test_export_fortran.f90), its XDMF read back
 file(MAKE_DIRECTORY "${_xdmf_out}/fortran")
 add_executable(test_export_fortran capi/test_export_fortran.f90)
+target_link_libraries(test_export_fortran PRIVATE ffrf_api_checks)
 target_link_libraries(test_export_fortran PRIVATE ffrf::ffrf)
 target_link_options(test_export_fortran PRIVATE "$<$<Fortran_COMPILER_ID:GNU>:-fno-lto>")
 add_test(NAME capi_export_fortran COMMAND test_export_fortran
