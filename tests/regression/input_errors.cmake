@@ -141,7 +141,8 @@ add_test(NAME input_check_all COMMAND ${CMAKE_COMMAND} -DFFRF=$<TARGET_FILE:ffrf
   -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_inputs.cmake)
 set_tests_properties(input_check_all PROPERTIES LABELS "regression;input" TIMEOUT 120
   ENVIRONMENT OPENBLAS_NUM_THREADS=1
-  FIXTURES_REQUIRED "crank_mesh;conrod_mesh;crank_lc10_mesh;crank_lc8_mesh;conrod_lc8_mesh;link_mesh;cantilever_mesh")
+  FIXTURES_REQUIRED "crank_mesh;conrod_mesh;crank_lc10_mesh;crank_lc8_mesh;conrod_lc8_mesh;link_mesh;cantilever_mesh;
+    slider_rod_mesh")
 
 # &body orientation (issue 24, item 1): a rotation matrix by rows; one not orthonormal and a
 # reflection (det = -1) are refused by --check with exit 2, the message naming FILE:LINE, the
