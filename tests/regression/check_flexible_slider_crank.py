@@ -42,13 +42,11 @@ missing (ctest's skip code).
 import argparse
 import math
 import os
-import subprocess
 import sys
-import warnings
 
-warnings.filterwarnings("ignore", category=DeprecationWarning)   # Exudyn's old setting names
+from exudyn_export import (add_exported_body, check, in_exudyn_environment, modes_mismatch,
+                           run_ffrf)
 
-SKIP = 77
 # Peer code: the same discrete equations; what is left is Exudyn's Newton tolerance (NEWTON_RTOL,
 # relative to the residual) and round-off: measured 8.4e-11 of the peak, 5.1e-13 m, 3.0e-12 rad
 # at h = 2e-5 s over 0.1 s; the bounds leave about 100 x for another CPU's BLAS.
@@ -61,26 +59,6 @@ ANGLE_TOL = 1e-10       # rad, crank angle
 PEAK_TOL = 0.01         # relative difference of the peaks
 HISTORY_TOL = 0.04      # max history difference over the beam's peak
 NEWTON_RTOL, NEWTON_ATOL = 1e-8, 1e-10   # Exudyn's Newton tolerances
-
-
-def run_ffrf(args, case, out, sets):
-    os.makedirs(out, exist_ok=True)
-    command = [args.ffrf, case, "--mesh-dir", args.mesh_dir, "--output-dir", out, "--quiet"]
-    for s in sets:
-        command += ["--set", s]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                          env=env)
-    if done.returncode != 0:
-        sys.exit(f"check_flexible_slider_crank: {' '.join(command)} exited {done.returncode}:\n"
-                 f"{done.stdout}")
-
-
-def check(failures, what, value, tol):
-    ok = value <= tol
-    print(f"  {what}: {value:.3e} (tolerance {tol:g}) {'ok' if ok else 'FAIL'}")
-    if not ok:
-        failures.append(what)
 
 
 def number(group, key):
@@ -141,30 +119,11 @@ def peer_exudyn(scene, fem, h, t_end):
     import numpy as np
     import exudyn as exu
     import exudyn.itemInterface as eii
-    from exudyn.FEM import ObjectFFRFreducedOrderInterface
     import peer_exudyn_engine
-    cms = ObjectFFRFreducedOrderInterface(fem, roundMassMatrix=0.0, roundStiffnessMatrix=0.0)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     ground = mbs.AddObject(eii.ObjectGround())
-    # the mode rows of the interface nodes only (the markers'); the inertia terms use the mesh
-    node_set = {s["Name"]: s for s in fem.nodeSets}
-    kept = np.unique(np.concatenate([s["NodeNumbers"] for s in fem.nodeSets]))
-    local = -np.ones(len(fem.nodes["Position"]), dtype=np.int64)
-    local[kept] = np.arange(len(kept))
-    rows = (3 * kept[:, None] + np.arange(3)).ravel()
-    rod_position = number(scene.rod, "position")
-    rod, rod_rigid, rod_modal = peer_exudyn_engine.add_reduced_body(
-        exu, mbs, cms, rod_position, cms.modeBasis[rows], cms.xRef[rows])
-    ends = {}
-    for name in ("end_a", "end_b"):
-        s = node_set[name]
-        w = s["NodeWeights"]
-        centroid = w @ fem.nodes["Position"][s["NodeNumbers"]]
-        ends[name] = mbs.AddMarker(eii.MarkerSuperElementRigid(
-            bodyNumber=rod, meshNodeNumbers=local[s["NodeNumbers"]].tolist(),
-            weightingFactors=w.tolist(), offset=(s["VirtualNode"] - centroid).tolist(),
-            useAlternativeApproach=True, rotationsExponentialMap=2))
+    _, _, _, rod_modal, ends = add_exported_body(exu, mbs, fem, number(scene.rod, "position"))
 
     def rigid_body(group, position):
         """A rigid body with the case's mass properties, its node at the centre of mass."""
@@ -321,11 +280,10 @@ def main_exudyn(args):
         slider_ffrf = f5["sensors/slider"][()][:, 0]
         motor = f5["sensors/motor"][()]
         zeta_ffrf = f5["bodies/rod/modal_coordinates"][()]
-        run_hash = f5["bodies/rod/modes/fingerprint/hash"][()][-1]
-    with h5py.File(os.path.join(out, "slider_crank_rod.h5"), "r") as f5:
-        modes_hash = f5["bodies/rod/modes/fingerprint/hash"][()][-1]
-    if run_hash != modes_hash:
-        return [f"the modal run's modes ({modes_hash}) are not the mechanism run's ({run_hash})"]
+    mismatch = modes_mismatch(os.path.join(out, stem + ".h5"),
+                              os.path.join(out, "slider_crank_rod.h5"), "rod")
+    if mismatch:
+        return [mismatch]
     fem = FEMinterface()
     fem.LoadFromFile(os.path.join(out, "slider_crank_rod_rod.exudyn.hdf5"))
     xyz = fem.nodes["Position"]
@@ -393,19 +351,9 @@ def main():
     parser.add_argument("--t-end", type=float, help="end time (default: the case's)")
     parser.add_argument("--csv", help="write the histories here")
     args = parser.parse_args()
-    try:
-        import exudyn  # noqa: F401
-    except ImportError:
-        if not os.path.exists(args.python):
-            print(f"check_flexible_slider_crank: no Exudyn environment ({args.python}): skipped",
-                  file=sys.stderr)
-            return SKIP
-        venv = os.path.dirname(os.path.dirname(os.path.abspath(args.python)))
-        if os.path.abspath(sys.prefix) == venv:
-            print(f"check_flexible_slider_crank: {args.python} does not import exudyn: skipped",
-                  file=sys.stderr)
-            return SKIP
-        return subprocess.call([args.python] + sys.argv)
+    code = in_exudyn_environment(args.python, "check_flexible_slider_crank")
+    if code is not None:
+        return code
     failures = main_exudyn(args)
     for f in failures:
         print(f"check_flexible_slider_crank: FAIL: {f}", file=sys.stderr)

@@ -55,6 +55,24 @@ FREE_FREE = {"crank": ("crank_rc1.nml", ["B1", "B2", "B3"], "crank_lc8.msh"),
              "conrod": ("conrod.nml", ["big_end", "small_end"], "conrod_lc8.msh")}
 
 
+def in_exudyn_environment(python, who):
+    """None when Exudyn imports in this interpreter; else the exit code of this script run again
+    by the Exudyn environment's `python`, or SKIP when that environment is missing or broken."""
+    try:
+        import exudyn  # noqa: F401
+        return None
+    except ImportError:
+        pass
+    if not os.path.exists(python):
+        print(f"{who}: no Exudyn environment ({python}): skipped", file=sys.stderr)
+        return SKIP
+    venv = os.path.dirname(os.path.dirname(os.path.abspath(python)))
+    if os.path.abspath(sys.prefix) == venv:
+        print(f"{who}: {python} does not import exudyn: skipped", file=sys.stderr)
+        return SKIP
+    return subprocess.call([python] + sys.argv)
+
+
 def check(failures, what, value, tol):
     ok = value <= tol
     print(f"  {what}: {value:.3e} (tolerance {tol:g}) {'ok' if ok else 'FAIL'}")
@@ -226,12 +244,55 @@ HINGE_SCENE = """&run title = 'Exudyn export: the conrod on a hinge, driven by a
 """
 
 
+def modes_mismatch(run_path, modes_path, body):
+    """A failure line when the mechanism run's modes of `body` are not the modal run's (their
+    fingerprints differ), else None."""
+    import h5py
+    hashes = []
+    for path in (run_path, modes_path):
+        with h5py.File(path, "r") as h5:
+            hashes.append(h5[f"bodies/{body}/modes/fingerprint/hash"][()][-1])
+    if hashes[0] != hashes[1]:
+        return f"the modal run's modes ({hashes[1]}) are not the mechanism run's ({hashes[0]})"
+    return None
+
+
+def add_exported_body(exu, mbs, fem, position):
+    """The exported body `fem` (FEMinterface) as an Exudyn ObjectFFRFreducedOrder at rest at
+    `position`, with a MarkerSuperElementRigid at each interface: its node set with ffrf's RBE3
+    weights, offset to the virtual node. Only the interface nodes' mode rows are given (all the
+    markers use; every inertia term comes from the whole mesh through cms), as
+    postprocess/peer_exudyn_engine.py does. Returns (cms, object, rigid node, modal node,
+    {interface name: marker})."""
+    import numpy as np
+    import exudyn.itemInterface as eii
+    from exudyn.FEM import ObjectFFRFreducedOrderInterface
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "postprocess"))
+    import peer_exudyn_engine
+    cms = ObjectFFRFreducedOrderInterface(fem, roundMassMatrix=0.0, roundStiffnessMatrix=0.0)
+    kept = np.unique(np.concatenate([s["NodeNumbers"] for s in fem.nodeSets]))
+    local = -np.ones(len(fem.nodes["Position"]), dtype=np.int64)
+    local[kept] = np.arange(len(kept))
+    rows = (3 * kept[:, None] + np.arange(3)).ravel()
+    obj, node_rigid, node_modal = peer_exudyn_engine.add_reduced_body(
+        exu, mbs, cms, position, cms.modeBasis[rows], cms.xRef[rows])
+    markers = {}
+    for s in fem.nodeSets:
+        w = s["NodeWeights"]
+        centroid = w @ fem.nodes["Position"][s["NodeNumbers"]]
+        markers[s["Name"]] = mbs.AddMarker(eii.MarkerSuperElementRigid(
+            bodyNumber=obj, meshNodeNumbers=local[s["NodeNumbers"]].tolist(),
+            weightingFactors=w.tolist(), offset=(s["VirtualNode"] - centroid).tolist(),
+            useAlternativeApproach=True, rotationsExponentialMap=2))
+    return cms, obj, node_rigid, node_modal, markers
+
+
 def stage_hinge(args):
     import h5py
     import numpy as np
     import exudyn as exu
     import exudyn.itemInterface as eii
-    from exudyn.FEM import ObjectFFRFreducedOrderInterface
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                     "postprocess"))
     import peer_exudyn_engine
@@ -253,34 +314,18 @@ def stage_hinge(args):
         t_ffrf = h5["time/t"][()]
         ep = h5["bodies/conrod/euler_parameters"][()]
         zeta_ffrf = h5["bodies/conrod/modal_coordinates"][()]
-        run_hash = h5["bodies/conrod/modes/fingerprint/hash"][()][-1]
-    with h5py.File(os.path.join(out, "hinge_modes.h5"), "r") as h5:
-        modes_hash = h5["bodies/conrod/modes/fingerprint/hash"][()][-1]
-    if run_hash != modes_hash:
-        return [f"the modal run's modes ({modes_hash}) are not the mechanism run's ({run_hash})"]
+    mismatch = modes_mismatch(os.path.join(out, "hinge.h5"), os.path.join(out, "hinge_modes.h5"),
+                              "conrod")
+    if mismatch:
+        return [mismatch]
     angle_ffrf = np.unwrap(2.0 * np.arctan2(ep[:, 3], ep[:, 0]))
 
     fem = load_body(os.path.join(out, "hinge_modes_conrod.exudyn.hdf5"))
-    cms = ObjectFFRFreducedOrderInterface(fem, roundMassMatrix=0.0, roundStiffnessMatrix=0.0)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     ground = mbs.AddObject(eii.ObjectGround())
-    # the mode rows of the interface nodes only (all the markers use; every inertia term comes
-    # from the whole mesh through cms), as postprocess/peer_exudyn_engine.py does
-    node_set = {s["Name"]: s for s in fem.nodeSets}
-    kept = np.unique(np.concatenate([s["NodeNumbers"] for s in fem.nodeSets]))
-    local = -np.ones(len(fem.nodes["Position"]), dtype=np.int64)
-    local[kept] = np.arange(len(kept))
-    rows = (3 * kept[:, None] + np.arange(3)).ravel()
-    obj, node_rigid, node_modal = peer_exudyn_engine.add_reduced_body(
-        exu, mbs, cms, [0.0, 0.0, 0.0], cms.modeBasis[rows], cms.xRef[rows])
-    s = node_set["big_end"]
-    w = s["NodeWeights"]
-    centroid = w @ fem.nodes["Position"][s["NodeNumbers"]]
-    marker = mbs.AddMarker(eii.MarkerSuperElementRigid(
-        bodyNumber=obj, meshNodeNumbers=local[s["NodeNumbers"]].tolist(),
-        weightingFactors=w.tolist(), offset=(s["VirtualNode"] - centroid).tolist(),
-        useAlternativeApproach=True, rotationsExponentialMap=2))
+    cms, obj, node_rigid, node_modal, markers = add_exported_body(exu, mbs, fem, [0.0, 0.0, 0.0])
+    marker = markers["big_end"]
     hinge = mbs.AddMarker(eii.MarkerBodyRigid(bodyNumber=ground, localPosition=[0.0] * 3))
     mbs.AddObject(eii.GenericJoint(markerNumbers=[hinge, marker], constrainedAxes=[1] * 5 + [0],
                                    visualization=eii.VGenericJoint(show=False)))
@@ -329,19 +374,9 @@ def main():
     parser.add_argument("--body", choices=tuple(FREE_FREE), default="crank",
                         help="load: the body checked")
     args = parser.parse_args()
-    try:
-        import exudyn  # noqa: F401
-    except ImportError:
-        if not os.path.exists(args.python):
-            print(f"exudyn_export: no Exudyn environment ({args.python}): skipped",
-                  file=sys.stderr)
-            return SKIP
-        venv = os.path.dirname(os.path.dirname(os.path.abspath(args.python)))
-        if os.path.abspath(sys.prefix) == venv:
-            print(f"exudyn_export: {args.python} does not import exudyn: skipped",
-                  file=sys.stderr)
-            return SKIP
-        return subprocess.call([args.python] + sys.argv)
+    code = in_exudyn_environment(args.python, "exudyn_export")
+    if code is not None:
+        return code
     failures = stage_load(args) if args.stage == "load" else stage_hinge(args)
     for f in failures:
         print(f"exudyn_export: FAIL: {f}", file=sys.stderr)

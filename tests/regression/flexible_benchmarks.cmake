@@ -72,7 +72,7 @@ add_test(NAME regression_flexible_slider_crank
     --python ${PROJECT_BINARY_DIR}/exudyn_venv/bin/python
     --csv ${_flex}/slider_crank/flexible_slider_crank.csv)
 set_tests_properties(regression_flexible_slider_crank PROPERTIES LABELS "regression;mbs;peer"
-  SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "exudyn_venv;slider_rod_mesh")
+  ENVIRONMENT OPENBLAS_NUM_THREADS=1 SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "exudyn_venv;slider_rod_mesh")
 
 # Markers at mesh points of a flexible body (&marker node, group; docs/mechanisms.md "Markers at
 # mesh points"), on the clamped cantilever (mesh cantilever): a static tip load at the tip face's
