@@ -12,14 +12,20 @@ contains
       type(stage_timer_t) :: timer
       real(dp) :: mass, com(3), inertia(3, 3)
       character(len=:), allocatable :: name
+      logical :: exporting
 
       name = trim(resolved%name)
+      ! &run export asks for the body's FE matrices (the Exudyn body file): K is kept too
+      exporting = .false.
+      if (present(results_file)) exporting = len(results_file) > 0 .and. &
+         exports_matrices(case%run%export)
       associate (motion => resolved%motion)
          if (built%meshed) then
             if (len_trim(resolved%body%modes_file) > 0) then
                ! modes from an earlier run's results file, checked (K only for the geometric
-               ! stiffness)
-               if (resolved%body%geometric_stiffness) then
+               ! stiffness or an export: assembled again, no eigen solve)
+               if (resolved%body%geometric_stiffness .or. (exporting .and. .not. &
+                  resolved%rigid)) then
                   call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
                      resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
                      mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
@@ -42,8 +48,10 @@ contains
                   call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
                      built%modes, mass_matrix, error)
                end if
-            else if (resolved%body%geometric_stiffness) then
-               ! K too, for the static solutions of the geometric stiffness (no reassembly)
+            else if (resolved%body%geometric_stiffness .or. (exporting .and. .not. &
+               resolved%rigid)) then
+               ! K too, for the static solutions of the geometric stiffness (no reassembly) or
+               ! the export
                call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
                   resolved%modes, mesh_dir, log, times, built%modes, error, &
                   mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
@@ -92,6 +100,11 @@ contains
          end if
          if (.not. allocated(error)) call mech%add_body(flexible, name, built%index, error)
          if (allocated(error)) return
+         if (exporting) then
+            call export_flexible(case, results_file, built%modes, mass_matrix, &
+               stiffness_matrix, log, error)
+            if (allocated(error)) return
+         end if
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
             to_str(flexible%num_markers - size(list%points)) // ' interface marker(s)' // &
@@ -99,6 +112,30 @@ contains
             allocated(flexible%geometric_stiffness))) // mesh_point_count(size(list%points)))
       end associate
    end procedure add_body
+
+   !> The exports of &run export of a flexible body of the mechanism (export_body, the file a
+   !> modal run of the body writes), from the process that writes the results; a body of the
+   !> automatic model (&body without num_modes) is not exported, said in one line: its K is
+   !> not kept by the model's choice.
+   subroutine export_flexible(case, results_file, modes, M, K, log, error)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: results_file
+      !> The body's mesh, interfaces and the modes the mechanism uses
+      type(body_modes_t), intent(in) :: modes
+      !> Its FE mass and stiffness matrices (K unallocated: the automatic model built it)
+      type(csr_t), intent(in) :: M, K
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(parallel_t) :: ranks
+      ranks = current_ranks()
+      if (.not. ranks%is_root()) return
+      if (.not. allocated(K%val)) then
+         call log%note('output', modes%name // ': no Exudyn body file: the automatic ' // &
+            'model chose its modes (give &body num_modes to export it)')
+         return
+      end if
+      call export_body(trim(case%run%export), results_file, modes, M, K, log, error)
+   end subroutine export_flexible
 
    !> ', n at mesh points' for the log when a flexible body has n > 0 node or group markers (the
    !> interface markers are counted without them, issue 24).
