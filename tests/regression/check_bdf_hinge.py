@@ -32,7 +32,8 @@ from exudyn_export import HINGE_BODY, HINGE_SCENE, HINGE_H, HINGE_T_END, HINGE_R
 
 # measured: angle 0.7e-14 to 1.6e-14 rad (0.27 rad at the end), frequencies 3.7e-12 to 5.2e-12
 # from run to run (8.3e-12 with &modes tolerance at its default): the coordinates' last
-# digits move the constrained modes of this finer mesh more than the crank's of check_bdf_crank (5e-13)
+# digits move the constrained modes of this finer mesh more than the crank's of
+# check_bdf_crank (5e-13)
 ANGLE_TOL, FREQUENCY_RTOL = 1e-10, 2e-11
 NAMES = ("big_end", "small_end")
 
