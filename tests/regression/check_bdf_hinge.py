@@ -21,7 +21,6 @@ Exit 0 pass, 1 fail, 77 when pyNastran cannot be installed (check_bdf_crank.in_v
 """
 import argparse
 import os
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -36,19 +35,6 @@ from exudyn_export import HINGE_BODY, HINGE_SCENE, HINGE_H, HINGE_T_END, HINGE_R
 # check_bdf_crank (5e-13)
 ANGLE_TOL, FREQUENCY_RTOL = 1e-10, 2e-11
 NAMES = ("big_end", "small_end")
-
-
-def run(driver, case, mesh_dir, out):
-    os.makedirs(out, exist_ok=True)
-    # Ritz values to machine precision (&modes tolerance = 0, as check_bdf_crank): what is
-    # compared is the model, not the eigensolver's stopping point (8e-12 with the default)
-    command = [driver, case, "--mesh-dir", mesh_dir, "--output-dir", out, "--set",
-               "modes.tolerance=0"]
-    done = subprocess.run(command, capture_output=True, text=True)
-    if done.returncode != 0:
-        sys.exit(f"check_bdf_hinge: {' '.join(command)} exited {done.returncode}:\n"
-                 f"{done.stderr}")
-    return os.path.join(out, os.path.splitext(os.path.basename(case))[0] + ".h5")
 
 
 def angles(h5_file):
@@ -77,7 +63,10 @@ def main():
     msh_case = os.path.join(args.work, "hinge.nml")
     with open(msh_case, "w") as f:
         f.write(scene + HINGE_BODY.format(extra=", type = 'flexible'"))
-    msh_h5 = run(args.driver, msh_case, args.mesh_dir, os.path.join(args.work, "msh"))
+    # check_bdf_crank.run: Ritz values to machine precision (&modes tolerance = 0), so that
+    # what is compared is the model, not the eigensolver's stopping point
+    msh_h5 = check_bdf_crank.run(args.driver, msh_case, args.mesh_dir,
+                                 os.path.join(args.work, "msh"))
     with h5py.File(msh_h5, "r") as f:
         centroids = {n: f[f"bodies/conrod/interfaces/{n}/virtual_node"][()] for n in NAMES}
     deck = os.path.join(args.work, "conrod_lc8.bdf")
@@ -93,7 +82,8 @@ def main():
     bdf_case = os.path.join(args.work, "hinge_bdf.nml")
     with open(bdf_case, "w") as f:
         f.write(scene.replace("'big_end'", "'101'") + body)
-    bdf_h5 = run(args.driver, bdf_case, args.work, os.path.join(args.work, "bdf"))
+    bdf_h5 = check_bdf_crank.run(args.driver, bdf_case, args.work,
+                                 os.path.join(args.work, "bdf"))
     t_a, angle_a, f_a = angles(msh_h5)
     t_b, angle_b, f_b = angles(bdf_h5)
     if not np.array_equal(t_a, t_b):
