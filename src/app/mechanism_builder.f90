@@ -46,6 +46,8 @@ module ffrf_app_mechanism_builder
    use ffrf_model_model, only: model_t, model_body_t
    use ffrf_modes_modal_analysis, only: body_modes_t
    use ffrf_app_body_modes, only: compute_body_modes_from_file, reuse_body_modes
+   use ffrf_app_body_export, only: export_body, exports_matrices
+   use ffrf_core_parallel, only: parallel_t, current_ranks
    use ffrf_modes_modal_geometric_stiffness, only: compute_modal_geometric_stiffness
    use ffrf_input_mechanism, only: GROUND_NAME
    use ffrf_model_mechanism, only: model_joint_t, model_load_t, model_marker_t, LOAD_PRESSURE, &
@@ -155,7 +157,7 @@ module ffrf_app_mechanism_builder
 
       !> Compute the body's modes if it has a mesh, make it and add it to the mechanism.
       module subroutine add_body(case, case_model, k, resolved, mesh_dir, log, times, list, &
-            model, mech, built, error)
+            model, mech, built, error, results_file)
          type(case_input_t), intent(in) :: case
          !> The case resolved (for the automatic model)
          type(model_t), intent(in) :: case_model
@@ -171,6 +173,9 @@ module ffrf_app_mechanism_builder
          type(mechanism_t), intent(inout) :: mech
          type(built_body_t), intent(inout) :: built
          type(error_t), allocatable, intent(out) :: error
+         !> The run's results file: the body's exports of &run export are written beside it
+         !> (export_body); absent, none are
+         character(len=*), intent(in), optional :: results_file
       end subroutine add_body
 
       module function virtual_positions(modes) result(xyz)
@@ -291,7 +296,7 @@ contains
    !> (assembled at the &mechanism crank angle and speed). `pressure` is the cylinder pressure
    !> model when a &load of type pressure exists (has_pressure).
    subroutine build_mechanism(case, resolved, mesh_dir, log, times, mech, bodies, q, v, &
-         pressure, has_pressure, error, choice, sensors, record)
+         pressure, has_pressure, error, choice, sensors, record, results_file)
       type(case_input_t), intent(in) :: case
       !> The case resolved once (build_model): bodies, interfaces as marker handles, modes,
       !> joints, loads
@@ -314,6 +319,9 @@ contains
       type(sensor_t), allocatable, intent(out), optional :: sensors(:)
       !> A scene without a crank: the automatic model's rigid pre-run (ffrf_app_scene_prerun)
       type(scene_record_t), intent(in), optional :: record
+      !> The run's results file: each body's exports of &run export (the Exudyn body file) are
+      !> written beside it as the body is built; absent (a session that records nothing), none
+      character(len=*), intent(in), optional :: results_file
       type(model_choice_t) :: model
       integer, allocatable :: sensor_markers(:)
       type(marker_list_t), allocatable :: lists(:)
@@ -346,11 +354,16 @@ contains
       if (allocated(error)) return
       do k = 1, nb
          call add_body(case, resolved, k, resolved%bodies(k), mesh_dir, log, times, lists(k), &
-            model, mech, bodies(k), error)
+            model, mech, bodies(k), error, results_file)
          bodies(k)%made = .not. allocated(error)
          call group_context(error, 'body', case%bodies(k)%name)
          if (allocated(error)) return
       end do
+      if (present(results_file)) then
+         if (len(results_file) > 0 .and. exports_matrices(case%run%export) .and. &
+            any(resolved%bodies%rigid)) call log%info('output', 'export: rigid bodies ' // &
+            'skipped (no mesh dofs): ' // rigid_names(case, resolved))
+      end if
       if (model%scene) then
          call scene_step(case, resolved, log, model)
       else
@@ -376,5 +389,19 @@ contains
       if (.not. allocated(error)) call mech%set_spring_free_lengths(q, error)
       if (.not. allocated(error)) call mech%set_torsion_start(q)
    end subroutine build_mechanism
+
+   !> The names of the rigid bodies, comma separated (the export's log line).
+   function rigid_names(case, resolved) result(names)
+      type(case_input_t), intent(in) :: case
+      type(model_t), intent(in) :: resolved
+      character(len=:), allocatable :: names
+      integer :: k
+      names = ''
+      do k = 1, size(case%bodies)
+         if (.not. resolved%bodies(k)%rigid) cycle
+         if (len(names) > 0) names = names // ', '
+         names = names // trim(case%bodies(k)%name)
+      end do
+   end function rigid_names
 
 end module ffrf_app_mechanism_builder

@@ -1,6 +1,9 @@
 !> The bodies of a mechanism being built (ffrf_app_mechanism_builder): a flexible body's modes
 !> computed (or reused) and its geometric stiffness, or a rigid body, added to the mechanism.
 submodule (ffrf_app_mechanism_builder) ffrf_app_mechanism_builder_bodies
+   use ffrf_core_log, only: LOG_QUIET
+   use ffrf_input_body, only: body_input_t
+   use ffrf_modes_input, only: modes_spec_t
    implicit none
 
 contains
@@ -12,14 +15,20 @@ contains
       type(stage_timer_t) :: timer
       real(dp) :: mass, com(3), inertia(3, 3)
       character(len=:), allocatable :: name
+      logical :: exporting
 
       name = trim(resolved%name)
+      ! &run export asks for the body's FE matrices (the Exudyn body file): K is kept too
+      exporting = .false.
+      if (present(results_file)) exporting = len(results_file) > 0 .and. &
+         exports_matrices(case%run%export)
       associate (motion => resolved%motion)
          if (built%meshed) then
             if (len_trim(resolved%body%modes_file) > 0) then
                ! modes from an earlier run's results file, checked (K only for the geometric
-               ! stiffness)
-               if (resolved%body%geometric_stiffness) then
+               ! stiffness or an export: assembled again, no eigen solve)
+               if (resolved%body%geometric_stiffness .or. (exporting .and. .not. &
+                  resolved%rigid)) then
                   call reuse_body_modes(resolved%body, resolved%interfaces, resolved%modes, &
                      resolved%num_modes_given, mesh_dir, log, times, built%modes, error, &
                      mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
@@ -42,8 +51,14 @@ contains
                   call select_body_model(case, case_model, k, mesh_dir, log, times, model, &
                      built%modes, mass_matrix, error)
                end if
-            else if (resolved%body%geometric_stiffness) then
-               ! K too, for the static solutions of the geometric stiffness (no reassembly)
+               ! the export: K of the mesh the model chose, assembled again (no eigen solve)
+               if (.not. allocated(error) .and. exporting .and. .not. resolved%rigid) &
+                  call chosen_mesh_stiffness(resolved, trim(model%bodies(size(model%bodies))% &
+                  mesh_file), mesh_dir, log, times, stiffness_matrix, error)
+            else if (resolved%body%geometric_stiffness .or. (exporting .and. .not. &
+               resolved%rigid)) then
+               ! K too, for the static solutions of the geometric stiffness (no reassembly) or
+               ! the export
                call compute_body_modes_from_file(resolved%body, resolved%interfaces, &
                   resolved%modes, mesh_dir, log, times, built%modes, error, &
                   mass_matrix=mass_matrix, stiffness_matrix=stiffness_matrix)
@@ -92,6 +107,11 @@ contains
          end if
          if (.not. allocated(error)) call mech%add_body(flexible, name, built%index, error)
          if (allocated(error)) return
+         if (exporting) then
+            call export_flexible(case, results_file, built%modes, mass_matrix, &
+               stiffness_matrix, log, error)
+            if (allocated(error)) return
+         end if
          call log%info('mechanism', name // ': flexible (FFRF), ' // to_str(built%num_modes) // &
             ' modes, mass ' // to_str(flexible%mass, 6) // ' kg, ' // &
             to_str(flexible%num_markers - size(list%points)) // ' interface marker(s)' // &
@@ -99,6 +119,47 @@ contains
             allocated(flexible%geometric_stiffness))) // mesh_point_count(size(list%points)))
       end associate
    end procedure add_body
+
+   !> The exports of &run export of a flexible body of the mechanism (export_body, the file a
+   !> modal run of the body writes), from the process that writes the results.
+   subroutine export_flexible(case, results_file, modes, M, K, log, error)
+      type(case_input_t), intent(in) :: case
+      character(len=*), intent(in) :: results_file
+      !> The body's mesh, interfaces and the modes the mechanism uses
+      type(body_modes_t), intent(in) :: modes
+      !> Its FE mass and stiffness matrices
+      type(csr_t), intent(in) :: M, K
+      type(logger_t), intent(in) :: log
+      type(error_t), allocatable, intent(out) :: error
+      type(parallel_t) :: ranks
+      ranks = current_ranks()
+      if (.not. ranks%is_root()) return
+      call export_body(trim(case%run%export), results_file, modes, M, K, log, error)
+   end subroutine export_flexible
+
+   !> The stiffness matrix of a body of the automatic model on the mesh it chose (mesh_file),
+   !> for the export: the mesh read and the matrices assembled as for its modes, no eigen
+   !> solve, quietly (the model's own log lines said what was computed).
+   subroutine chosen_mesh_stiffness(resolved, mesh_file, mesh_dir, log, times, K, error)
+      type(model_body_t), intent(in) :: resolved
+      character(len=*), intent(in) :: mesh_file, mesh_dir
+      type(logger_t), intent(in) :: log
+      type(stage_times_t), intent(inout) :: times
+      type(csr_t), intent(out) :: K
+      type(error_t), allocatable, intent(out) :: error
+      type(body_input_t) :: input
+      type(modes_spec_t) :: geometry_only
+      type(body_modes_t) :: unused
+      type(logger_t) :: quiet
+      input = resolved%body
+      input%mesh_file = mesh_file
+      geometry_only = resolved%modes
+      geometry_only%num_modes = 0
+      quiet = log
+      quiet%level = LOG_QUIET
+      call compute_body_modes_from_file(input, resolved%interfaces, geometry_only, mesh_dir, &
+         quiet, times, unused, error, stiffness_matrix=K)
+   end subroutine chosen_mesh_stiffness
 
    !> ', n at mesh points' for the log when a flexible body has n > 0 node or group markers (the
    !> interface markers are counted without them, issue 24).

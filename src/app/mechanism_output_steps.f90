@@ -11,7 +11,7 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_steps
    use ffrf_input_case, only: case_echo
    use ffrf_io_results, only: partial_name, commit_file, abandon_file, check_no_overwrite
    use ffrf_app_output_paths, only: check_output_paths, export_asked
-   use ffrf_core_choices, only: EXPORT_XDMF, EXPORT_EXUDYN
+   use ffrf_core_choices, only: EXPORT_XDMF
    use ffrf_io_xdmf, only: xdmf_body_t, write_xdmf_file, xdmf_name
    use ffrf_app_engine_crank_log, only: crank_progress
    use ffrf_mbs_reaction_split, only: TOLERANCE_FACTOR
@@ -115,10 +115,6 @@ contains
          end if
          call log%info('output', 'results (written when complete, checkpoints in ' // &
             checkpoint_name(self%results_file) // '): ' // self%results_file)
-         if (export_asked(case, EXPORT_EXUDYN)) call log%note('output', 'export ''exudyn'' ' // &
-            'writes the flexible bodies of a modal run, not of a mechanism run: nothing is ' // &
-            'written for it here; run a modal case of the same bodies (docs/results.md ' // &
-            '"Exudyn export")')
 
          self%start = wall_time()
          if (.not. allocated(self%history%t)) allocate (self%history%t(1024), &

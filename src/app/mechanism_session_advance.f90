@@ -36,8 +36,11 @@ contains
       type(galpha_settings_t) :: settings
       type(scene_record_t) :: record
       real(dp), allocatable :: q(:), v(:)
-      character(len=:), allocatable :: case_file
+      character(len=:), allocatable :: case_file, results_file
       case_file = case%file_name
+      ! a recorded run writes the exports of &run export beside its results file
+      results_file = ''
+      if (allocated(self%output%results_file)) results_file = self%output%results_file
       call log_threads(log, case%mechanism%integrator%sparse_threshold)
       call build_model(case, self%resolved, error)
       if (.not. allocated(error)) then
@@ -46,11 +49,11 @@ contains
             call scene_prerun(case, self%resolved, mesh_dir, log, times, record, error)
             if (.not. allocated(error)) call build_mechanism(case, self%resolved, mesh_dir, &
                log, times, self%mech, self%bodies, q, v, self%pressure, self%has_pressure, &
-               error, self%model, self%sensors, record)
+               error, self%model, self%sensors, record, results_file)
          else
             call build_mechanism(case, self%resolved, mesh_dir, log, times, self%mech, &
                self%bodies, q, v, self%pressure, self%has_pressure, error, self%model, &
-               self%sensors)
+               self%sensors, results_file=results_file)
          end if
       end if
       if (allocated(error)) then

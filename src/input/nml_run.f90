@@ -8,7 +8,7 @@
 !>   log_level        'quiet', 'info' (default) or 'debug'
 !>   export           files written beside the results file, a list of words of export_choices
 !>                    (ffrf_core_choices), blank-separated: 'xdmf' (<stem>.xdmf for ParaView),
-!>                    'exudyn' (<stem>_<body>.exudyn.hdf5 per flexible body of a modal run,
+!>                    'exudyn' (<stem>_<body>.exudyn.hdf5 per flexible body, modal or mechanism,
 !>                    docs/results.md "Exudyn export"); default '' (none). The words are checked
 !>                    by ffrf_input_case (choice_kinds of ffrf_core_choices)
 !> Types, lengths and choices are checked by ffrf_input_nml_source from run_keys; the output

@@ -33,8 +33,9 @@ PYNASTRAN = "pyNastran==1.4.1"
 RTOL = 1e-12
 
 
-def in_venv(venv):
-    """Run this script in `venv` (made with pyNastran if needed); its exit status, or SKIP."""
+def in_venv(venv, script=__file__):
+    """Run `script` (this one by default) in `venv` (made with pyNastran if needed); its exit
+    status, or SKIP."""
     python = os.path.join(venv, "bin", "python")
     probe = [python, "-c", "import pyNastran.bdf.bdf, meshio, h5py"]
     if not os.path.exists(python) or subprocess.call(probe, stderr=subprocess.DEVNULL) != 0:
@@ -53,7 +54,7 @@ def in_venv(venv):
     args = [a for a in sys.argv[1:]]
     k = args.index("--venv")
     del args[k:k + 2]
-    return subprocess.call([python, os.path.abspath(__file__)] + args)
+    return subprocess.call([python, os.path.abspath(script)] + args)
 
 
 def run(driver, case, mesh_dir, out_dir, extra=()):
@@ -88,7 +89,10 @@ def free_card(fields):
         head = "+"
 
 
-def write_deck(msh, centroids, deck):
+def write_deck(msh, centroids, deck, names=("B1", "B2", "B3")):
+    """The deck of module notes for the body of `msh` with an RBE3 (101, 102, ...) and an RBE2
+    (201, 202, ...) on each physical surface of `names`, reference grids at `centroids`; half
+    the GRIDs in `<deck stem>_grids.bdf` (INCLUDEd). The face nodes (tags) of each name."""
     import meshio
     from pyNastran.bdf.bdf import BDF
     from pyNastran.bdf.field_writer_16 import print_card_16
@@ -111,7 +115,7 @@ def write_deck(msh, centroids, deck):
     model.add_mat1(1, 210.0e9, None, 0.3, rho=7850.0)
     ref = len(mesh.points) + 1000
     rbes = []
-    for k, name in enumerate(("B1", "B2", "B3")):
+    for k, name in enumerate(names):
         nodes = sorted(faces[name])
         model.add_grid(ref + 2 * k, [float(x) for x in centroids[name]])
         model.add_grid(ref + 2 * k + 1, [float(x) for x in centroids[name]])
@@ -119,14 +123,15 @@ def write_deck(msh, centroids, deck):
         rbes.append(model.add_rbe2(201 + k, ref + 2 * k + 1, "123456", nodes))
     grids = sorted(model.nodes)
     folder = os.path.dirname(deck)
-    with open(os.path.join(folder, "crank_grids.bdf"), "w") as f:
-        f.write("$ GRIDs of the crank, large fields (pyNastran)\n")
+    grids_file = os.path.splitext(os.path.basename(deck))[0] + "_grids.bdf"
+    with open(os.path.join(folder, grids_file), "w") as f:
+        f.write("$ GRIDs of the body, large fields (pyNastran)\n")
         for nid in grids[1::2]:
             f.write(model.nodes[nid].write_card(size=16))
     with open(deck, "w") as f:
-        f.write("$ The crank as bulk data, written by pyNastran (check_bdf_crank.py)\n"
+        f.write("$ The body as bulk data, written by pyNastran (check_bdf_crank.py)\n"
                 "SOL 103\nCEND\nBEGIN BULK\n")
-        f.write("INCLUDE 'crank_grids.bdf'\n")
+        f.write(f"INCLUDE '{grids_file}'\n")
         for n, nid in enumerate(grids[0::2]):
             if n % 50 == 0:
                 f.write(free_card(model.nodes[nid].repr_fields()))

@@ -5,6 +5,8 @@ postprocess/exudyn_venv.py) on the files it wrote.
 
     exudyn_export.py load  FFRF MESH_DIR INPUT_DIR WORK --python VENV_PYTHON --body crank|conrod
     exudyn_export.py hinge FFRF MESH_DIR INPUT_DIR WORK --python VENV_PYTHON
+    exudyn_export.py mechanism FFRF MESH_DIR INPUT_DIR WORK --python VENV_PYTHON --case ENGINE
+    exudyn_export.py hinge_mechanism FFRF MESH_DIR INPUT_DIR WORK --python VENV_PYTHON
 
 load: the crank (crank_lc8.msh) or the conrod (conrod_lc8.msh), free-free (every interface
 without reference conditions, 12 modes), each exported and loaded by FEMinterface.LoadFromFile.
@@ -24,6 +26,15 @@ against ffrf's own run of the same scene (generalized-alpha, rho_inf 0.8, h = 1e
 Reference: ffrf's rotation angle of the body at every step: 1e-10 rad (measured 4.9e-13; the
 issue asks 1e-6), and the strain energy of the modal coordinates, 3e-9 of its maximum (measured
 3.1e-10).
+
+mechanism: the engine (ENGINE: engine_lc8_rc1.nml, crank RC set 1 and conrod, 10 modes each)
+run for 5 ms with --set run.export=exudyn writes each flexible body (none of the rigid ones);
+each file loads; scipy on its M and K gives the free-free frequencies of ffrf's modal run of
+the body (12 modes, 1e-8 relative); its mode basis is the mechanism's modes (the same numbers)
+with Psi^T M Psi = I and Psi^T K Psi = diag(eigenValues) (1e-9); mesh and node sets as in load.
+
+hinge_mechanism: hinge, with the body file the mechanism run writes itself (--set
+run.export=exudyn on the scene; no modal run): the same tolerances.
 
 Exit 0 pass, 1 fail (the failing line names the check), 77 when the Exudyn environment is
 missing (ctest's skip code).
@@ -170,38 +181,51 @@ def check_basis(failures, fem, results, body, basis_type):
           float(np.abs(kr - np.diag(lam)).max() / lam.max()), 1e-9)
 
 
+def free_free_run(args, body, export):
+    """ffrf's modal run of `body` free-free (every interface without reference conditions, 12
+    modes; lc 8 mm): the stem of its files and its frequencies."""
+    import h5py
+    case, interfaces, mesh = FREE_FREE[body]
+    out = os.path.join(args.work, f"{body}_free")
+    sets = [f"body[{body}].mesh_file={mesh}", "modes.num_modes=12",
+            "run.mode_shapes_msh=none"] + [f"interface[{i}].rc=''" for i in interfaces]
+    run_ffrf(args, os.path.join(args.input_dir, case), out,
+             sets + (["run.export=exudyn"] if export else []))
+    stem = os.path.join(out, case[:-4])
+    with h5py.File(stem + ".h5", "r") as h5:
+        return stem, h5[f"bodies/{body}/modes/frequency"][()]
+
+
+def check_free_free(failures, fem, f_ffrf, body, what):
+    """scipy's shift-invert Lanczos on the loaded M and K against ffrf's free-free frequencies
+    f_ffrf (1e-8 relative)."""
+    import numpy as np
+    import scipy.sparse.linalg as sla
+    print(f"{body} ({what}): loaded, {len(fem.nodes['Position'])} nodes, "
+          f"{len(fem.elements[0]['Tet10'])} Tet10, {fem.massMatrix.shape[0]} dofs")
+    # shift below zero: K - sigma M is definite although K is singular (six rigid modes)
+    sigma = -(2 * math.pi * 10.0) ** 2
+    vals = sla.eigsh(fem.stiffnessMatrix.tocsc(), k=len(f_ffrf) + 6, M=fem.massMatrix.tocsc(),
+                     sigma=sigma, which="LM", tol=1e-14, return_eigenvectors=False)
+    vals = np.sort(vals)
+    f_scipy = np.sqrt(np.abs(vals[6:])) / (2 * math.pi)
+    print(f"  {body}: rigid eigenvalues (scipy) max |lambda| {abs(vals[:6]).max():.2e}, "
+          f"flexible {f_scipy[0]:.4f} .. {f_scipy[-1]:.4f} Hz")
+    check(failures, f"{body} ({what}): free-free frequencies, scipy on the exported M, K vs "
+          "ffrf's modal run, max rel.", float(np.abs(f_scipy / f_ffrf - 1).max()), 1e-8)
+
+
 def stage_load(args):
     import time
-    import numpy as np
     start = time.perf_counter()
-    import scipy.sparse.linalg as sla
     failures = []
-    for body, (case, interfaces, mesh) in FREE_FREE.items():
+    for body in FREE_FREE:
         if body != args.body:
             continue
-        # free-free: every interface without reference conditions
-        out = os.path.join(args.work, f"{body}_free")
-        sets = [f"body[{body}].mesh_file={mesh}", "run.export=exudyn", "modes.num_modes=12",
-                "run.mode_shapes_msh=none"] + [f"interface[{i}].rc=''" for i in interfaces]
-        run_ffrf(args, os.path.join(args.input_dir, case), out, sets)
-        stem = os.path.join(out, case[:-4])
+        stem, f_ffrf = free_free_run(args, body, True)
         fem = load_body(f"{stem}_{body}.exudyn.hdf5")
-        print(f"{body}: loaded, {len(fem.nodes['Position'])} nodes, "
-              f"{len(fem.elements[0]['Tet10'])} Tet10, {fem.massMatrix.shape[0]} dofs")
         check_mesh(failures, fem, stem + ".h5", body)
-        import h5py
-        with h5py.File(stem + ".h5", "r") as h5:
-            f_ffrf = h5[f"bodies/{body}/modes/frequency"][()]
-        # shift below zero: K - sigma M is definite although K is singular (six rigid modes)
-        sigma = -(2 * math.pi * 10.0) ** 2
-        vals = sla.eigsh(fem.stiffnessMatrix.tocsc(), k=len(f_ffrf) + 6, M=fem.massMatrix.tocsc(),
-                         sigma=sigma, which="LM", tol=1e-14, return_eigenvectors=False)
-        vals = np.sort(vals)
-        f_scipy = np.sqrt(np.abs(vals[6:])) / (2 * math.pi)
-        print(f"  {body}: rigid eigenvalues (scipy) max |lambda| {abs(vals[:6]).max():.2e}, "
-              f"flexible {f_scipy[0]:.4f} .. {f_scipy[-1]:.4f} Hz")
-        check(failures, f"{body}: free-free frequencies, scipy on the exported M, K vs ffrf, "
-              "max rel.", float(np.abs(f_scipy / f_ffrf - 1).max()), 1e-8)
+        check_free_free(failures, fem, f_ffrf, body, "modal run")
         check_basis(failures, fem, stem + ".h5", body, "NormalModes")
         print(f"  ({time.perf_counter() - start:.1f} s)")
     # constrained bases: RC normal and Craig-Bampton (crank RC set 1), conrod simply supported
@@ -222,7 +246,40 @@ def stage_load(args):
     return failures
 
 
+def stage_mechanism(args):
+    """The engine (crank RC set 1 and conrod, 10 RC normal modes each, lc 8 mm) run with
+    `--set run.export=exudyn` for MECHANISM_T_END s: each flexible body's file, written by the
+    mechanism run, loads; its M and K give the body's free-free frequencies of a modal run; its
+    mode basis is the mechanism's (bitwise: the same numbers, run against run) and mass-
+    normalised (check_basis); mesh, surface and node sets as check_mesh (against the free-free
+    modal run, same mesh and interfaces)."""
+    import h5py
+    import numpy as np
+    failures = []
+    out = os.path.join(args.work, "engine")
+    run_ffrf(args, args.case, out, ["run.export=exudyn", f"integrator.t_end={MECHANISM_T_END}",
+                                    "mechanism.animation_frames=0"])
+    stem = os.path.join(out, os.path.splitext(os.path.basename(args.case))[0])
+    for rigid in ("piston", "flywheel"):
+        if os.path.exists(f"{stem}_{rigid}.exudyn.hdf5"):
+            failures.append(f"rigid body {rigid} exported")
+    for body in FREE_FREE:
+        fem = load_body(f"{stem}_{body}.exudyn.hdf5")
+        free_stem, f_free = free_free_run(args, body, False)
+        check_mesh(failures, fem, free_stem + ".h5", body)
+        check_free_free(failures, fem, f_free, body, "mechanism run")
+        check_basis(failures, fem, stem + ".h5", body, "NormalModes")
+        with h5py.File(stem + ".h5", "r") as h5:
+            shape = h5[f"bodies/{body}/modes/shape"][()]
+        if not np.array_equal(fem.modeBasis["matrix"], shape.T):
+            failures.append(f"{body}: the exported mode basis is not the mechanism's modes")
+        else:
+            print(f"  {body}: mode basis = the mechanism run's {shape.shape[0]} modes (bitwise)")
+    return failures
+
+
 # ---------------------------------------------------------------------------------------------
+MECHANISM_T_END = 0.005
 HINGE_TORQUE, HINGE_H, HINGE_T_END, HINGE_RHO = 1.0, 1.0e-4, 0.05, 0.8
 HINGE_BODY = """&body name = 'conrod', mesh_file = 'conrod_lc8.msh', volumes = 'conrod',
       young = 210.0e9, poisson = 0.3, density = 7850.0{extra} /
@@ -308,19 +365,27 @@ def stage_hinge(args):
                                     torque=HINGE_TORQUE)
                  + HINGE_BODY.format(extra=", type = 'flexible'"))
     out = os.path.join(args.work, "hinge_out")
-    run_ffrf(args, modal, out, ["run.export=exudyn", "run.mode_shapes_msh=none"])
-    run_ffrf(args, scene, out, [])
+    if args.stage == "hinge":
+        # the body file of a modal run of the same body, interfaces and modes
+        run_ffrf(args, modal, out, ["run.export=exudyn", "run.mode_shapes_msh=none"])
+        run_ffrf(args, scene, out, [])
+        body_file = os.path.join(out, "hinge_modes_conrod.exudyn.hdf5")
+    else:
+        # hinge_mechanism: the body file the mechanism run writes itself
+        run_ffrf(args, scene, out, ["run.export=exudyn"])
+        body_file = os.path.join(out, "hinge_conrod.exudyn.hdf5")
     with h5py.File(os.path.join(out, "hinge.h5"), "r") as h5:
         t_ffrf = h5["time/t"][()]
         ep = h5["bodies/conrod/euler_parameters"][()]
         zeta_ffrf = h5["bodies/conrod/modal_coordinates"][()]
-    mismatch = modes_mismatch(os.path.join(out, "hinge.h5"), os.path.join(out, "hinge_modes.h5"),
-                              "conrod")
-    if mismatch:
-        return [mismatch]
+    if args.stage == "hinge":
+        mismatch = modes_mismatch(os.path.join(out, "hinge.h5"),
+                                  os.path.join(out, "hinge_modes.h5"), "conrod")
+        if mismatch:
+            return [mismatch]
     angle_ffrf = np.unwrap(2.0 * np.arctan2(ep[:, 3], ep[:, 0]))
 
-    fem = load_body(os.path.join(out, "hinge_modes_conrod.exudyn.hdf5"))
+    fem = load_body(body_file)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     ground = mbs.AddObject(eii.ObjectGround())
@@ -365,7 +430,7 @@ def stage_hinge(args):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("stage", choices=("load", "hinge"))
+    parser.add_argument("stage", choices=("load", "mechanism", "hinge", "hinge_mechanism"))
     parser.add_argument("ffrf")
     parser.add_argument("mesh_dir")
     parser.add_argument("input_dir")
@@ -373,11 +438,14 @@ def main():
     parser.add_argument("--python", required=True, help="the Exudyn virtual environment's python")
     parser.add_argument("--body", choices=tuple(FREE_FREE), default="crank",
                         help="load: the body checked")
+    parser.add_argument("--case", help="mechanism: the engine case (engine_lc8_rc1.nml)")
     args = parser.parse_args()
     code = in_exudyn_environment(args.python, "exudyn_export")
     if code is not None:
         return code
-    failures = stage_load(args) if args.stage == "load" else stage_hinge(args)
+    stages = {"load": stage_load, "mechanism": stage_mechanism, "hinge": stage_hinge,
+              "hinge_mechanism": stage_hinge}
+    failures = stages[args.stage](args)
     for f in failures:
         print(f"exudyn_export: FAIL: {f}", file=sys.stderr)
     return 1 if failures else 0
