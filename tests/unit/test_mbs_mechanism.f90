@@ -94,24 +94,25 @@ contains
       if (allocated(error)) return
       do i = 1, size(bad)
          call mech%set_rotor(bad(i), refused)
-         call check(error, 'set_rotor(' // to_str(bad(i)) // ') refused naming "rotor body ' // &
-            to_str(bad(i)) // '"', allocated(refused))
-         if (allocated(error)) return
-         call check(error, 'set_rotor message: ' // refused%message, &
-            index(refused%message, 'rotor body ' // to_str(bad(i)) // ' must be a body with ' // &
-            'Euler parameters') > 0)
+         call expect_refused('set_rotor', 'rotor', bad(i))
          if (allocated(error)) return
          call mech%set_drive(bad(i), law, refused)
-         call check(error, 'set_drive(' // to_str(bad(i)) // ') refused naming "driven body ' // &
-            to_str(bad(i)) // '"', allocated(refused))
-         if (allocated(error)) return
-         call check(error, 'set_drive message: ' // refused%message, &
-            index(refused%message, 'driven body ' // to_str(bad(i)) // ' must be a body with ' // &
-            'Euler parameters') > 0)
+         call expect_refused('set_drive', 'driven', bad(i))
          if (allocated(error)) return
       end do
       call mech%set_rotor(2, error)
       if (.not. allocated(error)) call mech%set_drive(2, law, error)
+   contains
+      !> `refused` is set, its message naming the role and the body.
+      subroutine expect_refused(call_name, role, body)
+         character(len=*), intent(in) :: call_name, role
+         integer, intent(in) :: body
+         call check(error, call_name // '(' // to_str(body) // ') refused', allocated(refused))
+         if (allocated(error)) return
+         call check(error, call_name // ' message: ' // refused%message, &
+            index(refused%message, role // ' body ' // to_str(body) // ' must be a body with ' &
+            // 'Euler parameters') > 0)
+      end subroutine expect_refused
    end subroutine test_rotating_body_refusals
 
    !> The overridden time terms and the constraint Jacobian against central differences of the
