@@ -295,20 +295,22 @@ contains
       !> Marker number on body b
       integer, intent(in) :: marker_b
       type(error_t), allocatable, intent(out) :: error
-      if (marker_a < 1 .or. marker_a > body_a%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
-            to_str(marker_a) // ' of body a does not exist; the body has ' // &
-            to_str(body_a%num_markers) // ' markers (interfaces)')
-         return
-      end if
-      if (marker_b < 1 .or. marker_b > body_b%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
-            to_str(marker_b) // ' of body b does not exist; the body has ' // &
-            to_str(body_b%num_markers) // ' markers (interfaces)')
-         return
-      end if
+      call check_marker(body_a, marker_a, 'a')
+      if (.not. allocated(error)) call check_marker(body_b, marker_b, 'b')
+      if (allocated(error)) return
       self%marker_a = marker_a
       self%marker_b = marker_b
+   contains
+      !> Marker `marker` must be one of the body's.
+      subroutine check_marker(body, marker, end)
+         class(body_t), intent(in) :: body
+         integer, intent(in) :: marker
+         character(len=*), intent(in) :: end
+         if (marker < 1 .or. marker > body%num_markers) call fatal_error(error, &
+            FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // to_str(marker) // &
+            ' of body ' // end // ' does not exist; the body has ' // &
+            to_str(body%num_markers) // ' markers (interfaces)')
+      end subroutine check_marker
    end subroutine joint_connect
 
    !> Phi and its Jacobian blocks (the residual and jacobian procedures, one after the other).
