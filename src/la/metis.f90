@@ -201,10 +201,7 @@ contains
             to_str(num_offdiag) // ' adjacency entries')
          return
       end if
-      xadj(1) = 1
-      do i = 1, n
-         xadj(i + 1) = xadj(i) + count(i)
-      end do
+      call set_offsets()
       fill = xadj(1:n)
       do k = 1, size(irn, kind=i8)
          i = irn(k)
@@ -231,11 +228,16 @@ contains
          end do
          count(i) = q
       end do
-      xadj(1) = 1
-      do i = 1, n
-         xadj(i + 1) = xadj(i) + count(i)
-      end do
+      call set_offsets()
       adjncy = raw(1:last)
+   contains
+      !> xadj(1) = 1, xadj(i + 1) = xadj(i) + count(i): list i is xadj(i) : xadj(i + 1) - 1.
+      subroutine set_offsets()
+         xadj(1) = 1
+         do i = 1, n
+            xadj(i + 1) = xadj(i) + count(i)
+         end do
+      end subroutine set_offsets
    end subroutine pattern_adjacency
 
    !> Nested-dissection ordering of the pattern of a symmetric COO matrix: `pattern_adjacency`,

@@ -30,6 +30,10 @@ module ffrf_mbs_body
    implicit none
    private
    public :: body_t
+   !> The central-difference defaults, public so that a body with analytic overrides can be
+   !> checked against them (as ffrf_mbs_dae_system's)
+   public :: body_force_tangents_fd, body_mass_stiffness_fd, body_marker_hessian_fd
+   public :: body_marker_force_tangent_fd
 
    !> A body with num_coordinates generalized coordinates and num_markers markers.
    type, abstract :: body_t
@@ -272,11 +276,7 @@ contains
          integer, intent(in) :: i
          real(dp) :: df(size(q))
          real(dp) :: x_plus(size(q) + size(v)), x_minus(size(q) + size(v)), delta
-         x_plus = [q, v]
-         x_minus = x_plus
-         delta = fd_step(x_plus(i))
-         x_plus(i) = x_plus(i) + delta
-         x_minus(i) = x_minus(i) - delta
+         call difference_points([q, v], i, x_plus, x_minus, delta)
          df = (force(x_plus) - force(x_minus)) / (2.0_dp * delta)
       end function force_difference
 
@@ -300,16 +300,12 @@ contains
       real(dp), intent(in) :: a(:)
       !> d(M a)/dq (n_b x n_b)
       real(dp), intent(out) :: K(:, :)
-      real(dp) :: x(size(q)), delta
+      real(dp) :: x_plus(size(q)), x_minus(size(q)), delta
       integer :: j
-      x = q
       do j = 1, size(q)
-         delta = fd_step(q(j))
-         x(j) = q(j) + delta
-         K(:, j) = matmul(self%mass_matrix(x), a)
-         x(j) = q(j) - delta
-         K(:, j) = (K(:, j) - matmul(self%mass_matrix(x), a)) / (2.0_dp * delta)
-         x(j) = q(j)
+         call difference_points(q, j, x_plus, x_minus, delta)
+         K(:, j) = (matmul(self%mass_matrix(x_plus), a) - matmul(self%mass_matrix(x_minus), a)) &
+            / (2.0_dp * delta)
       end do
    end subroutine body_mass_stiffness_fd
 
@@ -328,16 +324,11 @@ contains
       real(dp), intent(in) :: w_axes(3, 3)
       !> The Hessian (n_b x n_b)
       real(dp), intent(out) :: H(:, :)
-      real(dp) :: x(size(q)), delta
+      real(dp) :: x_plus(size(q)), x_minus(size(q)), delta
       integer :: j
-      x = q
       do j = 1, size(q)
-         delta = fd_step(q(j))
-         x(j) = q(j) + delta
-         H(:, j) = weighted_gradient(x)
-         x(j) = q(j) - delta
-         H(:, j) = (H(:, j) - weighted_gradient(x)) / (2.0_dp * delta)
-         x(j) = q(j)
+         call difference_points(q, j, x_plus, x_minus, delta)
+         H(:, j) = (weighted_gradient(x_plus) - weighted_gradient(x_minus)) / (2.0_dp * delta)
       end do
       H = 0.5_dp * (H + transpose(H))
    contains
@@ -369,18 +360,26 @@ contains
       real(dp), intent(in) :: moment(3)
       !> The derivative (n_b x n_b)
       real(dp), intent(out) :: tangent(:, :)
-      real(dp) :: x(size(q)), delta
+      real(dp) :: x_plus(size(q)), x_minus(size(q)), delta
       integer :: j
-      x = q
       do j = 1, size(q)
-         delta = fd_step(q(j))
-         x(j) = q(j) + delta
-         tangent(:, j) = self%marker_generalized_force(x, k, force, moment)
-         x(j) = q(j) - delta
-         tangent(:, j) = (tangent(:, j) - self%marker_generalized_force(x, k, force, moment)) / &
-            (2.0_dp * delta)
-         x(j) = q(j)
+         call difference_points(q, j, x_plus, x_minus, delta)
+         tangent(:, j) = (self%marker_generalized_force(x_plus, k, force, moment) - &
+            self%marker_generalized_force(x_minus, k, force, moment)) / (2.0_dp * delta)
       end do
    end subroutine body_marker_force_tangent_fd
+
+   !> The points x -+ delta e_j of a central difference in x(j), delta = fd_step(x(j)) (the
+   !> default tangents' column j is (g(x_plus) - g(x_minus)) / (2 delta)).
+   pure subroutine difference_points(x, j, x_plus, x_minus, delta)
+      real(dp), intent(in) :: x(:)
+      integer, intent(in) :: j
+      real(dp), intent(out) :: x_plus(:), x_minus(:), delta
+      delta = fd_step(x(j))
+      x_plus = x
+      x_minus = x
+      x_plus(j) = x(j) + delta
+      x_minus(j) = x(j) - delta
+   end subroutine difference_points
 
 end module ffrf_mbs_body

@@ -341,7 +341,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in), optional :: lambda(:)
       real(dp), allocatable :: phi_t(:)
-      integer :: b, k, nb
+      integer :: k
       kinetic = 0.0_dp
       strain = 0.0_dp
       power = 0.0_dp
@@ -379,11 +379,7 @@ contains
       ! Physical damping of the bodies (body_t%damping_power): the flexible bodies' modal
       ! damping P_d = zeta_dot^T D_ff zeta_dot, zero for rigid bodies and the ground.
       if (.not. allocated(mech%bodies)) return
-      do b = 1, size(mech%bodies)
-         k = mech%bodies(b)%offset
-         nb = mech%bodies(b)%body%num_coordinates
-         damping_power = damping_power + mech%bodies(b)%body%damping_power(v(k + 1:k + nb))
-      end do
+      damping_power = damping_form(mech, v)
       if (.not. (ieee_is_finite(kinetic) .and. ieee_is_finite(strain) .and. &
          ieee_is_finite(power) .and. ieee_is_finite(damping_power))) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'energy balance: NaN or Inf in T = ' // &

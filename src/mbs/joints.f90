@@ -295,20 +295,22 @@ contains
       !> Marker number on body b
       integer, intent(in) :: marker_b
       type(error_t), allocatable, intent(out) :: error
-      if (marker_a < 1 .or. marker_a > body_a%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
-            to_str(marker_a) // ' of body a does not exist; the body has ' // &
-            to_str(body_a%num_markers) // ' markers (interfaces)')
-         return
-      end if
-      if (marker_b < 1 .or. marker_b > body_b%num_markers) then
-         call fatal_error(error, FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // &
-            to_str(marker_b) // ' of body b does not exist; the body has ' // &
-            to_str(body_b%num_markers) // ' markers (interfaces)')
-         return
-      end if
+      call check_marker(body_a, marker_a, 'a')
+      if (.not. allocated(error)) call check_marker(body_b, marker_b, 'b')
+      if (allocated(error)) return
       self%marker_a = marker_a
       self%marker_b = marker_b
+   contains
+      !> Marker `marker` must be one of the body's.
+      subroutine check_marker(body, marker, end)
+         class(body_t), intent(in) :: body
+         integer, intent(in) :: marker
+         character(len=*), intent(in) :: end
+         if (marker < 1 .or. marker > body%num_markers) call fatal_error(error, &
+            FFRF_INPUT_ERROR, self%kind_name() // ' joint: marker ' // to_str(marker) // &
+            ' of body ' // end // ' does not exist; the body has ' // &
+            to_str(body%num_markers) // ' markers (interfaces)')
+      end subroutine check_marker
    end subroutine joint_connect
 
    !> Phi and its Jacobian blocks (the residual and jacobian procedures, one after the other).
@@ -410,20 +412,10 @@ contains
       real(dp) :: wr_a(3), wr_b(3), wx_a(3, 3), wx_b(3, 3)
       real(dp) :: hess_a(body_a%num_coordinates, body_a%num_coordinates)
       real(dp) :: hess_b(body_b%num_coordinates, body_b%num_coordinates)
-      real(dp) :: r_a(3), r_b(3)
-      logical :: need_a(3), need_b(3)
       integer :: i, ia, ib
       table = self%equation_table()
-      ! Axis Jacobians only for the axes that appear in the table
-      need_a = .false.
-      need_b = .false.
-      do i = 1, table_size(table)
-         if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
-         if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
-      end do
-      call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
-      call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
-      d = r_b - r_a
+      call table_kinematics(self, table, body_a, q_a, body_b, q_b, frame_a, frame_b, d, pos_a, &
+         pos_b, axis_a, axis_b)
       ! Weights of the second derivatives of the markers' positions and axes, and the products
       ! of first derivatives
       wr_a = 0.0_dp
@@ -537,9 +529,7 @@ contains
       real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3)
       integer :: i
       table = self%equation_table()
-      frame_a = body_a%marker_orientation(q_a, self%marker_a)
-      frame_b = body_b%marker_orientation(q_b, self%marker_b)
-      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+      call marker_frames(self, body_a, q_a, body_b, q_b, frame_a, frame_b, d)
       do i = 1, table_size(table)
          select case (table(1, i))
          case (EQ_POSITION)
@@ -578,20 +568,10 @@ contains
       real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3), w(3)
       real(dp) :: pos_a(3, body_a%num_coordinates), pos_b(3, body_b%num_coordinates)
       real(dp) :: axis_a(3, body_a%num_coordinates, 3), axis_b(3, body_b%num_coordinates, 3)
-      real(dp) :: r_a(3), r_b(3)
-      logical :: need_a(3), need_b(3)
       integer :: i, c
       table = self%equation_table()
-      ! Axis Jacobians only for the axes that appear in the table
-      need_a = .false.
-      need_b = .false.
-      do i = 1, table_size(table)
-         if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
-         if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
-      end do
-      call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
-      call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
-      d = r_b - r_a
+      call table_kinematics(self, table, body_a, q_a, body_b, q_b, frame_a, frame_b, d, pos_a, &
+         pos_b, axis_a, axis_b)
       ! Row by row as explicit 3-term products (matmul of a 3-vector by a row section would
       ! build a temporary per equation)
       do i = 1, table_size(table)
@@ -664,9 +644,7 @@ contains
       real(dp) :: frame_a(3, 3), frame_b(3, 3), d(3), u(3), uxw(3)
       integer :: i
       table = self%equation_table()
-      frame_a = body_a%marker_orientation(q_a, self%marker_a)
-      frame_b = body_b%marker_orientation(q_b, self%marker_b)
-      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+      call marker_frames(self, body_a, q_a, body_b, q_b, frame_a, frame_b, d)
       force = 0.0_dp
       moment = 0.0_dp
       do i = 1, table_size(table)
@@ -686,6 +664,43 @@ contains
          end select
       end do
    end subroutine table_joint_reaction
+
+   !> The markers' frames and d = r_b - r_a, from which a table joint's rows are written.
+   pure subroutine marker_frames(self, body_a, q_a, body_b, q_b, frame_a, frame_b, d)
+      class(table_joint_t), intent(in) :: self
+      class(body_t), intent(in) :: body_a, body_b
+      real(dp), intent(in) :: q_a(:), q_b(:)
+      real(dp), intent(out) :: frame_a(3, 3), frame_b(3, 3), d(3)
+      frame_a = body_a%marker_orientation(q_a, self%marker_a)
+      frame_b = body_b%marker_orientation(q_b, self%marker_b)
+      d = body_b%marker_position(q_b, self%marker_b) - body_a%marker_position(q_a, self%marker_a)
+   end subroutine marker_frames
+
+   !> marker_frames with the markers' position Jacobians pos_a, pos_b (3 x n) and the axis
+   !> Jacobians axis_a, axis_b (3 x n x 3) of the axes that appear in `table` (the others are
+   !> not set), from one marker_kinematics call per body.
+   pure subroutine table_kinematics(self, table, body_a, q_a, body_b, q_b, frame_a, frame_b, d, &
+         pos_a, pos_b, axis_a, axis_b)
+      class(table_joint_t), intent(in) :: self
+      integer, intent(in) :: table(:, :)
+      class(body_t), intent(in) :: body_a, body_b
+      real(dp), intent(in) :: q_a(:), q_b(:)
+      real(dp), intent(out) :: frame_a(3, 3), frame_b(3, 3), d(3)
+      real(dp), intent(out) :: pos_a(:, :), pos_b(:, :)
+      real(dp), intent(inout) :: axis_a(:, :, :), axis_b(:, :, :)
+      real(dp) :: r_a(3), r_b(3)
+      logical :: need_a(3), need_b(3)
+      integer :: i
+      need_a = .false.
+      need_b = .false.
+      do i = 1, table_size(table)
+         if (table(1, i) /= EQ_POSITION) need_a(table(2, i)) = .true.
+         if (table(1, i) == EQ_PERPENDICULAR) need_b(table(3, i)) = .true.
+      end do
+      call body_a%marker_kinematics(q_a, self%marker_a, need_a, r_a, frame_a, pos_a, axis_a)
+      call body_b%marker_kinematics(q_b, self%marker_b, need_b, r_b, frame_b, pos_b, axis_b)
+      d = r_b - r_a
+   end subroutine table_kinematics
 
    !> Number of equations in a table (columns before the first of kind 0).
    pure function table_size(table) result(n)

@@ -222,11 +222,8 @@ contains
 
    !> The rotor is body `body` (with Euler parameters); its angle is unwrapped from 0.
    module procedure mechanism_set_rotor
-      if (.not. rotating_body(self, body)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: rotor body ' // to_str(body) // &
-            ' must be a body with Euler parameters added by add_body')
-         return
-      end if
+      call check_rotating_body(self, body, 'rotor', error)
+      if (allocated(error)) return
       self%rotor = body
       self%rotor_reference = 0.0_dp
    end procedure mechanism_set_rotor
@@ -239,11 +236,8 @@ contains
 
    !> Prescribe the rotation about z of body `body` as law%evaluate(t) (one rheonomic row).
    module procedure mechanism_set_drive
-      if (.not. rotating_body(self, body)) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: driven body ' // to_str(body) // &
-            ' must be a body with Euler parameters added by add_body')
-         return
-      end if
+      call check_rotating_body(self, body, 'driven', error)
+      if (allocated(error)) return
       self%drive_body = body
       if (allocated(self%drive)) deallocate (self%drive)
       allocate (self%drive, source=law)
@@ -369,12 +363,18 @@ contains
       if (allocated(self%joints)) num_joints = size(self%joints)
    end procedure num_joints
 
-   pure logical function rotating_body(self, b)
+   !> Refuses body b as the `role` body (rotor, driven) unless add_body gave it Euler parameters.
+   subroutine check_rotating_body(self, b, role, error)
       type(mechanism_t), intent(in) :: self
       integer, intent(in) :: b
-      rotating_body = valid_body(self, b)
-      if (rotating_body) rotating_body = self%bodies(b)%body%num_coordinates >= 7
-   end function rotating_body
+      character(len=*), intent(in) :: role
+      type(error_t), allocatable, intent(out) :: error
+      logical :: rotating
+      rotating = valid_body(self, b)
+      if (rotating) rotating = self%bodies(b)%body%num_coordinates >= 7
+      if (.not. rotating) call fatal_error(error, FFRF_INPUT_ERROR, 'mechanism: ' // role // &
+         ' body ' // to_str(b) // ' must be a body with Euler parameters added by add_body')
+   end subroutine check_rotating_body
 
    !> q(offset + 1 : offset + num_coordinates) of body b (empty for the ground).
    module procedure mechanism_body_coordinates

@@ -41,19 +41,14 @@ contains
    end procedure mechanism_torsion_energy
 
    !> Unwrapping references from the start, in (-pi, pi]; free angles not given from the start.
+   !> (update_torsion_references from the reference 0: each spring's angle depends on its own
+   !> reference only.)
    module procedure mechanism_set_torsion_start
-      type(torsion_state_t) :: state
-      real(dp) :: zero(size(q))
-      integer :: s
       if (.not. allocated(self%torsion_springs)) return
-      zero = 0.0_dp
-      do s = 1, size(self%torsion_springs)
-         self%torsion_springs(s)%reference = 0.0_dp
-         state = self%torsion_state(s, q, zero)
-         self%torsion_springs(s)%reference = state%angle
-         if (.not. self%torsion_springs(s)%free_angle_given) &
-            self%torsion_springs(s)%free_angle = state%angle
-      end do
+      self%torsion_springs%reference = 0.0_dp
+      call update_torsion_references(self, q)
+      where (.not. self%torsion_springs%free_angle_given) self%torsion_springs%free_angle = &
+         self%torsion_springs%reference
    end procedure mechanism_set_torsion_start
 
    !> Every torsion spring's unwrapping reference, in order (empty without torsion springs).

@@ -157,21 +157,15 @@ contains
             'distribution has this inertia: check the values, their axes and units')
          return
       end if
-      if (size(marker_xyz, 1) /= 3 .or. .not. all(ieee_is_finite(marker_xyz))) then
-         call fatal_error(error, FFRF_INPUT_ERROR, where // 'marker positions must be a (3, n) ' &
-            // 'array of finite values; got ' // to_str(size(marker_xyz, 1)) // ' rows')
-         return
-      end if
       self%num_coordinates = 7
-      self%num_markers = size(marker_xyz, 2)
       self%mass = mass
       self%center_of_mass = center_of_mass
       self%inertia = 0.5_dp * (inertia + transpose(inertia))
       chi = center_of_mass
       self%inertia_origin = self%inertia + mass * (dot_product(chi, chi) * identity3() - &
          spread(chi, 2, 3) * spread(chi, 1, 3))
-      self%marker_xyz = marker_xyz
-      call set_marker_frames(self%num_markers, marker_frames, self%marker_frames, where, error)
+      call set_markers(marker_xyz, marker_frames, where, self%num_markers, self%marker_xyz, &
+         self%marker_frames, error)
    end subroutine rigid_body_init
 
    !> "(J1, J2, J3)" for messages.
@@ -182,15 +176,25 @@ contains
          to_str(moments(3)) // ')'
    end function principal_text
 
-   !> Check marker frames (one per marker, orthonormal, det +1) and copy them.
-   subroutine set_marker_frames(num_markers, given, frames, where, error)
-      integer, intent(in) :: num_markers
+   !> Check the marker positions ((3, n), finite) and frames (one per marker, orthonormal,
+   !> det +1) and copy them; `where` starts the messages.
+   subroutine set_markers(given_xyz, given, where, num_markers, xyz, frames, error)
+      real(dp), intent(in) :: given_xyz(:, :)
       real(dp), intent(in) :: given(:, :, :)
-      real(dp), allocatable, intent(out) :: frames(:, :, :)
       character(len=*), intent(in) :: where
+      integer, intent(out) :: num_markers
+      real(dp), allocatable, intent(out) :: xyz(:, :)
+      real(dp), allocatable, intent(out) :: frames(:, :, :)
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: C(3, 3), det
       integer :: k
+      num_markers = size(given_xyz, 2)
+      if (size(given_xyz, 1) /= 3 .or. .not. all(ieee_is_finite(given_xyz))) then
+         call fatal_error(error, FFRF_INPUT_ERROR, where // 'marker positions must be a (3, n) ' &
+            // 'array of finite values; got ' // to_str(size(given_xyz, 1)) // ' rows')
+         return
+      end if
+      xyz = given_xyz
       if (size(given, 1) /= 3 .or. size(given, 2) /= 3 .or. size(given, 3) /= num_markers) then
          call fatal_error(error, FFRF_INPUT_ERROR, where // 'marker frames must be (3, 3, ' // &
             to_str(num_markers) // '), one per marker; got (' // to_str(size(given, 1)) // &
@@ -210,7 +214,7 @@ contains
          end if
       end do
       frames = given
-   end subroutine set_marker_frames
+   end subroutine set_markers
 
    !> r_k = R + A s_k (m).
    pure function rigid_marker_position(self, q, k) result(r)
@@ -552,16 +556,9 @@ contains
       !> Marker frames, global (3, 3, num_markers), columns = marker axes
       real(dp), intent(in) :: marker_frames(:, :, :)
       type(error_t), allocatable, intent(out) :: error
-      if (size(marker_xyz, 1) /= 3 .or. .not. all(ieee_is_finite(marker_xyz))) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'ground: marker positions must be a (3, n) ' &
-            // 'array of finite values; got ' // to_str(size(marker_xyz, 1)) // ' rows')
-         return
-      end if
       self%num_coordinates = 0
-      self%num_markers = size(marker_xyz, 2)
-      self%marker_xyz = marker_xyz
-      call set_marker_frames(self%num_markers, marker_frames, self%marker_frames, 'ground: ', &
-         error)
+      call set_markers(marker_xyz, marker_frames, 'ground: ', self%num_markers, self%marker_xyz, &
+         self%marker_frames, error)
    end subroutine ground_init
 
    !> Fixed global position of marker k.

@@ -49,7 +49,8 @@ contains
          new_unittest('driven_slider_crank_closed_form', test_driven_slider_crank), &
          new_unittest('driven_slider_crank_energy', test_driven_energy), &
          new_unittest('free_body_momentum', test_free_body), &
-         new_unittest('engine_start_at_tdc', test_engine_start)]
+         new_unittest('engine_start_at_tdc', test_engine_start), &
+         new_unittest('rotor_and_drive_need_euler_bodies', test_rotating_body_refusals)]
    end subroutine collect_mbs_mechanism
 
    ! ----------------------------------------------------------------------------------------------
@@ -77,6 +78,42 @@ contains
 
    ! ----------------------------------------------------------------------------------------------
    ! Tests
+
+   !> The rotor and the driven body must be bodies with Euler parameters: on the slider-crank
+   !> (bodies ground, crank, rod, piston) the ground (1) and a body index that does not exist (99)
+   !> are refused as either, with a message naming the role and the index; the crank (2) is taken
+   !> as both.
+   subroutine test_rotating_body_refusals(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: refused
+      type(mechanism_t) :: mech
+      type(polynomial_drive_t) :: law
+      integer :: i
+      integer, parameter :: bad(2) = [1, 99]
+      call build_slider_crank(mech, .false., .false., error)
+      if (allocated(error)) return
+      do i = 1, size(bad)
+         call mech%set_rotor(bad(i), refused)
+         call expect_refused('set_rotor', 'rotor', bad(i))
+         if (allocated(error)) return
+         call mech%set_drive(bad(i), law, refused)
+         call expect_refused('set_drive', 'driven', bad(i))
+         if (allocated(error)) return
+      end do
+      call mech%set_rotor(2, error)
+      if (.not. allocated(error)) call mech%set_drive(2, law, error)
+   contains
+      !> `refused` is set, its message naming the role and the body.
+      subroutine expect_refused(call_name, role, body)
+         character(len=*), intent(in) :: call_name, role
+         integer, intent(in) :: body
+         call check(error, call_name // '(' // to_str(body) // ') refused', allocated(refused))
+         if (allocated(error)) return
+         call check(error, call_name // ' message: ' // refused%message, &
+            index(refused%message, role // ' body ' // to_str(body) // ' must be a body with ' &
+            // 'Euler parameters') > 0)
+      end subroutine expect_refused
+   end subroutine test_rotating_body_refusals
 
    !> The overridden time terms and the constraint Jacobian against central differences of the
    !> mechanism's own constraints, on the driven slider-crank (rheonomic drive row) at a generic

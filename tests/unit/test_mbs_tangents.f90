@@ -55,6 +55,9 @@
 !> force tangents against central differences (as the flexible-body test) and the engine with
 !> that crank; measured 2e-11 (body -df/dq), 2e-12 (-df/dv), 7e-12 to 4e-11 (engine). Changing
 !> the sign of the theta or theta_dot column of the K_G term gives 3e-2.
+!> body_t's central-difference defaults (force_tangents, mass_stiffness, marker_hessian,
+!> marker_force_tangent: the tangents of a body type that brings no analytic ones): (7) called on
+!> a rigid body, against its exact tangents at a random state, same tolerance.
 module test_mbs_tangents
    use ffrf_core_kinds, only: dp, ip, pi
    use ffrf_core_error, only: error_t
@@ -62,7 +65,8 @@ module test_mbs_tangents
    use ffrf_la_sparse, only: csr_t, csr_from_coo
    use ffrf_mbs_rotation, only: identity3, euler_normalized
    use ffrf_mbs_flexible_body, only: flexible_body_t
-   use ffrf_mbs_body, only: body_t
+   use ffrf_mbs_body, only: body_t, body_force_tangents_fd, body_mass_stiffness_fd, &
+      body_marker_hessian_fd, body_marker_force_tangent_fd
    use ffrf_mbs_rigid_body, only: rigid_body_t, ground_t
    use ffrf_mbs_mechanism, only: mechanism_t
    use ffrf_mbs_joints, only: JOINT_FIXED, JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_SPHERICAL, &
@@ -98,7 +102,8 @@ contains
          new_unittest('spring_damper_tangents_match_differences', test_springs), &
          new_unittest('spring_damper_refuses_bad_input', test_spring_refusals), &
          new_unittest('torsion_spring_tangents_match_differences', test_torsion_springs), &
-         new_unittest('bushing_tangents_and_power', test_bushings)]
+         new_unittest('bushing_tangents_and_power', test_bushings), &
+         new_unittest('body_default_tangents_match_rigid', test_body_defaults)]
    end subroutine collect_mbs_tangents
 
    !> Deterministic pseudo-random numbers in [-1, 1].
@@ -932,6 +937,50 @@ contains
       spring%damping = damping
       spring%free_length = free_length
    end function spring_of
+
+   !> (7) body_t's default tangents called on a rigid body against its exact ones at a random
+   !> state (theta normalised), at marker 2, off the reference point with a turned frame.
+   subroutine test_body_defaults(error)
+      type(error_t), allocatable, intent(out) :: error
+      type(rigid_body_t) :: rigid
+      real(dp) :: q(7), v(7), a(7), frames(3, 3, 2), w_axes(3, 3), differences(5)
+      real(dp), dimension(7, 7) :: K, C, K_fd, C_fd, M_q, M_q_fd, H, H_fd, T, T_fd
+      character(len=*), parameter :: names(5) = [character(len=20) :: '-df/dq', '-df/dv', &
+         'd(M a)/dq', 'marker Hessian', 'marker force tangent']
+      integer :: i
+      frames(:, :, 1) = identity3()
+      frames(:, :, 2) = reshape([0.0_dp, 1.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+         0.0_dp, 1.0_dp], [3, 3])
+      call rigid%init(1.3_dp, [0.02_dp, -0.01_dp, 0.03_dp], reshape([2.0e-3_dp, 1.0e-4_dp, &
+         0.0_dp, 1.0e-4_dp, 3.0e-3_dp, 2.0e-4_dp, 0.0_dp, 2.0e-4_dp, 4.0e-3_dp], [3, 3]), &
+         reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.1_dp, -0.05_dp, 0.02_dp], [3, 2]), frames, error)
+      if (allocated(error)) return
+      q = random_vector(7, 71)
+      q(4:7) = euler_normalized(q(4:7))
+      v = 5.0_dp * random_vector(7, 72)
+      a = 30.0_dp * random_vector(7, 73)
+      w_axes = reshape(random_vector(9, 74), [3, 3])
+      call rigid%force_tangents(q, v, K, C)
+      call body_force_tangents_fd(rigid, q, v, K_fd, C_fd)
+      call rigid%mass_stiffness(q, a, M_q)
+      call body_mass_stiffness_fd(rigid, q, a, M_q_fd)
+      call rigid%marker_hessian(q, 2, random_vector(3, 75), w_axes, H)
+      call body_marker_hessian_fd(rigid, q, 2, random_vector(3, 75), w_axes, H_fd)
+      call rigid%marker_force_tangent(q, 2, random_vector(3, 76), random_vector(3, 77), T)
+      call body_marker_force_tangent_fd(rigid, q, 2, random_vector(3, 76), &
+         random_vector(3, 77), T_fd)
+      differences = [maxval(abs(K_fd - K)) / maxval(abs(K)), &
+         maxval(abs(C_fd - C)) / maxval(abs(C)), maxval(abs(M_q_fd - M_q)) / maxval(abs(M_q)), &
+         maxval(abs(H_fd - H)) / maxval(abs(H)), maxval(abs(T_fd - T)) / maxval(abs(T))]
+      do i = 1, size(differences)
+         call report('body_t default ' // trim(names(i)) // ' vs rigid exact: ' // &
+            to_str(differences(i), 3) // ' relative')
+         call check(error, 'body_t default ' // trim(names(i)) // ' within ' // &
+            to_str(tangent_rtol) // ' of the rigid body''s exact one, got ' // &
+            to_str(differences(i), 3), differences(i) <= tangent_rtol)
+         if (allocated(error)) return
+      end do
+   end subroutine test_body_defaults
 
 end module test_mbs_tangents
 
