@@ -139,7 +139,7 @@ contains
          'target:' // target_list(choice, selection%truncation))
    end subroutine scene_body_model
 
-   !> " name value" for each target.
+   !> " name value" for each target (" name mean value" for a mean target).
    function target_list(choice, values) result(text)
       type(model_choice_t), intent(in) :: choice
       real(dp), intent(in) :: values(:)
@@ -147,7 +147,8 @@ contains
       integer :: p
       text = ''
       do p = 1, size(values)
-         text = text // ' ' // trim(choice%record%names(p)) // ' ' // to_str(values(p), 3)
+         text = text // ' ' // trim(choice%record%names(p)) // trim(merge(' mean', '     ', &
+            choice%record%mean(p))) // ' ' // to_str(values(p), 3)
       end do
    end function target_list
 
@@ -169,9 +170,9 @@ contains
                   size(mode_hz)])
             end associate
          end do
-         call log%info('model', 'automatic model: targets (relative error of the peak)' // &
-            target_list(choice, record%tolerances) // '; a third of each for mode ' // &
-            'truncation, mesh (not estimated) and time step')
+         call log%info('model', 'automatic model: targets (relative error of the peak, or ' // &
+            'of the mean over the run)' // target_list(choice, record%tolerances) // &
+            '; a third of each for mode truncation, mesh (not estimated) and time step')
          if (model%mechanism%h_given) then
             call log%info('model', 'time step h = ' // to_str(model%mechanism%integrator%h, &
                3) // ' s given by &integrator')
@@ -209,6 +210,9 @@ contains
       character(len=*), parameter :: root = '/model_selection'
       integer :: b
       call results%write_strings(root // '/target_names', choice%record%names, error)
+      if (.not. allocated(error)) call results%write_strings(root // '/target_statistics', &
+         [character(len=4) :: (merge('mean', 'peak', choice%record%mean(b)), &
+         b=1, size(choice%record%mean))], error)
       if (.not. allocated(error)) call results%write_real(root // '/target_tolerances', &
          choice%record%tolerances, '1', error)
       if (.not. allocated(error)) call results%write_real(root // '/target_peaks', &

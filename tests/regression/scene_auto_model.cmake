@@ -23,7 +23,7 @@ add_test(NAME regression_scene_auto_model_check
     ${_scene_out}/reference/auto_double_pendulum.h5)
 set_tests_properties(regression_scene_auto_model_check PROPERTIES LABELS "regression;mbs"
   FIXTURES_REQUIRED scene_auto_model_results)
-# Bad targets: a tolerance out of (0, 1) at reading, a name that is no &sensor before the modes
+# Bad targets: a tolerance out of (0, 1) at reading, a name that is no &sensor at --check
 add_test(NAME error_scene_targets_tolerance
   COMMAND ${CMAKE_COMMAND}
     "-DCOMMAND=$<TARGET_FILE:ffrf>;${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_double_pendulum.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_scene_out};--check;--set;model.targets=tip_deflection 2"
@@ -31,8 +31,47 @@ add_test(NAME error_scene_targets_tolerance
     -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
 add_test(NAME error_scene_targets_sensor
   COMMAND ${CMAKE_COMMAND}
-    "-DCOMMAND=$<TARGET_FILE:ffrf>;${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_double_pendulum.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_scene_out};--set;model.targets=tip 1e-2"
-    -DEXIT_CODE=2 "-DMESSAGE=&model targets: no &sensor \"tip\"; name a &sensor of type reaction or node_displacement"
+    "-DCOMMAND=$<TARGET_FILE:ffrf>;${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_double_pendulum.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_scene_out};--check;--set;model.targets=tip 1e-2"
+    -DEXIT_CODE=2 "-DMESSAGE=&model targets: no &sensor \"tip\"; name a &sensor of type reaction, node_displacement, joint_coordinate, position, velocity, angular_velocity"
     -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
 set_tests_properties(error_scene_targets_tolerance error_scene_targets_sensor PROPERTIES
   LABELS "regression;errors" FIXTURES_REQUIRED beam_lc6_mesh)
+# A second scene (issue 24 item 2, part 2): the driven boom with a tip mass of
+# tests/data/scene/auto_driven_boom.nml, peak and mean targets on a node, a joint force, a
+# marker's velocity and angular velocity; its reference has all 10 candidate modes and
+# h = 2.5e-6 s. About 8 + 6 s alone.
+file(MAKE_DIRECTORY ${_scene_out}/boom ${_scene_out}/boom_reference)
+add_test(NAME regression_scene_auto_model_boom
+  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_driven_boom.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/boom --threads 1)
+add_test(NAME regression_scene_auto_model_boom_reference
+  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_driven_boom.nml
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/boom_reference
+    --threads 1 --set body[boom].num_modes=10 --set integrator.h=2.5e-6)
+set_tests_properties(regression_scene_auto_model_boom regression_scene_auto_model_boom_reference
+  PROPERTIES LABELS "regression;mbs" FIXTURES_REQUIRED beam_lc6_mesh
+  FIXTURES_SETUP scene_auto_model_boom_results)
+add_test(NAME regression_scene_auto_model_boom_check
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_scene_auto_model.py
+    ${_scene_out}/boom/auto_driven_boom.h5
+    ${_scene_out}/boom_reference/auto_driven_boom.h5)
+set_tests_properties(regression_scene_auto_model_boom_check PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED scene_auto_model_boom_results)
+# --check refuses what the automatic model would refuse, without the pre-run or any modes: a
+# target without a tolerance, a sensor the estimate cannot serve (its kind; a marker on a body
+# whose modes it does not choose)
+set(_boom_check "$<TARGET_FILE:ffrf>;${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_driven_boom.nml;--mesh-dir;${PROJECT_BINARY_DIR}/meshes;--output-dir;${_scene_out};--check")
+add_test(NAME error_scene_targets_no_tolerance
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=${_boom_check};--set;model.targets=tip_spin mean"
+    -DEXIT_CODE=2 "-DMESSAGE=&model targets = 'tip_spin mean': \"tip_spin\" has no tolerance"
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+add_test(NAME error_scene_targets_kind
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=${_boom_check};--set;model.targets=luff_torque 1e-2"
+    -DEXIT_CODE=2 "-DMESSAGE=&model targets: &sensor \"luff_torque\" is of type driver; the automatic model estimates targets on reaction, node_displacement, joint_coordinate, position, velocity, angular_velocity"
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+add_test(NAME error_scene_targets_marker
+  COMMAND ${CMAKE_COMMAND} "-DCOMMAND=${_boom_check};--set;model.targets=hook_position mean 1e-2"
+    -DEXIT_CODE=2 "-DMESSAGE=&model targets: &sensor \"hook_position\" \\(position\\) measures no interface of a body whose modes the automatic model chooses"
+    -P ${CMAKE_CURRENT_SOURCE_DIR}/regression/expect_error.cmake)
+set_tests_properties(error_scene_targets_no_tolerance error_scene_targets_kind
+  error_scene_targets_marker PROPERTIES LABELS "regression;errors" FIXTURES_REQUIRED beam_lc6_mesh)
