@@ -4,25 +4,26 @@
 # candidate modes per link, h = 2.5e-6 s) is the reference of check_scene_auto_model.py.
 # About 8 + 10 s alone (19 + 19 s measured on the busy 2-core machine).
 set(_scene_out "${PROJECT_BINARY_DIR}/tests/scene")
-file(MAKE_DIRECTORY ${_scene_out}/auto ${_scene_out}/reference)
-add_test(NAME regression_scene_auto_model
-  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_double_pendulum.nml
-    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/auto --threads 1)
-set_tests_properties(regression_scene_auto_model PROPERTIES LABELS "regression;mbs"
-  FIXTURES_REQUIRED beam_lc6_mesh FIXTURES_SETUP scene_auto_model_results)
-add_test(NAME regression_scene_auto_model_reference
-  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_double_pendulum.nml
-    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/reference --threads 1
-    --set body[link1].num_modes=10
-    --set body[link2].num_modes=10 --set integrator.h=2.5e-6)
-set_tests_properties(regression_scene_auto_model_reference PROPERTIES LABELS "regression;mbs"
-  FIXTURES_REQUIRED beam_lc6_mesh FIXTURES_SETUP scene_auto_model_results)
-add_test(NAME regression_scene_auto_model_check
-  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_scene_auto_model.py
-    ${_scene_out}/auto/auto_double_pendulum.h5
-    ${_scene_out}/reference/auto_double_pendulum.h5)
-set_tests_properties(regression_scene_auto_model_check PROPERTIES LABELS "regression;mbs"
-  FIXTURES_REQUIRED scene_auto_model_results)
+# Three tests of one scene: ${test} (the automatic model), ${test}_reference (the converged run:
+# the arguments after the case's name override the model), ${test}_check (the comparison)
+function(scene_auto_model_tests test case auto_dir reference_dir)
+  set(_nml ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/${case}.nml)
+  file(MAKE_DIRECTORY ${_scene_out}/${auto_dir} ${_scene_out}/${reference_dir})
+  add_test(NAME ${test} COMMAND $<TARGET_FILE:ffrf> ${_nml} --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+    --output-dir ${_scene_out}/${auto_dir} --threads 1)
+  add_test(NAME ${test}_reference COMMAND $<TARGET_FILE:ffrf> ${_nml}
+    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/${reference_dir}
+    --threads 1 ${ARGN})
+  set_tests_properties(${test} ${test}_reference PROPERTIES LABELS "regression;mbs"
+    FIXTURES_REQUIRED beam_lc6_mesh FIXTURES_SETUP ${test}_results)
+  add_test(NAME ${test}_check
+    COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_scene_auto_model.py
+      ${_scene_out}/${auto_dir}/${case}.h5 ${_scene_out}/${reference_dir}/${case}.h5)
+  set_tests_properties(${test}_check PROPERTIES LABELS "regression;mbs"
+    FIXTURES_REQUIRED ${test}_results)
+endfunction()
+scene_auto_model_tests(regression_scene_auto_model auto_double_pendulum auto reference
+  --set body[link1].num_modes=10 --set body[link2].num_modes=10 --set integrator.h=2.5e-6)
 # Bad targets: a tolerance out of (0, 1) at reading, a name that is no &sensor at --check
 add_test(NAME error_scene_targets_tolerance
   COMMAND ${CMAKE_COMMAND}
@@ -40,23 +41,8 @@ set_tests_properties(error_scene_targets_tolerance error_scene_targets_sensor PR
 # tests/data/scene/auto_driven_boom.nml, peak and mean targets on a node, a joint force, a
 # marker's velocity and angular velocity; its reference has all 10 candidate modes and
 # h = 2.5e-6 s. About 8 + 6 s alone.
-file(MAKE_DIRECTORY ${_scene_out}/boom ${_scene_out}/boom_reference)
-add_test(NAME regression_scene_auto_model_boom
-  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_driven_boom.nml
-    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/boom --threads 1)
-add_test(NAME regression_scene_auto_model_boom_reference
-  COMMAND $<TARGET_FILE:ffrf> ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/auto_driven_boom.nml
-    --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/boom_reference
-    --threads 1 --set body[boom].num_modes=10 --set integrator.h=2.5e-6)
-set_tests_properties(regression_scene_auto_model_boom regression_scene_auto_model_boom_reference
-  PROPERTIES LABELS "regression;mbs" FIXTURES_REQUIRED beam_lc6_mesh
-  FIXTURES_SETUP scene_auto_model_boom_results)
-add_test(NAME regression_scene_auto_model_boom_check
-  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_scene_auto_model.py
-    ${_scene_out}/boom/auto_driven_boom.h5
-    ${_scene_out}/boom_reference/auto_driven_boom.h5)
-set_tests_properties(regression_scene_auto_model_boom_check PROPERTIES LABELS "regression;mbs"
-  FIXTURES_REQUIRED scene_auto_model_boom_results)
+scene_auto_model_tests(regression_scene_auto_model_boom auto_driven_boom boom boom_reference
+  --set body[boom].num_modes=10 --set integrator.h=2.5e-6)
 # --check refuses what the automatic model would refuse, without the pre-run or any modes: a
 # target without a tolerance, a sensor the estimate cannot serve (its kind; a marker on a body
 # whose modes it does not choose)
