@@ -102,6 +102,8 @@ module ffrf_app_scene_model
       real(dp), allocatable :: error(:, :), dynamic(:, :)
       !> Sum of the dropped errors per target
       real(dp), allocatable :: truncation(:)
+      !> Estimated mesh error per target (0: a single mesh, not estimated)
+      real(dp), allocatable :: mesh_error(:)
       real(dp) :: damping = 0.0_dp
    end type scene_selection_t
 

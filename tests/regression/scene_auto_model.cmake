@@ -4,13 +4,14 @@
 # candidate modes per link, h = 2.5e-6 s) is the reference of check_scene_auto_model.py.
 # About 8 + 10 s alone (19 + 19 s measured on the busy 2-core machine).
 set(_scene_out "${PROJECT_BINARY_DIR}/tests/scene")
-# Three tests of one scene: ${test} (the automatic model), ${test}_reference (the converged run:
-# the arguments after the case's name override the model), ${test}_check (the comparison)
-function(scene_auto_model_tests test case auto_dir reference_dir)
+# Three tests of one scene: ${test} (the automatic model, with the overrides auto_args, a list),
+# ${test}_reference (the converged run: the arguments after auto_args override the model),
+# ${test}_check (the comparison)
+function(scene_auto_model_tests test case auto_dir reference_dir auto_args)
   set(_nml ${CMAKE_CURRENT_SOURCE_DIR}/data/scene/${case}.nml)
   file(MAKE_DIRECTORY ${_scene_out}/${auto_dir} ${_scene_out}/${reference_dir})
   add_test(NAME ${test} COMMAND $<TARGET_FILE:ffrf> ${_nml} --mesh-dir ${PROJECT_BINARY_DIR}/meshes
-    --output-dir ${_scene_out}/${auto_dir} --threads 1)
+    --output-dir ${_scene_out}/${auto_dir} --threads 1 ${auto_args})
   add_test(NAME ${test}_reference COMMAND $<TARGET_FILE:ffrf> ${_nml}
     --mesh-dir ${PROJECT_BINARY_DIR}/meshes --output-dir ${_scene_out}/${reference_dir}
     --threads 1 ${ARGN})
@@ -22,7 +23,7 @@ function(scene_auto_model_tests test case auto_dir reference_dir)
   set_tests_properties(${test}_check PROPERTIES LABELS "regression;mbs"
     FIXTURES_REQUIRED ${test}_results)
 endfunction()
-scene_auto_model_tests(regression_scene_auto_model auto_double_pendulum auto reference
+scene_auto_model_tests(regression_scene_auto_model auto_double_pendulum auto reference ""
   --set body[link1].num_modes=10 --set body[link2].num_modes=10 --set integrator.h=2.5e-6)
 # Bad targets: a tolerance out of (0, 1) at reading, a name that is no &sensor at --check
 add_test(NAME error_scene_targets_tolerance
@@ -41,8 +42,20 @@ set_tests_properties(error_scene_targets_tolerance error_scene_targets_sensor PR
 # tests/data/scene/auto_driven_boom.nml, peak and mean targets on a node, a joint force, a
 # marker's velocity and angular velocity; its reference has all 10 candidate modes and
 # h = 2.5e-6 s. About 8 + 6 s alone.
-scene_auto_model_tests(regression_scene_auto_model_boom auto_driven_boom boom boom_reference
+scene_auto_model_tests(regression_scene_auto_model_boom auto_driven_boom boom boom_reference ""
   --set body[boom].num_modes=10 --set integrator.h=2.5e-6)
+# The mesh chosen (item 2, part 4): the same boom on mesh_file beam_lc4.msh with coarse_meshes
+# beam_lc40.msh and beam_lc6.msh; the estimate takes the coarsest whose kept modes' frequency
+# errors (Richardson against the next finer mesh) fit a third of each tolerance (beam_lc6.msh:
+# beam_lc40.msh's tip deflection error is estimated at 0.12); the reference is beam_lc4.msh
+# with all 10 candidate modes and h = 2.5e-6 s. About 16 + 12 s alone.
+scene_auto_model_tests(regression_scene_auto_model_boom_mesh auto_driven_boom boom_mesh
+  boom_mesh_reference "--set;body[boom].mesh_file=beam_lc4.msh;--set;body[boom].coarse_meshes='beam_lc40.msh', 'beam_lc6.msh'"
+  --set body[boom].mesh_file=beam_lc4.msh --set body[boom].num_modes=10
+  --set integrator.h=2.5e-6)
+set_property(TEST regression_scene_auto_model_boom_mesh
+  regression_scene_auto_model_boom_mesh_reference APPEND PROPERTY FIXTURES_REQUIRED
+  beam_lc4_mesh beam_lc40_mesh)
 # --check refuses what the automatic model would refuse, without the pre-run or any modes: a
 # target without a tolerance, a sensor the estimate cannot serve (its kind; a marker on a body
 # whose modes it does not choose)
