@@ -178,19 +178,20 @@ contains
       !> Keep the selected modes of the mesh taken, record and log the choice.
       subroutine take(chosen, chosen_mass, chosen_selection, chosen_locks, chosen_record, &
             mesh_file)
+         !> The mesh taken, its record, candidates, mass matrix, selection and locks
+         character(len=*), intent(in) :: mesh_file
+         type(scene_record_t), intent(in) :: chosen_record
          type(body_modes_t), intent(inout) :: chosen
          type(csr_t), intent(inout) :: chosen_mass
          type(scene_selection_t), intent(in) :: chosen_selection
          type(joint_locks_t), intent(in) :: chosen_locks
-         type(scene_record_t), intent(in) :: chosen_record
-         character(len=*), intent(in) :: mesh_file
+         choice%record = chosen_record
          body%mesh_file = mesh_file
-         body%locks = chosen_locks
          body%candidate_hz = chosen%frequency_hz
+         body%locks = chosen_locks
+         mass_matrix = chosen_mass
          call keep_modes(chosen, chosen_selection%kept)
          modes = chosen
-         mass_matrix = chosen_mass
-         choice%record = chosen_record
          choice%bodies = [choice%bodies, body]
          choice%scene_bodies = [choice%scene_bodies, chosen_selection]
          kept = ''
