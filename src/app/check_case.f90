@@ -29,6 +29,7 @@ module ffrf_app_check_case
    use ffrf_app_engine_pressure, only: pressure_model_t
    use ffrf_app_mechanism_builder, only: make_pressure_model, check_joint_frames
    use ffrf_app_body_modes, only: check_stored_modes
+   use ffrf_app_scene_prerun, only: check_scene_targets
    use ffrf_io_modes_file, only: stored_modes_t, read_stored_modes
    use ffrf_mbs_generalized_alpha, only: GALPHA_INDEX3
    implicit none
@@ -77,6 +78,8 @@ contains
       ! as build_mechanism: the joint frames of two oriented markers, in the given poses
       if (case%is_mechanism) then
          call check_joint_frames(model, error)
+         ! as the automatic model of a scene: its targets (no pre-run, no modes)
+         if (.not. allocated(error)) call check_scene_targets(case, model, error)
          if (allocated(error)) then
             call add_context(error, case%file_name)
             return

@@ -24,13 +24,17 @@
 !>    larger. A node target on a body B jointed to body k at interface i: the mode shakes B's
 !>    base by u_ij x_j'', a relative change 2 |u_ij x_j''(t)| / max_t |g - a0|_B of B's load
 !>    field (the 2 of a suddenly applied load), taken as the relative error of the deflection
-!>    (quasi-static in B). Bodies not jointed directly are not estimated. The sensor's peak
+!>    (quasi-static in B). Bodies not jointed directly are not estimated. A target on the
+!>    motion of body k's interface i (a marker's position, velocity or angular velocity, a
+!>    joint's coordinate; TARGET_INTERFACE) gets its elastic motion |u_ij| |x_j|,
+!>    |theta_ij| |x_j| (a revolute's angle), |u_ij| |x_j'| or |theta_ij| |x_j'|. The sensor's peak
 !>    P_s = max_t r_s(t) = r_s(t_p) (r: |F| in the pre-run; |sum over
 !>    the candidates Psi_n x| for a node) moves by a perturbation of magnitude at most d(t) by
 !>    at most max(d(t_p), max_t (r_s + d) - P_s): a mode's error e_sj is this over P_s for
 !>    d = |c_sj|, the dropped modes' for d = sum of their |c_sj|. Modes are dropped, smallest
 !>    max_s e_sj / budget_s first, while every target's error of the dropped set fits its
-!>    budget (a third of its tolerance).
+!>    budget (a third of its tolerance). A mean target's mean M = mean_t r_s(t) moves by at
+!>    most mean_t d(t): its error is that over |M|.
 !> 4. Step. Per target: the rigid part from generalized-alpha's periodic response of a free mass
 !>    to each harmonic of the recorded sensor (linear trend removed), plus each kept mode's
 !>    dynamic part (c_sj without the quasi-static x_qs = f_j / w_j^2) times eps_j = |w~_h/w - 1|
@@ -45,10 +49,12 @@ module ffrf_app_scene_model
    implicit none
    private
    public :: scene_record_t, scene_body_record_t, scene_selection_t, scene_select_modes, &
-      scene_step_errors, scene_select_step, TARGET_REACTION, TARGET_NODE, modal_response
+      scene_step_errors, scene_select_step, TARGET_REACTION, TARGET_NODE, TARGET_INTERFACE, &
+      modal_response
 
-   !> Kinds of targets
-   integer, parameter :: TARGET_REACTION = 1, TARGET_NODE = 2
+   !> Kinds of targets: a joint's reaction, a mesh node's deflection, the motion of a chosen
+   !> body's interface (a marker's position, velocity or angular velocity, a joint's coordinate)
+   integer, parameter :: TARGET_REACTION = 1, TARGET_NODE = 2, TARGET_INTERFACE = 3
 
    !> What the pre-run recorded of one flexible body (body axes), n steps.
    type :: scene_body_record_t
@@ -71,9 +77,16 @@ module ffrf_app_scene_model
       character(len=64), allocatable :: names(:)
       real(dp), allocatable :: tolerances(:)
       integer, allocatable :: kinds(:), body(:), node(:), joint(:)
-      !> Reaction targets: |F| of the joint on its body 1 in the pre-run, (n, targets)
+      !> .true.: a target on the sensor's mean over the run, else on its peak
+      logical, allocatable :: mean(:)
+      !> Interface targets: the motion measured (1 translation, 2 rotation), its order (0 the
+      !> value, 1 its rate), and per end (2) the model body and its interface (0: none)
+      integer, allocatable :: rows(:), order(:), side_body(:, :), side_interface(:, :)
+      !> Reaction and interface targets: the sensor's magnitude in the pre-run (|F| of the
+      !> joint on its body 1; |value| of the sensor's first three values), (n, targets)
       real(dp), allocatable :: series(:, :)
-      !> Peak of each target (node targets: set by the selection of their body)
+      !> Peak (or mean, for a mean target) of each target (node targets: set by the selection
+      !> of their body)
       real(dp), allocatable :: peak(:)
       !> |r''| / P at the peak of each target (1/s^2)
       real(dp), allocatable :: curvature(:)
@@ -89,6 +102,8 @@ module ffrf_app_scene_model
       real(dp), allocatable :: error(:, :), dynamic(:, :)
       !> Sum of the dropped errors per target
       real(dp), allocatable :: truncation(:)
+      !> Estimated mesh error per target (0: a single mesh, not estimated)
+      real(dp), allocatable :: mesh_error(:)
       real(dp) :: damping = 0.0_dp
    end type scene_selection_t
 
@@ -116,7 +131,7 @@ contains
       real(dp), allocatable :: sum_node(:, :), score(:), contribution(:, :, :)
       real(dp), allocatable :: dynamic_part(:, :, :), envelope(:, :), trial(:)
       real(dp) :: w(3, 3), momentum(3), omega, c
-      integer :: nm, nt, nr, j, t, m, i, p
+      integer :: nm, nt, nr, j, t, m, i, p, e, row
       logical, allocatable :: keep(:)
       nm = size(frequency_hz)
       nt = size(record%time)
@@ -154,9 +169,11 @@ contains
             sum_node = matmul(shape(3 * m - 2:3 * m, :), transpose(x))
             record%series(:, p) = norm2(sum_node, dim=1)
             record%peak(p) = maxval(record%series(:, p))
+            if (record%mean(p)) record%peak(p) = sum(record%series(:, p)) / real(nt, dp)
             i = maxloc(record%series(:, p), dim=1)
             record%curvature(p) = norm2(matmul(shape(3 * m - 2:3 * m, :), a(i, :))) / &
                max(record%peak(p), tiny(1.0_dp))
+            if (record%mean(p)) record%curvature(p) = 0.0_dp
             do j = 1, nm
                contribution(:, j, p) = norm2(shape(3 * m - 2:3 * m, j)) * abs(x(:, j))
                dynamic_part(:, j, p) = norm2(shape(3 * m - 2:3 * m, j)) * abs(x(:, j) - &
@@ -173,6 +190,23 @@ contains
                contribution(:, j, p) = 2.0_dp * norm2(relative(6 * i - 5:6 * i - 3, j)) * &
                   abs(a(:, j)) / max(c, tiny(1.0_dp))
                dynamic_part(:, j, p) = contribution(:, j, p)
+            end do
+         else if (record%kinds(p) == TARGET_INTERFACE) then
+            ! the interface's elastic motion u_ij x_j or theta_ij x_j, or its rate
+            do e = 1, 2
+               if (record%side_body(e, p) /= k) cycle
+               row = 6 * record%side_interface(e, p) - 5 + 3 * (record%rows(p) - 1)
+               do j = 1, nm
+                  c = norm2(virtual_node_shape(row:row + 2, j))
+                  if (record%order(p) == 0) then
+                     contribution(:, j, p) = contribution(:, j, p) + c * abs(x(:, j))
+                     dynamic_part(:, j, p) = dynamic_part(:, j, p) + c * abs(x(:, j) - &
+                        force(:, j) / (2.0_dp * pi * frequency_hz(j))**2)
+                  else
+                     contribution(:, j, p) = contribution(:, j, p) + c * abs(v(:, j))
+                     dynamic_part(:, j, p) = dynamic_part(:, j, p) + c * abs(v(:, j))
+                  end if
+               end do
             end do
          else if (record%kinds(p) == TARGET_REACTION) then
             do j = 1, nm
@@ -227,6 +261,7 @@ contains
          real(dp), intent(in) :: d(:)
          if (record%kinds(p) == TARGET_NODE .and. link_interface(p) > 0) then
             target_error = maxval(d)
+            if (record%mean(p)) target_error = sum(d) / real(size(d), dp)
          else
             target_error = peak_error(record, p, d)
          end if
@@ -234,12 +269,17 @@ contains
    end subroutine scene_select_modes
 
    !> Bound of the change of target p's peak P = max r(t) = r(t_p) by a perturbation of
-   !> magnitude at most d(t): max(d(t_p), max_t (r(t) + d(t)) - P) / P (module header, 3).
+   !> magnitude at most d(t): max(d(t_p), max_t (r(t) + d(t)) - P) / P (module header, 3); of
+   !> a mean target's mean M: mean_t d(t) / |M|.
    pure real(dp) function peak_error(record, p, d)
       type(scene_record_t), intent(in) :: record
       integer, intent(in) :: p
       real(dp), intent(in) :: d(:)
       integer :: peak_index
+      if (record%mean(p)) then
+         peak_error = sum(d) / real(size(d), dp) / max(abs(record%peak(p)), tiny(1.0_dp))
+         return
+      end if
       peak_index = maxloc(record%series(:, p), dim=1)
       peak_error = max(d(peak_index), maxval(record%series(:, p) + d) - record%peak(p)) / &
          max(record%peak(p), tiny(1.0_dp))
@@ -317,7 +357,7 @@ contains
       n = size(record%time)
       errors = 0.0_dp
       do p = 1, size(errors)
-         if (record%kinds(p) == TARGET_REACTION .and. n > 2) then
+         if (record%kinds(p) /= TARGET_NODE .and. n > 2) then
             trend = record%series(:, p) - (record%series(1, p) + (record%series(n, p) - &
                record%series(1, p)) * [(real(t - 1, dp), t=1, n)] / real(n - 1, dp))
             do k = 1, n / 2

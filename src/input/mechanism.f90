@@ -10,6 +10,7 @@ module ffrf_input_mechanism
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t
    use ffrf_mbs_time_function, only: time_function_t, new_time_function
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
+   use ffrf_core_strings, only: to_lower
    implicit none
    private
    public :: body_motion_input_t, marker_input_t, joint_input_t, load_input_t, sensor_input_t
@@ -312,18 +313,22 @@ contains
          times=times, values=values, interpolation=given%interpolation, beyond=given%beyond)
    end subroutine law_function
 
-   !> The pairs of &model targets (docs/mechanisms.md "Targets on sensors"): a sensor name and
-   !> the relative tolerance of its peak, in (0, 1), separated by blanks ('': no pairs).
-   subroutine parse_targets(text, names, tolerances, error)
+   !> The &model targets (docs/mechanisms.md "Targets on sensors"): each a &sensor name, an
+   !> optional statistic (`peak`, the default, or `mean`: the sensor's mean over the run) and
+   !> the relative tolerance, in (0, 1), separated by blanks ('': none).
+   subroutine parse_targets(text, names, tolerances, error, means)
       character(len=*), intent(in) :: text
       character(len=64), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: tolerances(:)
       type(error_t), allocatable, intent(out) :: error
+      !> .true. for a target on the sensor's mean
+      logical, allocatable, intent(out), optional :: means(:)
       character(len=64), allocatable :: words(:)
       character(len=64) :: word
+      logical, allocatable :: mean(:)
       real(dp) :: value
       integer :: first, last, stat, k
-      allocate (words(0), names(0), tolerances(0))
+      allocate (words(0), names(0), tolerances(0), mean(0))
       last = 0
       do
          first = verify(text(last + 1:), ' ') + last
@@ -333,22 +338,31 @@ contains
          word = text(first:last)
          words = [words, word]
       end do
-      if (modulo(size(words), 2) /= 0) then
-         call fatal_error(error, FFRF_INPUT_ERROR, '&model targets = ''' // trim(text) // &
-            ''': give pairs of a &sensor name and a relative tolerance, e.g. ''tip 1e-2''')
-         return
-      end if
-      do k = 1, size(words), 2
+      k = 1
+      do while (k <= size(words))
+         names = [names, words(k)]
+         mean = [mean, to_lower(words(min(k + 1, size(words)))) == 'mean']
+         if (k < size(words)) then
+            if (any(to_lower(words(k + 1)) == ['peak', 'mean'])) k = k + 1
+         end if
+         if (k == size(words)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, '&model targets = ''' // trim(text) // &
+               ''': "' // trim(names(size(names))) // '" has no tolerance; give a &sensor ' // &
+               'name, optionally peak or mean, and a relative tolerance, e.g. ''tip 1e-2 ' // &
+               'speed mean 1e-3''')
+            return
+         end if
          read (words(k + 1), *, iostat=stat) value
          if (stat /= 0 .or. .not. (value > 0.0_dp .and. value < 1.0_dp)) then
             call fatal_error(error, FFRF_INPUT_ERROR, '&model targets: the tolerance of "' // &
-               trim(words(k)) // '" is "' // trim(words(k + 1)) // '", must be a number in ' // &
-               '(0, 1) (a relative error of the sensor''s peak)')
+               trim(names(size(names))) // '" is "' // trim(words(k + 1)) // '", must be a ' // &
+               'number in (0, 1) (a relative error of the sensor''s peak or mean)')
             return
          end if
-         names = [names, words(k)]
          tolerances = [tolerances, value]
+         k = k + 2
       end do
+      if (present(means)) means = mean
    end subroutine parse_targets
 
 end module ffrf_input_mechanism

@@ -33,7 +33,7 @@ module ffrf_app_engine_auto_model
       select_step, write_model_choice
    ! for the scenes without a crank (ffrf_app_scene_choice)
    public :: body_choice_t, grounded_interfaces, relative_shape, attached_masses, keep_modes, &
-      log_locks
+      log_locks, mesh_frequency_delta
 
    !> The choice for one flexible body.
    type :: body_choice_t
@@ -192,7 +192,6 @@ contains
       type(interface_spec_t), allocatable :: interfaces(:)
       character(len=256), allocatable :: meshes(:)
       real(dp), allocatable :: attached(:), fine_delta(:), coarse_delta(:)
-      integer, allocatable :: pair(:)
       logical, allocatable :: grounded(:)
       real(dp) :: ratio, zeta
       integer :: i, n
@@ -231,14 +230,7 @@ contains
          body%meshes_tried = [body%meshes_tried, meshes(i)]
          body%mesh_errors = [body%mesh_errors, -1.0_dp]
          if (i > 1) then
-            ! first-order Richardson on the mode frequencies, element size ~ nodes^(-1/3)
-            ratio = max((real(size(current%mesh%xyz, 2), dp) / &
-               real(size(previous%mesh%xyz, 2), dp))**(1.0_dp / 3.0_dp), 1.0_dp + 1.0e-6_dp)
-            pair = paired_modes(previous, current)
-            fine_delta = abs(previous%frequency_hz(pair) - current%frequency_hz) / &
-               (ratio - 1.0_dp) / current%frequency_hz
-            coarse_delta = spread(0.0_dp, 1, size(previous%frequency_hz))
-            coarse_delta(pair) = ratio * fine_delta
+            call mesh_frequency_delta(previous, current, ratio, fine_delta, coarse_delta)
             coarse_effect = mesh_frequency_error(choice%excitation, previous_selection, &
                coarse_delta)
             fine_effect = mesh_frequency_error(choice%excitation, current_selection, fine_delta)
@@ -294,6 +286,24 @@ contains
       end subroutine take
 
    end subroutine select_body_model
+
+   !> The relative frequency errors of the candidates of two meshes of a body, coarse then
+   !> fine: first-order Richardson on the mode frequencies (paired_modes), element size
+   !> ~ nodes^(-1/3) and `ratio` the size ratio; `coarse_delta` 0 for a coarse mode no fine one
+   !> pairs with.
+   subroutine mesh_frequency_delta(previous, current, ratio, fine_delta, coarse_delta)
+      type(body_modes_t), intent(in) :: previous, current
+      real(dp), intent(out) :: ratio
+      real(dp), allocatable, intent(out) :: fine_delta(:), coarse_delta(:)
+      integer, allocatable :: pair(:)
+      ratio = max((real(size(current%mesh%xyz, 2), dp) / &
+         real(size(previous%mesh%xyz, 2), dp))**(1.0_dp / 3.0_dp), 1.0_dp + 1.0e-6_dp)
+      pair = paired_modes(previous, current)
+      fine_delta = abs(previous%frequency_hz(pair) - current%frequency_hz) / &
+         (ratio - 1.0_dp) / current%frequency_hz
+      coarse_delta = spread(0.0_dp, 1, size(previous%frequency_hz))
+      coarse_delta(pair) = ratio * fine_delta
+   end subroutine mesh_frequency_delta
 
    !> For each mode of the finer mesh, the mode of the coarser one it is: the largest modal
    !> assurance criterion of the virtual-node motions (the same points on both meshes) among the
