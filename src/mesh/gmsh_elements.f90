@@ -131,11 +131,21 @@ contains
                         error)
                      return
                   end if
+                  ! a point or line element: its nodes, for the physical points and curves
+                  if (type_dim <= 1 .and. tag >= 1) call read_curve_point_element(r, &
+                     element_type, nodes_per_element, type_dim, int(entity, ip), tag, 0_i8, &
+                     error)
+                  if (allocated(error)) return
                   call skip_line(r%c)
                end if
                if (tag < 1) then
                   call bad_tag_error(r%c, 'element', tag, error)
                   return
+               end if
+               if (binary .and. type_dim <= 1) then
+                  call read_curve_point_element(r, element_type, nodes_per_element, type_dim, &
+                     int(entity, ip), tag, j + 8, error)
+                  if (allocated(error)) return
                end if
                if (e == 1) first_tag = tag
                r%min_element_tag = min(r%min_element_tag, tag)
@@ -216,6 +226,10 @@ contains
          case default
             r%num_skipped = r%num_skipped + 1
             if (dim == 3) call add_other_volume(r, elementary, element_type, 1_i8, tag)
+            ! a point or line element: its nodes, for the physical points and curves
+            if (dim <= 1) call read_curve_point_element(r, element_type, nodes_per_element, &
+               dim, int(elementary, ip), tag, 0_i8, error)
+            if (allocated(error)) return
             call skip_line(r%c)
          end select
       end do
@@ -411,6 +425,55 @@ contains
       end if
       call finish_element(r, element_type, element_tag, entity)
    end subroutine read_element_record
+
+   !> The nodes of point or line element `tag` (dimension `dim` 0 or 1) of `entity`, appended
+   !> to r%curve_point_nodes: read from the ASCII line after the element's tags (start = 0), or
+   !> from the binary record whose node tags begin at byte `start`.
+   subroutine read_curve_point_element(r, element_type, nodes_per_element, dim, entity, tag, &
+                                       start, error)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: element_type, tag, start
+      integer(ip), intent(in) :: nodes_per_element, dim, entity
+      type(error_t), allocatable, intent(out) :: error
+      integer(ip), allocatable :: grown(:, :)
+      integer(i8) :: node_tag, line
+      integer(ip) :: j, index, n
+      logical :: ok
+      line = r%c%line
+      do j = 1, nodes_per_element
+         if (start > 0) then
+            node_tag = transfer(r%c%text(start + 8 * (j - 1):start + 8 * j - 1), 0_i8)
+         else
+            call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
+            if (r%c%line /= line) then
+               call line_error(r%c, line, 'element ' // to_str(tag) // ' (' // &
+                  type_name(element_type) // ') lists ' // to_str(j - 1) // ' of its ' // &
+                  to_str(nodes_per_element) // ' nodes; a node is missing', error)
+               return
+            end if
+            if (.not. ok) then
+               call syntax_error(r%c, 'expected node ' // to_str(j) // ' of element ' // &
+                  to_str(tag) // ' (' // type_name(element_type) // ')', error)
+               return
+            end if
+         end if
+         index = node_index(r%map, node_tag)
+         if (index == 0) then
+            if (start > 0) r%c%pos = start + 8 * (j - 1)
+            call missing_node_error(r%c, tag, element_type, node_tag, error)
+            return
+         end if
+         n = r%num_curve_point_nodes
+         if (.not. allocated(r%curve_point_nodes)) allocate (r%curve_point_nodes(3, 64))
+         if (n == size(r%curve_point_nodes, 2)) then
+            allocate (grown(3, 2 * n))
+            grown(:, :n) = r%curve_point_nodes
+            call move_alloc(grown, r%curve_point_nodes)
+         end if
+         r%num_curve_point_nodes = n + 1
+         r%curve_point_nodes(:, n + 1) = [dim, entity, index]
+      end do
+   end subroutine read_curve_point_element
 
    !> Record `count` skipped volume elements of `element_type` in `entity` (a run continues the
    !> previous column when entity and type are the same).
