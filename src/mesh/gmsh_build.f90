@@ -144,7 +144,7 @@ contains
       end if
       call build_groups(r, links, mesh%groups)
       if (r%num_curve_point_nodes > 0) then
-         mesh%curve_point_nodes = r%curve_point_nodes(:, :r%num_curve_point_nodes)
+         mesh%curve_point_nodes = int(r%curve_point_nodes(:, :r%num_curve_point_nodes), ip)
       else
          allocate (mesh%curve_point_nodes(3, 0))
       end if

@@ -36,6 +36,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_cantilever_sag import A_SIDE, LENGTH, read_msh  # noqa: E402
+from check_mesh_markers import check  # noqa: E402
 
 FORCE = 10.0
 MODES = 16
@@ -105,12 +106,6 @@ def run(driver, mesh_dir, work, name, corner, edge, loaded):
     return os.path.join(folder, name + ".h5")
 
 
-def check(label, value, tol):
-    ok = value <= tol
-    print(f"{'ok  ' if ok else 'FAIL'} {label}: {value:.3e} (tolerance {tol:.1e})")
-    return ok
-
-
 def sensors(path):
     with h5py.File(path, "r") as h5:
         status = h5.attrs["status"]
@@ -120,12 +115,9 @@ def sensors(path):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("driver")
-    parser.add_argument("mesh_dir")
-    parser.add_argument("work")
-    args = parser.parse_args()
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    args = argparse.Namespace(driver=sys.argv[1], mesh_dir=sys.argv[2], work=sys.argv[3])
     corner, edge = tip_nodes(os.path.join(args.mesh_dir, "cantilever_groups.msh"))
     print(f"corner node {corner}, edge nodes {edge}")
     ok = True

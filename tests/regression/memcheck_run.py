@@ -46,16 +46,17 @@ def main():
             errors, suppressed = int(match.group(1)), int(match.group(2))
     print(f"memcheck: {errors} errors, {suppressed} suppressed (tests/memcheck.supp); "
           f"exit code {done.returncode}")
-    if errors != 0 or done.returncode != 0:
-        # the whole report, and the run's own messages, for the log
-        print("\n".join(line for line in done.stderr.splitlines()))
-        if done.returncode == ERROR_EXIT or errors > 0:
-            print("FAIL: memcheck errors outside the suppressed library internals")
-        else:
-            print(f"FAIL: the run ended with exit code {done.returncode}")
-        return 1
-    print("ok: no memcheck error in the run")
-    return 0
+    if errors == 0 and done.returncode == 0:
+        verdict = "ok: no memcheck error in the run"
+    elif done.returncode == ERROR_EXIT or errors > 0:
+        verdict = "FAIL: memcheck errors outside the suppressed library internals"
+    else:
+        verdict = f"FAIL: the run ended with exit code {done.returncode}"
+    if not verdict.startswith("ok"):
+        # the whole report and the run's own messages, for the log
+        print(done.stderr)
+    print(verdict)
+    return 0 if verdict.startswith("ok") else 1
 
 
 if __name__ == "__main__":
