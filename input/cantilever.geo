@@ -11,14 +11,22 @@
 // .geo sets the options after the command line):
 //   lc     element size [m], default 0.005 (two elements across); a/lc must be an integer
 //   order  element order, default 2 (Tet10); 1 gives Tet4
+//   groups 1: also the physical point "tip_corner" and curve "tip_edge" below (mesh
+//          cantilever_groups; default 0, so that cantilever.msh keeps its elements)
 // Physical groups (only their elements are saved):
 //   Volume  "bar" (1)
 //   Surface "root" (1): the square at x = 0;  "tip" (2): the square at x = L
+//   with groups = 1: Point "tip_corner" (3): the tip's corner (L, -a/2, -a/2);  Curve
+//   "tip_edge" (4): the tip's lower edge y = -a/2 (markers at the centre of a physical group,
+//   docs/mechanisms.md "Markers at mesh points")
 If (!Exists(lc))
    lc = 0.005;
 EndIf
 If (!Exists(order))
    order = 2;
+EndIf
+If (!Exists(groups))
+   groups = 0;
 EndIf
 L = 0.4;
 a = 0.01;
@@ -47,6 +55,13 @@ out[] = Extrude {L, 0, 0} { Surface{1}; Layers{layers}; };
 Physical Volume("bar", 1) = {out[1]};
 Physical Surface("root", 1) = {1};
 Physical Surface("tip", 2) = {out[0]};
+If (groups)
+   eps = 1.0e-6;
+   corner[] = Point In BoundingBox {L - eps, -a/2 - eps, -a/2 - eps, L + eps, -a/2 + eps, -a/2 + eps};
+   edge[] = Curve In BoundingBox {L - eps, -a/2 - eps, -a/2 - eps, L + eps, -a/2 + eps, a/2 + eps};
+   Physical Point("tip_corner", 3) = {corner[]};
+   Physical Curve("tip_edge", 4) = {edge[]};
+EndIf
 
 Mesh.ElementOrder = order;
 Mesh.SecondOrderLinear = 1;

@@ -162,7 +162,8 @@ contains
    end subroutine check_body_mesh
 
    !> The node and group markers of model body k (&marker node, group) on its mesh, as the run
-   !> builds them (ffrf_mpc_mesh_point): an unknown node tag or physical surface fails here.
+   !> builds them (ffrf_mpc_mesh_point): an unknown node tag or physical group, or a curve or
+   !> point without nodes on the body, fails here.
    subroutine check_mesh_points(k, model, body_mesh, error)
       integer, intent(in) :: k
       type(model_t), intent(in) :: model

@@ -21,9 +21,13 @@ submodule (ffrf_app_mechanism_output) ffrf_app_mechanism_output_file
 contains
 
    module procedure log_mechanism
-      integer :: k
+      integer :: k, num_loads
+      ! a mechanism without &load has no loads array (the size of an unallocated array is
+      ! undefined: it printed "1 loads" for input/spring_pendulum.nml)
+      num_loads = 0
+      if (allocated(mech%loads)) num_loads = size(mech%loads)
       call log%info('mechanism', to_str(size(mech%bodies) - 1) // ' moving bodies, ' // &
-         to_str(size(mech%joints)) // ' joints, ' // to_str(size(mech%loads)) // ' loads; ' // &
+         to_str(size(mech%joints)) // ' joints, ' // to_str(num_loads) // ' loads; ' // &
          to_str(mech%num_coordinates()) // ' coordinates, ' // to_str(mech%num_constraints()) // &
          ' constraint equations')
       if (size(integrator%dropped) == 0) then

@@ -3,7 +3,8 @@
 !>                progress_interval [s], animation_frames                     (optional, single)
 !>   &marker      body, name, position [m, body frame; ground: global], orientation
 !>                [rotation matrix by rows: the marker axes in the body frame], node, group
-!>                [flexible body: a mesh node, or a physical surface's RBE3 point], weighting
+!>                [flexible body: a mesh node, a physical surface's RBE3 point, or the centre
+!>                of a physical curve's or point's nodes], weighting
 !>                (repeatable)
 !>   &joint       name, type, body1, marker1, body2, marker2, axis            (repeatable)
 !>   &load        name, type (a word of load_choices), body, marker, direction,
@@ -50,9 +51,9 @@
 !>   &marker     position: 3 reals in [-1e4, 1e4] m; orientation: 9 reals in [-1e6, 1e6], a
 !>               rotation (|A A^T - I| <= 1e-9, det A > 0; absent: the joint's axis sets the
 !>               marker frame, docs/mechanisms.md "Joint frames"); node: a Gmsh node tag >= 1
-!>               and group: a physical surface name (flexible body only, one of the two, no
-!>               position: docs/mechanisms.md "Markers at mesh points"); weighting: a group's
-!>               RBE3 weights, a word of weighting_choices (as &interface)
+!>               and group: a physical surface, curve or point name (flexible body only, one of
+!>               the two, no position: docs/mechanisms.md "Markers at mesh points"); weighting: a
+!>               surface's RBE3 weights, a word of weighting_choices (as &interface)
 !>   &joint      type: a word of joint_choices (ffrf_mbs_joints); axis: 3 reals in [-1e6, 1e6],
 !>               not all zero
 !>   &load       direction: 3 reals in [-1e6, 1e6], not all zero; value in [-1e12, 1e12] N or

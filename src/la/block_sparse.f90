@@ -343,9 +343,12 @@ contains
       integer, intent(inout) :: irn(:), jcn(:)
       real(dp), intent(inout) :: values(:)
       integer, intent(inout) :: k
-      !> New number of each row (0: left out), num_rows
-      integer, intent(in), optional :: keep_row(:)
-      real(dp), intent(in), optional :: rscale(:)
+      !> New number of each row (0: left out), num_rows. Contiguous: with an assumed stride GCC
+      !> versions the loops on the stride of keep_row and rscale even when they are absent, a read
+      !> of a descriptor field the caller never set (memcheck: "conditional jump depends on
+      !> uninitialised value" on the sparse path; the result did not depend on it)
+      integer, intent(in), optional, contiguous :: keep_row(:)
+      real(dp), intent(in), optional, contiguous :: rscale(:)
       logical, intent(in), optional :: transposed
       integer :: b, e(5), ii, jj, row, col
       real(dp) :: factor
@@ -388,8 +391,9 @@ contains
       integer, allocatable, intent(inout) :: irn(:), jcn(:)
       real(dp), allocatable, intent(inout) :: values(:)
       integer, intent(inout) :: k
-      integer, intent(in), optional :: keep_row(:), keep_col(:)
-      real(dp), intent(in), optional :: rscale(:), cscale(:)
+      ! contiguous: as in block_sparse_triplets
+      integer, intent(in), optional, contiguous :: keep_row(:), keep_col(:)
+      real(dp), intent(in), optional, contiguous :: rscale(:), cscale(:)
       integer, allocatable :: first(:), list(:), fill(:), irn_new(:), jcn_new(:)
       real(dp), allocatable :: values_new(:)
       integer :: groups, b, xb, m, ii, jj, row, col, eA(5), eX(5)
@@ -446,7 +450,7 @@ contains
    !> keep(i) (the new number of i, 0: left out), or i without keep.
    pure integer function renumbered(i, keep) result(j)
       integer, intent(in) :: i
-      integer, intent(in), optional :: keep(:)
+      integer, intent(in), optional, contiguous :: keep(:)
       j = i
       if (present(keep)) j = keep(i)
    end function renumbered
@@ -454,7 +458,7 @@ contains
    !> scale(i), or 1 without scale.
    pure real(dp) function scale_at(i, scale) result(factor)
       integer, intent(in) :: i
-      real(dp), intent(in), optional :: scale(:)
+      real(dp), intent(in), optional, contiguous :: scale(:)
       factor = 1.0_dp
       if (present(scale)) factor = scale(i)
    end function scale_at

@@ -228,7 +228,10 @@ contains
    module procedure check_alternation
       real(dp) :: alternating
       if (self%nc == 0 .or. self%settings%alternation_limit <= 0.0_dp) return
-      if (.not. allocated(self%lambda_history)) allocate (self%lambda_history(self%nc, 4))
+      ! zeroed: the columns after history_count are not yet set, and the restart state
+      ! (export_state) writes them to the results file (memcheck: uninitialised bytes written)
+      if (.not. allocated(self%lambda_history)) allocate (self%lambda_history(self%nc, 4), &
+         source=0.0_dp)
       self%lambda_peak = max(self%lambda_peak, max_abs(self%lambda))
       if (abs(h - self%settings%h) > 1.0e-10_dp * self%settings%h .or. last) then
          self%history_count = 0

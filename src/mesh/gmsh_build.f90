@@ -81,7 +81,8 @@ contains
       call build_mesh(r, mesh, error)
    end procedure read_gmsh
 
-   !> Move what was read into `mesh`: elements (duplicates of MSH 2.2 removed), groups.
+   !> Move what was read into `mesh`: elements (duplicates of MSH 2.2 removed), groups, the
+   !> nodes of the point and line elements.
    subroutine build_mesh(r, mesh, error)
       type(reader_t), intent(inout) :: r
       type(mesh_t), intent(out) :: mesh
@@ -142,6 +143,11 @@ contains
          allocate (mesh%tris(0, 0), mesh%tri_tags(0), mesh%tri_entity(0))
       end if
       call build_groups(r, links, mesh%groups)
+      if (r%num_curve_point_nodes > 0) then
+         mesh%curve_point_nodes = int(r%curve_point_nodes(:, :r%num_curve_point_nodes), ip)
+      else
+         allocate (mesh%curve_point_nodes(3, 0))
+      end if
       if (r%num_other_volume > 0) then
          mesh%other_volume_elements = r%other_volume(:, :r%num_other_volume)
       else

@@ -131,11 +131,21 @@ contains
                         error)
                      return
                   end if
+                  ! a point or line element: its nodes, for the physical points and curves
+                  if (type_dim <= 1 .and. tag >= 1) call read_curve_point_element(r, &
+                     element_type, nodes_per_element, type_dim, int(entity, ip), tag, 0_i8, &
+                     error)
+                  if (allocated(error)) return
                   call skip_line(r%c)
                end if
                if (tag < 1) then
                   call bad_tag_error(r%c, 'element', tag, error)
                   return
+               end if
+               if (binary .and. type_dim <= 1) then
+                  call read_curve_point_element(r, element_type, nodes_per_element, type_dim, &
+                     int(entity, ip), tag, j + 8, error)
+                  if (allocated(error)) return
                end if
                if (e == 1) first_tag = tag
                r%min_element_tag = min(r%min_element_tag, tag)
@@ -216,6 +226,10 @@ contains
          case default
             r%num_skipped = r%num_skipped + 1
             if (dim == 3) call add_other_volume(r, elementary, element_type, 1_i8, tag)
+            ! a point or line element: its nodes, for the physical points and curves
+            if (dim <= 1) call read_curve_point_element(r, element_type, nodes_per_element, &
+               dim, int(elementary, ip), tag, 0_i8, error)
+            if (allocated(error)) return
             call skip_line(r%c)
          end select
       end do
@@ -377,17 +391,9 @@ contains
          else
             call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
          end if
-         if (r%c%line /= line) then
-            call line_error(r%c, line, 'element ' // to_str(element_tag) // ' (' // &
-               type_name(element_type) // ') lists ' // to_str(j - 1) // ' of its ' // &
-               to_str(nodes_per_element) // ' nodes; a node is missing', error)
-            return
-         end if
-         if (.not. ok) then
-            call syntax_error(r%c, 'expected node ' // to_str(j) // ' of element ' // &
-               to_str(element_tag) // ' (' // type_name(element_type) // ')', error)
-            return
-         end if
+         call check_node_read(r%c, line, ok, element_tag, element_type, j, nodes_per_element, &
+            error)
+         if (allocated(error)) return
          ! The direct table inline (this loop reads every node of every element)
          index = 0
          if (r%map%dense) then
@@ -412,12 +418,62 @@ contains
       call finish_element(r, element_type, element_tag, entity)
    end subroutine read_element_record
 
+   !> After node j of an ASCII element line was scanned (ok: an integer was read): an error if
+   !> the scan left the element's line (`line`: a node is missing) or found no integer.
+   subroutine check_node_read(c, line, ok, element_tag, element_type, j, nodes_per_element, &
+                              error)
+      type(cursor_t), intent(in) :: c
+      integer(i8), intent(in) :: line, element_tag, element_type
+      logical, intent(in) :: ok
+      integer(ip), intent(in) :: j, nodes_per_element
+      type(error_t), allocatable, intent(out) :: error
+      if (c%line /= line) then
+         call line_error(c, line, 'element ' // to_str(element_tag) // ' (' // &
+            type_name(element_type) // ') lists ' // to_str(j - 1) // ' of its ' // &
+            to_str(nodes_per_element) // ' nodes; a node is missing', error)
+      else if (.not. ok) then
+         call syntax_error(c, 'expected node ' // to_str(j) // ' of element ' // &
+            to_str(element_tag) // ' (' // type_name(element_type) // ')', error)
+      end if
+   end subroutine check_node_read
+
+   !> The nodes of point or line element `tag` (dimension `dim` 0 or 1) of `entity`, appended
+   !> to r%curve_point_nodes: read from the ASCII line after the element's tags (start = 0), or
+   !> from the binary record whose node tags begin at byte `start`.
+   subroutine read_curve_point_element(r, element_type, nodes_per_element, dim, entity, tag, &
+                                       start, error)
+      type(reader_t), intent(inout) :: r
+      integer(i8), intent(in) :: element_type, tag, start
+      integer(ip), intent(in) :: nodes_per_element, dim, entity
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8) :: node_tag, line
+      integer(ip) :: j, index
+      logical :: ok
+      line = r%c%line
+      do j = 1, nodes_per_element
+         if (start > 0) then
+            node_tag = transfer(r%c%text(start + 8 * (j - 1):start + 8 * j - 1), 0_i8)
+         else
+            call scan_int(r%c%text, r%c%pos, r%c%line, node_tag, ok)
+            call check_node_read(r%c, line, ok, tag, element_type, j, nodes_per_element, error)
+            if (allocated(error)) return
+         end if
+         index = node_index(r%map, node_tag)
+         if (index == 0) then
+            if (start > 0) r%c%pos = start + 8 * (j - 1)
+            call missing_node_error(r%c, tag, element_type, node_tag, error)
+            return
+         end if
+         call append_column(r%curve_point_nodes, r%num_curve_point_nodes, &
+            int([dim, entity, index], i8))
+      end do
+   end subroutine read_curve_point_element
+
    !> Record `count` skipped volume elements of `element_type` in `entity` (a run continues the
    !> previous column when entity and type are the same).
    subroutine add_other_volume(r, entity, element_type, count, first_tag)
       type(reader_t), intent(inout) :: r
       integer(i8), intent(in) :: entity, element_type, count, first_tag
-      integer(i8), allocatable :: grown(:, :)
       integer(ip) :: n
       n = r%num_other_volume
       if (n > 0) then
@@ -426,14 +482,24 @@ contains
             return
          end if
       end if
-      if (.not. allocated(r%other_volume)) allocate (r%other_volume(4, 16))
-      if (n == size(r%other_volume, 2)) then
-         allocate (grown(4, 2 * n))
-         grown(:, :n) = r%other_volume
-         call move_alloc(grown, r%other_volume)
-      end if
-      r%num_other_volume = n + 1
-      r%other_volume(:, n + 1) = [entity, element_type, count, first_tag]
+      call append_column(r%other_volume, r%num_other_volume, &
+         [entity, element_type, count, first_tag])
    end subroutine add_other_volume
+
+   !> Append `column` after the first n columns of `list` (room for 16 at first, then doubled).
+   pure subroutine append_column(list, n, column)
+      integer(i8), allocatable, intent(inout) :: list(:, :)
+      integer(ip), intent(inout) :: n
+      integer(i8), intent(in) :: column(:)
+      integer(i8), allocatable :: grown(:, :)
+      if (.not. allocated(list)) allocate (list(size(column), 16))
+      if (n == size(list, 2)) then
+         allocate (grown(size(list, 1), 2 * n))
+         grown(:, :n) = list
+         call move_alloc(grown, list)
+      end if
+      n = n + 1
+      list(:, n) = column
+   end subroutine append_column
 
 end submodule ffrf_mesh_gmsh_elements

@@ -108,6 +108,10 @@ submodule(ffrf_mesh_gmsh) ffrf_mesh_gmsh_text
       type(element_list_t) :: tets, tris
       !> Elements of the skipped types
       integer(i8) :: num_skipped = 0
+      !> Nodes of the point and line elements: (dimension, entity tag, node index) columns
+      integer(i8), allocatable :: curve_point_nodes(:, :)
+      !> Columns stored in `curve_point_nodes`
+      integer(ip) :: num_curve_point_nodes = 0
       !> Skipped volume elements: (entity, type, count, first element tag) per run of a block
       integer(i8), allocatable :: other_volume(:, :)
       !> Columns stored in `other_volume`

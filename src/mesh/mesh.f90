@@ -81,6 +81,11 @@ module ffrf_mesh_mesh
       integer(ip), allocatable :: tri_entity(:)
       !> Physical groups, sorted by dimension, then tag
       type(physical_group_t), allocatable :: groups(:)
+      !> The nodes of the point and line elements (Gmsh types 15, 1, 8, ...: those of physical
+      !> points and curves), (3, n): dimension (0 point, 1 curve), entity tag, node index, one
+      !> column per element node; in a body cut by extract_body the node index is 0 where the
+      !> node is not on the body. Not allocated: none read (bulk data)
+      integer(ip), allocatable :: curve_point_nodes(:, :)
       !> File the mesh was read from (for messages)
       character(len=:), allocatable :: file_name
       !> Volume elements the reader skipped (not Tet4/Tet10), one column per run of one entity
@@ -111,8 +116,8 @@ module ffrf_mesh_mesh
    interface
       !> A new mesh holding one body: the tetrahedra of the physical volumes `volume_names`, only
       !> the nodes they use (renumbered, `node_tags` kept), the triangles that are faces of its
-      !> tetrahedra (renumbered) and all physical groups, the body checked once (the checks: the
-      !> body in mesh_extract.f90).
+      !> tetrahedra (renumbered), the nodes of the physical points and curves and all physical
+      !> groups, the body checked once (the checks: the body in mesh_extract.f90).
       module subroutine extract_body(mesh, volume_names, body, error)
          !> Whole mesh
          type(mesh_t), intent(in) :: mesh
@@ -320,11 +325,13 @@ contains
       end if
    end subroutine mesh_group_triangles
 
-   !> Sorted unique node indices of the elements (tetrahedra for dim 3, triangles for dim 2) of
-   !> the physical group `name`; all element nodes count, edge nodes of Tet10/Tri6 included.
+   !> Sorted unique node indices of the elements (tetrahedra for dim 3, triangles for dim 2, line
+   !> elements for dim 1, point elements for dim 0) of the physical group `name`; all element
+   !> nodes count, edge nodes of Tet10/Tri6/Line3 included. A curve or point with no node, or
+   !> with a node off the body (a body cut by extract_body), is an error naming the group.
    subroutine mesh_group_nodes(self, dim, name, nodes, error)
       class(mesh_t), intent(in) :: self
-      !> 2 (physical surface) or 3 (physical volume)
+      !> 0 (physical point), 1 (curve), 2 (surface) or 3 (volume)
       integer(ip), intent(in) :: dim
       !> Physical name
       character(len=*), intent(in) :: name
@@ -332,11 +339,11 @@ contains
       integer(ip), allocatable, intent(out) :: nodes(:)
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: used(:)
-      integer(ip) :: k
-      if (dim /= 2 .and. dim /= 3) then
-         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // self%file_name // &
+      integer(ip) :: k, i, off_body
+      if (dim < 0 .or. dim > 3) then
+         call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
             ''': physical group ''' // name // ''' of dimension ' // to_str(dim) // &
-            ': only surface (2) and volume (3) groups hold elements')
+            ': groups have dimension 0 (point) to 3 (volume)')
          return
       end if
       k = self%find_group(dim, name)
@@ -348,8 +355,39 @@ contains
       used = .false.
       if (dim == 3) then
          call mark_nodes(self%tets, in_entities(self%tet_entity, self%groups(k)%entities), used)
-      else
+      else if (dim == 2) then
          call mark_nodes(self%tris, in_entities(self%tri_entity, self%groups(k)%entities), used)
+      else
+         off_body = 0
+         if (allocated(self%curve_point_nodes)) then
+            do i = 1, size(self%curve_point_nodes, 2, kind=ip)
+               associate (column => self%curve_point_nodes(:, i))
+                  if (column(1) /= dim) cycle
+                  if (.not. any(self%groups(k)%entities == column(2))) cycle
+                  if (column(3) == 0) then
+                     off_body = off_body + 1
+                  else
+                     used(column(3)) = .true.
+                  end if
+               end associate
+            end do
+         end if
+         if (off_body > 0) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
+               ''': physical ' // dimension_word(dim) // ' ''' // trim(name) // ''' does not ' // &
+               'lie wholly on the body of physical volume(s) ' // self%volumes // ': ' // &
+               to_str(off_body) // ' of its element nodes are not nodes of the body''s ' // &
+               'tetrahedra; name a ' // dimension_word(dim) // ' of the body')
+            return
+         end if
+         if (.not. any(used)) then
+            call fatal_error(error, FFRF_INPUT_ERROR, 'mesh ''' // file_of(self) // &
+               ''': physical ' // dimension_word(dim) // ' ''' // trim(name) // ''' has no ' // &
+               'nodes (no ' // trim(merge('point elements', 'line elements ', dim == 0)) // &
+               ' of its entities in the file); mesh it with its physical group (gmsh -3 ' // &
+               'saves the elements of physical groups)')
+            return
+         end if
       end if
       nodes = pack_indices(used)
    end subroutine mesh_group_nodes

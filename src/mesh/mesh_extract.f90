@@ -9,7 +9,8 @@ contains
    !> A new mesh holding one body: the tetrahedra of the physical volumes `volume_names`, only the
    !> nodes they use (renumbered 1..n in increasing order of the old index, `node_tags` kept),
    !> the triangles all of whose nodes are in the body and which are faces of its tetrahedra
-   !> (renumbered) and all physical groups.
+   !> (renumbered), the nodes of the physical points and curves (renumbered, 0 off the body)
+   !> and all physical groups.
    !>
    !> The body is checked once here (FFRF_INPUT_ERROR naming the file and the element, node or
    !> group): its volumes hold no other volume elements than tetrahedra; no two tetrahedra have
@@ -130,6 +131,12 @@ contains
       body%file_name = file_of(mesh)
       body%volumes = quoted_list(volume_names)
       body%off_body_tri_entity = pack(mesh%tri_entity, .not. keep_tri)
+      ! the nodes of physical points and curves, renumbered (0: not on the body, which
+      ! group_nodes refuses)
+      if (allocated(mesh%curve_point_nodes)) then
+         body%curve_point_nodes = mesh%curve_point_nodes
+         body%curve_point_nodes(3, :) = new_index(mesh%curve_point_nodes(3, :))
+      end if
       if (allocated(mesh%node_sets)) call cut_node_sets(mesh, new_index, body)
       if (allocated(mesh%materials)) body%materials = mesh%materials
 

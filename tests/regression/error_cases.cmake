@@ -95,7 +95,8 @@ ffrf_error_case(model_tolerance 2 "model_tolerance\\.nml:5: &model force_toleran
   "${_arm}\n${_pivot}\n&model force_tolerance = 0.0 /")
 
 # Markers at mesh points (&marker node, group; docs/mechanisms.md "Markers at mesh points"): a
-# crank held at B2 by a fixed joint, a marker at a node or at a physical surface's RBE3 point
+# crank held at B2 by a fixed joint, a marker at a node or at a physical group (surface, curve,
+# point)
 set(_held "&body name = 'crank', mesh_file = 'crank_lc8.msh', volumes = 'crank', num_modes = 2 /
 ${_iface}
 &marker body = 'ground', name = 'pin', position = 0, 0.045, 0 /
@@ -105,7 +106,7 @@ ffrf_error_case(marker_node_unknown 2 "&body \"crank\": &marker \"P\": node = 99
   "${_held}\n&marker body = 'crank', name = 'P', node = 99999999 /\n${_push}")
 ffrf_error_case(marker_node_unknown_check 2 "&body \"crank\": &marker \"P\": node = 99999999 is not a node of the body's mesh"
   "${_held}\n&marker body = 'crank', name = 'P', node = 99999999 /\n${_push}" --check)
-ffrf_error_case(marker_group_unknown_check 2 "&marker \"P\": group = 'B9' is not a physical surface of the body's mesh"
+ffrf_error_case(marker_group_unknown_check 2 "&marker \"P\": group = 'B9' is not a physical surface, curve or point of the body's mesh"
   "${_held}\n&marker body = 'crank', name = 'P', group = 'B9' /\n${_push}" --check)
 ffrf_error_case(marker_node_rigid 2 "marker_node_rigid\\.nml:4: &marker \"tip\": body \"arm\" is rigid; node and group place a marker on a flexible body's mesh"
   "${_arm}\n&marker body = 'arm', name = 'tip', node = 5 /\n${_pivot}")

@@ -90,6 +90,17 @@ add_test(NAME regression_mesh_markers
     $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${_flex}/mesh_markers ${_markers_args})
 set_tests_properties(regression_mesh_markers PROPERTIES LABELS "regression;mbs"
   FIXTURES_REQUIRED cantilever_mesh)
+# Markers at the centre of a physical curve and a physical point (the same cantilever meshed with
+# its tip corner and tip edge as groups, mesh cantilever_groups): a static load at the curve's
+# marker against Timoshenko's tip sag, the curve's marker against the mean of its node markers,
+# the point group's marker against the node marker (bitwise, also as the loaded marker), an
+# unknown group refused by --check; check_group_markers.py writes and runs the cases (3 short
+# runs, about 10 s).
+add_test(NAME regression_group_markers
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/regression/check_group_markers.py
+    $<TARGET_FILE:ffrf> ${PROJECT_BINARY_DIR}/meshes ${_flex}/group_markers)
+set_tests_properties(regression_group_markers PROPERTIES LABELS "regression;mbs"
+  FIXTURES_REQUIRED cantilever_groups_mesh)
 # The [mechanism] log line counts interface markers apart from mesh-point markers (issue 24):
 # input/cantilever_tip_load.nml has one interface (root) and one group marker (tip_face), run
 # for one step. Under a second.

@@ -23,3 +23,6 @@ ffrf_test_mesh(surface_only_41 surface_only -order 1 -format msh41)
 
 ffrf_add_unit_suite(test_mesh_gmsh CHECKED FIXTURES "test_mesh;crank_lc8_mesh" LABELS mesh)
 ffrf_add_unit_suite(test_mesh_bulk_data CHECKED LABELS mesh)
+# Physical curves and points (box.geo's x_edge and origin): their nodes in every format, in a
+# body, and the mesh points (marker locations) at their centre (issue 24 item 1)
+ffrf_add_unit_suite(test_mesh_groups FIXTURES test_mesh LABELS mesh)

@@ -327,7 +327,7 @@ contains
       if (allocated(error)) return
       call check(error, 'group_names(2) = "' // mesh%group_names(2_ip) // '"', &
          mesh%group_names(2_ip) == 'left, right, x_faces' .and. &
-         mesh%group_names(3_ip) == 'block' .and. mesh%group_names(1_ip) == '(none)')
+         mesh%group_names(3_ip) == 'block' .and. mesh%group_names(1_ip) == 'x_edge')
       if (allocated(error)) return
       call mesh%group_tets('block', tets, error)
       if (allocated(error)) return
