@@ -23,6 +23,8 @@ module ffrf_core_choices
       weighting_choices, weighting_names
    public :: TIME_CONSTANT, TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE, &
       time_law_choices
+   public :: INTERPOLATION_LINEAR, INTERPOLATION_CUBIC, interpolation_choices
+   public :: BEYOND_HOLD, BEYOND_PERIODIC, beyond_choices
 
    !> One row of a choice table: the word (any case in the input) and its kind constant
    type :: choice_t
@@ -102,6 +104,18 @@ module ffrf_core_choices
    type(choice_t), parameter :: time_law_choices(*) = [choice_t('constant', TIME_CONSTANT), &
       choice_t('constant_speed', TIME_CONSTANT_SPEED), choice_t('ramp', TIME_RAMP), &
       choice_t('smooth_step', TIME_SMOOTH_STEP), choice_t('table', TIME_TABLE)]
+
+   !> Between the points of a table law (&driver, &load interpolation): straight lines or a
+   !> cubic spline (src/mbs/time_function.f90)
+   integer, parameter :: INTERPOLATION_LINEAR = 1, INTERPOLATION_CUBIC = 2
+   type(choice_t), parameter :: interpolation_choices(*) = [ &
+      choice_t('linear', INTERPOLATION_LINEAR), choice_t('cubic', INTERPOLATION_CUBIC)]
+
+   !> Outside the times of a table law (&driver, &load beyond): the end values held, or the
+   !> table repeated with its period (src/mbs/time_function.f90)
+   integer, parameter :: BEYOND_HOLD = 1, BEYOND_PERIODIC = 2
+   type(choice_t), parameter :: beyond_choices(*) = [choice_t('hold', BEYOND_HOLD), &
+      choice_t('periodic', BEYOND_PERIODIC)]
 
 contains
 

@@ -4,7 +4,7 @@
 module ffrf_core_error
    implicit none
    private
-   public :: error_t, fatal_error, add_context
+   public :: error_t, fatal_error, add_context, check_solution
    public :: FFRF_INPUT_ERROR, FFRF_IO_ERROR, FFRF_NUMERIC_ERROR, FFRF_INTERRUPTED
 
    !> Bad user input: namelist, mesh content, inconsistent model description. The three codes
@@ -50,5 +50,23 @@ contains
       if (.not. allocated(error%message)) error%message = ''
       error%message = where // ': ' // error%message
    end subroutine add_context
+
+   !> After a linear solve: `where` prefixed to its error, else FFRF_NUMERIC_ERROR `message` when
+   !> the solution is not finite (`finite`: all(ieee_is_finite(x)) of the caller's x).
+   subroutine check_solution(error, where, finite, message)
+      !> The solve's error (not allocated: it succeeded)
+      type(error_t), allocatable, intent(inout) :: error
+      !> Where the solve was made
+      character(len=*), intent(in) :: where
+      !> Every entry of the solution is finite
+      logical, intent(in) :: finite
+      !> What the NaN or Inf means and how to fix it
+      character(len=*), intent(in) :: message
+      if (allocated(error)) then
+         call add_context(error, where)
+      else if (.not. finite) then
+         call fatal_error(error, FFRF_NUMERIC_ERROR, message)
+      end if
+   end subroutine check_solution
 
 end module ffrf_core_error

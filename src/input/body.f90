@@ -3,10 +3,13 @@
 !> numerics' body_spec_t (ffrf_model_model body_spec_of) and resolves its mesh file.
 module ffrf_input_body
    use ffrf_core_kinds, only: dp
-   use ffrf_modes_input, only: MAX_VOLUMES
+   use ffrf_modes_input, only: MAX_VOLUMES, body_spec_t
    implicit none
    private
    public :: body_input_t, MAX_VOLUMES
+
+   !> The numerics' material defaults (body_spec_t: steel), those of &body
+   type(body_spec_t), parameter :: spec = body_spec_t()
 
    !> A body: mesh file, physical volumes and material (&body).
    type :: body_input_t
@@ -18,11 +21,11 @@ module ffrf_input_body
       !> Physical volume names that make up the body
       character(len=64) :: volumes(MAX_VOLUMES) = ''
       !> Young's modulus (Pa)
-      real(dp) :: young = 210.0e9_dp
+      real(dp) :: young = spec%young
       !> Poisson's ratio
-      real(dp) :: poisson = 0.3_dp
+      real(dp) :: poisson = spec%poisson
       !> Density (kg/m^3)
-      real(dp) :: density = 7850.0_dp
+      real(dp) :: density = spec%density
       !> young, poisson, density written in &body (a Nastran deck's MAT1 gives those not written)
       logical :: material_given(3) = .false.
       !> Mechanism runs, flexible bodies: add the modal geometric stiffness of the centrifugal

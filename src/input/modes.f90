@@ -3,6 +3,7 @@
 module ffrf_input_modes
    use ffrf_core_kinds, only: dp
    use ffrf_core_choices, only: choice_t, formulation_choices, basis_choices
+   use ffrf_modes_input, only: modes_spec_t
    implicit none
    private
    public :: modes_input_t, formulation_choices, basis_choices, eigensolver_choices
@@ -15,26 +16,25 @@ module ffrf_input_modes
    type(choice_t), parameter :: eigensolver_choices(*) = [choice_t('auto', 1), &
       choice_t('arpack', 2), choice_t('block', 3)]
 
+   !> The numerics' defaults (modes_spec_t), the ones of &modes where a key has the same meaning
+   type(modes_spec_t), parameter :: spec = modes_spec_t()
+
    !> Constrained normal modes (&modes).
    type :: modes_input_t
       !> Number of flexible modes per body (free-free bodies: the six rigid modes come on top)
       integer :: num_modes = 12
-      !> Shift of the shift-invert Lanczos, as a frequency (Hz); negative means sigma < 0:
-      !> sigma = sign(shift_hz) (2 pi shift_hz)^2. 0 (default) = automatic: a negative shift at
-      !> 1 % of the body's wave frequency sqrt(E/rho)/L, below its modes and far enough from
-      !> zero that a free-free factorisation stays well conditioned.
-      real(dp) :: shift_hz = 0.0_dp
+      !> Shift of the shift-invert Lanczos, as a frequency (Hz); its sign, and the automatic
+      !> shift of the default 0: modes_spec_t%shift_hz
+      real(dp) :: shift_hz = spec%shift_hz
       !> 'multipliers' (scalable, default) or 'null_space' (explicit LAPACK null spaces)
       character(len=16) :: formulation = 'multipliers'
       !> Label of the reference-condition set, e.g. 'RC set 1', for tables and plots
       character(len=64) :: rc_label = ''
-      !> Relative tolerance of the Ritz values (0: machine precision). Default 1e-9: eigen
-      !> residuals ~1e-10 on the reference crank with fewer solves than machine precision; the
-      !> frequencies (Rayleigh quotients) are accurate to about the residual squared (docs/method.md
-      !> "Modes: spectra you can trust", measured)
-      real(dp) :: tolerance = 1.0e-9_dp
+      !> Relative tolerance of the Ritz values (0: machine precision); the default and why:
+      !> modes_spec_t%tolerance
+      real(dp) :: tolerance = spec%tolerance
       !> Lanczos basis size (ARPACK ncv); 0 = automatic, max(2 num_modes + 1, 20)
-      integer :: lanczos_vectors = 0
+      integer :: lanczos_vectors = spec%lanczos_vectors
       !> Mode basis: 'rc_normal' (the constrained normal modes of the RC set, the paper's) or
       !> 'craig_bampton' (static constraint modes of the non-RC virtual-node dofs plus num_modes
       !> fixed-interface modes, orthonormalised by Rayleigh-Ritz: src/modes/craig_bampton.f90)

@@ -114,7 +114,8 @@ module ffrf_input_nml_mechanism
    use ffrf_mbs_generalized_alpha, only: galpha_settings_t, check_galpha_settings, &
       GALPHA_NEWTON_FULL, GALPHA_NEWTON_STEP, GALPHA_NEWTON_ADAPTIVE, GALPHA_INDEX3, &
       GALPHA_INDEX2
-   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name
+   use ffrf_core_choices, only: choice_t, choice_words, choice_position, choice_name, &
+      interpolation_choices, beyond_choices
    use ffrf_mbs_joints, only: joint_choices
    use ffrf_mbs_rotation, only: check_rotation
    use ffrf_mbs_energy_watch, only: energy_watch_settings_t, energy_watch_kind, &
@@ -276,7 +277,8 @@ contains
          real_key('speed', -1.0e12_dp, 1.0e12_dp, '1/s'), &
          real_key('t_start', 0.0_dp, 1.0e6_dp, 's'), &
          real_key('duration', 0.0_dp, 1.0e6_dp, 's', lower_open=.true.), times, values, &
-         choice_key('interpolation', 8, 'linear, cubic'), choice_key('beyond', 8, 'hold, periodic')]
+         choice_key('interpolation', 8, choice_words(interpolation_choices)), &
+         choice_key('beyond', 8, choice_words(beyond_choices))]
    end function law_keys
 
    !> Keys of &driver (module header).

@@ -29,6 +29,15 @@ submodule (ffrf_io_hdf5) ffrf_io_hdf5_internals
    !> True once h5open_f has run (and automatic error printing is off).
    logical, save :: library_ready = .false.
 
+   abstract interface
+      !> The close of one kind of HDF5 handle (h5dclose_f, h5sclose_f, h5pclose_f, ...)
+      subroutine h5_close(id, hdferr)
+         import :: hid_t
+         integer(hid_t), intent(in) :: id
+         integer, intent(out) :: hdferr
+      end subroutine h5_close
+   end interface
+
 contains
 
    ! ------------------------------------------------------------------ internals
@@ -420,35 +429,24 @@ contains
    !> Close whichever handles are open (>= 0), ignoring secondary errors.
    subroutine release(dset, space, mem_space, plist, type, attr, obj)
       integer(hid_t), intent(inout), optional :: dset, space, mem_space, plist, type, attr, obj
-      integer :: hdferr
-      if (present(dset)) then
-         if (dset >= 0) call h5dclose_f(dset, hdferr)
-         dset = -1
-      end if
-      if (present(space)) then
-         if (space >= 0) call h5sclose_f(space, hdferr)
-         space = -1
-      end if
-      if (present(mem_space)) then
-         if (mem_space >= 0) call h5sclose_f(mem_space, hdferr)
-         mem_space = -1
-      end if
-      if (present(plist)) then
-         if (plist >= 0) call h5pclose_f(plist, hdferr)
-         plist = -1
-      end if
-      if (present(type)) then
-         if (type >= 0) call h5tclose_f(type, hdferr)
-         type = -1
-      end if
-      if (present(attr)) then
-         if (attr >= 0) call h5aclose_f(attr, hdferr)
-         attr = -1
-      end if
-      if (present(obj)) then
-         if (obj >= 0) call h5oclose_f(obj, hdferr)
-         obj = -1
-      end if
+      call release_one(dset, h5dclose_f)
+      call release_one(space, h5sclose_f)
+      call release_one(mem_space, h5sclose_f)
+      call release_one(plist, h5pclose_f)
+      call release_one(type, h5tclose_f)
+      call release_one(attr, h5aclose_f)
+      call release_one(obj, h5oclose_f)
    end subroutine release
+
+   !> Close `id` with `close` when it is present and open (>= 0), then mark it closed (-1).
+   subroutine release_one(id, close)
+      integer(hid_t), intent(inout), optional :: id
+      !> The HDF5 close of the handle's kind (h5dclose_f, h5sclose_f, ...)
+      procedure(h5_close) :: close
+      integer :: hdferr
+      if (.not. present(id)) return
+      if (id >= 0) call close(id, hdferr)
+      id = -1
+   end subroutine release_one
 
 end submodule ffrf_io_hdf5_internals

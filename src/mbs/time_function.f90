@@ -39,7 +39,8 @@ module ffrf_mbs_time_function
    use ffrf_core_error, only: error_t, fatal_error, FFRF_INPUT_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_choices, only: choice_kind_of, choice_words, time_law_choices, TIME_CONSTANT, &
-      TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE
+      TIME_CONSTANT_SPEED, TIME_RAMP, TIME_SMOOTH_STEP, TIME_TABLE, interpolation_choices, &
+      INTERPOLATION_LINEAR, INTERPOLATION_CUBIC, beyond_choices, BEYOND_HOLD, BEYOND_PERIODIC
    implicit none
    private
    public :: time_function_t, time_function_kind_of, time_law_choices, new_time_function
@@ -140,13 +141,13 @@ contains
       fun%values = values
       fun%periodic = .false.
       if (present(beyond)) then
-         select case (trim(beyond))
-         case ('hold')
-         case ('periodic')
+         select case (choice_kind_of(beyond_choices, beyond))
+         case (BEYOND_HOLD)
+         case (BEYOND_PERIODIC)
             fun%periodic = .true.
          case default
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': beyond = ''' // trim(beyond) &
-               // ''', must be hold or periodic')
+               // ''', must be one of ' // choice_words(beyond_choices))
             return
          end select
       end if
@@ -158,15 +159,16 @@ contains
       end if
       allocate (fun%curvatures(n), source=0.0_dp)
       if (present(interpolation)) then
-         select case (trim(interpolation))
-         case ('linear')
-         case ('cubic')
+         select case (choice_kind_of(interpolation_choices, interpolation))
+         case (INTERPOLATION_LINEAR)
+         case (INTERPOLATION_CUBIC)
             call spline_curvatures(fun%times, fun%values, fun%periodic, fun%curvatures, where, &
                error)
             if (allocated(error)) return
          case default
             call fatal_error(error, FFRF_INPUT_ERROR, where // ': interpolation = ''' // &
-               trim(interpolation) // ''', must be linear or cubic')
+               trim(interpolation) // ''', must be one of ' // &
+               choice_words(interpolation_choices))
             return
          end select
       end if

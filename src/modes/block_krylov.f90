@@ -20,7 +20,7 @@
 module ffrf_modes_block_krylov
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use ffrf_core_kinds, only: dp, ip, i8
-   use ffrf_core_error, only: error_t, fatal_error, add_context, FFRF_INPUT_ERROR, &
+   use ffrf_core_error, only: error_t, fatal_error, add_context, check_solution, FFRF_INPUT_ERROR, &
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: logger_t
@@ -403,15 +403,10 @@ contains
       rhs(1:n, :) = MX
       rhs(n + 1:, :) = 0.0_dp
       call solver%solve(rhs, error)
-      if (allocated(error)) then
-         call add_context(error, 'block Lanczos solve')
-         return
-      end if
-      if (.not. all(ieee_is_finite(rhs(1:n, :)))) then
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'block Lanczos: the KKT solve returned ' &
-            // 'NaN or Inf; K - sigma M is (nearly) singular: move sigma')
-         return
-      end if
+      call check_solution(error, 'block Lanczos solve', all(ieee_is_finite(rhs(1:n, :))), &
+         'block Lanczos: the KKT solve returned NaN or Inf; K - sigma M is (nearly) ' // &
+         'singular: move sigma')
+      if (allocated(error)) return
       W = rhs(1:n, :)
       stats%num_block_solves = stats%num_block_solves + 1
    end subroutine apply_op

@@ -42,7 +42,7 @@ module ffrf_modes_craig_bampton
    use ffrf_la_dense, only: symmetric_eigen
    use ffrf_la_lapack, only: dgemm, dsygv
    use ffrf_mpc_interface, only: interface_t, DOF_NAMES
-   use ffrf_mpc_reduction, only: reduction_t
+   use ffrf_mpc_reduction, only: reduction_t, add_virtual_node_row, reduce_rows
    use ffrf_modes_shift_invert, only: eigen_options_t, eigen_result_t, solve_shift_invert, &
       project_null_space
    implicit none
@@ -174,14 +174,14 @@ contains
       !> Row is a reference condition (held at zero in every mode)
       logical, allocatable, intent(out) :: is_rc(:)
       type(error_t), allocatable, intent(out) :: error
-      type(csr_t) :: c_full, c_reduced
+      type(csr_t) :: c_reduced
       integer(ip), allocatable :: rows(:), cols(:)
       real(dp), allocatable :: vals(:), gram(:, :), row_norm(:), full_norm(:), values(:), &
          vectors(:, :)
       logical, allocatable :: keep(:), kept_entry(:), rc_all(:)
       character(len=80), allocatable :: labels(:)
       integer(ip) :: num_rows, nnz, r, kept
-      integer :: k, d, i, c
+      integer :: k, d
 
       num_rows = 6 * int(size(interfaces), ip)
       if (num_rows == 0) then
@@ -211,25 +211,12 @@ contains
                rc_all(r) = f%rc(d)
                labels(r) = 'interface "' // f%name // '" ' // DOF_NAMES(d)
                full_norm(r) = norm2(f%G(d, :))
-               do i = 1, size(f%nodes)
-                  do c = 1, 3
-                     nnz = nnz + 1
-                     rows(nnz) = r
-                     cols(nnz) = 3 * (f%nodes(i) - 1) + int(c, ip)
-                     vals(nnz) = f%G(d, 3 * (i - 1) + c)
-                  end do
-               end do
+               call add_virtual_node_row(f, d, r, rows, cols, vals, nnz)
             end do
          end associate
       end do
-      call csr_from_coo(num_rows, red%num_full, rows, cols, vals, c_full, error)
+      call reduce_rows(red, num_rows, rows, cols, vals, c_reduced, error)
       if (allocated(error)) return
-      if (red%is_identity) then
-         c_reduced = c_full
-      else
-         call csr_matmul(c_full, red%T, c_reduced, error)
-         if (allocated(error)) return
-      end if
 
       ! Drop the rows T has eliminated, keep the others: C_v is the kept rows of c_reduced as
       ! they are (csr_matmul and csr_from_coo sort the columns of a row)

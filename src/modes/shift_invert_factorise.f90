@@ -186,15 +186,10 @@ contains
          rhs(n + r, :) = targets(r, :) * kkt%row_scale(r)
       end do
       call solver%solve(rhs, error)
-      if (allocated(error)) then
-         call add_context(error, 'shift-invert, static solve with the KKT factors')
-         return
-      end if
-      if (.not. all(ieee_is_finite(rhs))) then
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: NaN or Inf in the ' // &
-            'static solve: K is singular on null(C)')
-         return
-      end if
+      call check_solution(error, 'shift-invert, static solve with the KKT factors', &
+         all(ieee_is_finite(rhs)), 'shift-invert: NaN or Inf in the static solve: K is ' // &
+         'singular on null(C)')
+      if (allocated(error)) return
       solutions = rhs(1:n, :)
    end procedure constraint_solve
 

@@ -5,7 +5,8 @@
 !> (normalisation and checks of the eigenpairs).
 submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use ffrf_core_error, only: fatal_error, add_context, FFRF_INPUT_ERROR, FFRF_NUMERIC_ERROR
+   use ffrf_core_error, only: fatal_error, add_context, check_solution, FFRF_INPUT_ERROR, &
+      FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
    use ffrf_core_interrupt, only: interrupt_t
@@ -328,14 +329,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       rhs(n + 1:) = 0.0_dp
       call solver%solve(rhs, error)
-      if (allocated(error)) then
-         call add_context(error, 'shift-invert, Lanczos solve')
-         return
-      end if
-      if (.not. all(ieee_is_finite(rhs(1:n)))) then
-         call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: the KKT solve returned ' &
-            // 'NaN or Inf; K - sigma M is (nearly) singular: move sigma')
-      end if
+      call check_solution(error, 'shift-invert, Lanczos solve', all(ieee_is_finite(rhs(1:n))), &
+         'shift-invert: the KKT solve returned NaN or Inf; K - sigma M is (nearly) singular: ' &
+         // 'move sigma')
    end subroutine kkt_solve
 
    !> Deterministic start vector in (-0.5, 0.5): Park-Miller minimal standard generator

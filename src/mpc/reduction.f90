@@ -22,6 +22,7 @@ module ffrf_mpc_reduction
    implicit none
    private
    public :: reduction_t, build_reduction, reduce_matrix, expand_vectors, reduced_coordinates
+   public :: add_virtual_node_row, reduce_rows
    public :: FORMULATION_NONE, FORMULATION_MULTIPLIERS, FORMULATION_NULL_SPACE, formulation_name
 
    !> q = T p with C p = 0.
@@ -225,9 +226,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer(ip), allocatable :: rows(:), cols(:)
       real(dp), allocatable :: vals(:)
-      type(csr_t) :: c_full
+      type(csr_t) :: c_reduced
       integer(ip) :: num_rows, nnz
-      integer :: k, d, i, c
+      integer :: k, d
 
       num_rows = 0
       nnz = 0
@@ -246,26 +247,51 @@ contains
             num_rows = num_rows + 1
             red%constraint_labels(num_rows) = 'interface "' // interfaces(k)%name // '" ' // &
                DOF_NAMES(d)
-            do i = 1, size(interfaces(k)%nodes)
-               do c = 1, 3
-                  nnz = nnz + 1
-                  rows(nnz) = num_rows
-                  cols(nnz) = 3 * (interfaces(k)%nodes(i) - 1) + int(c, ip)
-                  vals(nnz) = interfaces(k)%G(d, 3 * (i - 1) + c)
-               end do
-            end do
+            call add_virtual_node_row(interfaces(k), d, num_rows, rows, cols, vals, nnz)
          end do
       end do
+      call reduce_rows(red, num_rows, rows, cols, vals, c_reduced, error)
+      if (allocated(error)) return
+      red%C = c_reduced
+      call check_independent_rows(red, error)
+   end subroutine build_constraints
+
+   !> Row r of the virtual-node rows on the full dofs: the row d of interface iface's G
+   !> (q_V = G q_B), appended to the COO arrays after entry nnz (nnz counts them).
+   subroutine add_virtual_node_row(iface, d, r, rows, cols, vals, nnz)
+      type(interface_t), intent(in) :: iface
+      !> Virtual-node dof 1..6 (DOF_NAMES)
+      integer, intent(in) :: d
+      integer(ip), intent(in) :: r
+      integer(ip), intent(inout) :: rows(:), cols(:), nnz
+      real(dp), intent(inout) :: vals(:)
+      integer :: i, c
+      do i = 1, size(iface%nodes)
+         do c = 1, 3
+            nnz = nnz + 1
+            rows(nnz) = r
+            cols(nnz) = 3 * (iface%nodes(i) - 1) + int(c, ip)
+            vals(nnz) = iface%G(d, 3 * (i - 1) + c)
+         end do
+      end do
+   end subroutine add_virtual_node_row
+
+   !> C = C_full T of rows given on the full dofs (COO; C_full itself when T is the identity).
+   subroutine reduce_rows(red, num_rows, rows, cols, vals, C, error)
+      type(reduction_t), intent(in) :: red
+      integer(ip), intent(in) :: num_rows, rows(:), cols(:)
+      real(dp), intent(in) :: vals(:)
+      type(csr_t), intent(out) :: C
+      type(error_t), allocatable, intent(out) :: error
+      type(csr_t) :: c_full
       call csr_from_coo(num_rows, red%num_full, rows, cols, vals, c_full, error)
       if (allocated(error)) return
       if (red%is_identity) then
-         red%C = c_full
+         C = c_full
       else
-         call csr_matmul(c_full, red%T, red%C, error)
-         if (allocated(error)) return
+         call csr_matmul(c_full, red%T, C, error)
       end if
-      call check_independent_rows(red, error)
-   end subroutine build_constraints
+   end subroutine reduce_rows
 
    pure logical function is_constraint_interface(iface, formulation)
       type(interface_t), intent(in) :: iface
