@@ -1,14 +1,26 @@
-# FindARPACK: ARPACK-NG through its pkg-config file (Debian's libarpack2-dev has no CMake config
-# unless libparpack2-dev is installed). Defines ARPACK::ARPACK.
+# FindARPACK: ARPACK-NG through its pkg-config files (Debian's libarpack2-dev has no CMake config
+# unless libparpack2-dev is installed). Defines ARPACK::ARPACK; with COMPONENTS PARPACK (the MPI
+# build) also PARPACK::PARPACK, ARPACK-NG's MPI library (libparpack2-dev).
 find_package(PkgConfig QUIET)
-if(PkgConfig_FOUND)
-  pkg_check_modules(PC_ARPACK QUIET arpack)
+set(_arpack_names arpack)
+if("PARPACK" IN_LIST ARPACK_FIND_COMPONENTS)
+  list(APPEND _arpack_names parpack)
 endif()
-find_library(ARPACK_LIBRARY NAMES arpack HINTS ${PC_ARPACK_LIBRARY_DIRS})
+foreach(_name IN LISTS _arpack_names)
+  string(TOUPPER "${_name}" _upper)
+  if(PkgConfig_FOUND)
+    pkg_check_modules(PC_${_upper} QUIET ${_name})
+  endif()
+  find_library(${_upper}_LIBRARY NAMES ${_name} HINTS ${PC_${_upper}_LIBRARY_DIRS})
+  mark_as_advanced(${_upper}_LIBRARY)
+  if(${_upper}_LIBRARY)
+    set(ARPACK_${_upper}_FOUND TRUE)
+    if(NOT TARGET ${_upper}::${_upper})
+      add_library(${_upper}::${_upper} UNKNOWN IMPORTED)
+      set_target_properties(${_upper}::${_upper} PROPERTIES IMPORTED_LOCATION "${${_upper}_LIBRARY}")
+    endif()
+  endif()
+endforeach()
 include(FindPackageHandleStandardArgs)
-find_package_handle_standard_args(ARPACK REQUIRED_VARS ARPACK_LIBRARY)
-if(ARPACK_FOUND AND NOT TARGET ARPACK::ARPACK)
-  add_library(ARPACK::ARPACK UNKNOWN IMPORTED)
-  set_target_properties(ARPACK::ARPACK PROPERTIES IMPORTED_LOCATION "${ARPACK_LIBRARY}")
-endif()
-mark_as_advanced(ARPACK_LIBRARY)
+find_package_handle_standard_args(ARPACK REQUIRED_VARS ARPACK_LIBRARY HANDLE_COMPONENTS
+  REASON_FAILURE_MESSAGE "ARPACK-NG: install Debian's libarpack2-dev (and libparpack2-dev, the PARPACK of the MPI build: .ci/install-deps --mpi)")

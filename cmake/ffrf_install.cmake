@@ -100,7 +100,7 @@ if(CMAKE_C_IMPLICIT_LINK_LIBRARIES)
 endif()
 ffrf_link_flags(FFRF_PC_DEPENDENCIES ${HDF5_Fortran_LIBRARIES} ${HDF5_LIBRARIES}
   ${MUMPS_DMUMPS_LIBRARY} ${MUMPS_COMMON_LIBRARY} ${MUMPS_PORD_LIBRARY} ${MUMPS_MPISEQ_LIBRARY}
-  ${ARPACK_LIBRARY} ${METIS_LIBRARY} ${LAPACK_LIBRARIES} ${_fortran_runtime}
+  ${PARPACK_LIBRARY} ${ARPACK_LIBRARY} ${METIS_LIBRARY} ${LAPACK_LIBRARIES} ${_fortran_runtime}
   ${MPI_Fortran_LIBRARIES} ${MPI_C_LIBRARIES})     # (MPI: only in the MPI build)
 # A shared libffrf records its dependencies itself: `--libs` is -lffrf and `--static` adds the
 # rest. A static-only install has no .so, so `--libs` must carry every library.

@@ -3,7 +3,8 @@
 !> (the driver: MPI_COMM_WORLD; a host code: any communicator, e.g. a split of it): rank, size,
 !> and the few collective operations the library needs. The library never calls MPI_Init or
 !> MPI_Finalize (the driver or the host does). Every rank runs the same code on the same data;
-!> only the element assembly (ffrf_fe_assembly) and MUMPS (ffrf_la_mumps) share work, and
+!> only the element assembly (ffrf_fe_assembly), MUMPS (ffrf_la_mumps) and the PARPACK Lanczos
+!> loop (row-distributed vectors: row_block, allgather_rows) share work, and
 !> rank 0 (the root) alone logs and writes files (docs/mpi.md "MPI build and runs").
 module ffrf_core_parallel
    use, intrinsic :: iso_c_binding, only: c_int
@@ -51,6 +52,8 @@ module ffrf_core_parallel
       procedure :: max_int => parallel_max_int
       procedure :: gather_real => parallel_gather_real
       procedure :: agree => parallel_agree
+      procedure :: row_block => parallel_row_block
+      procedure :: allgather_rows => parallel_allgather_rows
    end type parallel_t
 
    !> The ranks of the run in progress in this process (use_ranks): what compute_body_modes and
@@ -185,6 +188,37 @@ contains
       call MPI_Allgather(value, 1, MPI_DOUBLE_PRECISION, values, 1, MPI_DOUBLE_PRECISION, &
          self%comm, ierr)
    end function parallel_gather_real
+
+   !> Rows first..last of n that this rank holds in a row-distributed vector (the distributed
+   !> Lanczos basis): contiguous blocks in rank order, n * rank / num_ranks + 1 onwards.
+   pure subroutine parallel_row_block(self, n, first, last)
+      class(parallel_t), intent(in) :: self
+      integer, intent(in) :: n
+      integer, intent(out) :: first, last
+      first = int(int(n, i8) * self%rank / self%num_ranks) + 1
+      last = int(int(n, i8) * (self%rank + 1) / self%num_ranks)
+   end subroutine parallel_row_block
+
+   !> The whole vector `full` (size n) on every rank from each rank's block `local` of it
+   !> (row_block of n).
+   subroutine parallel_allgather_rows(self, local, full)
+      class(parallel_t), intent(in) :: self
+      real(dp), intent(in) :: local(:)
+      real(dp), intent(out) :: full(:)
+      integer, allocatable :: counts(:), offsets(:)
+      integer :: r, ierr
+      if (self%num_ranks == 1) then
+         full = local
+         return
+      end if
+      allocate (counts(self%num_ranks), offsets(self%num_ranks))
+      do r = 0, self%num_ranks - 1
+         offsets(r + 1) = int(size(full, kind=i8) * r / self%num_ranks)
+         counts(r + 1) = int(size(full, kind=i8) * (r + 1) / self%num_ranks) - offsets(r + 1)
+      end do
+      call MPI_Allgatherv(local, size(local), MPI_DOUBLE_PRECISION, full, counts, offsets, &
+         MPI_DOUBLE_PRECISION, self%comm, ierr)
+   end subroutine parallel_allgather_rows
 
    !> Make every rank leave with the same error: when some rank failed, all get the error of
    !> the lowest failing rank (its code and message, "rank N: " prefixed when N > 0), so every

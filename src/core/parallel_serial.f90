@@ -31,6 +31,8 @@ module ffrf_core_parallel
       procedure :: max_int => parallel_max_int
       procedure :: gather_real => parallel_gather_real
       procedure :: agree => parallel_agree
+      procedure :: row_block => parallel_row_block
+      procedure :: allgather_rows => parallel_allgather_rows
    end type parallel_t
 
 contains
@@ -97,6 +99,22 @@ contains
       real(dp), allocatable :: values(:)
       values = [value]
    end function parallel_gather_real
+
+   !> All n rows: one process holds the whole vector.
+   pure subroutine parallel_row_block(self, n, first, last)
+      class(parallel_t), intent(in) :: self
+      integer, intent(in) :: n
+      integer, intent(out) :: first, last
+      first = 1
+      last = n
+   end subroutine parallel_row_block
+
+   subroutine parallel_allgather_rows(self, local, full)
+      class(parallel_t), intent(in) :: self
+      real(dp), intent(in) :: local(:)
+      real(dp), intent(out) :: full(:)
+      full = local
+   end subroutine parallel_allgather_rows
 
    subroutine parallel_agree(self, error)
       class(parallel_t), intent(in) :: self

@@ -201,6 +201,7 @@ module ffrf_la_mumps
       generic :: solve => mumps_solver_solve_one, mumps_solver_solve_many
       procedure :: is_factorised => mumps_solver_is_factorised
       procedure :: is_analysed => mumps_solver_is_analysed
+      procedure :: ranks => mumps_solver_ranks
       procedure :: free => mumps_solver_free
       procedure :: set_memory_options => mumps_solver_set_memory_options
       procedure :: check_memory => mumps_solver_check_memory
@@ -375,6 +376,14 @@ contains
       logical :: ready
       ready = self%phase >= phase_analysed
    end function mumps_solver_is_analysed
+
+   !> The ranks the solver runs on (given to `init`; one process by default): the callers that
+   !> distribute their vectors over the same ranks (the PARPACK eigen loop).
+   pure function mumps_solver_ranks(self) result(parallel)
+      class(mumps_solver_t), intent(in) :: self
+      type(parallel_t) :: parallel
+      parallel = self%parallel
+   end function mumps_solver_ranks
 
    !> Release the factors and the MUMPS instance (JOB = -2). Safe to call at any phase.
    subroutine mumps_solver_free(self)

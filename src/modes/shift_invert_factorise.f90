@@ -414,7 +414,8 @@ contains
          ' M factor entries)')
       ! The memory check before the factorisation (theory: MUMPS's analysis estimates) counts
       ! the eigensolver's vectors too
-      solver%workspace_mb = eigen_workspace_mb(options, kkt%n, kkt%num_constraints)
+      solver%workspace_mb = eigen_workspace_mb(options, kkt%n, kkt%num_constraints, &
+         solver%ranks())
       call solver%check_memory(memory_error)
       call record_memory_estimates(solver, result, log)
       if (allocated(memory_error)) then

@@ -9,12 +9,15 @@ submodule (ffrf_modes_shift_invert) ffrf_modes_shift_invert_lanczos
       FFRF_NUMERIC_ERROR
    use ffrf_core_strings, only: to_str
    use ffrf_core_log, only: wall_time
+   use ffrf_core_memory, only: resident_memory_mb
    use ffrf_core_interrupt, only: interrupt_t
    use ffrf_core_posix, only: signal_test_point
    use ffrf_la_sparse, only: csr_add, csr_upper_coo, csr_matvec, csr_row_gram
    use ffrf_la_mumps, only: mumps_solver_t, mumps_ordering_name, MUMPS_SYM_SPD, &
       MUMPS_SYM_INDEFINITE
    use ffrf_la_arpack, only: dsaupd, dseupd
+   use ffrf_la_parpack, only: pdsaupd, pdseupd
+   use ffrf_core_parallel, only: parallel_t, FFRF_MPI_BUILD, solver_communicator
    use ffrf_core_serial_section, only: enter_serial_section, leave_serial_section, SECTION_ARPACK
    use ffrf_la_lapack, only: dgemm, dposv
    use ffrf_modes_block_krylov, only: block_krylov_settings_t, block_krylov_stats_t, &
@@ -45,9 +48,13 @@ contains
    !> solve (5 blocks) and the Ritz vectors. Those of one window (nev = min(num_modes,
    !> window_size)); with windows the deflated vectors and their M products on top (the six
    !> rigid ones and two windows). The returned vectors of a sliced run are not counted.
-   pure function eigen_workspace_mb(options, n, nc) result(mb)
+   !> MPI build, ARPACK path (PARPACK): the basis, workd, resid and the Ritz vectors' rows are
+   !> a rank's share (1 / num_ranks of them); the gathered Ritz vectors, x and the right-hand
+   !> side are whole on every rank.
+   pure function eigen_workspace_mb(options, n, nc, ranks) result(mb)
       type(eigen_options_t), intent(in) :: options
       integer(ip), intent(in) :: n, nc
+      type(parallel_t), intent(in) :: ranks
       integer(i8) :: mb, columns
       integer(ip) :: nev
       type(block_krylov_settings_t) :: settings
@@ -59,6 +66,10 @@ contains
          settings = default_block_settings(nev, options%ncv, n - nc)
          columns = 2 * (settings%max_basis + settings%block_size) + 5 * settings%block_size + &
             nev
+      else if (FFRF_MPI_BUILD) then
+         ! the distributed columns of every rank together, as a whole-column count per rank
+         columns = (arpack_basis_size(options, nev, n - nc) + 4 + nev + ranks%num_ranks - 1) &
+            / ranks%num_ranks + nev + 2
       else
          columns = arpack_basis_size(options, nev, n - nc) + 6 + nev
       end if
@@ -214,7 +225,13 @@ contains
    end subroutine project_vector
 
    !> ARPACK dsaupd/dseupd, mode 3 with B = M, OP by KKT solves; Ritz vectors z (n x nev).
-   !> Called inside the ARPACK serial section (eigen_window).
+   !> Called inside the ARPACK serial section (eigen_window). The MPI build runs PARPACK
+   !> (pdsaupd/pdseupd) on the solver's ranks: resid, the basis v, workd and the Ritz vectors
+   !> are row-distributed (each rank its block of rows, parallel_t%row_block), PARPACK reduces
+   !> with MPI_Allreduce; an OP or B product gathers x whole on every rank (n values), forms
+   !> M x and solves with MUMPS's centralised right-hand side (rank 0) and broadcast solution,
+   !> and keeps the rank's rows; z is gathered whole at the end (docs/mpi.md "MPI build and
+   !> runs"). The sequential build calls ARPACK on the whole vectors, as before.
    subroutine lanczos(M, options, nev, ncv, nc, sigma, solver, interrupt, deflation, z, result, &
          log, error)
       type(csr_t), intent(in) :: M
@@ -230,24 +247,37 @@ contains
       type(eigen_result_t), intent(inout) :: result
       type(logger_t), intent(in) :: log
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: resid(:), v(:, :), workd(:), workl(:), rhs(:), d(:)
+      real(dp), allocatable :: resid(:), v(:, :), workd(:), workl(:), rhs(:), d(:), x(:), &
+         z_rows(:, :)
       logical, allocatable :: selected(:)
-      integer(ip) :: iparam(11), ipntr(11), ido, info, lworkl, n, x0, y0, stat
+      integer(ip) :: iparam(11), ipntr(11), ido, info, lworkl, n, x0, y0, stat, rows
+      integer :: first, last, comm, j
       real(dp) :: tol
-      logical :: deflating
+      logical :: deflating, distributed
+      type(parallel_t) :: ranks
 
       n = M%num_rows
       deflating = allocated(deflation%X)
+      distributed = FFRF_MPI_BUILD
+      ranks = solver%ranks()
+      comm = solver_communicator(ranks)
+      call ranks%row_block(int(n), first, last)
+      rows = int(last - first + 1, ip)
       lworkl = ncv * (ncv + 8)
-      allocate (resid(n), v(n, ncv), workd(3 * n), workl(lworkl), selected(ncv), d(nev), &
-                z(n, nev), rhs(n + nc), stat=stat)
+      allocate (resid(rows), v(rows, ncv), workd(3 * rows), workl(lworkl), selected(ncv), &
+                d(nev), z(n, nev), rhs(n + nc), x(n), stat=stat)
       if (stat /= 0) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: cannot allocate the ' // &
-            'Lanczos basis of ' // to_str(n) // ' x ' // to_str(ncv))
+            'Lanczos basis of ' // to_str(rows) // ' x ' // to_str(ncv))
          return
       end if
-      call start_vector(resid)
-      if (deflating) call project_vector(deflation, resid)
+      if (distributed) call log%debug(stage, 'PARPACK on ' // to_str(ranks%num_ranks) // &
+         ' rank(s): rows ' // to_str(first) // '..' // to_str(last) // ' of ' // to_str(n) // &
+         ' on rank ' // to_str(ranks%rank))
+      ! the start vector of the whole space (the same on every rank), then this rank's rows
+      call start_vector(x)
+      if (deflating) call project_vector(deflation, x)
+      resid = x(first:last)
       tol = options%tolerance
       iparam = 0
       iparam(1) = 1                       ! exact shifts
@@ -259,29 +289,37 @@ contains
       info = 1                            ! resid holds the start vector
       call signal_test_point('lanczos:before')
       do
-         call dsaupd(ido, 'G', n, 'LM', nev, tol, resid, ncv, v, n, iparam, ipntr, workd, &
-                     workl, lworkl, info)
+         if (distributed) then
+            call pdsaupd(comm, ido, 'G', rows, 'LM', nev, tol, resid, ncv, v, rows, iparam, &
+                         ipntr, workd, workl, lworkl, info)
+         else
+            call dsaupd(ido, 'G', n, 'LM', nev, tol, resid, ncv, v, n, iparam, ipntr, workd, &
+                        workl, lworkl, info)
+         end if
          x0 = ipntr(1)
          y0 = ipntr(2)
          select case (ido)
          case (-1)                        ! y = OP x = (K - sigma M)^-1 M x on null(C)
             call check_interrupt(error)
             if (allocated(error)) return
-            call csr_matvec(M, workd(x0:x0 + n - 1), rhs(1:n))
+            call ranks%allgather_rows(workd(x0:x0 + rows - 1), x)
+            call csr_matvec(M, x, rhs(1:n))
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
             if (deflating) call project_vector(deflation, rhs(1:n))
-            workd(y0:y0 + n - 1) = rhs(1:n)
+            workd(y0:y0 + rows - 1) = rhs(first:last)
          case (1)                         ! M x is in workd(ipntr(3))
             call check_interrupt(error)
             if (allocated(error)) return
-            rhs(1:n) = workd(ipntr(3):ipntr(3) + n - 1)
+            call ranks%allgather_rows(workd(ipntr(3):ipntr(3) + rows - 1), rhs(1:n))
             call kkt_solve(solver, rhs, n, error)
             if (allocated(error)) return
             if (deflating) call project_vector(deflation, rhs(1:n))
-            workd(y0:y0 + n - 1) = rhs(1:n)
+            workd(y0:y0 + rows - 1) = rhs(first:last)
          case (2)                         ! y = M x
-            call csr_matvec(M, workd(x0:x0 + n - 1), workd(y0:y0 + n - 1))
+            call ranks%allgather_rows(workd(x0:x0 + rows - 1), x)
+            call csr_matvec(M, x, rhs(1:n))
+            workd(y0:y0 + rows - 1) = rhs(first:last)
          case (99)
             exit
          case default
@@ -291,6 +329,10 @@ contains
          end select
       end do
       call signal_test_point('lanczos:after')
+      if (distributed) call log%debug(stage, 'PARPACK: this rank holds ' // &
+         to_str(real(8_i8 * rows * (ncv + 4), dp) / 1.0e6_dp, 1) // ' MB of Lanczos vectors' // &
+         ' (v, resid, workd); resident ' // to_str(resident_memory_mb()) // ' MB on rank ' // &
+         to_str(ranks%rank))
       result%num_iterations = result%num_iterations + iparam(3)
       call log%debug(stage, 'dsaupd: info = ' // to_str(info) // ', ' // to_str(iparam(5)) // &
          ' converged, ' // to_str(iparam(9)) // ' OP, ' // to_str(iparam(10)) // ' B, ' // &
@@ -302,8 +344,20 @@ contains
       end if
 
       info = 0
-      call dseupd(.true., 'A', selected, d, z, n, sigma, 'G', n, 'LM', nev, tol, resid, ncv, v, &
-                  n, iparam, ipntr, workd, workl, lworkl, info)
+      if (distributed) then
+         allocate (z_rows(rows, nev))
+         call pdseupd(comm, .true., 'A', selected, d, z_rows, rows, sigma, 'G', rows, 'LM', &
+                      nev, tol, resid, ncv, v, rows, iparam, ipntr, workd, workl, lworkl, info)
+         ! the Ritz vectors whole on every rank (the pairs' checks and the mode shapes)
+         if (info == 0) then
+            do j = 1, nev
+               call ranks%allgather_rows(z_rows(:, j), z(:, j))
+            end do
+         end if
+      else
+         call dseupd(.true., 'A', selected, d, z, n, sigma, 'G', n, 'LM', nev, tol, resid, ncv, &
+                     v, n, iparam, ipntr, workd, workl, lworkl, info)
+      end if
       if (info /= 0) then
          call fatal_error(error, FFRF_NUMERIC_ERROR, 'shift-invert: ARPACK dseupd info = ' // &
             to_str(info) // ': ' // dseupd_message(info))

@@ -3,7 +3,7 @@
 the MPI variant (-DFFRF_MPI=ON) of this source tree into BUILD: the library, the driver and the
 MPI host program only (no LTO, no sequential test tree). Writes BUILD/mpi_build_status.txt:
 status=built with the paths of mpirun, the MPI driver and the host program, or status=skipped
-with the reason (no mpicc/mpif90/mpirun, no MPI MUMPS: `.ci/install-deps --mpi`); the MPI tests
+with the reason (no mpicc/mpif90/mpirun, no MPI MUMPS or PARPACK: `.ci/install-deps --mpi`); the MPI tests
 then exit 77 (skipped). A failing configure or build where everything is installed fails."""
 import argparse
 import os
@@ -31,6 +31,9 @@ def main():
             os.path.exists(os.path.join(d, 'libdmumps.so'))
             for d in ('/usr/lib/x86_64-linux-gnu', '/usr/lib64', '/usr/lib')):
         missing.append('MPI MUMPS (libmumps-dev)')
+    if not any(os.path.exists(os.path.join(d, 'libparpack.so'))
+               for d in ('/usr/lib/x86_64-linux-gnu', '/usr/lib64', '/usr/lib')):
+        missing.append('PARPACK (libparpack2-dev)')
     if missing:
         reason = ('not installed: ' + ', '.join(missing) +
                   '; install with .ci/install-deps --mpi')

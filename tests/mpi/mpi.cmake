@@ -17,6 +17,10 @@
 #    rigid modes deflated, 3 modes) against the sequential driver and the first 3 of a 12-mode
 #    MPI run, 1e-9; mpi_modes_crank_rc1_max_frequency: every mode below 20 kHz; every modes
 #    test: the Sturm check proven with the sequential run's count.
+#  - mpi_modes_crank_rc1_parpack_ranks{1,2,3,4} (issue 27): crank RC set 1 on the lc 10 mm mesh,
+#    ARPACK eigensolver, the MPI driver on 1, 2, 3 and 4 ranks (oversubscribed on 2 cores): PARPACK
+#    ran with each rank's block of rows (its debug line), frequencies equal the sequential
+#    driver's to 1e-10 (relative), shapes to 1e-8 of their largest component (up to sign).
 #  - mpi_engine: the short lc 8 mm engine of the C API tests (20 ms, 10 modes per body, h 1e-4 s)
 #    under mpirun -np 2 against the sequential driver: crank angle and speed histories to 1e-9
 #    of their largest value.
@@ -75,6 +79,17 @@ add_test(NAME mpi_modes_crank_rc1_max_frequency
     --rtol 1e-9)
 set_tests_properties(mpi_modes_crank_rc1_max_frequency PROPERTIES LABELS mpi SKIP_RETURN_CODE 77
   FIXTURES_REQUIRED "mpi_build;crank_lc8_mesh" PROCESSORS 2)
+# issue 27: PARPACK's row-distributed Lanczos vectors on 1 to 4 ranks against sequential ARPACK
+foreach(_ranks 1 2 3 4)
+  add_test(NAME mpi_modes_crank_rc1_parpack_ranks${_ranks}
+    COMMAND ${_mpi_run} ranks --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
+      --case ${PROJECT_SOURCE_DIR}/input/crank_rc1.nml --mesh-dir ${PROJECT_BINARY_DIR}/meshes
+      --set body[crank].mesh_file=crank_lc10.msh --set modes.eigensolver=arpack
+      --out ${_mpi_out}/crank_rc1_parpack_ranks${_ranks} --ranks ${_ranks} --rtol 1e-10
+      --shape-rtol 1e-8)
+  set_tests_properties(mpi_modes_crank_rc1_parpack_ranks${_ranks} PROPERTIES LABELS mpi
+    SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "mpi_build;crank_lc10_mesh" PROCESSORS 2)
+endforeach()
 add_test(NAME mpi_engine
   COMMAND ${_mpi_run} engine --mpi-build ${_mpi_build} --driver $<TARGET_FILE:ffrf>
     --case ${PROJECT_BINARY_DIR}/tests/capi/capi_engine.nml

@@ -13,6 +13,10 @@ that the fixture mpi_build made (build_mpi.py). Exit 77 (ctest SKIP_RETURN_CODE)
           driver's; with --engine both groups' final time, crank angle and speed of the mechanism
           advanced through the C API in two halves against the driver's last step (--rtol of
           the value).
+  ranks:  issue 27, PARPACK: the sequential driver and `mpirun -np RANKS` (--debug) on a modal
+          case with the ARPACK eigensolver: the log says PARPACK ran on RANKS ranks with each
+          rank's block of rows; frequencies agree to --rtol, mode shapes (up to sign) to
+          --shape-rtol of their largest component.
 """
 import argparse
 import re
@@ -74,13 +78,28 @@ def check_sturm(seq_h5, mpi_h5, failures):
                 failures.append(f'{body}: Sturm check MPI {par} against sequential {seq}')
 
 
-def frequencies(h5_file):
+def frequencies(h5_file, dataset='frequency'):
+    """Each body's modes/<dataset> (frequency, or shape: one row per mode)."""
     import h5py
     out = {}
     with h5py.File(h5_file, 'r') as f:
         for body in f['/bodies']:
             if 'modes' in f[f'/bodies/{body}']:
-                out[body] = f[f'/bodies/{body}/modes/frequency'][()]
+                out[body] = f[f'/bodies/{body}/modes/{dataset}'][()]
+    return out
+
+
+def frequency_differences(seq_h5, mpi_h5, failures):
+    """body -> (sequential frequencies, largest relative difference of the MPI run's); a body
+    without the same number of modes in the MPI results is a failure."""
+    reference, result = frequencies(seq_h5), frequencies(mpi_h5)
+    out = {}
+    for body, y in reference.items():
+        x = result.get(body)
+        if x is None or len(x) != len(y):
+            failures.append(f'{body}: no or other modes in the MPI results')
+            continue
+        out[body] = (y, max(abs(x - y) / abs(y)))
     return out
 
 
@@ -107,6 +126,30 @@ def check_node_share(log, available, ranks, failures):
     if not 0.6 / ranks < share < 1.4 / ranks:
         failures.append(f'automatic limit takes {share:.3f} of MemAvailable on each of {ranks} '
                         f'ranks, expected about {1.0 / ranks:.3f}')
+
+
+def check_parpack_run(a, log, seq_h5, mpi_h5, failures):
+    """PARPACK ran on a.ranks ranks (the debug line of rank 0, rows 1..n / ranks), and the
+    frequencies and shapes equal the sequential ARPACK run's."""
+    found = re.search(r'PARPACK on ([0-9]+) rank\(s\): rows 1\.\.([0-9]+) of ([0-9]+)', log)
+    if not found or int(found.group(1)) != a.ranks or \
+            int(found.group(2)) != int(found.group(3)) // a.ranks:
+        failures.append(f'no "PARPACK on {a.ranks} rank(s): rows 1..n/{a.ranks}" in the log')
+    else:
+        print(f'PARPACK on {a.ranks} rank(s): rank 0 holds rows 1..{found.group(2)} of '
+              f'{found.group(3)}')
+    ref_shapes, mpi_shapes = frequencies(seq_h5, 'shape'), frequencies(mpi_h5, 'shape')
+    for body, (y, diff) in frequency_differences(seq_h5, mpi_h5, failures).items():
+        X, Y = mpi_shapes[body], ref_shapes[body]
+        shape_diff = max(min(abs(X[j] - Y[j]).max(), abs(X[j] + Y[j]).max()) / abs(Y[j]).max()
+                         for j in range(len(Y)))
+        print(f'{body}: {len(y)} modes {y[0]:.6f} .. {y[-1]:.6f} Hz, {a.ranks} ranks against '
+              f'the sequential run: frequencies {diff:.3g} (tolerance {a.rtol:g}), shapes '
+              f'{shape_diff:.3g} of their largest component (tolerance {a.shape_rtol:g})')
+        if diff > a.rtol:
+            failures.append(f'{body}: frequencies differ by {diff:.3g} > {a.rtol:g}')
+        if shape_diff > a.shape_rtol:
+            failures.append(f'{body}: shapes differ by {shape_diff:.3g} > {a.shape_rtol:g}')
 
 
 def check_signal_stop(cmd, env, out_dir, failures):
@@ -147,7 +190,7 @@ def check_signal_stop(cmd, env, out_dir, failures):
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument('kind', choices=['modes', 'engine', 'host'])
+    p.add_argument('kind', choices=['modes', 'engine', 'host', 'ranks'])
     p.add_argument('--mpi-build', help='the MPI build made by build_mpi.py')
     p.add_argument('--mpirun', help='without --mpi-build: mpirun')
     p.add_argument('--mpi-driver', help='without --mpi-build: the MPI ffrf')
@@ -159,6 +202,8 @@ def main():
     p.add_argument('--out', required=True)
     p.add_argument('--ranks', type=int, default=2)
     p.add_argument('--rtol', type=float, default=1e-9)
+    p.add_argument('--shape-rtol', type=float, default=1e-8,
+                   help='ranks: mode shapes, of their largest component')
     p.add_argument('--set', action='append', default=[])
     p.add_argument('--engine', help='host: also this mechanism case')
     p.add_argument('--compare-num-modes', type=int, default=0,
@@ -182,7 +227,12 @@ def main():
     common = [a.case, '--mesh-dir', a.mesh_dir, '--output', 'result.h5'] + sets
     run([a.driver] + common + ['--output-dir', seq_dir], env=env)
     failures = []
-    if a.kind == 'host':
+    if a.kind == 'ranks':
+        done = run(mpirun + [info['driver']] + common + ['--output-dir', mpi_dir, '--debug'],
+                   env=env)
+        check_parpack_run(a, done.stdout, os.path.join(seq_dir, 'result.h5'),
+                          os.path.join(mpi_dir, 'result.h5'), failures)
+    elif a.kind == 'host':
         engine = [a.engine] if a.engine else []
         run(mpirun + [info['host_program'], a.case, a.mesh_dir, mpi_dir] + engine, env=env)
         if a.engine:
@@ -228,12 +278,7 @@ def main():
                             'results must be written once, by rank 0')
         seq_h5, mpi_h5 = os.path.join(seq_dir, 'result.h5'), os.path.join(mpi_dir, 'result.h5')
         reference, result = frequencies(seq_h5), frequencies(mpi_h5)
-        for body in reference:
-            x, y = result.get(body), reference[body]
-            if x is None or len(x) != len(y):
-                failures.append(f'{body}: no or other modes in the MPI results')
-                continue
-            diff = max(abs(x - y) / abs(y))
+        for body, (y, diff) in frequency_differences(seq_h5, mpi_h5, failures).items():
             print(f'{body}: {len(y)} frequencies {y[0]:.6f} .. {y[-1]:.6f} Hz, largest relative '
                   f'difference MPI ({a.ranks} ranks) - sequential {diff:.3g} '
                   f'(tolerance {a.rtol:g})')
